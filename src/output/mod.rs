@@ -1,0 +1,7 @@
+//! Outputs of a run: shaded PNGs, per-pixel record dumps, the JSON report, and the atomic
+//! file writing they share (nothing half-written is ever left under the final name).
+
+pub mod atomic;
+pub mod dump;
+pub mod png;
+pub mod report;

@@ -1,0 +1,134 @@
+//! The JSON report (`--report-json`): configuration, assets, per-frame counters, summary.
+//! Field meanings are listed in `docs/report.md`.
+
+use crate::assets::Asset;
+use crate::reference::FrameStats;
+use serde::Serialize;
+
+/// One asset's memory image, as reported.
+#[derive(Clone, Debug, Serialize)]
+pub struct AssetReport {
+    /// Name.
+    pub name: String,
+    /// "sdf" or "vox".
+    pub kind: String,
+    /// Octree depth.
+    pub depth: u8,
+    /// Half side of the octree cube in metres.
+    pub half_size_m: f64,
+    /// Internal nodes.
+    pub nodes: u64,
+    /// Solid leaves.
+    pub leaves: u64,
+    /// Far-pointer words.
+    pub far_words: u64,
+    /// Node memory bytes.
+    pub node_bytes: u64,
+    /// Attribute memory bytes.
+    pub attr_bytes: u64,
+    /// Build time, seconds.
+    pub build_s: f64,
+}
+
+impl From<&Asset> for AssetReport {
+    fn from(a: &Asset) -> Self {
+        let s = a.image.stats();
+        Self {
+            name: a.name.clone(),
+            kind: a.kind.to_string(),
+            depth: s.depth,
+            half_size_m: a.half_size,
+            nodes: s.nodes,
+            leaves: s.leaves,
+            far_words: s.far_words,
+            node_bytes: s.node_bytes,
+            attr_bytes: s.attr_bytes,
+            build_s: a.build_s,
+        }
+    }
+}
+
+/// Scene facts.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneReport {
+    /// File or `<embedded default scene>`.
+    pub origin: String,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Frames rendered.
+    pub frames: u32,
+    /// Instances.
+    pub instances: usize,
+}
+
+/// Run options.
+#[derive(Clone, Debug, Serialize)]
+pub struct OptionsReport {
+    /// Which model rendered ("reference").
+    pub model: String,
+    /// Hit buffer on.
+    pub hit_buffer: bool,
+    /// Early termination on.
+    pub early_termination: bool,
+    /// Worker threads.
+    pub threads: usize,
+}
+
+/// Totals over the run.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    /// Frames.
+    pub frames: u32,
+    /// Rays over all frames.
+    pub rays: u64,
+    /// Tracing wall time over all frames (asset build and file output excluded), seconds.
+    pub wall_s: f64,
+    /// rays / wall_s.
+    pub rays_per_s: f64,
+    /// Pixels reused from the hit buffer.
+    pub hit_buffer_reused: u64,
+    /// hit_buffer_reused / rays.
+    pub reuse_fraction: f64,
+    /// Walker steps over all frames.
+    pub walker_steps: u64,
+    /// Asset build time, seconds.
+    pub build_s: f64,
+}
+
+/// The whole report.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    /// Producer and version.
+    pub tool: String,
+    /// Scene facts.
+    pub scene: SceneReport,
+    /// Options.
+    pub options: OptionsReport,
+    /// Assets.
+    pub assets: Vec<AssetReport>,
+    /// Per-frame counters.
+    pub frames: Vec<FrameStats>,
+    /// Totals.
+    pub summary: Summary,
+}
+
+impl Summary {
+    /// Totals of per-frame counters.
+    pub fn of(frames: &[FrameStats], build_s: f64) -> Self {
+        let rays: u64 = frames.iter().map(|f| f.rays).sum();
+        let wall_s: f64 = frames.iter().map(|f| f.wall_s).sum();
+        let reused: u64 = frames.iter().map(|f| f.hit_buffer_reused).sum();
+        Self {
+            frames: frames.len() as u32,
+            rays,
+            wall_s,
+            rays_per_s: rays as f64 / wall_s.max(1e-9),
+            hit_buffer_reused: reused,
+            reuse_fraction: reused as f64 / (rays as f64).max(1.0),
+            walker_steps: frames.iter().map(|f| f.walker_steps).sum(),
+            build_s,
+        }
+    }
+}

@@ -1,0 +1,281 @@
+//! Revelles et al. (2000) parametric octree traversal as an iterative loop with an explicit
+//! stack, in an instance's local frame with per-axis extents (paper §3.2).
+//!
+//! Conventions (all tested against an independent Amanatides–Woo walk):
+//! - The octree occupies the box [−e, e]; child labels are x = 4, y = 2, z = 1.
+//! - Negative direction components, −0.0 included, are mirrored (§3.4): o ← min + max − o,
+//!   d ← −d, and the label of a child in the mirrored walk is XOR-ed with
+//!   a = 4·sx + 2·sy + sz to find the real child.
+//! - A zero component (after mirroring: +0.0, or a component so small that its reciprocal
+//!   would overflow the t-range) follows §3.3: the slab is (−∞, +∞) if the origin is inside
+//!   the half-open interval [min, max) of the mirrored frame, otherwise the ray misses; a
+//!   midpoint is −∞ if the origin lies at or above the node's centre plane, +∞ below it. It is
+//!   never computed as (t0 + t1)/2, which would be (−∞ + ∞)/2 = NaN. So a ray lying in a grid
+//!   plane belongs to the cell on the side its zero's sign points to (+0: upper, −0: lower).
+//! - A child is entered only if its t-interval has positive length and ends after t = 0
+//!   (max t0 < min t1, min t1 > 0): touching an edge or corner is not a hit, and nodes behind
+//!   an origin inside the octree are never visited.
+//! - The first solid leaf reached is the nearest (children are visited front to back); its
+//!   t is max(entry, 0) and its entry face is the axis of the largest t0 (ties: x, then y).
+
+use glam::DVec3;
+use rtl_model::svo::{ChildDescriptor, SvoImage, MAX_DEPTH};
+
+/// Components below this magnitude are treated as zero (§3.3): |t| would exceed ~1e150 and
+/// midpoint sums could overflow.
+pub const ZERO_DIR: f64 = 1e-150;
+
+/// The nearest solid leaf along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WalkHit {
+    /// Ray parameter of the hit (entry into the leaf, or 0 if the origin is inside it).
+    pub t: f64,
+    /// Integer coordinates of the leaf at `level`.
+    pub voxel: [u32; 3],
+    /// Level of the leaf (the asset's depth for every builder here).
+    pub level: u8,
+    /// Index into the attribute array.
+    pub attr: u32,
+    /// Entry face as a local unit normal (opposes the ray on its entry axis).
+    pub face_normal: DVec3,
+}
+
+/// Work done by walks, for reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WalkCounters {
+    /// Loop iterations: one child examined each.
+    pub steps: u64,
+    /// Descriptor fetches (root and every descent).
+    pub fetches: u64,
+    /// Deepest stack reached (frames).
+    pub max_stack: u32,
+}
+
+#[derive(Clone, Copy, Default)]
+struct Frame {
+    t0: [f64; 3],
+    t1: [f64; 3],
+    tm: [f64; 3],
+    addr: u32,
+    desc: u32,
+    /// Next child label to examine, in the mirrored frame; 8 when done.
+    next: u8,
+    level: u8,
+    /// Real (unmirrored) coordinates of this node at its level.
+    coords: [u32; 3],
+}
+
+#[inline]
+fn max3(v: [f64; 3]) -> f64 {
+    v[0].max(v[1]).max(v[2])
+}
+
+#[inline]
+fn min3(v: [f64; 3]) -> f64 {
+    v[0].min(v[1]).min(v[2])
+}
+
+/// Table 1/2 of Revelles: the first child crossed. The entry plane is that of the largest
+/// t0; for each other axis, the upper half is entered if that axis' midpoint was crossed
+/// before the entry, i.e. tm < max t0.
+#[inline]
+fn first_child(t0: [f64; 3], tm: [f64; 3]) -> u8 {
+    let enter = max3(t0);
+    (u8::from(tm[0] < enter) << 2) | (u8::from(tm[1] < enter) << 1) | u8::from(tm[2] < enter)
+}
+
+/// Table 3 of Revelles: the next child after `c`, from the exit plane (the smallest t1);
+/// 8 when the ray leaves the parent.
+#[inline]
+fn next_child(c: u8, t1: [f64; 3]) -> u8 {
+    let bit = if t1[0] <= t1[1] && t1[0] <= t1[2] {
+        4
+    } else if t1[1] <= t1[2] {
+        2
+    } else {
+        1
+    };
+    if c & bit != 0 {
+        8
+    } else {
+        c | bit
+    }
+}
+
+/// Per-ray constants of a walk in the mirrored frame.
+struct RayFrame {
+    /// Mirrored origin.
+    o: [f64; 3],
+    /// Which axes have a zero direction.
+    zero: [bool; 3],
+    /// Mirror mask a = 4·sx + 2·sy + sz.
+    a: u8,
+    lo: [f64; 3],
+    size: [f64; 3],
+}
+
+impl RayFrame {
+    /// Midpoint t of axis k for a node whose t-slab is (t0, t1); zero axes use the origin's
+    /// side of the node's centre plane (§3.3).
+    #[inline]
+    fn mid(&self, k: usize, t0: f64, t1: f64, level: u8, real_coord: u32) -> f64 {
+        if !self.zero[k] {
+            return 0.5 * (t0 + t1);
+        }
+        let n = 1u32 << level;
+        let mirrored = if self.a & (4 >> k) != 0 {
+            n - 1 - real_coord
+        } else {
+            real_coord
+        };
+        let centre = self.lo[k] + (f64::from(mirrored) + 0.5) * self.size[k] / f64::from(n);
+        if self.o[k] < centre {
+            f64::INFINITY
+        } else {
+            f64::NEG_INFINITY
+        }
+    }
+}
+
+/// Walks the octree `img` occupying [−half, half] for the ray o + t·d (local frame).
+/// Returns the nearest solid leaf with t ≥ 0, or `None`.
+pub fn walk(
+    img: &SvoImage,
+    half: DVec3,
+    o: DVec3,
+    d: DVec3,
+    cnt: &mut WalkCounters,
+) -> Option<WalkHit> {
+    let lo = (-half).to_array();
+    let hi = half.to_array();
+    let (o, d) = (o.to_array(), d.to_array());
+    let mut rf = RayFrame {
+        o: [0.0; 3],
+        zero: [false; 3],
+        a: 0,
+        lo,
+        size: [0.0; 3],
+    };
+    let mut t0 = [0.0; 3];
+    let mut t1 = [0.0; 3];
+    for k in 0..3 {
+        rf.size[k] = hi[k] - lo[k];
+        let (mut ok, mut dk) = (o[k], d[k]);
+        if dk.is_sign_negative() {
+            // General mirror about the box centre (not `size − p`, which assumes min = 0).
+            ok = lo[k] + hi[k] - ok;
+            dk = -dk;
+            rf.a |= 4 >> k;
+        }
+        rf.o[k] = ok;
+        if dk < ZERO_DIR {
+            rf.zero[k] = true;
+            if !(lo[k] <= ok && ok < hi[k]) {
+                return None;
+            }
+            t0[k] = f64::NEG_INFINITY;
+            t1[k] = f64::INFINITY;
+        } else {
+            let inv = 1.0 / dk;
+            t0[k] = (lo[k] - ok) * inv;
+            t1[k] = (hi[k] - ok) * inv;
+        }
+    }
+    if !(max3(t0) < min3(t1) && min3(t1) > 0.0) {
+        return None;
+    }
+    let mut stack = [Frame::default(); MAX_DEPTH as usize + 1];
+    let root = SvoImage::root();
+    cnt.fetches += 1;
+    let mut f = Frame {
+        t0,
+        t1,
+        addr: root,
+        desc: img.nodes()[root as usize],
+        ..Frame::default()
+    };
+    for k in 0..3 {
+        f.tm[k] = rf.mid(k, t0[k], t1[k], 0, 0);
+    }
+    f.next = first_child(f.t0, f.tm);
+    stack[0] = f;
+    let mut sp = 0usize;
+    loop {
+        let top = &mut stack[sp];
+        let c = top.next;
+        if c >= 8 {
+            if sp == 0 {
+                return None;
+            }
+            sp -= 1;
+            continue;
+        }
+        cnt.steps += 1;
+        let mut ct0 = [0.0; 3];
+        let mut ct1 = [0.0; 3];
+        for k in 0..3 {
+            if c & (4 >> k) != 0 {
+                ct0[k] = top.tm[k];
+                ct1[k] = top.t1[k];
+            } else {
+                ct0[k] = top.t0[k];
+                ct1[k] = top.tm[k];
+            }
+        }
+        top.next = next_child(c, ct1);
+        let enter = max3(ct0);
+        let exit = min3(ct1);
+        if !(enter < exit && exit > 0.0) {
+            continue;
+        }
+        let real = c ^ rf.a;
+        let desc = ChildDescriptor::unpack(top.desc);
+        let bit = 1u8 << real;
+        if desc.valid & bit == 0 {
+            continue;
+        }
+        let level = top.level + 1;
+        let coords = [
+            (top.coords[0] << 1) | u32::from((real >> 2) & 1),
+            (top.coords[1] << 1) | u32::from((real >> 1) & 1),
+            (top.coords[2] << 1) | u32::from(real & 1),
+        ];
+        let slot = img.group_base(top.addr, desc) + desc.slot(real);
+        if desc.leaf & bit != 0 {
+            let axis = if ct0[0] >= ct0[1] && ct0[0] >= ct0[2] {
+                0
+            } else if ct0[1] >= ct0[2] {
+                1
+            } else {
+                2
+            };
+            let mut n = [0.0; 3];
+            n[axis] = if rf.a & (4 >> axis) != 0 { 1.0 } else { -1.0 };
+            return Some(WalkHit {
+                t: enter.max(0.0),
+                voxel: coords,
+                level,
+                attr: img.nodes()[slot as usize],
+                face_normal: DVec3::from_array(n),
+            });
+        }
+        cnt.fetches += 1;
+        let mut child = Frame {
+            t0: ct0,
+            t1: ct1,
+            tm: [0.0; 3],
+            addr: slot,
+            desc: img.nodes()[slot as usize],
+            next: 0,
+            level,
+            coords,
+        };
+        for k in 0..3 {
+            child.tm[k] = rf.mid(k, ct0[k], ct1[k], level, coords[k]);
+        }
+        child.next = first_child(child.t0, child.tm);
+        sp += 1;
+        stack[sp] = child;
+        cnt.max_stack = cnt.max_stack.max(sp as u32 + 1);
+    }
+}

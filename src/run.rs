@@ -1,0 +1,177 @@
+//! A whole `sim` run of the reference: build assets, render every frame, write outputs.
+//!
+//! Everything that can be checked is checked before the first file is written: the scene
+//! (when loaded), depths, asset builds, output folders. Each output file is written
+//! atomically.
+
+use crate::assets::{build_assets, effective_depths, Asset};
+use crate::output::atomic::{write_atomic, AtomicFile};
+use crate::output::report::{AssetReport, OptionsReport, Report, SceneReport, Summary};
+use crate::output::{dump, png};
+use crate::reference::{render_frame, FrameInput, FrameStats, HitBuffer, RenderOptions};
+use crate::scene::Scene;
+use anyhow::{bail, Context, Result};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What to run and where to write.
+#[derive(Clone, Debug)]
+pub struct RunConfig {
+    /// The validated scene (resolution and frames already overridden).
+    pub scene: Scene,
+    /// `--depth`: depth of the deepest asset.
+    pub depth: Option<u8>,
+    /// Renderer switches.
+    pub options: RenderOptions,
+    /// Folder for PNGs (`None`: no images).
+    pub out_dir: Option<PathBuf>,
+    /// JSON report path.
+    pub report_json: Option<PathBuf>,
+    /// Hit-record dump path (`.csv` for CSV, else binary).
+    pub dump_hits: Option<PathBuf>,
+}
+
+/// Result of a run.
+pub struct RunOutput {
+    /// Built assets.
+    pub assets: Vec<Asset>,
+    /// Per-frame counters.
+    pub frames: Vec<FrameStats>,
+    /// The report (also written to `report_json` if set).
+    pub report: Report,
+    /// Final hit buffer (last frame's records).
+    pub buffer: HitBuffer,
+}
+
+fn check_parent(path: &Path, what: &str) -> Result<()> {
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !parent.is_dir() {
+        bail!(
+            "{what} {}: folder {} does not exist",
+            path.display(),
+            parent.display()
+        );
+    }
+    if path.is_dir() {
+        bail!("{what} {} is a folder", path.display());
+    }
+    Ok(())
+}
+
+/// Builds the assets of a scene at the configured depths (announcing each on `log`).
+pub fn build(scene: &Scene, depth: Option<u8>) -> Result<Vec<Asset>> {
+    let depths = effective_depths(scene, depth)?;
+    Ok(build_assets(scene, &depths)?)
+}
+
+/// Runs the reference over all frames. `progress` is called after each frame.
+pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Result<RunOutput> {
+    if let Some(p) = &cfg.report_json {
+        check_parent(p, "--report-json")?;
+    }
+    if let Some(p) = &cfg.dump_hits {
+        check_parent(p, "--dump-hits")?;
+    }
+    let build_start = Instant::now();
+    let assets = build(&cfg.scene, cfg.depth)?;
+    let build_s = build_start.elapsed().as_secs_f64();
+    if let Some(dir) = &cfg.out_dir {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+    }
+    let scene = &cfg.scene;
+    let (w, h) = scene.file.resolution;
+    let frames = scene.file.frames;
+    let half: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
+    let csv = cfg
+        .dump_hits
+        .as_ref()
+        .is_some_and(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")));
+    let mut dump_file = match &cfg.dump_hits {
+        Some(p) => {
+            let mut f =
+                AtomicFile::create(p).with_context(|| format!("cannot create {}", p.display()))?;
+            if csv {
+                writeln!(f.writer(), "{}", dump::CSV_HEADER)?;
+            } else {
+                dump::write_header(f.writer(), w, h, frames)?;
+            }
+            Some(f)
+        }
+        None => None,
+    };
+    let mut buffer = HitBuffer::new(w, h);
+    let mut stats = Vec::with_capacity(frames as usize);
+    for f in 0..frames {
+        let state = scene
+            .frame_state(f, &half)
+            .map_err(|m| anyhow::anyhow!("frame {f}: {m}"))?;
+        let input = FrameInput {
+            scene,
+            assets: &assets,
+            state: &state,
+        };
+        let st = render_frame(&input, &mut buffer, cfg.options);
+        if let Some(dir) = &cfg.out_dir {
+            let l = &scene.file.light;
+            let img = png::shade(
+                &buffer.records,
+                w,
+                h,
+                l.direction,
+                l.ambient,
+                scene.file.background,
+            );
+            let bytes = png::encode_png(&img)?;
+            let path = dir.join(format!("frame_{f:04}.png"));
+            write_atomic(&path, &bytes)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+        }
+        if let Some(df) = dump_file.as_mut() {
+            if csv {
+                dump::write_frame_csv(df.writer(), f, w, &buffer.records)?;
+            } else {
+                dump::write_frame(df.writer(), f, &buffer.records)?;
+            }
+        }
+        progress(&st, frames);
+        stats.push(st);
+    }
+    if let Some(df) = dump_file {
+        df.commit().context("cannot finish the hit dump")?;
+    }
+    let report = Report {
+        tool: format!("svo_sim {}", env!("CARGO_PKG_VERSION")),
+        scene: SceneReport {
+            origin: scene.origin.clone(),
+            width: w,
+            height: h,
+            frames,
+            instances: scene.file.instances.len(),
+        },
+        options: OptionsReport {
+            model: "reference".into(),
+            hit_buffer: cfg.options.use_hit_buffer,
+            early_termination: cfg.options.early_termination,
+            threads: rayon::current_num_threads(),
+        },
+        assets: assets.iter().map(AssetReport::from).collect(),
+        summary: Summary::of(&stats, build_s),
+        frames: stats.clone(),
+    };
+    if let Some(p) = &cfg.report_json {
+        let text = serde_json::to_string_pretty(&report)?;
+        write_atomic(p, text.as_bytes())
+            .with_context(|| format!("cannot write {}", p.display()))?;
+    }
+    Ok(RunOutput {
+        assets,
+        frames: stats,
+        report,
+        buffer,
+    })
+}
