@@ -4,7 +4,7 @@
 //! (when loaded), depths, asset builds, output folders. Each output file is written
 //! atomically.
 
-use crate::assets::{build_assets, effective_depths, Asset};
+use crate::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::output::atomic::{write_atomic, AtomicFile};
 use crate::output::report::{AssetReport, OptionsReport, Report, SceneReport, Summary};
 use crate::output::{dump, png};
@@ -22,6 +22,8 @@ pub struct RunConfig {
     pub scene: Scene,
     /// `--depth`: depth of the deepest asset.
     pub depth: Option<u8>,
+    /// How SDF assets are stored.
+    pub materialise: Materialise,
     /// Renderer switches.
     pub options: RenderOptions,
     /// Folder for PNGs (`None`: no images).
@@ -62,10 +64,10 @@ fn check_parent(path: &Path, what: &str) -> Result<()> {
     Ok(())
 }
 
-/// Builds the assets of a scene at the configured depths (announcing each on `log`).
-pub fn build(scene: &Scene, depth: Option<u8>) -> Result<Vec<Asset>> {
+/// Builds the assets of a scene at the configured depths.
+pub fn build(scene: &Scene, depth: Option<u8>, mode: Materialise) -> Result<Vec<Asset>> {
     let depths = effective_depths(scene, depth)?;
-    Ok(build_assets(scene, &depths)?)
+    Ok(build_assets(scene, &depths, mode)?)
 }
 
 /// Runs the reference over all frames. `progress` is called after each frame.
@@ -77,7 +79,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Resul
         check_parent(p, "--dump-hits")?;
     }
     let build_start = Instant::now();
-    let assets = build(&cfg.scene, cfg.depth)?;
+    let assets = build(&cfg.scene, cfg.depth, cfg.materialise)?;
     let build_s = build_start.elapsed().as_secs_f64();
     if let Some(dir) = &cfg.out_dir {
         std::fs::create_dir_all(dir)

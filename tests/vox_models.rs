@@ -501,6 +501,35 @@ fn broken_scene_graphs_are_errors() {
     }
 }
 
+#[test]
+fn instancing_beyond_the_voxel_budget_is_an_error() {
+    // One model of 2^20 voxels (a full 128 x 128 x 64 block), instanced 65 times: 2^26 + 2^20
+    // placed voxels from a 4 MiB file.
+    let voxels: Vec<[u8; 4]> = (0..1u32 << 20)
+        .map(|i| [(i & 127) as u8, ((i >> 7) & 127) as u8, (i >> 14) as u8, 1])
+        .collect();
+    let instances = 65u32;
+    let children: Vec<u32> = (0..instances).map(|i| 2 + 2 * i).collect();
+    let mut chunks = vec![
+        model([128, 128, 64], &voxels),
+        transform_node(0, &[], 1, &[]),
+        group_node(1, &children),
+    ];
+    for i in 0..instances {
+        let t = format!("{} 0 0", 200 * i);
+        chunks.push(transform_node(2 + 2 * i, &[], 3 + 2 * i, &[("_t", &t)]));
+        chunks.push(shape_node(3 + 2 * i, 0));
+    }
+    let path = Path::new("instanced.vox");
+    let err = load_vox_bytes(&vox_file(&chunks), path, None).expect_err("too many voxels");
+    println!("{err}");
+    assert!(
+        matches!(err, VoxError::TooManyVoxels { voxels, .. } if voxels == 65 << 20),
+        "{err:?}"
+    );
+    assert_names_path(&err, path);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Corrupt input
 
@@ -516,7 +545,7 @@ fn corrupt_input_is_an_error_naming_the_path() {
         cases.push(("first 100 bytes of a real file".into(), truncated));
     }
 
-    let seed = 0x5eed_0f_b0_05u64;
+    let seed = 0x5eed_0fb0_0005_u64;
     println!("garbage seed {seed:#x}");
     let mut s = seed;
     let mut next = move || {
@@ -630,6 +659,14 @@ fn depth_too_small_and_out_of_range_are_errors() {
         );
         assert_names_path(&err, &path);
     }
+    // Depth 20 would turn each surface voxel into up to 6·(2^15)² leaves.
+    let err = load_vox(&path, Some(20)).expect_err("too many leaves");
+    assert!(
+        matches!(err, VoxError::TooManyLeaves { depth: 20, .. }),
+        "{err:?}"
+    );
+    println!("{err}");
+    assert_names_path(&err, &path);
     let same = load_vox(&path, Some(needed)).unwrap();
     assert_eq!(same.leaves, coarse.leaves);
 }

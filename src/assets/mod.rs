@@ -10,25 +10,64 @@ pub mod voxelize;
 use crate::error::AssetError;
 use crate::scene::{AssetSource, Scene};
 use crate::sdf::Sdf;
-use rtl_model::svo::{LeafSet, SvoImage, MAX_DEPTH};
+use rtl_model::svo::{LeafSet, SvoImage, SvoStats, MAX_DEPTH};
 use std::time::Instant;
+use voxelize::SdfOctree;
 
-/// Largest node + attribute memory the builder will allocate for one asset, in bytes.
-pub const MAX_IMAGE_BYTES: u64 = 8 << 30;
+/// SDF assets whose estimated leaf count exceeds this are not materialised but walked
+/// implicitly (64 M leaves ≈ 0.9 GB of image and a build of tens of seconds on 2 cores).
+pub const MAX_MATERIALISED_LEAVES: f64 = 64e6;
+
+/// An asset's octree: a memory image, or an SDF walked on demand when the image would be
+/// too large to build (the same voxels either way, see [`crate::reference::octree`]).
+#[derive(Clone, Debug)]
+pub enum AssetTree {
+    /// The packed memory image the hardware reads.
+    Image(SvoImage),
+    /// An SDF octree evaluated during the walk.
+    Implicit(SdfOctree),
+}
+
+/// How SDF assets are stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Materialise {
+    /// A memory image unless it would exceed [`MAX_MATERIALISED_LEAVES`].
+    #[default]
+    Auto,
+    /// Always walk SDF assets implicitly (`sim --implicit`).
+    Never,
+}
 
 /// A built asset.
 #[derive(Clone, Debug)]
 pub struct Asset {
     /// Name from the scene.
     pub name: String,
-    /// The memory image.
-    pub image: SvoImage,
+    /// The octree.
+    pub tree: AssetTree,
+    /// Statistics: of the image, or for an implicit tree the estimated leaf count only.
+    pub stats: SvoStats,
     /// Half the side of the octree's cube in metres (before instance scale).
     pub half_size: f64,
     /// Build time in seconds.
     pub build_s: f64,
-    /// "sdf" or "vox".
+    /// "sdf", "sdf-implicit" or "vox".
     pub kind: &'static str,
+}
+
+impl Asset {
+    /// The memory image, if the asset has one.
+    pub fn image(&self) -> Option<&SvoImage> {
+        match &self.tree {
+            AssetTree::Image(i) => Some(i),
+            AssetTree::Implicit(_) => None,
+        }
+    }
+
+    /// Octree depth.
+    pub fn depth(&self) -> u8 {
+        self.stats.depth
+    }
 }
 
 /// Depth of each asset after a `--depth` override: the deepest asset gets `depth`, the others
@@ -52,7 +91,11 @@ pub fn effective_depths(scene: &Scene, depth: Option<u8>) -> Result<Vec<u8>, Ass
 }
 
 /// Builds every asset of the scene at the given depths (see [`effective_depths`]).
-pub fn build_assets(scene: &Scene, depths: &[u8]) -> Result<Vec<Asset>, AssetError> {
+pub fn build_assets(
+    scene: &Scene,
+    depths: &[u8],
+    mode: Materialise,
+) -> Result<Vec<Asset>, AssetError> {
     scene
         .file
         .assets
@@ -61,7 +104,13 @@ pub fn build_assets(scene: &Scene, depths: &[u8]) -> Result<Vec<Asset>, AssetErr
         .map(|(spec, &depth)| {
             let start = Instant::now();
             let name = spec.name.clone();
-            let (set, half_size, kind) = match &spec.source {
+            let image = |set: &LeafSet| {
+                SvoImage::build(set).map_err(|source| AssetError::Image {
+                    asset: name.clone(),
+                    source,
+                })
+            };
+            let (tree, half_size, kind) = match &spec.source {
                 AssetSource::Sdf { shape, half_extent } => {
                     let sdf =
                         Sdf::new(shape, &format!("assets({name}).shape")).map_err(|message| {
@@ -74,15 +123,32 @@ pub fn build_assets(scene: &Scene, depths: &[u8]) -> Result<Vec<Asset>, AssetErr
                         let (lo, hi) = sdf.bounds();
                         lo.abs().max(hi.abs()).max_element() * 1.02
                     });
-                    check_budget(&sdf, half, depth, &name)?;
-                    let leaves = voxelize::voxelize(&sdf, half, depth);
-                    let set = LeafSet::from_sorted_codes(depth, leaves).map_err(|source| {
-                        AssetError::Leaves {
-                            asset: name.clone(),
-                            source,
-                        }
-                    })?;
-                    (set, half, "sdf")
+                    let octree = SdfOctree::new(sdf, half, depth);
+                    let estimate = estimate_leaves(&octree);
+                    if mode == Materialise::Never || estimate > MAX_MATERIALISED_LEAVES {
+                        let stats = SvoStats {
+                            depth,
+                            leaves: estimate as u64,
+                            ..SvoStats::default()
+                        };
+                        let a = Asset {
+                            name: name.clone(),
+                            tree: AssetTree::Implicit(octree),
+                            stats,
+                            half_size: half,
+                            build_s: start.elapsed().as_secs_f64(),
+                            kind: "sdf-implicit",
+                        };
+                        return Ok(a);
+                    }
+                    let set =
+                        LeafSet::from_sorted_codes(depth, octree.leaves()).map_err(|source| {
+                            AssetError::Leaves {
+                                asset: name.clone(),
+                                source,
+                            }
+                        })?;
+                    (image(&set)?, half, "sdf")
                 }
                 AssetSource::Vox { path, voxel_size } => {
                     let full = scene.base_dir.join(path);
@@ -94,16 +160,14 @@ pub fn build_assets(scene: &Scene, depths: &[u8]) -> Result<Vec<Asset>, AssetErr
                     let max_dim = v.grid_dims.iter().copied().max().unwrap_or(1).max(2);
                     let needed = 32 - (max_dim - 1).leading_zeros();
                     let half = voxel_size * f64::from(1u32 << needed) * 0.5;
-                    (v.leaves, half, "vox")
+                    (image(&v.leaves)?, half, "vox")
                 }
             };
-            let image = SvoImage::build(&set).map_err(|source| AssetError::Image {
-                asset: name.clone(),
-                source,
-            })?;
+            let stats = tree.stats().clone();
             Ok(Asset {
                 name,
-                image,
+                tree: AssetTree::Image(tree),
+                stats,
                 half_size,
                 build_s: start.elapsed().as_secs_f64(),
                 kind,
@@ -112,27 +176,16 @@ pub fn build_assets(scene: &Scene, depths: &[u8]) -> Result<Vec<Asset>, AssetErr
         .collect()
 }
 
-/// Refuses depths whose memory image would not fit [`MAX_IMAGE_BYTES`]: a surface's leaf
-/// count grows 4× per level, so the count at a shallower probe depth predicts it.
-fn check_budget(sdf: &Sdf, half: f64, depth: u8, name: &str) -> Result<(), AssetError> {
-    const PROBE: u8 = 8;
-    if depth <= PROBE + 2 {
-        return Ok(());
+/// Leaf count of an SDF octree predicted from a build at depth 9: a surface's leaf count
+/// grows about 4× per level. Returns 0 (not estimated) up to depth 10, which always fits.
+pub fn estimate_leaves(octree: &SdfOctree) -> f64 {
+    const PROBE: u8 = 9;
+    let depth = octree.depth();
+    if depth <= PROBE + 1 {
+        return 0.0;
     }
-    let probe = voxelize::voxelize(sdf, half, PROBE).len() as f64;
-    let leaves = probe * 4f64.powi(i32::from(depth - PROBE));
-    // 4 bytes of leaf slot + 8 of attributes per leaf, plus about 1/3 word of descriptors.
-    let bytes = leaves * (12.0 + 4.0 / 3.0);
-    if bytes > MAX_IMAGE_BYTES as f64 {
-        return Err(AssetError::Depth {
-            asset: name.to_string(),
-            message: format!(
-                "depth {depth} would need about {:.2e} leaves and {:.1} GiB of SVO memory, more than the {} GiB limit; use a smaller --depth",
-                leaves,
-                bytes / f64::from(1u32 << 30),
-                MAX_IMAGE_BYTES >> 30
-            ),
-        });
-    }
-    Ok(())
+    let probe = SdfOctree::new(octree.sdf().clone(), octree.half(), PROBE)
+        .leaves()
+        .len() as f64;
+    probe * 4f64.powi(i32::from(depth - PROBE))
 }

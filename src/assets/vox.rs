@@ -18,8 +18,9 @@
 //!    `nSHP`, walked from node 0; node ids are the chunks' order, as MagicaVoxel writes them) is
 //!    placed with the product of the transforms above it (first keyframe: `frames[0]` of a
 //!    transform, `models[0]` of a shape). Transforms with `_hidden = 1`, or on a hidden layer,
-//!    are skipped with their subtree. A file without a scene graph places each model
-//!    untransformed. Where instances overlap, the first one in scene order keeps the voxel.
+//!    are skipped with their subtree. A file without a scene graph places each model at the
+//!    origin (like an instance with an identity transform). Where instances overlap, the first
+//!    one in scene order keeps the voxel. At most [`MAX_PLACED_VOXELS`] voxels are placed.
 //!
 //!    Placement follows MagicaVoxel: `_t` is the integer translation "x y z"; `_r` is the packed
 //!    rotation byte (bits 0-1: column of the non-zero entry of row 0, bits 2-3: of row 1,
@@ -27,11 +28,14 @@
 //!    grid point `floor(s/2)`, which lands on the translation `t`. Voxel `v` (occupying the unit
 //!    cell `[v, v+1)`) therefore goes to `t + floor(R·(v + ½ − floor(s/2)))`. Without rotation
 //!    this is `t + v − floor(s/2)`; with a mirrored axis it differs from the naive
-//!    `t + R·(v − floor(s/2))` by one voxel on that axis.
+//!    `t + R·(v − floor(s/2))` by one voxel on that axis. (This is the placement of the
+//!    vengi and voxel-io importers, which were checked against MagicaVoxel's own display of
+//!    rotated and mirrored instances.)
 //! 3. **Change axes.** MagicaVoxel is right-handed z-up, ours is right-handed y-up: vox
 //!    `(x, y, z)` maps to ours `(x, z, −y)` (a proper rotation, determinant +1), cell for cell.
-//!    The composed bounding box is shifted to start at 0 ([`VoxAsset::grid_dims`] is its extent
-//!    in our axes) and centred in the `2^depth` cube: offset `floor((2^depth − extent) / 2)` per
+//!    The bounding box of the solid voxels (not of the models' `SIZE` boxes, which may have
+//!    empty margins) is shifted to start at 0 ([`VoxAsset::grid_dims`] is its extent in our
+//!    axes) and centred in the `2^depth` cube: offset `floor((2^depth − extent) / 2)` per
 //!    axis.
 //! 4. **Colour.** `dot_vox` stores `Voxel::i` as the file's 1-based colour index minus one, and
 //!    its `palette[i]` is the file's `RGBA` entry `i`, which the format defines as the colour of
@@ -65,6 +69,11 @@ pub const MAX_CHUNK_NESTING: usize = 16;
 /// it is sorted), so a large `depth` on a large model fails cleanly instead of exhausting
 /// memory.
 pub const MAX_UPSCALED_LEAVES: u64 = 1 << 26;
+
+/// Most voxels the composed scene may place (instances counted separately; 32 bytes each
+/// while composing). A small file can instance a large model many times; this keeps such a
+/// file from exhausting memory. The largest sample (`scene_store8.vox`) places 441 118.
+pub const MAX_PLACED_VOXELS: u64 = 1 << 26;
 
 /// Composed grids with at most this many cells use a dense occupancy bitset (32 MiB at most);
 /// larger, sparse ones use a hash set.
@@ -148,6 +157,17 @@ pub enum VoxError {
         /// Largest extent of the composed model, in voxels.
         extent: u64,
     },
+    /// The scene places more voxels than [`MAX_PLACED_VOXELS`].
+    #[error(
+        "{}: the scene places {voxels} voxels (at most {MAX_PLACED_VOXELS})",
+        path.display()
+    )]
+    TooManyVoxels {
+        /// The file.
+        path: PathBuf,
+        /// Voxels over all instances.
+        voxels: u64,
+    },
     /// Upscaling to the requested depth would make too many leaves.
     #[error(
         "{}: depth {depth} would make {leaves} surface leaves (at most {MAX_UPSCALED_LEAVES})",
@@ -207,6 +227,17 @@ pub fn load_vox_bytes(bytes: &[u8], path: &Path, depth: Option<u8>) -> Result<Vo
         message,
     };
     let placements = placements(&data).map_err(scene_error)?;
+    let total: u64 = placements
+        .iter()
+        .filter_map(|p| data.models.get(p.model))
+        .map(|m| m.voxels.len() as u64)
+        .sum();
+    if total > MAX_PLACED_VOXELS {
+        return Err(VoxError::TooManyVoxels {
+            path: path.to_path_buf(),
+            voxels: total,
+        });
+    }
     let placed = place_voxels(&data, &placements);
     build(path, &data, placements.len(), placed, depth)
 }
@@ -748,7 +779,7 @@ fn build(
 /// Offsets inside a `k³` block of the cells on its open faces (mask bit `2a` = low face of
 /// axis `a`, `2a + 1` = high face), each cell once.
 fn block_surface(k: u64, mask: u8) -> Vec<[u64; 3]> {
-    let plane = |face: usize| if face % 2 == 0 { 0 } else { k - 1 };
+    let plane = |face: usize| if face % 2 == 1 { k - 1 } else { 0 };
     let mut out = Vec::new();
     for face in (0..6).filter(|&f| mask & (1 << f) != 0) {
         let axis = face / 2;

@@ -1,27 +1,34 @@
-//! Sparse surface voxelisation of an SDF into Morton-ordered leaves.
+//! Sparse surface voxelisation of an SDF: the rules that decide which octree nodes and leaves
+//! exist, used both to build a memory image and to walk an octree too large to store.
 //!
-//! Pipeline position: offline asset build, before [`rtl_model::svo::SvoImage::build`].
+//! Pipeline position: offline asset build, before [`rtl_model::svo::SvoImage::build`]; and,
+//! for trees too deep to materialise, on demand inside the reference walker
+//! ([`crate::reference::octree`]).
 //!
 //! A leaf of half-size h with centre c is solid iff −2h < sdf(c) ≤ 0: an inner shell one
 //! voxel thick. The shell is watertight for rays: between face-adjacent voxels the centre
 //! distance is 2h, so the (1-Lipschitz) SDF changes by at most 2h and a walk from outside
 //! (sdf > 0) to deep inside (sdf ≤ −2h) must step on a shell voxel.
-//! An internal node of half-size H is expanded only if some leaf centre inside it could be in
+//! An internal node of half-size H is kept only if some leaf centre inside it could be in
 //! the shell: its leaf centres lie within ρ = (H − h)·√3 of its centre C, so the node is
 //! culled when sdf(C) − ρ > 0 or sdf(C) + ρ ≤ −2h. Culling is exact for exact SDFs and
-//! conservative for bounds, so the same leaves come out whatever the evaluation order.
+//! conservative for bounds (a culled node never holds a shell leaf).
+//! A leaf's colour is the SDF's paint at its centre; its normal is the SDF gradient at its
+//! parent's centre (tetrahedral difference, step 2h), shared by siblings to save evaluations.
 
 use crate::sdf::Sdf;
 use glam::DVec3;
 use rayon::prelude::*;
-use rtl_model::svo::LeafAttr;
+use rtl_model::svo::{morton, LeafAttr};
 
 /// Levels expanded serially before the subtrees are handed to worker threads
 /// (up to 8^3 = 512 tasks, enough to balance 2 to 64 cores).
 const SPLIT_LEVEL: u8 = 3;
 
-struct Ctx<'a> {
-    sdf: &'a Sdf,
+/// An SDF seen as an octree: node and leaf existence by the shell rules above.
+#[derive(Clone, Debug)]
+pub struct SdfOctree {
+    sdf: Sdf,
     depth: u8,
     /// Half-size of the root cube.
     half: f64,
@@ -29,10 +36,47 @@ struct Ctx<'a> {
     leaf_half: f64,
 }
 
-impl Ctx<'_> {
+impl SdfOctree {
+    /// The octree of `sdf` in a cube of half-size `half` centred on the origin, `depth` levels
+    /// (1..=20, checked by the caller).
+    pub fn new(sdf: Sdf, half: f64, depth: u8) -> Self {
+        Self {
+            sdf,
+            depth,
+            half,
+            leaf_half: half / f64::from(1u32 << depth),
+        }
+    }
+
+    /// Levels below the root.
+    pub fn depth(&self) -> u8 {
+        self.depth
+    }
+
+    /// The SDF.
+    pub fn sdf(&self) -> &Sdf {
+        &self.sdf
+    }
+
+    /// Half-size of the root cube.
+    pub fn half(&self) -> f64 {
+        self.half
+    }
+
     fn node_half(&self, level: u8) -> f64 {
         // level ≤ MAX_DEPTH (20), so the shift cannot overflow.
         self.half / f64::from(1u32 << level)
+    }
+
+    /// Centre of the node with Morton `code` at `level` (root: level 0, code 0).
+    pub fn node_centre(&self, code: u64, level: u8) -> DVec3 {
+        let c = morton::decode(code);
+        let h = self.node_half(level);
+        DVec3::new(
+            -self.half + (2.0 * f64::from(c[0]) + 1.0) * h,
+            -self.half + (2.0 * f64::from(c[1]) + 1.0) * h,
+            -self.half + (2.0 * f64::from(c[2]) + 1.0) * h,
+        )
     }
 
     fn child_centre(&self, centre: DVec3, level: u8, label: u8) -> DVec3 {
@@ -45,35 +89,48 @@ impl Ctx<'_> {
             )
     }
 
-    /// May the node at `level` with this centre contain a shell leaf?
-    fn keep(&self, centre: DVec3, level: u8) -> bool {
+    /// May the internal node at `level` (< depth) with this centre contain a shell leaf?
+    pub fn keep(&self, centre: DVec3, level: u8) -> bool {
         let rho = (self.node_half(level) - self.leaf_half) * 3f64.sqrt();
         let d = self.sdf.dist(centre);
         d - rho <= 0.0 && d + rho > -2.0 * self.leaf_half
     }
 
-    fn leaf(&self, centre: DVec3) -> Option<LeafAttr> {
-        let s = self.sdf.sample(centre);
-        if s.dist <= 0.0 && s.dist > -2.0 * self.leaf_half {
-            let n = self.sdf.normal(centre, self.leaf_half);
-            let [r, g, b] = s.rgb;
-            Some(LeafAttr::new([r, g, b, 255], n.to_array()))
-        } else {
-            None
-        }
+    /// Is the leaf with this centre solid?
+    pub fn solid(&self, centre: DVec3) -> bool {
+        let d = self.sdf.dist(centre);
+        d <= 0.0 && d > -2.0 * self.leaf_half
+    }
+
+    /// Attributes of a solid leaf, given its centre and its parent's centre.
+    pub fn attr(&self, centre: DVec3, parent_centre: DVec3) -> LeafAttr {
+        let n = self.sdf.normal(parent_centre, 2.0 * self.leaf_half);
+        self.attr_with_normal(centre, n)
+    }
+
+    fn attr_with_normal(&self, centre: DVec3, n: DVec3) -> LeafAttr {
+        let [r, g, b] = self.sdf.sample(centre).rgb;
+        LeafAttr::new([r, g, b, 255], n.to_array())
     }
 
     /// Appends the leaves below a kept node, in Morton order.
     fn subtree(&self, code: u64, centre: DVec3, level: u8, out: &mut Vec<(u64, LeafAttr)>) {
+        if level + 1 == self.depth {
+            let mut normal = None;
+            for label in 0..8u8 {
+                let cc = self.child_centre(centre, level, label);
+                if self.solid(cc) {
+                    let n = *normal
+                        .get_or_insert_with(|| self.sdf.normal(centre, 2.0 * self.leaf_half));
+                    out.push(((code << 3) | u64::from(label), self.attr_with_normal(cc, n)));
+                }
+            }
+            return;
+        }
         for label in 0..8u8 {
             let cc = self.child_centre(centre, level, label);
-            let child_code = (code << 3) | u64::from(label);
-            if level + 1 == self.depth {
-                if let Some(a) = self.leaf(cc) {
-                    out.push((child_code, a));
-                }
-            } else if self.keep(cc, level + 1) {
-                self.subtree(child_code, cc, level + 1, out);
+            if self.keep(cc, level + 1) {
+                self.subtree((code << 3) | u64::from(label), cc, level + 1, out);
             }
         }
     }
@@ -99,40 +156,38 @@ impl Ctx<'_> {
         }
         nodes
     }
+
+    /// All solid leaves as (Morton code, attributes) in ascending code order. Uses all threads
+    /// of the current rayon pool; the result does not depend on the thread count.
+    pub fn leaves(&self) -> Vec<(u64, LeafAttr)> {
+        let split = SPLIT_LEVEL.min(self.depth - 1);
+        let tasks = self.frontier(split);
+        let parts: Vec<Vec<(u64, LeafAttr)>> = tasks
+            .par_iter()
+            .map(|&(code, c)| {
+                let mut v = Vec::new();
+                self.subtree(code, c, split, &mut v);
+                v
+            })
+            .collect();
+        let mut out = Vec::with_capacity(parts.iter().map(Vec::len).sum());
+        for p in parts {
+            out.extend(p);
+        }
+        out
+    }
 }
 
 /// Solid shell leaves of `sdf` in a cube of half-size `half` centred on the origin, at
-/// `depth` levels, as (Morton code, attributes) in ascending code order. Uses all threads of
-/// the current rayon pool; the result does not depend on the thread count.
+/// `depth` levels, as (Morton code, attributes) in ascending code order.
 pub fn voxelize(sdf: &Sdf, half: f64, depth: u8) -> Vec<(u64, LeafAttr)> {
-    let ctx = Ctx {
-        sdf,
-        depth,
-        half,
-        leaf_half: half / 2f64.powi(i32::from(depth)),
-    };
-    let split = SPLIT_LEVEL.min(depth - 1);
-    let tasks = ctx.frontier(split);
-    let parts: Vec<Vec<(u64, LeafAttr)>> = tasks
-        .par_iter()
-        .map(|&(code, c)| {
-            let mut v = Vec::new();
-            ctx.subtree(code, c, split, &mut v);
-            v
-        })
-        .collect();
-    let mut out = Vec::with_capacity(parts.iter().map(Vec::len).sum());
-    for p in parts {
-        out.extend(p);
-    }
-    out
+    SdfOctree::new(sdf.clone(), half, depth).leaves()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::sdf::Shape;
-    use rtl_model::svo::morton;
 
     /// Brute force over every leaf of a small grid: the same shell rule, no culling.
     fn brute(sdf: &Sdf, half: f64, depth: u8) -> Vec<u64> {
@@ -189,5 +244,16 @@ mod tests {
                 assert_eq!(fast, brute(&sdf, 1.0, depth), "shape {i} depth {depth}");
             }
         }
+    }
+
+    #[test]
+    fn node_centres_match_child_centres() {
+        let t = SdfOctree::new(
+            Sdf::new(&Shape::Sphere { radius: 0.5 }, "t").unwrap(),
+            2.0,
+            4,
+        );
+        let c = t.child_centre(t.child_centre(DVec3::ZERO, 0, 5), 1, 2);
+        assert_eq!(t.node_centre(0o52, 2), c);
     }
 }

@@ -8,6 +8,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use svo_sim::assets::Materialise;
 use svo_sim::reference::{render_frame, FrameInput, FrameStats, HitBuffer, RenderOptions};
 use svo_sim::run::{build, run, RunConfig};
 use svo_sim::scene::Scene;
@@ -58,6 +59,10 @@ struct SceneArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Walk procedural (SDF) assets on demand instead of building memory images (same
+    /// voxels; automatic when an image would exceed 64 M leaves, e.g. the car at depth 13+).
+    #[arg(long)]
+    implicit: bool,
 }
 
 #[derive(Args, Debug)]
@@ -150,6 +155,11 @@ fn cmd_run(a: RunArgs) -> Result<()> {
     let cfg = RunConfig {
         scene,
         depth: a.scene.depth,
+        materialise: if a.scene.implicit {
+            Materialise::Never
+        } else {
+            Materialise::Auto
+        },
         options: RenderOptions {
             use_hit_buffer: !a.no_hit_buffer,
             early_termination: !a.no_early_termination,
@@ -240,7 +250,12 @@ fn cmd_bench(a: BenchArgs) -> Result<()> {
         rayon::current_num_threads()
     );
     let t = std::time::Instant::now();
-    let assets = build(&scene, sa.depth)?;
+    let mode = if sa.implicit {
+        Materialise::Never
+    } else {
+        Materialise::Auto
+    };
+    let assets = build(&scene, sa.depth, mode)?;
     println!(
         "assets built in {:.2} s (excluded)",
         t.elapsed().as_secs_f64()

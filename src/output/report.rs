@@ -10,7 +10,7 @@ use serde::Serialize;
 pub struct AssetReport {
     /// Name.
     pub name: String,
-    /// "sdf" or "vox".
+    /// "sdf", "sdf-implicit" (walked on demand, not stored) or "vox".
     pub kind: String,
     /// Octree depth.
     pub depth: u8,
@@ -18,7 +18,7 @@ pub struct AssetReport {
     pub half_size_m: f64,
     /// Internal nodes.
     pub nodes: u64,
-    /// Solid leaves.
+    /// Solid leaves (for an implicit tree: the estimate).
     pub leaves: u64,
     /// Far-pointer words.
     pub far_words: u64,
@@ -32,7 +32,7 @@ pub struct AssetReport {
 
 impl From<&Asset> for AssetReport {
     fn from(a: &Asset) -> Self {
-        let s = a.image.stats();
+        let s = &a.stats;
         Self {
             name: a.name.clone(),
             kind: a.kind.to_string(),

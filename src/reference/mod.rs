@@ -8,6 +8,7 @@
 
 pub mod frame;
 pub mod hit_buffer;
+pub mod octree;
 pub mod ray;
 pub mod record;
 pub mod sphere;

@@ -18,24 +18,26 @@
 //! - The first solid leaf reached is the nearest (children are visited front to back); its
 //!   t is max(entry, 0) and its entry face is the axis of the largest t0 (ties: x, then y).
 
+use super::octree::{Child, Octree};
 use glam::DVec3;
-use rtl_model::svo::{ChildDescriptor, SvoImage, MAX_DEPTH};
+use rtl_model::svo::MAX_DEPTH;
 
 /// Components below this magnitude are treated as zero (§3.3): |t| would exceed ~1e150 and
 /// midpoint sums could overflow.
 pub const ZERO_DIR: f64 = 1e-150;
 
-/// The nearest solid leaf along a ray.
+/// The nearest solid leaf along a ray; `L` is the octree's leaf handle (for a memory image,
+/// the attribute index).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WalkHit {
+pub struct WalkHit<L = u32> {
     /// Ray parameter of the hit (entry into the leaf, or 0 if the origin is inside it).
     pub t: f64,
     /// Integer coordinates of the leaf at `level`.
     pub voxel: [u32; 3],
     /// Level of the leaf (the asset's depth for every builder here).
     pub level: u8,
-    /// Index into the attribute array.
-    pub attr: u32,
+    /// The leaf (for a memory image: index into the attribute array).
+    pub attr: L,
     /// Entry face as a local unit normal (opposes the ray on its entry axis).
     pub face_normal: DVec3,
 }
@@ -52,12 +54,11 @@ pub struct WalkCounters {
 }
 
 #[derive(Clone, Copy, Default)]
-struct Frame {
+struct Frame<N> {
     t0: [f64; 3],
     t1: [f64; 3],
     tm: [f64; 3],
-    addr: u32,
-    desc: u32,
+    node: N,
     /// Next child label to examine, in the mirrored frame; 8 when done.
     next: u8,
     level: u8,
@@ -137,15 +138,15 @@ impl RayFrame {
     }
 }
 
-/// Walks the octree `img` occupying [−half, half] for the ray o + t·d (local frame).
+/// Walks the octree `tree` occupying [−half, half] for the ray o + t·d (local frame).
 /// Returns the nearest solid leaf with t ≥ 0, or `None`.
-pub fn walk(
-    img: &SvoImage,
+pub fn walk<T: Octree>(
+    tree: &T,
     half: DVec3,
     o: DVec3,
     d: DVec3,
     cnt: &mut WalkCounters,
-) -> Option<WalkHit> {
+) -> Option<WalkHit<T::Leaf>> {
     let lo = (-half).to_array();
     let hi = half.to_array();
     let (o, d) = (o.to_array(), d.to_array());
@@ -184,14 +185,12 @@ pub fn walk(
     if !(max3(t0) < min3(t1) && min3(t1) > 0.0) {
         return None;
     }
-    let mut stack = [Frame::default(); MAX_DEPTH as usize + 1];
-    let root = SvoImage::root();
+    let mut stack = [Frame::<T::Node>::default(); MAX_DEPTH as usize + 1];
     cnt.fetches += 1;
     let mut f = Frame {
         t0,
         t1,
-        addr: root,
-        desc: img.nodes()[root as usize],
+        node: tree.root(),
         ..Frame::default()
     };
     for k in 0..3 {
@@ -229,9 +228,8 @@ pub fn walk(
             continue;
         }
         let real = c ^ rf.a;
-        let desc = ChildDescriptor::unpack(top.desc);
-        let bit = 1u8 << real;
-        if desc.valid & bit == 0 {
+        let child = tree.child(&top.node, real);
+        if matches!(child, Child::Empty) {
             continue;
         }
         let level = top.level + 1;
@@ -240,32 +238,34 @@ pub fn walk(
             (top.coords[1] << 1) | u32::from((real >> 1) & 1),
             (top.coords[2] << 1) | u32::from(real & 1),
         ];
-        let slot = img.group_base(top.addr, desc) + desc.slot(real);
-        if desc.leaf & bit != 0 {
-            let axis = if ct0[0] >= ct0[1] && ct0[0] >= ct0[2] {
-                0
-            } else if ct0[1] >= ct0[2] {
-                1
-            } else {
-                2
-            };
-            let mut n = [0.0; 3];
-            n[axis] = if rf.a & (4 >> axis) != 0 { 1.0 } else { -1.0 };
-            return Some(WalkHit {
-                t: enter.max(0.0),
-                voxel: coords,
-                level,
-                attr: img.nodes()[slot as usize],
-                face_normal: DVec3::from_array(n),
-            });
-        }
+        let node = match child {
+            Child::Empty => continue,
+            Child::Node(n) => n,
+            Child::Leaf(leaf) => {
+                let axis = if ct0[0] >= ct0[1] && ct0[0] >= ct0[2] {
+                    0
+                } else if ct0[1] >= ct0[2] {
+                    1
+                } else {
+                    2
+                };
+                let mut n = [0.0; 3];
+                n[axis] = if rf.a & (4 >> axis) != 0 { 1.0 } else { -1.0 };
+                return Some(WalkHit {
+                    t: enter.max(0.0),
+                    voxel: coords,
+                    level,
+                    attr: leaf,
+                    face_normal: DVec3::from_array(n),
+                });
+            }
+        };
         cnt.fetches += 1;
         let mut child = Frame {
             t0: ct0,
             t1: ct1,
             tm: [0.0; 3],
-            addr: slot,
-            desc: img.nodes()[slot as usize],
+            node,
             next: 0,
             level,
             coords,

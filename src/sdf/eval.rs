@@ -40,6 +40,11 @@ enum Node {
     Union(Vec<Node>),
     Difference(Box<Node>, Vec<Node>),
     Intersection(Vec<Node>),
+    /// A pure translation (no rotation): the common case, without the matrix multiply.
+    Shifted {
+        offset: DVec3,
+        child: Box<Node>,
+    },
     Moved {
         local_from_parent: DMat3,
         offset: DVec3,
@@ -237,10 +242,17 @@ fn compile(s: &Shape, path: &str) -> Result<(Node, DVec3, DVec3), String> {
                 nlo = nlo.min(w);
                 nhi = nhi.max(w);
             }
-            let node = Node::Moved {
-                local_from_parent: r.transpose(),
-                offset: off,
-                child: Box::new(c),
+            let node = if *rotation_deg == [0.0; 3] {
+                Node::Shifted {
+                    offset: off,
+                    child: Box::new(c),
+                }
+            } else {
+                Node::Moved {
+                    local_from_parent: r.transpose(),
+                    offset: off,
+                    child: Box::new(c),
+                }
             };
             (node, nlo, nhi)
         }
@@ -295,6 +307,7 @@ impl Node {
                 offset,
                 child,
             } => child.dist(*local_from_parent * (p - *offset)),
+            Node::Shifted { offset, child } => child.dist(p - *offset),
             Node::Paint { child, .. } => child.dist(p),
         }
     }
@@ -345,6 +358,7 @@ impl Node {
                 offset,
                 child,
             } => child.sample(*local_from_parent * (p - *offset), paint),
+            Node::Shifted { offset, child } => child.sample(p - *offset, paint),
             Node::Paint { rgb, child } => child.sample(p, *rgb),
             _ => SdfSample {
                 dist: self.dist(p),
