@@ -3,16 +3,17 @@
 //! the counters do not depend on the thread count.
 
 use super::hit_buffer::{Dirty, HitBuffer};
+use super::octree::Octree;
 use super::ray::{primary_ray, Ray};
 use super::record::{HitRecord, SphereCount};
 use super::sphere::sphere_entry;
 use super::stats::FrameStats;
-use super::walk::{walk, WalkCounters};
-use crate::assets::Asset;
+use super::walk::{walk, WalkCounters, WalkHit};
+use crate::assets::{Asset, AssetTree};
 use crate::scene::{FrameState, Pose, Scene};
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
-use rtl_model::svo::SvoImage;
+use rtl_model::svo::LeafAttr;
 use std::time::Instant;
 
 /// Switches of the reference renderer.
@@ -47,10 +48,38 @@ pub struct FrameInput<'a> {
 struct Inst<'a> {
     pose: Pose,
     radius: f64,
-    image: &'a SvoImage,
+    tree: &'a AssetTree,
     /// World-from-local rotation divided by the scale, for shading normals (inverse transpose
     /// of R·S applied to an asset-space normal).
     normal_to_world: DMat3,
+}
+
+/// Walks either kind of asset tree; returns the hit with its leaf attributes.
+#[inline]
+fn walk_any(
+    tree: &AssetTree,
+    half: DVec3,
+    o: DVec3,
+    d: DVec3,
+    wc: &mut WalkCounters,
+) -> Option<(WalkHit<()>, LeafAttr)> {
+    fn resolve<T: Octree>(t: &T, h: WalkHit<T::Leaf>) -> (WalkHit<()>, LeafAttr) {
+        let attr = t.attr(h.attr);
+        (
+            WalkHit {
+                t: h.t,
+                voxel: h.voxel,
+                level: h.level,
+                attr: (),
+                face_normal: h.face_normal,
+            },
+            attr,
+        )
+    }
+    match tree {
+        AssetTree::Image(img) => walk(img, half, o, d, wc).map(|h| resolve(img, h)),
+        AssetTree::Implicit(sdf) => walk(sdf, half, o, d, wc).map(|h| resolve(sdf, h)),
+    }
 }
 
 /// Traces one ray. `prev` is the pixel's last record; reuse only if allowed.
@@ -116,9 +145,8 @@ fn trace(
             r.z_axis.dot(ray.dir),
         );
         st.walks += 1;
-        if let Some(h) = walk(inst.image, inst.pose.half_extent, o_local, d_local, wc) {
+        if let Some((h, attr)) = walk_any(inst.tree, inst.pose.half_extent, o_local, d_local, wc) {
             if !best.hit || h.t < best.t {
-                let attr = inst.image.attrs()[h.attr as usize];
                 let n =
                     (inst.normal_to_world * DVec3::from_array(attr.normal())).normalize_or_zero();
                 best = HitRecord {
@@ -158,7 +186,7 @@ pub fn render_frame(
             Inst {
                 pose: *pose,
                 radius: pose.sphere_radius(),
-                image: &asset.image,
+                tree: &asset.tree,
                 normal_to_world: pose.world_from_local * DMat3::from_diagonal(scale.recip()),
             }
         })

@@ -1,0 +1,463 @@
+//! Happy paths of the `sim` binary (`CARGO_BIN_EXE_sim`), on the default scene at a tiny size.
+//!
+//! Checks: `--help` lists the options; a 64x40, 3-frame run prints a line per frame and a
+//! summary, writes three 64x40 PNGs, a JSON report with per-frame counters (one ray per pixel)
+//! and a binary hit dump that follows `src/output/dump.rs` (header, 40-byte records, misses
+//! with instance 65535 and t = +inf); the CSV dump has a header and one line per pixel and
+//! frame, agreeing with the binary one; two identical runs give byte-identical PNGs and dumps;
+//! `--no-hit-buffer` changes no pixel and reports no reuse, while the hit buffer reuses pixels
+//! from the second frame on; `--scene scenes/car.ron` renders like the embedded default; and
+//! `sim bench` prints its speed in M rays/s.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+
+const TIMEOUT: Duration = Duration::from_secs(120);
+const W: u32 = 64;
+const H: u32 = 40;
+const FRAMES: u32 = 3;
+/// Header bytes of the binary dump.
+const HEADER: usize = 32;
+/// Bytes of the fields documented per record (the rest of a record, if any, is padding).
+const FIELDS: usize = 36;
+
+/// A scratch folder, unique per test and process, removed when dropped.
+struct Tmp {
+    dir: PathBuf,
+}
+
+impl Tmp {
+    fn new(test: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("svo_sim_cli_{test}_{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("create the scratch folder");
+        Self { dir }
+    }
+
+    fn p(&self, name: &str) -> String {
+        self.dir
+            .join(name)
+            .to_str()
+            .expect("temporary paths are UTF-8")
+            .to_string()
+    }
+
+    fn read(&self, name: &str) -> Vec<u8> {
+        std::fs::read(self.dir.join(name))
+            .unwrap_or_else(|e| panic!("cannot read {}: {e}", self.p(name)))
+    }
+}
+
+impl Drop for Tmp {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+struct Run {
+    status: ExitStatus,
+    stdout: String,
+    stderr: String,
+}
+
+/// Runs `sim args` in `cwd`; kills it and fails after [`TIMEOUT`].
+fn run_sim(args: &[&str], cwd: &Path) -> Run {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sim"))
+        .args(args)
+        .current_dir(cwd)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start the sim binary");
+    let mut out = child.stdout.take().expect("stdout is piped");
+    let mut err = child.stderr.take().expect("stderr is piped");
+    let out_reader = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        let _ = out.read_to_end(&mut s);
+        s
+    });
+    let err_reader = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        let _ = err.read_to_end(&mut s);
+        s
+    });
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().expect("wait for sim") {
+            break Some(s);
+        }
+        if start.elapsed() > TIMEOUT {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let stdout = String::from_utf8_lossy(&out_reader.join().unwrap()).into_owned();
+    let stderr = String::from_utf8_lossy(&err_reader.join().unwrap()).into_owned();
+    let Some(status) = status else {
+        panic!(
+            "sim {args:?} ran longer than {} s and was killed\nstdout:\n{stdout}\nstderr:\n{stderr}",
+            TIMEOUT.as_secs()
+        );
+    };
+    Run {
+        status,
+        stdout,
+        stderr,
+    }
+}
+
+/// Runs and requires success.
+fn run_ok(args: &[&str], cwd: &Path) -> Run {
+    let r = run_sim(args, cwd);
+    assert!(
+        r.status.success(),
+        "sim {args:?} failed ({:?})\nstdout:\n{}\nstderr:\n{}",
+        r.status,
+        r.stdout,
+        r.stderr
+    );
+    assert!(!r.stderr.contains("panicked"), "{}", r.stderr);
+    r
+}
+
+const TINY: [&str; 8] = [
+    "--width", "64", "--height", "40", "--frames", "3", "--depth", "6",
+];
+
+/// The tiny default-scene run with relative outputs `out/`, `report.json` and `dump_name`
+/// inside `t` (so two runs in two folders have identical arguments).
+fn tiny_run(t: &Tmp, dump_name: &str, extra: &[&str]) -> Run {
+    let mut a: Vec<&str> = TINY.to_vec();
+    a.extend([
+        "--out",
+        "out",
+        "--report-json",
+        "report.json",
+        "--dump-hits",
+        dump_name,
+    ]);
+    a.extend_from_slice(extra);
+    run_ok(&a, &t.dir)
+}
+
+fn u32_at(b: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes(b[at..at + 4].try_into().unwrap())
+}
+
+/// The report's per-frame `hit_buffer_reused`.
+fn reuses(report: &serde_json::Value) -> Vec<u64> {
+    report["frames"]
+        .as_array()
+        .expect("frames[] in the report")
+        .iter()
+        .map(|f| f["hit_buffer_reused"].as_u64().expect("hit_buffer_reused"))
+        .collect()
+}
+
+fn report(t: &Tmp) -> serde_json::Value {
+    serde_json::from_slice(&t.read("report.json")).expect("the report is JSON")
+}
+
+fn png_names() -> Vec<String> {
+    (0..FRAMES)
+        .map(|f| format!("out/frame_{f:04}.png"))
+        .collect()
+}
+
+/// One record of the binary dump, as documented in `src/output/dump.rs`.
+#[derive(Debug)]
+struct Record {
+    frame: u32,
+    hit: u8,
+    spheres: u8,
+    instance: u16,
+    t: f64,
+}
+
+/// The records of a binary dump; the record stride is the file's actual one, so the field
+/// checks still run when the header's record size disagrees with the file (checked apart).
+fn records(bytes: &[u8]) -> Vec<Record> {
+    let n = (W * H * FRAMES) as usize;
+    let body = bytes.len() - HEADER;
+    assert_eq!(body % n, 0, "the records do not divide the file evenly");
+    let stride = body / n;
+    assert!(stride >= FIELDS, "records of {stride} bytes are too short");
+    (0..n)
+        .map(|k| {
+            let r = &bytes[HEADER + k * stride..HEADER + (k + 1) * stride];
+            Record {
+                frame: u32_at(r, 0),
+                hit: r[4],
+                spheres: r[5],
+                instance: u16::from_le_bytes([r[6], r[7]]),
+                t: f64::from_le_bytes(r[8..16].try_into().unwrap()),
+            }
+        })
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tests
+
+#[test]
+fn help_lists_the_options() {
+    let t = Tmp::new("help_lists_the_options");
+    let r = run_ok(&["--help"], &t.dir);
+    for opt in [
+        "--scene",
+        "--width",
+        "--height",
+        "--frames",
+        "--depth",
+        "--out",
+        "--report-json",
+        "--no-hit-buffer",
+        "--dump-hits",
+    ] {
+        assert!(r.stdout.contains(opt), "--help lacks {opt}:\n{}", r.stdout);
+    }
+}
+
+#[test]
+fn tiny_default_run_writes_everything() {
+    let t = Tmp::new("tiny_default_run_writes_everything");
+    let r = tiny_run(&t, "hits.bin", &[]);
+
+    // stdout: one line per frame, then a summary.
+    for f in 0..FRAMES {
+        let want = format!("{f}/{FRAMES}");
+        assert!(
+            r.stdout
+                .lines()
+                .any(|l| l.starts_with("frame")
+                    && l.split_whitespace().nth(1) == Some(want.as_str())),
+            "no line for frame {f}:\n{}",
+            r.stdout
+        );
+    }
+    assert!(
+        r.stdout.lines().any(|l| l.starts_with("summary:")),
+        "no summary line:\n{}",
+        r.stdout
+    );
+
+    // PNGs.
+    for name in png_names() {
+        let img =
+            image::open(t.dir.join(&name)).unwrap_or_else(|e| panic!("cannot decode {name}: {e}"));
+        assert_eq!((img.width(), img.height()), (W, H), "{name}");
+    }
+    assert!(
+        !t.dir.join(format!("out/frame_{FRAMES:04}.png")).exists(),
+        "one PNG too many"
+    );
+
+    // Report.
+    let rep = report(&t);
+    let frames = rep["frames"].as_array().expect("frames[]");
+    assert_eq!(frames.len(), FRAMES as usize);
+    for (f, fr) in frames.iter().enumerate() {
+        assert_eq!(
+            fr["rays"].as_u64(),
+            Some(u64::from(W * H)),
+            "frame {f} rays"
+        );
+        assert!(fr["walker_steps"].is_u64(), "frame {f} walker_steps");
+        assert!(fr["hit_buffer_reused"].is_u64(), "frame {f} reuse");
+        assert!(
+            fr["wall_s"].as_f64().is_some_and(|s| s >= 0.0),
+            "frame {f} wall_s"
+        );
+    }
+    assert!(
+        rep["summary"]["rays_per_s"]
+            .as_f64()
+            .is_some_and(|v| v > 0.0),
+        "summary.rays_per_s: {}",
+        rep["summary"]
+    );
+
+    // No temporary files left.
+    for dir in [t.dir.clone(), t.dir.join("out")] {
+        for e in std::fs::read_dir(&dir).unwrap().flatten() {
+            let n = e.file_name().to_string_lossy().into_owned();
+            assert!(!n.ends_with(".tmp"), "{n} left in {}", dir.display());
+        }
+    }
+}
+
+#[test]
+fn binary_dump_header_and_size() {
+    let t = Tmp::new("binary_dump_header_and_size");
+    tiny_run(&t, "hits.bin", &[]);
+    let b = t.read("hits.bin");
+    assert!(b.len() >= HEADER, "dump of {} bytes", b.len());
+    assert_eq!(&b[..8], b"SVOHITS1", "magic");
+    assert_eq!(u32_at(&b, 8), 1, "version");
+    assert_eq!((u32_at(&b, 12), u32_at(&b, 16)), (W, H), "dimensions");
+    assert_eq!(u32_at(&b, 20), FRAMES, "frames");
+    let record = u32_at(&b, 24) as usize;
+    assert_eq!(record, 40, "record size in the header");
+    assert_eq!(u32_at(&b, 28), 0, "reserved");
+    let n = (W * H * FRAMES) as usize;
+    assert_eq!(
+        b.len(),
+        HEADER + n * record,
+        "the file should hold {n} records of {record} bytes (the header's size) after the \
+         {HEADER}-byte header; its records are actually {} bytes each",
+        (b.len() - HEADER) as f64 / n as f64
+    );
+}
+
+#[test]
+fn binary_dump_records() {
+    let t = Tmp::new("binary_dump_records");
+    tiny_run(&t, "hits.bin", &[]);
+    let recs = records(&t.read("hits.bin"));
+    let (mut hits, mut misses) = (0, 0);
+    for (k, r) in recs.iter().enumerate() {
+        assert_eq!(r.frame, k as u32 / (W * H), "record {k}: frame");
+        assert!(r.hit <= 1 && r.spheres <= 2, "record {k}: {r:?}");
+        if r.hit == 0 {
+            misses += 1;
+            assert_eq!(r.instance, 65535, "record {k}: a miss has no instance");
+            assert!(
+                r.t.is_infinite() && r.t > 0.0,
+                "record {k}: a miss has t = +inf"
+            );
+        } else {
+            hits += 1;
+            assert!(r.instance < 8, "record {k}: instance {}", r.instance);
+            assert!(r.t.is_finite() && r.t > 0.0, "record {k}: t {}", r.t);
+        }
+    }
+    assert!(
+        hits > 0 && misses > 0,
+        "{hits} hits, {misses} misses: the car should fill part of the image"
+    );
+}
+
+#[test]
+fn csv_dump_has_a_line_per_pixel_and_frame() {
+    let t = Tmp::new("csv_dump_has_a_line_per_pixel_and_frame");
+    tiny_run(&t, "hits.csv", &[]);
+    let text = String::from_utf8(t.read("hits.csv")).expect("the CSV is UTF-8");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 1 + (W * H * FRAMES) as usize, "line count");
+    assert!(
+        lines[0].starts_with("frame,x,y,hit,"),
+        "header {}",
+        lines[0]
+    );
+    let cols = lines[0].split(',').count();
+    for (k, l) in lines[1..].iter().enumerate() {
+        let f: Vec<&str> = l.split(',').collect();
+        assert_eq!(f.len(), cols, "line {}: {l}", k + 2);
+        let frame = k as u32 / (W * H);
+        let (x, y) = (k as u32 % W, k as u32 % (W * H) / W);
+        assert_eq!(
+            (f[0], f[1], f[2]),
+            (
+                frame.to_string().as_str(),
+                x.to_string().as_str(),
+                y.to_string().as_str()
+            ),
+            "line {}",
+            k + 2
+        );
+        if f[3] == "0" {
+            assert_eq!(f[5], "-1", "line {}: a miss has instance -1", k + 2);
+        }
+    }
+
+    // Same hits and instances as the binary dump of the same run.
+    let tb = Tmp::new("csv_dump_has_a_line_per_pixel_and_frame_bin");
+    tiny_run(&tb, "hits.bin", &[]);
+    let recs = records(&tb.read("hits.bin"));
+    for (k, (l, r)) in lines[1..].iter().zip(&recs).enumerate() {
+        let f: Vec<&str> = l.split(',').collect();
+        assert_eq!(f[3], r.hit.to_string(), "pixel {k}: hit");
+        if r.hit == 1 {
+            assert_eq!(f[5], r.instance.to_string(), "pixel {k}: instance");
+            assert_eq!(f[6].parse::<f64>().ok(), Some(r.t), "pixel {k}: t");
+        }
+    }
+}
+
+#[test]
+fn identical_runs_give_identical_files() {
+    let a = Tmp::new("identical_runs_a");
+    let b = Tmp::new("identical_runs_b");
+    tiny_run(&a, "hits.bin", &[]);
+    tiny_run(&b, "hits.bin", &[]);
+    for name in png_names().iter().map(String::as_str).chain(["hits.bin"]) {
+        assert!(a.read(name) == b.read(name), "{name} differs between runs");
+    }
+}
+
+#[test]
+fn hit_buffer_never_changes_a_pixel() {
+    let on = Tmp::new("hit_buffer_on");
+    let off = Tmp::new("hit_buffer_off");
+    tiny_run(&on, "hits.bin", &[]);
+    tiny_run(&off, "hits.bin", &["--no-hit-buffer"]);
+    assert!(
+        on.read("hits.bin") == off.read("hits.bin"),
+        "the hit dump differs with and without the hit buffer"
+    );
+    for name in png_names() {
+        assert!(on.read(&name) == off.read(&name), "{name} differs");
+    }
+
+    let r_off = reuses(&report(&off));
+    assert!(r_off.iter().all(|&n| n == 0), "reuses without: {r_off:?}");
+    assert_eq!(
+        report(&off)["summary"]["hit_buffer_reused"].as_u64(),
+        Some(0)
+    );
+
+    // The body is static and the camera still, so frames after the first reuse pixels.
+    let r_on = reuses(&report(&on));
+    assert_eq!(r_on[0], 0, "nothing to reuse in frame 0: {r_on:?}");
+    assert!(r_on[1..].iter().all(|&n| n > 0), "reuses with: {r_on:?}");
+}
+
+#[test]
+fn scene_file_renders_like_the_default() {
+    let def = Tmp::new("scene_file_default");
+    let file = Tmp::new("scene_file_car");
+    tiny_run(&def, "hits.bin", &[]);
+    let mut a: Vec<&str> = vec!["--scene", "scenes/car.ron"];
+    a.extend(TINY);
+    let (out, rep, dump) = (file.p("out"), file.p("report.json"), file.p("hits.bin"));
+    a.extend(["--out", &out, "--report-json", &rep, "--dump-hits", &dump]);
+    let r = run_ok(&a, Path::new(env!("CARGO_MANIFEST_DIR")));
+    assert!(r.stdout.contains("scenes/car.ron"), "{}", r.stdout);
+    assert!(
+        def.read("hits.bin") == file.read("hits.bin"),
+        "scenes/car.ron renders differently from the embedded default"
+    );
+    for name in png_names() {
+        assert!(def.read(&name) == file.read(&name), "{name} differs");
+    }
+}
+
+#[test]
+fn bench_prints_its_speed() {
+    let t = Tmp::new("bench_prints_its_speed");
+    let r = run_ok(
+        &[
+            "bench", "--width", "64", "--height", "40", "--frames", "2", "--depth", "6",
+        ],
+        &t.dir,
+    );
+    assert!(r.stdout.contains("M rays/s"), "{}", r.stdout);
+}
