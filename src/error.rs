@@ -48,6 +48,9 @@ pub enum AssetError {
         #[source]
         source: crate::assets::vox::VoxError,
     },
+    /// `--depth` is outside 1..=20.
+    #[error("--depth {0} is out of range (1 to {max})", max = rtl_model::svo::MAX_DEPTH)]
+    DepthOption(u8),
     /// The depth is outside what the format supports, or too deep to build in memory.
     #[error("asset \"{asset}\": {message}")]
     Depth {

@@ -8,12 +8,15 @@ use crate::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::output::atomic::{write_atomic, AtomicFile};
 use crate::output::report::{AssetReport, OptionsReport, Report, SceneReport, Summary};
 use crate::output::{dump, png};
-use crate::reference::{render_frame, FrameInput, FrameStats, HitBuffer, RenderOptions};
+use crate::reference::{
+    render_frame, render_frame_with_progress, FrameInput, FrameStats, HitBuffer, RenderOptions,
+};
 use crate::scene::Scene;
 use anyhow::{bail, Context, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
 
 /// What to run and where to write.
 #[derive(Clone, Debug)]
@@ -32,6 +35,47 @@ pub struct RunConfig {
     pub report_json: Option<PathBuf>,
     /// Hit-record dump path (`.csv` for CSV, else binary).
     pub dump_hits: Option<PathBuf>,
+    /// Print a progress line on stderr this often while a frame renders (`None`: never).
+    pub progress_every: Option<Duration>,
+}
+
+/// Renders a frame; if it runs longer than `every`, prints the share of rows done on stderr
+/// at that interval, so long frames (huge resolutions, depth 16) show they are alive.
+fn render_with_ticker(
+    input: &FrameInput<'_>,
+    buffer: &mut HitBuffer,
+    opts: RenderOptions,
+    frame: u32,
+    frames: u32,
+    every: Option<Duration>,
+) -> FrameStats {
+    let Some(every) = every else {
+        return render_frame(input, buffer, opts);
+    };
+    let rows = u64::from(buffer.height);
+    let done = AtomicU64::new(0);
+    let finished = AtomicBool::new(false);
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            let start = Instant::now();
+            let mut next = every;
+            while !finished.load(Ordering::Relaxed) {
+                std::thread::sleep(Duration::from_millis(50));
+                if start.elapsed() >= next {
+                    let d = done.load(Ordering::Relaxed);
+                    eprintln!(
+                        "  frame {frame}/{frames}: {:.0}% of rows after {:.0} s",
+                        100.0 * d as f64 / rows as f64,
+                        start.elapsed().as_secs_f64()
+                    );
+                    next += every;
+                }
+            }
+        });
+        let st = render_frame_with_progress(input, buffer, opts, &done);
+        finished.store(true, Ordering::Relaxed);
+        st
+    })
 }
 
 /// Result of a run.
@@ -117,7 +161,14 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Resul
             assets: &assets,
             state: &state,
         };
-        let st = render_frame(&input, &mut buffer, cfg.options);
+        let st = render_with_ticker(
+            &input,
+            &mut buffer,
+            cfg.options,
+            f,
+            frames,
+            cfg.progress_every,
+        );
         if let Some(dir) = &cfg.out_dir {
             let l = &scene.file.light;
             let img = png::shade(
@@ -137,7 +188,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Resul
             if csv {
                 dump::write_frame_csv(df.writer(), f, w, &buffer.records)?;
             } else {
-                dump::write_frame(df.writer(), f, &buffer.records)?;
+                dump::write_frame(df.writer(), f, w, &buffer.records)?;
             }
         }
         progress(&st, frames);

@@ -32,7 +32,7 @@ fn seed() -> u64 {
     std::env::var("SVO_TEST_SEED")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(0x5eed_0f_4b1d)
+        .unwrap_or(0x005e_ed0f_4b1d)
 }
 
 const ASSETS: &str = r#"

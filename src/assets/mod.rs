@@ -76,10 +76,7 @@ pub fn effective_depths(scene: &Scene, depth: Option<u8>) -> Result<Vec<u8>, Ass
     let own: Vec<u8> = scene.file.assets.iter().map(|a| a.depth).collect();
     let Some(d) = depth else { return Ok(own) };
     if d == 0 || d > MAX_DEPTH {
-        return Err(AssetError::Depth {
-            asset: "--depth".into(),
-            message: format!("depth {d} is out of range (1 to {MAX_DEPTH})"),
-        });
+        return Err(AssetError::DepthOption(d));
     }
     let deepest = own.iter().copied().max().unwrap_or(d);
     Ok(own

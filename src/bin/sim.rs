@@ -167,6 +167,7 @@ fn cmd_run(a: RunArgs) -> Result<()> {
         out_dir: (!a.no_png).then(|| a.out.clone()),
         report_json: a.report_json.clone(),
         dump_hits: a.dump_hits.clone(),
+        progress_every: (!a.quiet).then(|| std::time::Duration::from_secs(2)),
     };
     let (w, h) = cfg.scene.file.resolution;
     println!(
@@ -304,6 +305,20 @@ fn cmd_bench(a: BenchArgs) -> Result<()> {
     Ok(())
 }
 
+/// The error and its causes, each cause only if the text so far does not already say it
+/// (library errors include their source's message in their own).
+fn error_text(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !text.contains(&c) {
+            text.push_str(": ");
+            text.push_str(&c);
+        }
+    }
+    text
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let r = match cli.command {
@@ -313,7 +328,7 @@ fn main() -> ExitCode {
     match r {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", error_text(&e));
             ExitCode::FAILURE
         }
     }

@@ -6,7 +6,7 @@
 //! then per frame, per pixel row-major, a 40-byte record:
 //! u32 frame, u8 hit, u8 spheres (0/1/2), u16 instance (65535 = none), f64 t (+inf on miss),
 //! u32 voxel x, y, z, i8 face normal x, y, z (−1/0/1, world axes rounded), u8 reserved,
-//! u8 colour r, g, b, a.
+//! u8 colour r, g, b, a, u16 pixel x, u16 pixel y (records are 8-byte aligned, t too).
 //! With a `.csv` file name the same fields are written as CSV with a header line instead.
 
 use crate::reference::HitRecord;
@@ -36,9 +36,16 @@ fn face(rec: &HitRecord) -> [i8; 3] {
 }
 
 /// Writes one frame's records in the binary format.
-pub fn write_frame(w: &mut impl Write, frame: u32, records: &[HitRecord]) -> std::io::Result<()> {
+pub fn write_frame(
+    w: &mut impl Write,
+    frame: u32,
+    width: u32,
+    records: &[HitRecord],
+) -> std::io::Result<()> {
     let mut buf = Vec::with_capacity(records.len() * RECORD_BYTES as usize);
-    for r in records {
+    for (k, r) in records.iter().enumerate() {
+        // Resolution is at most 16384 per side, so pixel coordinates fit 16 bits.
+        let (x, y) = ((k as u32 % width) as u16, (k as u32 / width) as u16);
         buf.extend_from_slice(&frame.to_le_bytes());
         buf.push(u8::from(r.hit));
         buf.push(r.spheres as u8);
@@ -50,7 +57,10 @@ pub fn write_frame(w: &mut impl Write, frame: u32, records: &[HitRecord]) -> std
         buf.extend(face(r).map(|v| v as u8));
         buf.push(0);
         buf.extend_from_slice(&r.colour);
+        buf.extend_from_slice(&x.to_le_bytes());
+        buf.extend_from_slice(&y.to_le_bytes());
     }
+    debug_assert_eq!(buf.len(), records.len() * RECORD_BYTES as usize);
     w.write_all(&buf)
 }
 

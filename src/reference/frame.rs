@@ -14,6 +14,7 @@ use crate::scene::{FrameState, Pose, Scene};
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 use rtl_model::svo::LeafAttr;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 /// Switches of the reference renderer.
@@ -54,6 +55,21 @@ struct Inst<'a> {
     normal_to_world: DMat3,
 }
 
+/// Constants of one frame shared by all rows.
+struct FrameCtx<'a> {
+    insts: Vec<Inst<'a>>,
+    dirty: Dirty,
+    opts: RenderOptions,
+}
+
+/// Per-row scratch and counters (one per worker task, merged at the end).
+#[derive(Default)]
+struct RowState {
+    cands: Vec<(f64, u16)>,
+    st: FrameStats,
+    wc: WalkCounters,
+}
+
 /// Walks either kind of asset tree; returns the hit with its leaf attributes.
 #[inline]
 fn walk_any(
@@ -83,16 +99,10 @@ fn walk_any(
 }
 
 /// Traces one ray. `prev` is the pixel's last record; reuse only if allowed.
-fn trace(
-    ray: &Ray,
-    insts: &[Inst<'_>],
-    prev: &HitRecord,
-    dirty: &Dirty,
-    opts: RenderOptions,
-    cands: &mut Vec<(f64, u16)>,
-    st: &mut FrameStats,
-    wc: &mut WalkCounters,
-) -> HitRecord {
+fn trace(ray: &Ray, ctx: &FrameCtx<'_>, prev: &HitRecord, row: &mut RowState) -> HitRecord {
+    let FrameCtx { insts, dirty, opts } = ctx;
+    let opts = *opts;
+    let RowState { cands, st, wc } = row;
     cands.clear();
     for (i, inst) in insts.iter().enumerate() {
         if let Some(t) = sphere_entry(ray.origin, ray.dir, inst.pose.centre, inst.radius) {
@@ -172,6 +182,17 @@ pub fn render_frame(
     buffer: &mut HitBuffer,
     opts: RenderOptions,
 ) -> FrameStats {
+    render_frame_with_progress(input, buffer, opts, &AtomicU64::new(0))
+}
+
+/// [`render_frame`], adding one to `rows_done` as each image row completes (for progress
+/// display from another thread).
+pub fn render_frame_with_progress(
+    input: &FrameInput<'_>,
+    buffer: &mut HitBuffer,
+    opts: RenderOptions,
+    rows_done: &AtomicU64,
+) -> FrameStats {
     let start = Instant::now();
     let (w, h) = input.scene.file.resolution;
     debug_assert_eq!((buffer.width, buffer.height), (w, h));
@@ -201,29 +222,31 @@ pub fn render_frame(
         }
     };
     let cam = input.state.camera;
-    let rows: Vec<(FrameStats, WalkCounters)> = buffer
+    let ctx = FrameCtx { insts, dirty, opts };
+    let rows: Vec<RowState> = buffer
         .records
         .par_chunks_mut(w as usize)
         .enumerate()
-        .map(|(j, row)| {
-            let mut st = FrameStats::default();
-            let mut wc = WalkCounters::default();
-            let mut cands = Vec::with_capacity(insts.len());
-            for (i, rec) in row.iter_mut().enumerate() {
+        .map(|(j, records)| {
+            let mut row = RowState {
+                cands: Vec::with_capacity(ctx.insts.len()),
+                ..RowState::default()
+            };
+            for (i, rec) in records.iter_mut().enumerate() {
                 let ray = primary_ray(&cam, w, h, i as u32, j as u32);
-                *rec = trace(
-                    &ray, &insts, rec, &dirty, opts, &mut cands, &mut st, &mut wc,
-                );
+                *rec = trace(&ray, &ctx, rec, &mut row);
             }
-            st.rays = row.len() as u64;
-            (st, wc)
+            row.st.rays = records.len() as u64;
+            rows_done.fetch_add(1, Ordering::Relaxed);
+            row
         })
         .collect();
+    let dirty = ctx.dirty;
     let mut total = FrameStats {
         frame: input.state.frame,
         ..FrameStats::default()
     };
-    for (st, wc) in &rows {
+    for RowState { st, wc, .. } in &rows {
         total.merge(st);
         total.walker_steps += wc.steps;
         total.node_fetches += wc.fetches;

@@ -6,6 +6,7 @@
 //!   2. this frame's sphere tests found exactly one candidate instance i,
 //!   3. instance i is clean (same pose as last frame), and
 //!   4. last frame's record is a hit on i, or a miss.
+//!
 //! Then walking i alone would repeat last frame's walk of i exactly: a hit on i last frame is
 //! i's nearest voxel; a miss means every candidate, i included (its sphere test is unchanged),
 //! was walked without a hit. "Exactly one sphere" must come from *this* frame's tests: another

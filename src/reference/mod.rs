@@ -15,7 +15,7 @@ pub mod sphere;
 pub mod stats;
 pub mod walk;
 
-pub use frame::{render_frame, FrameInput, RenderOptions};
+pub use frame::{render_frame, render_frame_with_progress, FrameInput, RenderOptions};
 pub use hit_buffer::HitBuffer;
 pub use record::{HitRecord, SphereCount};
 pub use stats::FrameStats;

@@ -14,10 +14,11 @@ pub use format::{AssetSource, AssetSpec, CameraKey, InstanceKey, InstanceSpec, L
 use crate::error::SceneError;
 use std::path::{Path, PathBuf};
 
-/// Largest accepted image side, and largest pixel count (a 16k square image).
+/// Largest accepted image side.
 pub const MAX_SIDE: u32 = 16_384;
-/// Largest accepted number of pixels per frame.
-pub const MAX_PIXELS: u64 = 16_384 * 16_384;
+/// Largest accepted number of pixels per frame (8192², 64 Mi): a frame keeps two records
+/// of about 64 bytes per pixel (hit buffer and the frame being built), about 8 GiB here.
+pub const MAX_PIXELS: u64 = 8192 * 8192;
 /// Largest accepted number of frames.
 pub const MAX_FRAMES: u32 = 1_000_000;
 /// Largest accepted number of instances (instance ids are 16 bits in the hit record).
@@ -121,6 +122,11 @@ impl Scene {
         }
         for (i, a) in file.assets.iter().enumerate() {
             let p = format!("assets[{i}]({})", a.name);
+            if a.name.trim().is_empty() {
+                return Err(bad(format!(
+                    "assets[{i}].name: an asset needs a non-empty name"
+                )));
+            }
             if file.assets[..i].iter().any(|b| b.name == a.name) {
                 return Err(bad(format!("{p}: the name is used twice")));
             }
@@ -248,7 +254,7 @@ fn check_resolution(w: u32, h: u32) -> Result<(), String> {
     if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE || u64::from(w) * u64::from(h) > MAX_PIXELS
     {
         return Err(format!(
-            "resolution {w}x{h} is out of range (each side 1 to {MAX_SIDE})"
+            "resolution {w}x{h} is out of range (each side 1 to {MAX_SIDE}, at most {MAX_PIXELS} pixels)"
         ));
     }
     Ok(())
