@@ -461,3 +461,24 @@ fn bench_prints_its_speed() {
     );
     assert!(r.stdout.contains("M rays/s"), "{}", r.stdout);
 }
+
+/// Switches that must never change a record: early termination (a later candidate cannot
+/// hold a nearer hit), implicit trees (the same voxels as the memory image), and the thread
+/// count (pixels are independent).
+#[test]
+fn switches_that_must_not_change_records() {
+    let base = Tmp::new("switch_base");
+    tiny_run(&base, "hits.bin", &[]);
+    for (name, extra) in [
+        ("switch_no_early", &["--no-early-termination"][..]),
+        ("switch_implicit", &["--implicit"][..]),
+        ("switch_one_thread", &["--threads", "1"][..]),
+    ] {
+        let t = Tmp::new(name);
+        tiny_run(&t, "hits.bin", extra);
+        assert!(
+            base.read("hits.bin") == t.read("hits.bin"),
+            "{extra:?} changed the hit dump"
+        );
+    }
+}
