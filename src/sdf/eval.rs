@@ -378,7 +378,114 @@ fn split_axis(p: DVec3, axis: usize) -> (f64, f64) {
     }
 }
 
+impl Node {
+    /// A copy that gives bit-identical distance and paint at every point within `r` of `c`,
+    /// without the terms that cannot be the minimum (union) or maximum (intersection,
+    /// difference) anywhere in that ball. Every node is 1-Lipschitz, so a term's value in the
+    /// ball lies within ±r of its value at c; a term dropped here is strictly beaten
+    /// everywhere in the ball, and min/max of a subset that holds the extremum is the same
+    /// float. `slack` absorbs rounding in the values at c.
+    fn prune(&self, c: DVec3, r: f64) -> Node {
+        let slack = |v: f64| 1e-9 * (v.abs() + r + 1.0);
+        match self {
+            Node::Union(v) => {
+                let d: Vec<f64> = v.iter().map(|n| n.dist(c)).collect();
+                let m = d.iter().copied().fold(f64::INFINITY, f64::min);
+                let mut kept: Vec<Node> = v
+                    .iter()
+                    .zip(&d)
+                    .filter(|&(_, &dj)| dj - r <= m + r + slack(dj))
+                    .map(|(n, _)| n.prune(c, r))
+                    .collect();
+                if kept.len() == 1 {
+                    kept.pop().expect("one element")
+                } else {
+                    Node::Union(kept)
+                }
+            }
+            Node::Intersection(v) => {
+                let d: Vec<f64> = v.iter().map(|n| n.dist(c)).collect();
+                let m = d.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                let mut kept: Vec<Node> = v
+                    .iter()
+                    .zip(&d)
+                    .filter(|&(_, &dj)| dj + r >= m - r - slack(dj))
+                    .map(|(n, _)| n.prune(c, r))
+                    .collect();
+                if kept.len() == 1 {
+                    kept.pop().expect("one element")
+                } else {
+                    Node::Intersection(kept)
+                }
+            }
+            Node::Difference(b, cuts) => {
+                // max(base, −cut_i): cut i matters only where −cut_i ≥ base, impossible in the
+                // ball when r − cut_i(c) < base(c) − r.
+                let db = b.dist(c);
+                let kept: Vec<Node> = cuts
+                    .iter()
+                    .filter(|n| {
+                        let dc = n.dist(c);
+                        dc <= 2.0 * r - db + slack(dc) + slack(db)
+                    })
+                    .map(|n| n.prune(c, r))
+                    .collect();
+                if kept.is_empty() {
+                    b.prune(c, r)
+                } else {
+                    Node::Difference(Box::new(b.prune(c, r)), kept)
+                }
+            }
+            Node::Moved {
+                local_from_parent,
+                offset,
+                child,
+            } => Node::Moved {
+                local_from_parent: *local_from_parent,
+                offset: *offset,
+                child: Box::new(child.prune(*local_from_parent * (c - *offset), r)),
+            },
+            Node::Shifted { offset, child } => Node::Shifted {
+                offset: *offset,
+                child: Box::new(child.prune(c - *offset, r)),
+            },
+            Node::Paint { rgb, child } => Node::Paint {
+                rgb: *rgb,
+                child: Box::new(child.prune(c, r)),
+            },
+            leaf => leaf.clone(),
+        }
+    }
+
+    fn terms(&self) -> usize {
+        match self {
+            Node::Union(v) | Node::Intersection(v) => v.iter().map(Node::terms).sum(),
+            Node::Difference(b, cuts) => b.terms() + cuts.iter().map(Node::terms).sum::<usize>(),
+            Node::Moved { child, .. } | Node::Shifted { child, .. } | Node::Paint { child, .. } => {
+                child.terms()
+            }
+            _ => 1,
+        }
+    }
+}
+
 impl Sdf {
+    /// An SDF equal to this one, bit for bit in distance and paint, at every point within
+    /// `radius` of `centre`, with fewer terms to evaluate (see `Node::prune`). Bounds are
+    /// kept from the full shape.
+    pub fn pruned(&self, centre: DVec3, radius: f64) -> Sdf {
+        Sdf {
+            root: self.root.prune(centre, radius),
+            bounds_min: self.bounds_min,
+            bounds_max: self.bounds_max,
+        }
+    }
+
+    /// Number of primitives evaluated per distance query.
+    pub fn terms(&self) -> usize {
+        self.root.terms()
+    }
+
     /// Checks and flattens a shape. `path` names it in error messages
     /// (e.g. `assets[1](wheel).shape`).
     pub fn new(shape: &Shape, path: &str) -> Result<Self, String> {
