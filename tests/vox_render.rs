@@ -17,7 +17,10 @@ fn vox_dir() -> Option<PathBuf> {
         return Some(dir);
     }
     if std::env::var("CI").as_deref() == Ok("true") {
-        panic!("CI=true but the shared models are missing at {}", dir.display());
+        panic!(
+            "CI=true but the shared models are missing at {}",
+            dir.display()
+        );
     }
     eprintln!("skipping: shared models not found at {}", dir.display());
     None
@@ -45,7 +48,11 @@ fn every_model_renders() {
         .filter(|p| p.extension().is_some_and(|e| e == "vox"))
         .collect();
     files.sort();
-    assert!(files.len() >= 10, "expected the shared model set, found {}", files.len());
+    assert!(
+        files.len() >= 10,
+        "expected the shared model set, found {}",
+        files.len()
+    );
     for f in &files {
         // The octree cube is 2^depth voxels of 1/64 m; the camera stands back 3 cube sides.
         let ron = format!(
@@ -60,13 +67,20 @@ fn every_model_renders() {
         let needed = svo_sim::assets::vox::load_vox(f, None).unwrap().depth;
         let mut cfg = config(scene);
         cfg.depth = Some(needed);
-        if let svo_sim::scene::AssetSource::Vox { voxel_size, .. } = &mut cfg.scene.file.assets[0].source {
+        if let svo_sim::scene::AssetSource::Vox { voxel_size, .. } =
+            &mut cfg.scene.file.assets[0].source
+        {
             *voxel_size = 2.0 / f64::from(1u32 << needed);
         }
         let out = run(&cfg, |_, _| {}).unwrap_or_else(|e| panic!("{}: {e:#}", f.display()));
         let hits = out.frames[0].hits;
         let share = hits as f64 / out.frames[0].rays as f64;
-        println!("{:<24} depth {needed} leaves {:>7} hit pixels {:>5.1}%", f.file_name().unwrap().to_string_lossy(), out.assets[0].stats.leaves, 100.0 * share);
+        println!(
+            "{:<24} depth {needed} leaves {:>7} hit pixels {:>5.1}%",
+            f.file_name().unwrap().to_string_lossy(),
+            out.assets[0].stats.leaves,
+            100.0 * share
+        );
         assert!(share > 0.02, "{}: only {hits} pixels hit", f.display());
     }
 }

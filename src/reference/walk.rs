@@ -10,7 +10,9 @@
 //!   would overflow the t-range) follows §3.3: the slab is (−∞, +∞) if the origin is inside
 //!   the half-open interval [min, max) of the mirrored frame, otherwise the ray misses; a
 //!   midpoint is −∞ if the origin lies at or above the node's centre plane, +∞ below it. It is
-//!   never computed as (t0 + t1)/2, which would be (−∞ + ∞)/2 = NaN. So a ray lying in a grid
+//!   never computed as (t0 + t1)/2, which would be (−∞ + ∞)/2 = NaN. On the other axes too,
+//!   midpoints come from the centre plane's coordinate, t = (x_mid − o)/d, which keeps full
+//!   precision for tiny |d| where the average of two huge t-values would not. So a ray lying in a grid
 //!   plane belongs to the cell on the side its zero's sign points to (+0: upper, −0: lower).
 //! - A child is entered only if its t-interval has positive length and ends after t = 0
 //!   (max t0 < min t1, min t1 > 0): touching an edge or corner is not a hit, and nodes behind
@@ -113,27 +115,36 @@ struct RayFrame {
     a: u8,
     lo: [f64; 3],
     size: [f64; 3],
+    /// 1/d of the mirrored direction (unused on zero axes).
+    inv: [f64; 3],
 }
 
 impl RayFrame {
-    /// Midpoint t of axis k for a node whose t-slab is (t0, t1); zero axes use the origin's
-    /// side of the node's centre plane (§3.3).
+    /// Midpoint t of axis k for the node at `level` with real coordinate `real_coord`: the
+    /// parameter at which the ray crosses the node's centre plane. Computed from the plane's
+    /// coordinate, t = (x_mid − o)·(1/d), not as Revelles' (t0 + t1)/2: the average of two
+    /// large t-values loses the absolute precision a plane near the origin needs (with
+    /// |d| ≈ 1e-20, t0 and t1 are ≈ 1e20 and a crossing at exactly t = 0 came out as 1024).
+    /// Zero axes use the origin's side of the centre plane (Revelles Eq. 12).
     #[inline]
-    fn mid(&self, k: usize, t0: f64, t1: f64, level: u8, real_coord: u32) -> f64 {
-        if !self.zero[k] {
-            return 0.5 * (t0 + t1);
-        }
+    fn mid(&self, k: usize, level: u8, real_coord: u32) -> f64 {
         let n = 1u32 << level;
         let mirrored = if self.a & (4 >> k) != 0 {
             n - 1 - real_coord
         } else {
             real_coord
         };
-        let centre = self.lo[k] + (f64::from(mirrored) + 0.5) * self.size[k] / f64::from(n);
-        if self.o[k] < centre {
-            f64::INFINITY
+        // (2m + 1) is an exact integer and size / 2^(level+1) an exact power-of-two scaling,
+        // so the plane coordinate is rounded once in the product and once in the sum.
+        let centre = self.lo[k] + f64::from(2 * mirrored + 1) * (self.size[k] / f64::from(2 * n));
+        if self.zero[k] {
+            if self.o[k] < centre {
+                f64::INFINITY
+            } else {
+                f64::NEG_INFINITY
+            }
         } else {
-            f64::NEG_INFINITY
+            (centre - self.o[k]) * self.inv[k]
         }
     }
 }
@@ -156,6 +167,7 @@ pub fn walk<T: Octree>(
         a: 0,
         lo,
         size: [0.0; 3],
+        inv: [0.0; 3],
     };
     let mut t0 = [0.0; 3];
     let mut t1 = [0.0; 3];
@@ -178,6 +190,7 @@ pub fn walk<T: Octree>(
             t1[k] = f64::INFINITY;
         } else {
             let inv = 1.0 / dk;
+            rf.inv[k] = inv;
             t0[k] = (lo[k] - ok) * inv;
             t1[k] = (hi[k] - ok) * inv;
         }
@@ -194,7 +207,7 @@ pub fn walk<T: Octree>(
         ..Frame::default()
     };
     for k in 0..3 {
-        f.tm[k] = rf.mid(k, t0[k], t1[k], 0, 0);
+        f.tm[k] = rf.mid(k, 0, 0);
     }
     f.next = first_child(f.t0, f.tm);
     stack[0] = f;
@@ -271,7 +284,7 @@ pub fn walk<T: Octree>(
             coords,
         };
         for k in 0..3 {
-            child.tm[k] = rf.mid(k, ct0[k], ct1[k], level, coords[k]);
+            child.tm[k] = rf.mid(k, level, coords[k]);
         }
         child.next = first_child(child.t0, child.tm);
         sp += 1;

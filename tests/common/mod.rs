@@ -46,11 +46,14 @@ pub fn proptest_cases(default: u32) -> u32 {
 }
 
 /// Proptest configuration: `cases` cases, no failure files (the seed is the reproduction
-/// recipe), and a bound on shrinking so that a failure is reported in seconds.
+/// recipe), room for properties that reject part of what their strategy generates (up to
+/// several per accepted case), and a bound on shrinking so that a failure is reported in
+/// seconds.
 pub fn proptest_config(cases: u32) -> Config {
     Config {
         cases,
         failure_persistence: None,
+        max_global_rejects: cases.saturating_mul(4).max(1024),
         max_shrink_iters: 20_000,
         ..Config::default()
     }
@@ -147,10 +150,7 @@ impl SplitMix64 {
 
 /// A plain attribute: colour from the coordinates so that leaves are distinguishable.
 pub fn attr_for(c: [u32; 3]) -> LeafAttr {
-    LeafAttr::new(
-        [c[0] as u8, c[1] as u8, c[2] as u8, 255],
-        [0.0, 0.0, 1.0],
-    )
+    LeafAttr::new([c[0] as u8, c[1] as u8, c[2] as u8, 255], [0.0, 0.0, 1.0])
 }
 
 /// Each voxel of a 2^depth grid is solid with probability `density`.
