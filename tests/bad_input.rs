@@ -22,10 +22,11 @@
 //! Randomness: the corrupt `.vox` bytes come from a splitmix64 stream whose seed is printed
 //! (override with the environment variable `SVO_SIM_TEST_SEED`).
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
+
+mod common;
+use common::process::run_sim;
 
 use svo_sim::scene::Scene;
 
@@ -70,61 +71,6 @@ impl Drop for Tmp {
 
 fn path_str(p: &Path) -> String {
     p.to_str().expect("temporary paths are UTF-8").to_string()
-}
-
-/// What a finished run printed.
-struct Run {
-    status: ExitStatus,
-    stdout: String,
-    stderr: String,
-}
-
-/// Runs `sim` with `args`; kills it and fails the test after `timeout`.
-fn run_sim(args: &[String], timeout: Duration) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_sim"))
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start the sim binary");
-    let mut out = child.stdout.take().expect("stdout is piped");
-    let mut err = child.stderr.take().expect("stderr is piped");
-    let out_reader = std::thread::spawn(move || {
-        let mut s = Vec::new();
-        let _ = out.read_to_end(&mut s);
-        s
-    });
-    let err_reader = std::thread::spawn(move || {
-        let mut s = Vec::new();
-        let _ = err.read_to_end(&mut s);
-        s
-    });
-    let start = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().expect("wait for sim") {
-            break Some(s);
-        }
-        if start.elapsed() > timeout {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    let stdout = String::from_utf8_lossy(&out_reader.join().unwrap()).into_owned();
-    let stderr = String::from_utf8_lossy(&err_reader.join().unwrap()).into_owned();
-    let Some(status) = status else {
-        panic!(
-            "sim {args:?} ran longer than {} s and was killed\nstdout:\n{stdout}\nstderr:\n{stderr}",
-            timeout.as_secs()
-        );
-    };
-    Run {
-        status,
-        stdout,
-        stderr,
-    }
 }
 
 /// The value following `flag` in `args`.
@@ -186,7 +132,7 @@ fn expect_failure(t: &Tmp, args: &[String], expect: &[&str]) -> String {
             full.push(t.p(name));
         }
     }
-    let r = run_sim(&full, TIMEOUT);
+    let r = run_sim(&full, None, TIMEOUT);
     let ctx = format!(
         "sim {full:?}\nexit: {:?}\nstdout:\n{}\nstderr:\n{}",
         r.status, r.stdout, r.stderr
@@ -940,7 +886,7 @@ fn depth_too_large_for_memory_is_refused_or_rendered() {
         a.push(t.p(name));
     }
     let start = Instant::now();
-    let r = run_sim(&a, TIMEOUT);
+    let r = run_sim(&a, None, TIMEOUT);
     let ctx = format!(
         "sim {a:?}\nexit: {:?} after {:.1} s\nstdout:\n{}\nstderr:\n{}",
         r.status,

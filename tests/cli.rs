@@ -9,10 +9,11 @@
 //! from the second frame on; `--scene scenes/car.ron` renders like the embedded default; and
 //! `sim bench` prints its speed in M rays/s.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitStatus, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+mod common;
+use common::process::{run_sim, Run};
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -59,64 +60,9 @@ impl Drop for Tmp {
     }
 }
 
-struct Run {
-    status: ExitStatus,
-    stdout: String,
-    stderr: String,
-}
-
-/// Runs `sim args` in `cwd`; kills it and fails after [`TIMEOUT`].
-fn run_sim(args: &[&str], cwd: &Path) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_sim"))
-        .args(args)
-        .current_dir(cwd)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start the sim binary");
-    let mut out = child.stdout.take().expect("stdout is piped");
-    let mut err = child.stderr.take().expect("stderr is piped");
-    let out_reader = std::thread::spawn(move || {
-        let mut s = Vec::new();
-        let _ = out.read_to_end(&mut s);
-        s
-    });
-    let err_reader = std::thread::spawn(move || {
-        let mut s = Vec::new();
-        let _ = err.read_to_end(&mut s);
-        s
-    });
-    let start = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().expect("wait for sim") {
-            break Some(s);
-        }
-        if start.elapsed() > TIMEOUT {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    let stdout = String::from_utf8_lossy(&out_reader.join().unwrap()).into_owned();
-    let stderr = String::from_utf8_lossy(&err_reader.join().unwrap()).into_owned();
-    let Some(status) = status else {
-        panic!(
-            "sim {args:?} ran longer than {} s and was killed\nstdout:\n{stdout}\nstderr:\n{stderr}",
-            TIMEOUT.as_secs()
-        );
-    };
-    Run {
-        status,
-        stdout,
-        stderr,
-    }
-}
-
 /// Runs and requires success.
 fn run_ok(args: &[&str], cwd: &Path) -> Run {
-    let r = run_sim(args, cwd);
+    let r = run_sim(args, Some(cwd), TIMEOUT);
     assert!(
         r.status.success(),
         "sim {args:?} failed ({:?})\nstdout:\n{}\nstderr:\n{}",

@@ -9,27 +9,10 @@ use std::time::Instant;
 use rtl_model::svo::LeafAttr;
 use svo_sim::assets::vox::{load_vox, load_vox_bytes, VoxAsset, VoxError};
 
+mod common;
+
 // ---------------------------------------------------------------------------------------------
 // Helpers
-
-/// The sample folder, or `None` (test skipped) when it is missing outside CI.
-fn data_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/vox"));
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!(
-            "the .vox sample folder {} is missing (CI=true, so this is a failure)",
-            dir.display()
-        );
-    }
-    eprintln!(
-        "skipping: the .vox sample folder {} is missing",
-        dir.display()
-    );
-    None
-}
 
 fn vox_files(dir: &Path) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -201,7 +184,9 @@ fn assert_names_path(err: &VoxError, path: &Path) {
 
 #[test]
 fn every_sample_file_loads() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = common::shared_vox_dir() else {
+        return;
+    };
     for path in vox_files(&dir) {
         let bytes = std::fs::read(&path).unwrap();
         let data = dot_vox::load_bytes(&bytes).unwrap();
@@ -276,7 +261,9 @@ fn every_sample_file_loads() {
 
 #[test]
 fn biggest_sample_loads_quickly() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = common::shared_vox_dir() else {
+        return;
+    };
     let path = vox_files(&dir)
         .into_iter()
         .max_by_key(|p| std::fs::metadata(p).unwrap().len())
@@ -538,7 +525,7 @@ fn corrupt_input_is_an_error_naming_the_path() {
     let scratch = scratch_dir("corrupt");
     let mut cases: Vec<(String, PathBuf)> = Vec::new();
 
-    if let Some(dir) = data_dir() {
+    if let Some(dir) = common::shared_vox_dir() {
         let real = std::fs::read(vox_files(&dir)[0].clone()).unwrap();
         let truncated = scratch.join("truncated.vox");
         std::fs::write(&truncated, &real[..100]).unwrap();
@@ -585,7 +572,9 @@ fn corrupt_input_is_an_error_naming_the_path() {
 
 #[test]
 fn truncations_and_mutations_never_panic() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = common::shared_vox_dir() else {
+        return;
+    };
     let path = Path::new("mutated.vox");
     let files = vox_files(&dir);
     let small = files
@@ -633,7 +622,9 @@ fn truncations_and_mutations_never_panic() {
 
 #[test]
 fn depth_too_small_and_out_of_range_are_errors() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = common::shared_vox_dir() else {
+        return;
+    };
     let path = dir.join("veh_car1.vox");
     let coarse = load_vox(&path, None).unwrap();
     let needed = coarse.depth;
@@ -673,7 +664,9 @@ fn depth_too_small_and_out_of_range_are_errors() {
 
 #[test]
 fn deeper_depth_upscales_the_surface() {
-    let Some(dir) = data_dir() else { return };
+    let Some(dir) = common::shared_vox_dir() else {
+        return;
+    };
     for name in ["veh_car1.vox", "chr_mayor.vox"] {
         let path = dir.join(name);
         let bytes = std::fs::read(&path).unwrap();

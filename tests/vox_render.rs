@@ -6,25 +6,12 @@
 //! with a printed reason, except under `CI=true`, where it fails.
 
 use std::path::{Path, PathBuf};
+
+mod common;
 use svo_sim::assets::Materialise;
 use svo_sim::reference::RenderOptions;
 use svo_sim::run::{run, RunConfig};
 use svo_sim::scene::Scene;
-
-fn vox_dir() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/vox");
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!(
-            "CI=true but the shared models are missing at {}",
-            dir.display()
-        );
-    }
-    eprintln!("skipping: shared models not found at {}", dir.display());
-    None
-}
 
 fn config(scene: Scene) -> RunConfig {
     RunConfig {
@@ -41,7 +28,9 @@ fn config(scene: Scene) -> RunConfig {
 
 #[test]
 fn every_model_renders() {
-    let Some(dir) = vox_dir() else { return };
+    let Some(dir) = common::shared_vox_dir() else {
+        return;
+    };
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -87,7 +76,7 @@ fn every_model_renders() {
 
 #[test]
 fn vox_traffic_scene_renders() {
-    if vox_dir().is_none() {
+    if common::shared_vox_dir().is_none() {
         return;
     }
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vox_traffic.ron");

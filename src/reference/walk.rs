@@ -283,9 +283,7 @@ pub fn walk<T: Octree>(
             level,
             coords,
         };
-        for k in 0..3 {
-            child.tm[k] = rf.mid(k, level, coords[k]);
-        }
+        child.tm = std::array::from_fn(|k| rf.mid(k, level, coords[k]));
         child.next = first_child(child.t0, child.tm);
         sp += 1;
         stack[sp] = child;

@@ -10,6 +10,7 @@
 #![allow(dead_code)]
 
 pub mod oracle;
+pub mod process;
 
 use proptest::test_runner::{Config, RngAlgorithm, TestRng};
 use rtl_model::svo::{LeafAttr, LeafSet, SvoImage};
@@ -233,4 +234,24 @@ pub fn fmt_vec(v: [f64; 3]) -> String {
         v[1].to_bits(),
         v[2].to_bits()
     )
+}
+
+/// The shared MagicaVoxel models beside the repository, or `None` (the caller skips, with the
+/// reason printed) when they are missing outside CI. Under `CI=true` a missing folder fails.
+pub fn shared_vox_dir() -> Option<std::path::PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/vox");
+    if dir.is_dir() {
+        return Some(dir);
+    }
+    if std::env::var("CI").as_deref() == Ok("true") {
+        panic!(
+            "the shared .vox models are missing at {} (CI=true, so this is a failure)",
+            dir.display()
+        );
+    }
+    eprintln!(
+        "skipping: the shared .vox models are missing at {}",
+        dir.display()
+    );
+    None
 }
