@@ -98,7 +98,8 @@ pub fn build_assets(
         .assets
         .iter()
         .zip(depths)
-        .map(|(spec, &depth)| {
+        .enumerate()
+        .map(|(index, (spec, &depth))| {
             let start = Instant::now();
             let name = spec.name.clone();
             let image = |set: &LeafSet| {
@@ -109,19 +110,25 @@ pub fn build_assets(
             };
             let (tree, half_size, kind) = match &spec.source {
                 AssetSource::Sdf { shape, half_extent } => {
-                    let sdf =
-                        Sdf::new(shape, &format!("assets({name}).shape")).map_err(|message| {
-                            AssetError::Depth {
-                                asset: name.clone(),
-                                message,
-                            }
-                        })?;
+                    let sdf = Sdf::new(shape, &format!("assets[{index}]({name}).shape")).map_err(
+                        |message| AssetError::Depth {
+                            asset: name.clone(),
+                            message,
+                        },
+                    )?;
                     let half = half_extent.unwrap_or_else(|| {
                         let (lo, hi) = sdf.bounds();
                         lo.abs().max(hi.abs()).max_element() * 1.02
                     });
                     let octree = SdfOctree::new(sdf, half, depth);
-                    let estimate = estimate_leaves(&octree);
+                    // Shallow trees always fit: count only when it decides something or the
+                    // implicit tree's report needs it.
+                    let small = depth <= ESTIMATE_PROBE + 1;
+                    let estimate = if small && mode == Materialise::Auto {
+                        0.0
+                    } else {
+                        estimate_leaves(&octree)
+                    };
                     if mode == Materialise::Never || estimate > MAX_MATERIALISED_LEAVES {
                         let stats = SvoStats {
                             depth,
@@ -173,16 +180,19 @@ pub fn build_assets(
         .collect()
 }
 
-/// Leaf count of an SDF octree predicted from a build at depth 9: a surface's leaf count
-/// grows about 4× per level. Returns 0 (not estimated) up to depth 10, which always fits.
+/// Depth of the probe build behind [`estimate_leaves`].
+pub const ESTIMATE_PROBE: u8 = 9;
+
+/// Leaf count of an SDF octree: exact (a full count) up to depth `ESTIMATE_PROBE + 1`, else
+/// predicted from a build at `ESTIMATE_PROBE`, since a surface's leaf count grows about 4× per
+/// level.
 pub fn estimate_leaves(octree: &SdfOctree) -> f64 {
-    const PROBE: u8 = 9;
     let depth = octree.depth();
-    if depth <= PROBE + 1 {
-        return 0.0;
+    if depth <= ESTIMATE_PROBE + 1 {
+        return octree.leaves().len() as f64;
     }
-    let probe = SdfOctree::new(octree.sdf().clone(), octree.half(), PROBE)
+    let probe = SdfOctree::new(octree.sdf().clone(), octree.half(), ESTIMATE_PROBE)
         .leaves()
         .len() as f64;
-    probe * 4f64.powi(i32::from(depth - PROBE))
+    probe * 4f64.powi(i32::from(depth - ESTIMATE_PROBE))
 }

@@ -35,8 +35,8 @@
 //!    `(x, y, z)` maps to ours `(x, z, −y)` (a proper rotation, determinant +1), cell for cell.
 //!    The bounding box of the solid voxels (not of the models' `SIZE` boxes, which may have
 //!    empty margins) is shifted to start at 0 ([`VoxAsset::grid_dims`] is its extent in our
-//!    axes) and centred in the `2^depth` cube: offset `floor((2^depth − extent) / 2)` per
-//!    axis.
+//!    axes) and centred in the `2^depth` cube: offset `floor((2^depth − extent·k) / 2)` leaves
+//!    per axis, where k = 2^(depth − needed depth) is the upscaling factor of step 6.
 //! 4. **Colour.** `dot_vox` stores `Voxel::i` as the file's 1-based colour index minus one, and
 //!    its `palette[i]` is the file's `RGBA` entry `i`, which the format defines as the colour of
 //!    index `i + 1`; so `palette[voxel.i]` is the voxel's colour. Files without an `RGBA` chunk

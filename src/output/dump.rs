@@ -82,7 +82,7 @@ pub fn write_frame_csv(
         let inst = if r.hit { i32::from(r.instance) } else { -1 };
         writeln!(
             w,
-            "{frame},{x},{y},{},{},{inst},{:.17e},{},{},{},{},{},{},{},{},{},{}",
+            "{frame},{x},{y},{},{},{inst},{:.16e},{},{},{},{},{},{},{},{},{},{}",
             u8::from(r.hit),
             r.spheres as u8,
             r.t,

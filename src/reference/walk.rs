@@ -200,6 +200,7 @@ pub fn walk<T: Octree>(
     }
     let mut stack = [Frame::<T::Node>::default(); MAX_DEPTH as usize + 1];
     cnt.fetches += 1;
+    cnt.max_stack = cnt.max_stack.max(1);
     let mut f = Frame {
         t0,
         t1,

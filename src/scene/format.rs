@@ -92,6 +92,7 @@ pub struct AssetSpec {
 
 /// The source of an asset's voxels.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum AssetSource {
     /// A procedural shape, voxelised on its surface.
     Sdf {

@@ -16,8 +16,8 @@ use std::path::{Path, PathBuf};
 
 /// Largest accepted image side.
 pub const MAX_SIDE: u32 = 16_384;
-/// Largest accepted number of pixels per frame (8192², 64 Mi): a frame keeps two records
-/// of about 64 bytes per pixel (hit buffer and the frame being built), about 8 GiB here.
+/// Largest accepted number of pixels per frame (8192², 64 Mi): the hit buffer keeps one
+/// 56-byte record per pixel (updated in place), about 3.5 GiB, plus the RGB image for the PNG.
 pub const MAX_PIXELS: u64 = 8192 * 8192;
 /// Largest accepted number of frames.
 pub const MAX_FRAMES: u32 = 1_000_000;

@@ -99,10 +99,11 @@ fn check_finite3(v: [f64; 3], what: &str, path: &str) -> Result<DVec3, String> {
 fn compile(s: &Shape, path: &str) -> Result<(Node, DVec3, DVec3), String> {
     Ok(match s {
         Shape::Box { half } => {
+            let p = format!("{path}.Box");
             let h = DVec3::new(
-                check_pos(half[0], "half[0]", path)?,
-                check_pos(half[1], "half[1]", path)?,
-                check_pos(half[2], "half[2]", path)?,
+                check_pos(half[0], "half[0]", &p)?,
+                check_pos(half[1], "half[1]", &p)?,
+                check_pos(half[2], "half[2]", &p)?,
             );
             (Node::Box { half: h }, -h, h)
         }

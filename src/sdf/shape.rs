@@ -17,6 +17,7 @@ pub enum Axis {
 /// A procedural shape in asset coordinates (metres; the asset's octree is centred on the
 /// origin). Distances are exact or 1-Lipschitz lower bounds.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Shape {
     /// Axis-aligned box with half sizes.
     Box {

@@ -19,6 +19,12 @@ pub enum BuildError {
         /// Words that would be needed.
         words: u64,
     },
+    /// More leaves than a 32-bit attribute index can address.
+    #[error("{leaves} leaves are more than a 32-bit attribute index addresses")]
+    TooManyLeaves {
+        /// Leaves in the set.
+        leaves: u64,
+    },
 }
 
 /// One level of the tree: per node its Morton code prefix, valid mask and first child index.
@@ -34,8 +40,8 @@ impl SvoImage {
         let depth = set.depth();
         let leaves = set.leaves();
         if leaves.len() as u64 > u64::from(u32::MAX) {
-            return Err(BuildError::TooLarge {
-                words: leaves.len() as u64,
+            return Err(BuildError::TooManyLeaves {
+                leaves: leaves.len() as u64,
             });
         }
         // levels[l] holds the internal nodes at level l (0 = root) ... depth-1.
@@ -144,7 +150,12 @@ impl SvoImage {
         levels: &[Level],
         far_words: u64,
     ) -> Self {
-        let nodes_per_level: Vec<u64> = levels.iter().map(|l| l.code.len().max(1) as u64).collect();
+        // The root exists even in an empty tree (a descriptor with no children).
+        let nodes_per_level: Vec<u64> = levels
+            .iter()
+            .enumerate()
+            .map(|(l, lv)| if l == 0 { 1 } else { lv.code.len() as u64 })
+            .collect();
         let stats = SvoStats {
             depth,
             nodes: nodes_per_level.iter().sum(),
@@ -268,6 +279,8 @@ mod tests {
     #[test]
     fn empty_tree_has_empty_root() {
         let img = SvoImage::build(&LeafSet::empty(5).unwrap()).unwrap();
+        assert_eq!(img.stats().nodes_per_level, vec![1, 0, 0, 0, 0]);
+        assert_eq!(img.stats().nodes, 1);
         let d = img.descriptor(SvoImage::root());
         assert_eq!(d.valid, 0);
         assert_eq!(img.child(0, d, 3), ChildRef::Empty);

@@ -63,8 +63,9 @@ impl LeafSet {
         Ok(set)
     }
 
-    /// Builds a set from Morton codes that are already sorted and unique (the SDF builder's
-    /// output). Checked: codes must be strictly increasing and fit the depth.
+    /// Builds a set from Morton codes, normally already sorted and unique (the SDF builder's
+    /// output, taken as it is after a linear check). Codes must fit the depth; input that is
+    /// not strictly increasing is sorted and deduplicated (the first occurrence wins).
     pub fn from_sorted_codes(
         depth: u8,
         leaves: Vec<(u64, LeafAttr)>,
