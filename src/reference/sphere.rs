@@ -8,6 +8,16 @@
 use glam::DVec3;
 
 /// Entry distance of the ray into the sphere, or `None` if it cannot reach it.
+///
+/// ```
+/// use glam::DVec3;
+/// use svo_sim::reference::sphere::sphere_entry;
+/// let (o, d) = (DVec3::ZERO, DVec3::X);
+/// assert_eq!(sphere_entry(o, d, DVec3::new(5.0, 0.0, 0.0), 1.0), Some(4.0));
+/// assert_eq!(sphere_entry(o, d, DVec3::new(-5.0, 0.0, 0.0), 1.0), None); // behind
+/// assert_eq!(sphere_entry(o, d, DVec3::new(0.5, 0.0, 0.0), 1.0), Some(0.0)); // inside
+/// assert_eq!(sphere_entry(o, d, DVec3::new(5.0, 2.0, 0.0), 1.0), None); // beside
+/// ```
 #[inline]
 pub fn sphere_entry(origin: DVec3, dir: DVec3, centre: DVec3, radius: f64) -> Option<f64> {
     let l = centre - origin;

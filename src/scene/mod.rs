@@ -39,6 +39,12 @@ pub struct Scene {
 
 impl Scene {
     /// The embedded default scene (the animated car).
+    ///
+    /// ```
+    /// let scene = svo_sim::scene::Scene::default_car().unwrap();
+    /// assert_eq!(scene.file.instances.len(), 8);
+    /// assert_eq!(scene.file.resolution, (640, 384));
+    /// ```
     pub fn default_car() -> Result<Self, SceneError> {
         Self::from_ron(
             DEFAULT_SCENE_RON,

@@ -38,6 +38,19 @@ pub struct SvoStats {
 }
 
 /// A complete SVO memory image.
+///
+/// ```
+/// use rtl_model::svo::{ChildRef, LeafAttr, LeafSet, SvoImage};
+/// let red = LeafAttr::new([255, 0, 0, 255], [0.0, 1.0, 0.0]);
+/// let set = LeafSet::from_coords(2, [([3, 0, 1], red)]).unwrap();
+/// let img = SvoImage::build(&set).unwrap();
+/// assert_eq!(img.leaf_at([3, 0, 1]), Some(red));
+/// assert_eq!(img.leaf_at([0, 0, 0]), None);
+/// // The root's only child is label 4 (x = 1 of the upper half), an internal node.
+/// let root = img.descriptor(SvoImage::root());
+/// assert_eq!(root.valid, 0b1_0000);
+/// assert!(matches!(img.child(0, root, 4), ChildRef::Node(_)));
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SvoImage {
     pub(super) depth: u8,

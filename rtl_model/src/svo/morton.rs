@@ -29,6 +29,14 @@ fn compact3(v: u64) -> u32 {
 }
 
 /// Morton code of integer voxel coordinates (each below 2^21).
+///
+/// The lowest three bits are the child label inside the parent (x = 4, y = 2, z = 1):
+/// ```
+/// use rtl_model::svo::morton::{decode, encode};
+/// assert_eq!(encode(1, 0, 1), 0b101);
+/// assert_eq!(encode(2, 3, 1), 0b110_011);
+/// assert_eq!(decode(encode(700, 5, 123_456)), [700, 5, 123_456]);
+/// ```
 #[inline]
 pub fn encode(x: u32, y: u32, z: u32) -> u64 {
     (spread3(x) << 2) | (spread3(y) << 1) | spread3(z)
