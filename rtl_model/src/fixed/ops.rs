@@ -1,0 +1,316 @@
+//! Exact arithmetic on raw values, requantised into an explicit result format.
+//!
+//! Every operation first computes the exact result as an `i128` with a known number of
+//! fraction bits (sums align to the larger fraction count; products add them), then
+//! [`quantize`] rounds it into the result format by that format's quantisation mode and
+//! resolves overflow by its overflow mode, counting any saturation or wrap on the signal.
+
+use super::{Format, OverflowMode, Overflows, Quant, SignalId};
+
+/// Largest right shift done directly; larger ones first shift with a sticky bit, which keeps
+/// every rounding decision (below, at or above half; exact or not) intact.
+const MAX_DIRECT_SHIFT: i32 = 120;
+
+/// Rounds `raw · 2^−from_frac` into `out`: quantisation by `out.quant`, then overflow by
+/// `out.overflow`. Any saturation or wrap is counted on `sig`.
+pub fn quantize(raw: i128, from_frac: i32, out: Format, ov: &mut Overflows, sig: SignalId) -> i64 {
+    let shift = from_frac - i32::from(out.frac);
+    let q: Option<i128> = if shift <= 0 {
+        let k = (-shift) as u32;
+        if raw == 0 {
+            Some(0)
+        } else if k >= 127 {
+            None
+        } else {
+            let v = raw << k;
+            (v >> k == raw).then_some(v)
+        }
+    } else {
+        let (mut r, mut s) = (raw, shift);
+        if s > MAX_DIRECT_SHIFT {
+            let pre = s - MAX_DIRECT_SHIFT;
+            let dropped = if pre >= 127 {
+                r
+            } else {
+                r & ((1i128 << pre) - 1)
+            };
+            r = if pre >= 127 { r >> 126 >> 1 } else { r >> pre };
+            r = (r & !1) | i128::from(dropped != 0) | (r & 1);
+            s = MAX_DIRECT_SHIFT;
+        }
+        Some(round_shift(r, s as u32, out.quant))
+    };
+    let (lo, hi) = (i128::from(out.min_raw()), i128::from(out.max_raw()));
+    let lo_sym = if out.overflow == OverflowMode::SatSym && out.signed {
+        -hi
+    } else {
+        lo
+    };
+    match q {
+        Some(v) if v >= lo_sym && v <= hi => v as i64,
+        Some(v) if out.overflow == OverflowMode::Wrap => {
+            ov.hit(sig);
+            wrap(v, out)
+        }
+        Some(v) => {
+            ov.hit(sig);
+            if v < lo_sym {
+                lo_sym as i64
+            } else {
+                hi as i64
+            }
+        }
+        None => {
+            // The left shift itself overflowed i128: far outside any 64-bit format.
+            ov.hit(sig);
+            match out.overflow {
+                OverflowMode::Wrap => 0,
+                _ if raw < 0 => lo_sym as i64,
+                _ => hi as i64,
+            }
+        }
+    }
+}
+
+/// Keeps the low W bits of `v` (sign-extended for signed formats).
+fn wrap(v: i128, out: Format) -> i64 {
+    let w = u32::from(out.width);
+    let mask: i128 = if w >= 127 { -1 } else { (1i128 << w) - 1 };
+    let low = v & mask;
+    if out.signed && w < 127 && low >> (w - 1) & 1 == 1 {
+        (low - (1i128 << w)) as i64
+    } else {
+        low as i64
+    }
+}
+
+/// `raw / 2^s` rounded by `quant` (1 ≤ s ≤ 120).
+#[inline]
+fn round_shift(raw: i128, s: u32, quant: Quant) -> i128 {
+    let floor = raw >> s;
+    let rem = raw - (floor << s); // 0 ≤ rem < 2^s
+    if rem == 0 {
+        return floor;
+    }
+    let half = 1i128 << (s - 1);
+    let neg = raw < 0;
+    let up = match quant {
+        Quant::Trn => false,
+        Quant::TrnZero => neg,
+        Quant::Rnd => rem >= half,
+        Quant::RndZero => rem > half || (rem == half && neg),
+        Quant::RndMinInf => rem > half,
+        Quant::RndInf => rem > half || (rem == half && !neg),
+        Quant::RndConv => rem > half || (rem == half && floor & 1 == 1),
+    };
+    floor + i128::from(up)
+}
+
+/// a + b into `out` (exact sum at the larger fraction count, then [`quantize`]).
+#[inline]
+pub fn add(
+    a: i64,
+    fa: Format,
+    b: i64,
+    fb: Format,
+    out: Format,
+    ov: &mut Overflows,
+    sig: SignalId,
+) -> i64 {
+    let f = fa.frac.max(fb.frac);
+    let a2 = i128::from(a) << (f - fa.frac);
+    let b2 = i128::from(b) << (f - fb.frac);
+    quantize(a2 + b2, i32::from(f), out, ov, sig)
+}
+
+/// a − b into `out`.
+#[inline]
+pub fn sub(
+    a: i64,
+    fa: Format,
+    b: i64,
+    fb: Format,
+    out: Format,
+    ov: &mut Overflows,
+    sig: SignalId,
+) -> i64 {
+    let f = fa.frac.max(fb.frac);
+    let a2 = i128::from(a) << (f - fa.frac);
+    let b2 = i128::from(b) << (f - fb.frac);
+    quantize(a2 - b2, i32::from(f), out, ov, sig)
+}
+
+/// a · b into `out` (the exact 128-bit product has fa.frac + fb.frac fraction bits).
+#[inline]
+pub fn mul(
+    a: i64,
+    fa: Format,
+    b: i64,
+    fb: Format,
+    out: Format,
+    ov: &mut Overflows,
+    sig: SignalId,
+) -> i64 {
+    quantize(
+        i128::from(a) * i128::from(b),
+        i32::from(fa.frac) + i32::from(fb.frac),
+        out,
+        ov,
+        sig,
+    )
+}
+
+/// a · 2^−k into `out` (an arithmetic right shift by k when the formats match).
+#[inline]
+pub fn shift_right(
+    a: i64,
+    fa: Format,
+    k: u8,
+    out: Format,
+    ov: &mut Overflows,
+    sig: SignalId,
+) -> i64 {
+    quantize(
+        i128::from(a),
+        i32::from(fa.frac) + i32::from(k),
+        out,
+        ov,
+        sig,
+    )
+}
+
+/// Converts an f64 into `out`, rounded by its quantisation mode. NaN becomes 0 and ±∞ the
+/// format's extreme; both count as an overflow on `sig`, so a bad input is never silent.
+pub fn from_f64(x: f64, out: Format, ov: &mut Overflows, sig: SignalId) -> i64 {
+    if x.is_nan() {
+        ov.hit(sig);
+        return 0;
+    }
+    let scaled = x * 2f64.powi(i32::from(out.frac));
+    if !scaled.is_finite() || scaled.abs() >= 2f64.powi(126) {
+        ov.hit(sig);
+        let lo = if out.overflow == OverflowMode::SatSym && out.signed {
+            -out.max_raw()
+        } else {
+            out.min_raw()
+        };
+        return if scaled < 0.0 { lo } else { out.max_raw() };
+    }
+    // `scaled` is exact (a power-of-two scaling); split it into integer and fraction parts,
+    // both exact in f64, and round the way `round_shift` does.
+    let floor = scaled.floor();
+    let frac = scaled - floor;
+    let mut q = floor as i128;
+    if frac > 0.0 {
+        let neg = scaled < 0.0;
+        let up = match out.quant {
+            Quant::Trn => false,
+            Quant::TrnZero => neg,
+            Quant::Rnd => frac >= 0.5,
+            Quant::RndZero => frac > 0.5 || (frac == 0.5 && neg),
+            Quant::RndMinInf => frac > 0.5,
+            Quant::RndInf => frac > 0.5 || (frac == 0.5 && !neg),
+            Quant::RndConv => frac > 0.5 || (frac == 0.5 && q & 1 == 1),
+        };
+        q += i128::from(up);
+    }
+    quantize(q, i32::from(out.frac), out, ov, sig)
+}
+
+/// The value of a raw code: raw · 2^−F (exact while |raw| < 2^53, else rounded to nearest).
+#[inline]
+pub fn to_f64(raw: i64, f: Format) -> f64 {
+    raw as f64 * 2f64.powi(-i32::from(f.frac))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ov() -> (Overflows, SignalId) {
+        (Overflows::new(&["s"]), SignalId(0))
+    }
+
+    #[test]
+    fn rounding_modes_on_ties_and_signs() {
+        let out = Format::sq(8, 0);
+        // raw values with 1 fraction bit: 2.5, −2.5, 3.5, 2.25 (2 bits)
+        let cases: [(i128, i32, [i64; 7]); 4] = [
+            (5, 1, [2, 2, 3, 2, 2, 3, 2]),
+            (-5, 1, [-3, -2, -2, -2, -3, -3, -2]),
+            (7, 1, [3, 3, 4, 3, 3, 4, 4]),
+            (9, 2, [2, 2, 2, 2, 2, 2, 2]),
+        ];
+        let modes = [
+            Quant::Trn,
+            Quant::TrnZero,
+            Quant::Rnd,
+            Quant::RndZero,
+            Quant::RndMinInf,
+            Quant::RndInf,
+            Quant::RndConv,
+        ];
+        for (raw, f, want) in cases {
+            for (m, w) in modes.iter().zip(want) {
+                let (mut o, s) = ov();
+                assert_eq!(
+                    quantize(raw, f, out.with_quant(*m), &mut o, s),
+                    w,
+                    "{raw}/2^{f} {m:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn saturation_and_wrap_are_counted() {
+        let (mut o, s) = ov();
+        let f = Format::sq(4, 4); // 8 bits, range −8 .. 7.9375
+        assert_eq!(from_f64(100.0, f, &mut o, s), 127);
+        assert_eq!(from_f64(-100.0, f, &mut o, s), -128);
+        assert_eq!(
+            from_f64(-100.0, f.with_overflow(OverflowMode::SatSym), &mut o, s),
+            -127
+        );
+        assert_eq!(o.count(s), 3);
+        let w = f.with_overflow(OverflowMode::Wrap);
+        assert_eq!(add(127, f, 1, f, w, &mut o, s), -128);
+        assert_eq!(o.count(s), 4);
+        assert_eq!(from_f64(f64::NAN, f, &mut o, s), 0);
+        assert_eq!(o.count(s), 5);
+        assert_eq!(add(3, f, 4, f, f, &mut o, s), 7);
+        assert_eq!(o.count(s), 5, "no overflow, no count");
+    }
+
+    #[test]
+    fn products_and_conversions() {
+        let (mut o, s) = ov();
+        let a = Format::sq(2, 30);
+        let x = from_f64(0.75, a, &mut o, s);
+        let y = from_f64(-0.5, a, &mut o, s);
+        assert_eq!(to_f64(mul(x, a, y, a, a, &mut o, s), a), -0.375);
+        assert_eq!(to_f64(shift_right(x, a, 1, a, &mut o, s), a), 0.375);
+        assert_eq!(to_f64(sub(x, a, y, a, a, &mut o, s), a), 1.25);
+        assert_eq!(o.total(), 0);
+        // Extreme valid formats do not overflow i128.
+        let wide = Format {
+            signed: true,
+            width: 64,
+            frac: 62,
+            quant: Quant::Trn,
+            overflow: OverflowMode::Sat,
+        };
+        let high = Format {
+            signed: true,
+            width: 64,
+            frac: 0,
+            quant: Quant::Trn,
+            overflow: OverflowMode::Sat,
+        };
+        assert!(wide.is_valid() && high.is_valid());
+        let r = add(i64::MIN, high, i64::MIN, wide, high, &mut o, s);
+        assert_eq!(r, i64::MIN);
+        let _ = mul(i64::MIN, high, i64::MIN, high, wide, &mut o, s);
+        assert!(o.total() >= 1);
+    }
+}
