@@ -10,3 +10,4 @@
 
 pub mod fixed;
 pub mod svo;
+pub mod units;

@@ -12,10 +12,12 @@
 //! 128-bit integers with compile-time fraction bits, while the datapath sweeps widths such as
 //! 18, 24, 27 or 41 bits at run time (`docs/number-formats.md`).
 
+mod dsp;
 mod format;
 mod ops;
 mod overflow;
 
+pub use dsp::dsp48e2_per_product;
 pub use format::{Format, OverflowMode, Quant};
 pub use ops::{add, from_f64, mul, quantize, shift_right, sub, to_f64};
 pub use overflow::{Overflows, SignalId};

@@ -1,0 +1,7 @@
+//! Datapath units of the fixed-point model, one module each.
+//!
+//! Each unit is a pure transaction function computing what the RTL computes, bit for bit,
+//! from raw codes in the formats of its configuration, plus a named error-bound function of
+//! those formats (derived in `docs/units/`). Saturations and wraps are counted, never silent.
+
+pub mod transform;
