@@ -158,6 +158,19 @@ pub fn walk<T: Octree>(
     d: DVec3,
     cnt: &mut WalkCounters,
 ) -> Option<WalkHit<T::Leaf>> {
+    walk_visiting(tree, half, o, d, cnt, &mut |_, _| {})
+}
+
+/// [`walk`], calling `visit(level, coords)` for every node it enters (internal nodes it
+/// descends into and the leaf it stops at), in order. Used to compare walks node by node.
+pub fn walk_visiting<T: Octree, V: FnMut(u8, [u32; 3])>(
+    tree: &T,
+    half: DVec3,
+    o: DVec3,
+    d: DVec3,
+    cnt: &mut WalkCounters,
+    visit: &mut V,
+) -> Option<WalkHit<T::Leaf>> {
     let lo = (-half).to_array();
     let hi = half.to_array();
     let (o, d) = (o.to_array(), d.to_array());
@@ -252,6 +265,7 @@ pub fn walk<T: Octree>(
             (top.coords[1] << 1) | u32::from((real >> 1) & 1),
             (top.coords[2] << 1) | u32::from(real & 1),
         ];
+        visit(level, coords);
         let node = match child {
             Child::Empty => continue,
             Child::Node(n) => n,

@@ -5,3 +5,4 @@
 //! those formats (derived in `docs/units/`). Saturations and wraps are counted, never silent.
 
 pub mod transform;
+pub mod walker;

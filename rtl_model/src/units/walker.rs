@@ -1,0 +1,402 @@
+//! Octree walker in fixed point: Revelles et al. (2000) as the hardware computes it.
+//!
+//! Pipeline position: after the transform and reciprocal units, once per (ray, candidate);
+//! it reads the SVO memory image (one descriptor fetch per descent) and returns the nearest
+//! solid leaf. The f64 reference (`svo_sim::reference::walk`) is its oracle.
+//!
+//! Arithmetic:
+//! - Mirroring (§3.4): an axis whose direction is negative (the sign bit from the transform,
+//!   so −0 counts) negates the origin (the box is centred on 0: min + max − o = −o, exact).
+//! - Root slabs: t0 = (−e − o)·(1/|d|), t1 = (e − o)·(1/|d|): an exact subtraction and an
+//!   exact product, rounded once into the `t` format. Zero axes (flagged by the reciprocal
+//!   unit, |d| below what 1/d can hold) get t0 = −∞, t1 = +∞ if −e ≤ o < e, else the ray
+//!   misses (§3.3). ±∞ are the sentinels `i64::MIN` / `i64::MAX`, outside every t format, so
+//!   no computed t can be mistaken for them.
+//! - Midpoints: tm = ⌊(t0 + t1)/2⌋ — one adder and a shift per axis and level. Fixed point
+//!   keeps absolute precision, so the f64 reference's problem with huge t-values does not
+//!   arise; the floor loses at most half an LSB per level. Zero axes take ±∞ from the origin's
+//!   side of the node's centre plane, computed from the node's integer coordinates (§3.3,
+//!   Eq. 12).
+//! - Children, entry and exit: exactly the reference's rules (tables 1–3, positive-length
+//!   intervals that end after t = 0), on integer codes.
+//! - A step limit stops a walk that runs too long (it cannot happen with a well-formed image,
+//!   but the hardware needs the guard); it is reported, never silent.
+
+use crate::fixed::{quantize, Format, Overflows, SignalId};
+use crate::svo::{ChildDescriptor, ChildRef, SvoImage, MAX_DEPTH};
+use serde::{Deserialize, Serialize};
+
+/// −∞ and +∞ of the walker's t-values.
+pub const T_NEG_INF: i64 = i64::MIN;
+/// +∞ (see [`T_NEG_INF`]).
+pub const T_POS_INF: i64 = i64::MAX;
+
+/// Formats and limits of the walker.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WalkerConfig {
+    /// Local positions in (origin, box half extents), metres.
+    pub pos: Format,
+    /// Reciprocals 1/|d| in (the reciprocal unit's output).
+    pub inv: Format,
+    /// Ray parameter t (metres along the unit direction).
+    pub t: Format,
+    /// Walker loop iterations allowed per walk before it is stopped and reported.
+    pub max_steps: u32,
+}
+
+impl WalkerConfig {
+    /// Checks the formats: valid, t narrower than 64 bits (the ±∞ sentinels must lie outside
+    /// it), and the root product within the 127-bit accumulator.
+    pub fn validate(&self) -> Result<(), String> {
+        for (name, f) in [("pos", self.pos), ("inv", self.inv), ("t", self.t)] {
+            if !f.is_valid() {
+                return Err(format!("walker.{name}: format {} is not valid", f.name()));
+            }
+        }
+        if !self.t.signed || self.t.width > 62 {
+            return Err(format!(
+                "walker.t: {} must be signed and at most 62 bits wide",
+                self.t.name()
+            ));
+        }
+        if u32::from(self.pos.width) + 1 + u32::from(self.inv.width) > 126 {
+            return Err("walker: pos width + inv width exceed the 127-bit product".into());
+        }
+        if self.max_steps == 0 {
+            return Err("walker.max_steps must be positive".into());
+        }
+        Ok(())
+    }
+}
+
+/// One walk's inputs, as raw codes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct WalkerInput {
+    /// Local origin (`pos`).
+    pub origin: [i64; 3],
+    /// 1/|d| per axis (`inv`, non-negative); ignored on zero axes.
+    pub inv: [i64; 3],
+    /// Axis direction too small for 1/d: treated as zero (§3.3).
+    pub zero: [bool; 3],
+    /// Axis direction negative (sign bit, so −0 is negative): mirrored (§3.4).
+    pub negative: [bool; 3],
+    /// Half extents of the octree's box (`pos`).
+    pub half: [i64; 3],
+}
+
+/// The nearest solid leaf.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WalkerHit {
+    /// max(entry, 0) in the `t` format.
+    pub t: i64,
+    /// Leaf coordinates (real, unmirrored) at `level`.
+    pub voxel: [u32; 3],
+    /// Level of the leaf.
+    pub level: u8,
+    /// Attribute index.
+    pub attr: u32,
+    /// Entry axis (0 = x, 1 = y, 2 = z): largest t0, ties x then y.
+    pub entry_axis: u8,
+}
+
+/// How a walk ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WalkOutcome {
+    /// A solid leaf.
+    Hit(WalkerHit),
+    /// No leaf along the ray.
+    Miss,
+    /// Stopped by the step limit.
+    StepLimit,
+}
+
+/// Counters of walks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WalkerStats {
+    /// Loop iterations (children examined).
+    pub steps: u64,
+    /// Descriptor fetches (root and descents).
+    pub fetches: u64,
+    /// Deepest stack, frames.
+    pub max_stack: u32,
+    /// Walks stopped by the step limit.
+    pub step_limit_hits: u64,
+}
+
+#[derive(Clone, Copy, Default)]
+struct Frame {
+    t0: [i64; 3],
+    t1: [i64; 3],
+    tm: [i64; 3],
+    addr: u32,
+    desc: u32,
+    next: u8,
+    level: u8,
+    coords: [u32; 3],
+}
+
+#[inline]
+fn max3(v: [i64; 3]) -> i64 {
+    v[0].max(v[1]).max(v[2])
+}
+
+#[inline]
+fn min3(v: [i64; 3]) -> i64 {
+    v[0].min(v[1]).min(v[2])
+}
+
+/// ⌊(a + b)/2⌋ of two t codes; a zero axis never reaches here.
+#[inline]
+fn midpoint(a: i64, b: i64) -> i64 {
+    ((i128::from(a) + i128::from(b)) >> 1) as i64
+}
+
+struct Axes {
+    o: [i64; 3],
+    zero: [bool; 3],
+    a: u8,
+    half: [i64; 3],
+}
+
+impl Axes {
+    /// Midpoint of axis k for the node at `level` with real coordinate `c`.
+    #[inline]
+    fn mid(&self, k: usize, t0: i64, t1: i64, level: u8, c: u32) -> i64 {
+        if !self.zero[k] {
+            return midpoint(t0, t1);
+        }
+        let n = 1u64 << level;
+        let m = if self.a & (4 >> k) != 0 {
+            n - 1 - u64::from(c)
+        } else {
+            u64::from(c)
+        };
+        // Centre plane −e + (2m + 1)·2e / 2^(level+1), exact in i128 before the floor shift.
+        let two_e = 2 * i128::from(self.half[k]);
+        let centre = -i128::from(self.half[k]) + ((i128::from(2 * m + 1) * two_e) >> (level + 1));
+        if i128::from(self.o[k]) < centre {
+            T_POS_INF
+        } else {
+            T_NEG_INF
+        }
+    }
+}
+
+/// Walks `img` for one (ray, instance).
+pub fn walk_fixed(
+    img: &SvoImage,
+    inp: &WalkerInput,
+    cfg: &WalkerConfig,
+    ov: &mut Overflows,
+    sig: SignalId,
+    st: &mut WalkerStats,
+) -> WalkOutcome {
+    walk_fixed_visiting(img, inp, cfg, ov, sig, st, &mut |_, _| {})
+}
+
+/// [`walk_fixed`], calling `visit(level, coords)` for every node it enters (internal nodes
+/// and the final leaf), in order, to compare with the f64 reference node by node.
+pub fn walk_fixed_visiting<V: FnMut(u8, [u32; 3])>(
+    img: &SvoImage,
+    inp: &WalkerInput,
+    cfg: &WalkerConfig,
+    ov: &mut Overflows,
+    sig: SignalId,
+    st: &mut WalkerStats,
+    visit: &mut V,
+) -> WalkOutcome {
+    let mut ax = Axes {
+        o: [0; 3],
+        zero: inp.zero,
+        a: 0,
+        half: inp.half,
+    };
+    let mut t0 = [0i64; 3];
+    let mut t1 = [0i64; 3];
+    let prod_frac = i32::from(cfg.pos.frac) + i32::from(cfg.inv.frac);
+    for k in 0..3 {
+        let mut o = i128::from(inp.origin[k]);
+        if inp.negative[k] {
+            o = -o;
+            ax.a |= 4 >> k;
+        }
+        // The mirrored origin is within one bit of `pos`; keep it exact.
+        ax.o[k] = o.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64;
+        let e = i128::from(inp.half[k]);
+        if inp.zero[k] {
+            if !(-e <= o && o < e) {
+                return WalkOutcome::Miss;
+            }
+            t0[k] = T_NEG_INF;
+            t1[k] = T_POS_INF;
+        } else {
+            let inv = i128::from(inp.inv[k]);
+            t0[k] = quantize((-e - o) * inv, prod_frac, cfg.t, ov, sig);
+            t1[k] = quantize((e - o) * inv, prod_frac, cfg.t, ov, sig);
+        }
+    }
+    if !(max3(t0) < min3(t1) && min3(t1) > 0) {
+        return WalkOutcome::Miss;
+    }
+    let mut stack = [Frame::default(); MAX_DEPTH as usize + 1];
+    st.fetches += 1;
+    st.max_stack = st.max_stack.max(1);
+    let root = SvoImage::root();
+    let mut f = Frame {
+        t0,
+        t1,
+        addr: root,
+        desc: img.nodes()[root as usize],
+        ..Frame::default()
+    };
+    f.tm = std::array::from_fn(|k| ax.mid(k, t0[k], t1[k], 0, 0));
+    f.next = first_child(f.t0, f.tm);
+    stack[0] = f;
+    let mut sp = 0usize;
+    let mut steps = 0u32;
+    loop {
+        let top = &mut stack[sp];
+        let c = top.next;
+        if c >= 8 {
+            if sp == 0 {
+                return WalkOutcome::Miss;
+            }
+            sp -= 1;
+            continue;
+        }
+        steps += 1;
+        st.steps += 1;
+        if steps > cfg.max_steps {
+            st.step_limit_hits += 1;
+            return WalkOutcome::StepLimit;
+        }
+        let mut ct0 = [0i64; 3];
+        let mut ct1 = [0i64; 3];
+        for k in 0..3 {
+            if c & (4 >> k) != 0 {
+                ct0[k] = top.tm[k];
+                ct1[k] = top.t1[k];
+            } else {
+                ct0[k] = top.t0[k];
+                ct1[k] = top.tm[k];
+            }
+        }
+        top.next = next_child(c, ct1);
+        let enter = max3(ct0);
+        let exit = min3(ct1);
+        if !(enter < exit && exit > 0) {
+            continue;
+        }
+        let real = c ^ ax.a;
+        let desc = ChildDescriptor::unpack(top.desc);
+        let level = top.level + 1;
+        let coords = [
+            (top.coords[0] << 1) | u32::from((real >> 2) & 1),
+            (top.coords[1] << 1) | u32::from((real >> 1) & 1),
+            (top.coords[2] << 1) | u32::from(real & 1),
+        ];
+        let child = img.child(top.addr, desc, real);
+        if child != ChildRef::Empty {
+            visit(level, coords);
+        }
+        match child {
+            ChildRef::Empty => {}
+            ChildRef::Leaf(attr) => {
+                let entry_axis = if ct0[0] >= ct0[1] && ct0[0] >= ct0[2] {
+                    0
+                } else if ct0[1] >= ct0[2] {
+                    1
+                } else {
+                    2
+                };
+                return WalkOutcome::Hit(WalkerHit {
+                    t: enter.max(0),
+                    voxel: coords,
+                    level,
+                    attr,
+                    entry_axis,
+                });
+            }
+            ChildRef::Node(addr) => {
+                st.fetches += 1;
+                let mut child = Frame {
+                    t0: ct0,
+                    t1: ct1,
+                    tm: [0; 3],
+                    addr,
+                    desc: img.nodes()[addr as usize],
+                    next: 0,
+                    level,
+                    coords,
+                };
+                child.tm = std::array::from_fn(|k| ax.mid(k, ct0[k], ct1[k], level, coords[k]));
+                child.next = first_child(child.t0, child.tm);
+                sp += 1;
+                stack[sp] = child;
+                st.max_stack = st.max_stack.max(sp as u32 + 1);
+            }
+        }
+    }
+}
+
+/// Revelles tables 1 and 2: the first child, from the entry plane (largest t0) and the
+/// midpoints crossed before it.
+#[inline]
+fn first_child(t0: [i64; 3], tm: [i64; 3]) -> u8 {
+    let enter = max3(t0);
+    (u8::from(tm[0] < enter) << 2) | (u8::from(tm[1] < enter) << 1) | u8::from(tm[2] < enter)
+}
+
+/// Revelles table 3: the next child from the exit plane (smallest t1; ties x, y, z); 8 ends.
+#[inline]
+fn next_child(c: u8, t1: [i64; 3]) -> u8 {
+    let bit = if t1[0] <= t1[1] && t1[0] <= t1[2] {
+        4
+    } else if t1[1] <= t1[2] {
+        2
+    } else {
+        1
+    };
+    if c & bit != 0 {
+        8
+    } else {
+        c | bit
+    }
+}
+
+/// Bound on how far (metres, per axis) the ray the fixed walker effectively follows can lie
+/// from the exact ray, over a path of length `reach`: the origin's error, the direction's
+/// error stretched over the path (`dir_err` includes the reciprocal's relative error times
+/// |d|), and the t-values' rounding (one LSB at the root, half an LSB of floor per level, one
+/// for the final comparison). A node that one walk enters and the other does not must lie
+/// within this distance of the exact ray's boundary crossings (`tests/fixed_walker.rs`).
+pub fn spatial_error_bound(
+    cfg: &WalkerConfig,
+    origin_err: f64,
+    dir_err: f64,
+    reach: f64,
+    depth: u8,
+) -> f64 {
+    origin_err + reach * dir_err + cfg.t.lsb() * (2.0 + f64::from(depth))
+}
+
+/// Bound on the error of any t-value of a walk, in metres, for an axis with 1/|d| ≤ `inv_max`:
+///
+/// ```text
+/// root:      |Δt| ≤ Δo·inv + (e + |o|)·Δinv + lsb_t        (Δo: origin error, Δinv: 1/d error)
+/// per level: the floor of a midpoint adds at most one LSB below the exact average
+/// leaf at depth D: |Δt| ≤ root + D·lsb_t
+/// ```
+/// `origin_err` is the local origin's error (the transform unit's bound), `inv_err` the
+/// reciprocal's, `reach` a bound on e + |o| (metres).
+pub fn t_error_bound(
+    cfg: &WalkerConfig,
+    origin_err: f64,
+    inv_err: f64,
+    inv_max: f64,
+    reach: f64,
+    depth: u8,
+) -> f64 {
+    origin_err * inv_max + reach * inv_err + cfg.t.lsb() * (1.0 + f64::from(depth))
+}
