@@ -1,0 +1,237 @@
+//! Bounding-sphere test unit (paper Eq. 4) in fixed point, conservative by construction.
+//!
+//! Pipeline position: after ray generation, once per (ray, instance), in world space; its
+//! entry distance is the sorter's key. With l = c − o and unit d the exact test rejects iff
+//! p² = l·l − (l·d)² > r². This unit may keep a sphere the exact test rejects, never the
+//! reverse, and its entry distance is never later than the exact one, so early termination
+//! stays exact:
+//!
+//! - l = c − o is exact; t_ca = l·d is summed exactly and rounded down once into `tca`;
+//!   l·l is exact; p² = l·l − t_ca² uses the rounded t_ca.
+//! - The inputs o, c, d are quantised (errors e_p per position component, e_d per direction
+//!   component, so |Δl| ≤ 2√3·e_p, |Δd| ≤ √3·e_d and |d| is not exactly 1). For |l| ≤
+//!   `reach`, t_ca moves by at most Δt = reach·√3·e_d + 2√3·e_p + lsb_tca, l·l by at most
+//!   Δl² = 2·reach·2√3·e_p + (2√3·e_p)², so p² = l·l − t_ca² by at most
+//!   W = Δl² + 2·reach·Δt + Δt² + 2·lsb_sq ([`SphereConfig::widening`]). The host programs
+//!   each instance's threshold as T = r² + W ([`SphereConfig::threshold`]); the unit rejects
+//!   iff p² > T. A ray with some |l_k| > reach is outside the analysis: it is kept (entry 0)
+//!   and counted on the `reach` signal, never silently wrong.
+//! - Entry: t_enter = max(0, t_ca − Δt − √(T − p²)), the square root by the digit-recurrence
+//!   unit (floor), all rounded toward −∞; 0 when the origin may be inside (l·l ≤ r² + Δl²).
+//!   Culled as behind only if even t_ca + Δt + √(T − p²) < 0.
+
+use crate::fixed::{quantize, Format, Overflows, Quant, SignalId};
+use crate::units::sqrt::isqrt;
+use serde::{Deserialize, Serialize};
+
+/// Formats of the sphere unit.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereConfig {
+    /// World positions in (ray origin, sphere centre).
+    pub pos: Format,
+    /// Direction components in.
+    pub dir: Format,
+    /// t_ca = l·d, rounded down.
+    pub tca: Format,
+    /// Squared distances (p², threshold T), m²; unsigned, at most 64 bits, even fraction bits.
+    pub sq: Format,
+    /// Entry distance out (the sort key), unsigned.
+    pub t_enter: Format,
+    /// Largest |c − o| the error bound covers (metres).
+    pub reach: f64,
+}
+
+impl Default for SphereConfig {
+    /// sQ8.32 positions, sQ2.30 directions (as the transform unit), t_ca sQ10.32, squares
+    /// uQ16.48 (up to 65 536 m²; its square root has 24 fraction bits), sort key uQ10.22.
+    fn default() -> Self {
+        Self {
+            pos: Format::sq(8, 32).with_quant(Quant::RndConv),
+            dir: Format::sq(2, 30).with_quant(Quant::RndConv),
+            tca: Format::sq(10, 32),
+            sq: Format::uq(16, 48),
+            t_enter: Format::uq(10, 22),
+            reach: 128.0,
+        }
+    }
+}
+
+/// Overflow signals of the unit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SphereSignals {
+    /// t_ca out of range.
+    pub tca: SignalId,
+    /// A square out of range.
+    pub sq: SignalId,
+    /// Entry distance out of range.
+    pub t_enter: SignalId,
+    /// |c − o| beyond the configured reach (the sphere is kept, entry 0).
+    pub reach: SignalId,
+}
+
+/// Result of one test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SphereHit {
+    /// Entry distance in `t_enter` (0 when the origin may be inside).
+    pub t_enter: i64,
+}
+
+fn conv_err(f: Format) -> f64 {
+    match f.quant {
+        Quant::Trn | Quant::TrnZero => f.lsb(),
+        _ => 0.5 * f.lsb(),
+    }
+}
+
+impl SphereConfig {
+    /// Checks formats: valid, `sq` unsigned, ≤ 64 bits, even fraction count (so its square
+    /// root has exactly half), and the exact products within 127 bits.
+    pub fn validate(&self) -> Result<(), String> {
+        for (name, f) in [
+            ("pos", self.pos),
+            ("dir", self.dir),
+            ("tca", self.tca),
+            ("sq", self.sq),
+            ("t_enter", self.t_enter),
+        ] {
+            if !f.is_valid() {
+                return Err(format!("sphere.{name}: format {} is not valid", f.name()));
+            }
+        }
+        if self.sq.signed || self.sq.frac % 2 != 0 || self.sq.frac < 0 {
+            return Err(format!(
+                "sphere.sq: {} must be unsigned with an even, non-negative fraction count",
+                self.sq.name()
+            ));
+        }
+        if 2 * (u32::from(self.pos.width) + 1) + 2 > 126 || 2 * u32::from(self.tca.width) > 126 {
+            return Err("sphere: squares exceed the 127-bit accumulator".into());
+        }
+        if !(self.reach.is_finite() && self.reach > 0.0) {
+            return Err("sphere.reach must be positive".into());
+        }
+        Ok(())
+    }
+
+    /// Δt: how far input quantisation and rounding can move t_ca (metres).
+    pub fn delta_t(&self) -> f64 {
+        let s3 = 3f64.sqrt();
+        self.reach * s3 * conv_err(self.dir) + 2.0 * s3 * conv_err(self.pos) + self.tca.lsb()
+    }
+
+    /// How far they can move l·l (m²).
+    pub fn delta_l2(&self) -> f64 {
+        let dl = 2.0 * 3f64.sqrt() * conv_err(self.pos);
+        2.0 * self.reach * dl + dl * dl
+    }
+
+    /// W: how far they can move p² (m²), the threshold's widening.
+    pub fn widening(&self) -> f64 {
+        let dt = self.delta_t();
+        self.delta_l2() + 2.0 * self.reach * dt + dt * dt + 2.0 * self.sq.lsb()
+    }
+
+    fn code_up(&self, v: f64) -> i64 {
+        let code = (v / self.sq.lsb()).ceil();
+        if code >= self.sq.max_raw() as f64 {
+            self.sq.max_raw()
+        } else {
+            code as i64
+        }
+    }
+
+    /// The threshold T = r² + W of a sphere of radius `r`, as a raw code in `sq` (rounded up).
+    pub fn threshold(&self, r: f64) -> i64 {
+        self.code_up(r * r + self.widening())
+    }
+
+    /// The "origin may be inside" threshold r² + Δl² as a raw code in `sq` (rounded up).
+    pub fn inside_threshold(&self, r: f64) -> i64 {
+        self.code_up(r * r + self.delta_l2())
+    }
+
+    /// Bound on how much earlier than the exact entry distance the unit reports. The computed
+    /// p² is at most W below the exact one, so √(T − p_q²) − √(r² − p²) ≤ √(2W) (using
+    /// √a − √b ≤ √(a − b)), and t_ca − Δt is at most 2Δt below the exact t_ca:
+    /// t_exact − t_enter ≤ 2Δt + √(2W) + √lsb_sq + 2·lsb_out. About 7 mm with the defaults
+    /// (reach 128 m): it only makes early termination slightly less eager.
+    pub fn t_enter_error_bound(&self, _r: f64) -> f64 {
+        2.0 * self.delta_t()
+            + (2.0 * self.widening()).sqrt()
+            + self.sq.lsb().sqrt()
+            + 2.0 * self.t_enter.lsb()
+    }
+}
+
+/// The transaction: ray (o, d) against a sphere with centre `c`, widened threshold
+/// `threshold` and inside threshold `inside` (from [`SphereConfig::threshold`] and
+/// [`SphereConfig::inside_threshold`]). `None` culls the instance.
+pub fn sphere_test(
+    o: [i64; 3],
+    d: [i64; 3],
+    c: [i64; 3],
+    threshold: i64,
+    inside: i64,
+    cfg: &SphereConfig,
+    ov: &mut Overflows,
+    sig: SphereSignals,
+) -> Option<SphereHit> {
+    let l = [0, 1, 2].map(|k| i128::from(c[k]) - i128::from(o[k]));
+    let pf = i32::from(cfg.pos.frac);
+    let reach = (cfg.reach * 2f64.powi(pf)) as i128;
+    if l.iter().any(|v| v.abs() > reach) {
+        ov.hit(sig.reach);
+        return Some(SphereHit { t_enter: 0 });
+    }
+    // t_ca = l·d, exact then rounded toward −∞ into `tca`.
+    let dot: i128 = (l[0] * i128::from(d[0]) + l[1] * i128::from(d[1])) + l[2] * i128::from(d[2]);
+    let tca = quantize(
+        dot,
+        pf + i32::from(cfg.dir.frac),
+        cfg.tca.with_quant(Quant::Trn),
+        ov,
+        sig.tca,
+    );
+    // l·l exact (2·pf fraction bits); t_ca² exact (2·tca.frac).
+    let l2: i128 = (l[0] * l[0] + l[1] * l[1]) + l[2] * l[2];
+    let tca2 = i128::from(tca) * i128::from(tca);
+    // Align both to the square format's fraction count: p² = l² − t_ca².
+    let sqf = i32::from(cfg.sq.frac);
+    let wide = Format {
+        signed: true,
+        width: 64,
+        frac: cfg.sq.frac,
+        quant: Quant::Trn,
+        overflow: crate::fixed::OverflowMode::Sat,
+    };
+    let l2_sq = quantize(l2, 2 * pf, wide, ov, sig.sq);
+    let tca2_sq = quantize(tca2, 2 * i32::from(cfg.tca.frac), wide, ov, sig.sq);
+    let p2 = i128::from(l2_sq) - i128::from(tca2_sq);
+    // Rounding both squares down can lower p² by up to one LSB of `sq`; T is widened by
+    // 2·reach·lsb_tca, far more than that, so the comparison stays conservative.
+    if p2 > i128::from(threshold) {
+        return None;
+    }
+    let root_arg = (i128::from(threshold) - p2.max(0)).clamp(0, i128::from(u64::MAX)) as u64;
+    // √ of a code with an even fraction count sqf has sqf/2 fraction bits.
+    let root = i128::from(isqrt(root_arg));
+    let rf = sqf / 2;
+    let dt = (cfg.delta_t() * 2f64.powi(i32::from(cfg.tca.frac))).ceil() as i128;
+    // Bring t_ca, Δt and the root to a common fraction count (the larger) and combine.
+    let f = i32::from(cfg.tca.frac).max(rf);
+    let up = |v: i128, from: i32| v << (f - from);
+    let tca_f = up(i128::from(tca), i32::from(cfg.tca.frac));
+    let dt_f = up(dt, i32::from(cfg.tca.frac));
+    let root_f = up(root, rf);
+    if tca_f + dt_f + root_f < 0 {
+        return None; // the whole sphere is behind the origin, even allowing for errors
+    }
+    if l2_sq <= inside {
+        return Some(SphereHit { t_enter: 0 });
+    }
+    let t = (tca_f - dt_f - root_f).max(0);
+    Some(SphereHit {
+        t_enter: quantize(t, f, cfg.t_enter.with_quant(Quant::Trn), ov, sig.t_enter),
+    })
+}
