@@ -4,7 +4,7 @@
 //! and earlier by at most its named bound. The oracle is plain f64 written here.
 
 use rtl_model::fixed::{from_f64, to_f64, Overflows, SignalId};
-use rtl_model::units::sphere::{sphere_test, SphereConfig, SphereSignals};
+use rtl_model::units::sphere::{sphere_test, SphereConfig, SphereRaw, SphereSignals};
 
 struct Rng(u64);
 impl Rng {

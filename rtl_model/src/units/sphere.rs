@@ -164,19 +164,38 @@ impl SphereConfig {
     }
 }
 
-/// The transaction: ray (o, d) against a sphere with centre `c`, widened threshold
-/// `threshold` and inside threshold `inside` (from [`SphereConfig::threshold`] and
-/// [`SphereConfig::inside_threshold`]). `None` culls the instance.
+/// A sphere as the host programs it per instance and frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct SphereRaw {
+    /// Centre in world space (`pos`).
+    pub centre: [i64; 3],
+    /// Rejection threshold T = r² + W ([`SphereConfig::threshold`]), in `sq`.
+    pub threshold: i64,
+    /// "Origin may be inside" threshold ([`SphereConfig::inside_threshold`]), in `sq`.
+    pub inside: i64,
+}
+
+impl SphereRaw {
+    /// The sphere of radius `r` around `centre` (already in `pos`).
+    pub fn new(centre: [i64; 3], r: f64, cfg: &SphereConfig) -> Self {
+        Self {
+            centre,
+            threshold: cfg.threshold(r),
+            inside: cfg.inside_threshold(r),
+        }
+    }
+}
+
+/// The transaction: ray (o, d) against a sphere. `None` culls the instance.
 pub fn sphere_test(
     o: [i64; 3],
     d: [i64; 3],
-    c: [i64; 3],
-    threshold: i64,
-    inside: i64,
+    sphere: &SphereRaw,
     cfg: &SphereConfig,
     ov: &mut Overflows,
     sig: SphereSignals,
 ) -> Option<SphereHit> {
+    let (c, threshold, inside) = (sphere.centre, sphere.threshold, sphere.inside);
     let l = [0, 1, 2].map(|k| i128::from(c[k]) - i128::from(o[k]));
     let pf = i32::from(cfg.pos.frac);
     let reach = (cfg.reach * 2f64.powi(pf)) as i128;
