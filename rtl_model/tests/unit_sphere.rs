@@ -94,16 +94,7 @@ fn conservative_and_within_bound() {
             q(d, cfg.dir, &mut ov),
             q(c, cfg.pos, &mut ov),
         );
-        let got = sphere_test(
-            oq,
-            dq,
-            cq,
-            cfg.threshold(r),
-            cfg.inside_threshold(r),
-            &cfg,
-            &mut ov,
-            sig,
-        );
+        let got = sphere_test(oq, dq, &SphereRaw::new(cq, r, &cfg), &cfg, &mut ov, sig);
         match (exact(o, d, c, r), got) {
             (Some(t), Some(h)) => {
                 accepted += 1;
