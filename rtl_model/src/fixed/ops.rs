@@ -61,10 +61,18 @@ pub fn quantize(raw: i128, from_frac: i32, out: Format, ov: &mut Overflows, sig:
             }
         }
         None => {
-            // The left shift itself overflowed i128: far outside any 64-bit format.
+            // The left shift itself overflowed i128: far outside any 64-bit format. Wrapping
+            // keeps the low W bits of raw·2^k, which only involve raw's low W − k bits.
             ov.hit(sig);
             match out.overflow {
-                OverflowMode::Wrap => 0,
+                OverflowMode::Wrap => {
+                    let (w, k) = (u32::from(value_bits(out)), (-shift) as u32);
+                    if k >= w {
+                        0
+                    } else {
+                        wrap((raw & ((1i128 << (w - k)) - 1)) << k, out)
+                    }
+                }
                 _ if raw < 0 => lo_sym as i64,
                 _ => hi as i64,
             }
@@ -72,9 +80,19 @@ pub fn quantize(raw: i128, from_frac: i32, out: Format, ov: &mut Overflows, sig:
     }
 }
 
+/// Bits a format's raw codes can hold: the width, except that unsigned 64-bit formats hold
+/// 63 (raw codes are `i64`; see [`Format::max_raw`]).
+fn value_bits(out: Format) -> u8 {
+    if out.signed {
+        out.width
+    } else {
+        out.width.min(63)
+    }
+}
+
 /// Keeps the low W bits of `v` (sign-extended for signed formats).
 fn wrap(v: i128, out: Format) -> i64 {
-    let w = u32::from(out.width);
+    let w = u32::from(value_bits(out));
     let mask: i128 = if w >= 127 { -1 } else { (1i128 << w) - 1 };
     let low = v & mask;
     if out.signed && w < 127 && low >> (w - 1) & 1 == 1 {
@@ -187,14 +205,28 @@ pub fn from_f64(x: f64, out: Format, ov: &mut Overflows, sig: SignalId) -> i64 {
         return 0;
     }
     let scaled = x * 2f64.powi(i32::from(out.frac));
-    if !scaled.is_finite() || scaled.abs() >= 2f64.powi(126) {
+    if x.is_infinite() || scaled.abs() >= 2f64.powi(126) {
         ov.hit(sig);
+        if out.overflow == OverflowMode::Wrap && x.is_finite() {
+            // |scaled| ≥ 2^126 is an integer m·2^e with e ≥ 74 > W: its low W bits are 0.
+            return 0;
+        }
         let lo = if out.overflow == OverflowMode::SatSym && out.signed {
             -out.max_raw()
         } else {
             out.min_raw()
         };
-        return if scaled < 0.0 { lo } else { out.max_raw() };
+        return if x < 0.0 { lo } else { out.max_raw() };
+    }
+    if scaled == 0.0 && x != 0.0 {
+        // x·2^F underflowed (F < 0): the exact value lies strictly between −1 and 1 LSB and is
+        // not a tie, so only truncation toward −∞ of a negative value leaves a non-zero code.
+        let q = if x < 0.0 && out.quant == Quant::Trn {
+            -1
+        } else {
+            0
+        };
+        return quantize(q, i32::from(out.frac), out, ov, sig);
     }
     // `scaled` is exact (a power-of-two scaling); split it into integer and fraction parts,
     // both exact in f64, and round the way `round_shift` does.
