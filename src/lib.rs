@@ -11,6 +11,7 @@
 
 pub mod assets;
 pub mod error;
+pub mod fixed_model;
 pub mod output;
 pub mod reference;
 pub mod run;

@@ -5,14 +5,21 @@
 //! atomically.
 
 use crate::assets::{build_assets, effective_depths, Asset, Materialise};
+use crate::fixed_model::bound::mismatch_explained;
+use crate::fixed_model::{
+    compare, diff_image, render_frame_fixed, to_hit_records, FixedBuffer, FixedStats,
+};
 use crate::output::atomic::{write_atomic, AtomicFile};
-use crate::output::report::{AssetReport, OptionsReport, Report, SceneReport, Summary};
+use crate::output::report::{
+    AssetReport, FrameReport, OptionsReport, Report, SceneReport, Summary,
+};
 use crate::output::{dump, png};
 use crate::reference::{
     render_frame, render_frame_with_progress, FrameInput, FrameStats, HitBuffer, RenderOptions,
 };
 use crate::scene::Scene;
 use anyhow::{bail, Context, Result};
+use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -37,6 +44,44 @@ pub struct RunConfig {
     pub dump_hits: Option<PathBuf>,
     /// Print a progress line on stderr this often while a frame renders (`None`: never).
     pub progress_every: Option<Duration>,
+    /// Which model renders the output.
+    pub model: Model,
+    /// Formats and parameters of the fixed-point datapath (used by `Model::Fixed`).
+    pub datapath: DatapathConfig,
+}
+
+/// The model whose records become the output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Model {
+    /// The f64 reference.
+    #[default]
+    Reference,
+    /// The functional fixed-point datapath, compared with the reference every frame.
+    Fixed,
+}
+
+/// A fixed-point frame's counters in the reference's report shape.
+fn fixed_frame_stats(frame: u32, fx: &FixedStats, reference: &FrameStats) -> FrameStats {
+    FrameStats {
+        frame,
+        rays: fx.rays,
+        sphere_tests: fx.sphere_tests,
+        spheres_culled: fx.spheres_culled,
+        candidates: fx.candidates,
+        candidates_max: reference.candidates_max,
+        walks: fx.walks,
+        walker_steps: fx.walker.steps,
+        node_fetches: fx.walker.fetches,
+        max_stack: fx.walker.max_stack,
+        early_terminations: fx.early_terminations,
+        walks_skipped: 0,
+        hit_buffer_reused: fx.hit_buffer_reused,
+        hits: fx.hits,
+        camera_dirty: reference.camera_dirty,
+        instances_dirty: reference.instances_dirty,
+        wall_s: fx.wall_s,
+        rays_per_s: fx.rays as f64 / fx.wall_s.max(1e-9),
+    }
 }
 
 /// Renders a frame; if it runs longer than `every`, prints the share of rows done on stderr
@@ -115,7 +160,12 @@ pub fn build(scene: &Scene, depth: Option<u8>, mode: Materialise) -> Result<Vec<
 }
 
 /// Runs the reference over all frames. `progress` is called after each frame.
-pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Result<RunOutput> {
+pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Result<RunOutput> {
+    if cfg.model == Model::Fixed {
+        cfg.datapath
+            .validate()
+            .map_err(|m| anyhow::anyhow!("datapath configuration: {m}"))?;
+    }
     if let Some(p) = &cfg.report_json {
         check_parent(p, "--report-json")?;
     }
@@ -151,7 +201,9 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Resul
         None => None,
     };
     let mut buffer = HitBuffer::new(w, h);
+    let mut fixed_buffer = FixedBuffer::new(w, h);
     let mut stats = Vec::with_capacity(frames as usize);
+    let mut reports = Vec::with_capacity(frames as usize);
     for f in 0..frames {
         let state = scene
             .frame_state(f, &half)
@@ -161,7 +213,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Resul
             assets: &assets,
             state: &state,
         };
-        let st = render_with_ticker(
+        let reference = render_with_ticker(
             &input,
             &mut buffer,
             cfg.options,
@@ -169,10 +221,54 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Resul
             frames,
             cfg.progress_every,
         );
+        let (st, report, fixed_records) = match cfg.model {
+            Model::Reference => (reference.clone(), FrameReport::of(reference), None),
+            Model::Fixed => {
+                let fx = render_frame_fixed(
+                    &input,
+                    &mut fixed_buffer,
+                    &cfg.datapath,
+                    cfg.options.use_hit_buffer,
+                )?;
+                let records = to_hit_records(&fixed_buffer, &cfg.datapath);
+                let depths: Vec<u8> = assets.iter().map(Asset::depth).collect();
+                let mut acc = compare(&buffer.records, &records, |k| {
+                    let (i, j) = (k as u32 % w, k as u32 / w);
+                    let inst = usize::from(records[k].instance);
+                    let pose = &state.poses[inst];
+                    let depth = depths[scene.instance_asset[inst]];
+                    mismatch_explained(
+                        &cfg.datapath,
+                        &state.camera,
+                        (w, h),
+                        (i, j),
+                        pose,
+                        records[k].voxel,
+                        depth,
+                    )
+                });
+                let ov = fx.overflows.clone().unwrap_or_else(overflow_table);
+                acc.saturations = ov.total() - ov.count(signals::WALKER_STEP_LIMIT);
+                acc.step_limit_hits = fx.walker.step_limit_hits;
+                let st = fixed_frame_stats(f, &fx, &reference);
+                let mut report = FrameReport::of(st.clone());
+                report.overflows = Some(ov.nonzero().map(|(n, c)| (n.to_string(), c)).collect());
+                report.reference_wall_s = Some(reference.wall_s);
+                report.accuracy = Some(acc);
+                if let Some(dir) = &cfg.out_dir {
+                    let img = diff_image(&buffer.records, &records, w, h, 1e-6);
+                    let path = dir.join(format!("diff_{f:04}.png"));
+                    write_atomic(&path, &png::encode_png(&img)?)
+                        .with_context(|| format!("cannot write {}", path.display()))?;
+                }
+                (st, report, Some(records))
+            }
+        };
+        let out_records = fixed_records.as_deref().unwrap_or(&buffer.records);
         if let Some(dir) = &cfg.out_dir {
             let l = &scene.file.light;
             let img = png::shade(
-                &buffer.records,
+                out_records,
                 w,
                 h,
                 l.direction,
@@ -186,13 +282,14 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Resul
         }
         if let Some(df) = dump_file.as_mut() {
             if csv {
-                dump::write_frame_csv(df.writer(), f, w, &buffer.records)?;
+                dump::write_frame_csv(df.writer(), f, w, out_records)?;
             } else {
-                dump::write_frame(df.writer(), f, w, &buffer.records)?;
+                dump::write_frame(df.writer(), f, w, out_records)?;
             }
         }
-        progress(&st, frames);
+        progress(&report, frames);
         stats.push(st);
+        reports.push(report);
     }
     if let Some(df) = dump_file {
         df.commit().context("cannot finish the hit dump")?;
@@ -207,14 +304,18 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameStats, u32)) -> Resul
             instances: scene.file.instances.len(),
         },
         options: OptionsReport {
-            model: "reference".into(),
+            model: match cfg.model {
+                Model::Reference => "reference".into(),
+                Model::Fixed => "fixed".into(),
+            },
             hit_buffer: cfg.options.use_hit_buffer,
             early_termination: cfg.options.early_termination,
             threads: rayon::current_num_threads(),
         },
         assets: assets.iter().map(AssetReport::from).collect(),
         summary: Summary::of(&stats, build_s),
-        frames: stats.clone(),
+        frames: reports,
+        datapath: (cfg.model == Model::Fixed).then(|| cfg.datapath.clone()),
     };
     if let Some(p) = &cfg.report_json {
         let text = serde_json::to_string_pretty(&report)?;

@@ -6,11 +6,12 @@
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
+use rtl_model::datapath::DatapathConfig;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use svo_sim::assets::Materialise;
 use svo_sim::reference::{render_frame, FrameInput, FrameStats, HitBuffer, RenderOptions};
-use svo_sim::run::{build, run, RunConfig};
+use svo_sim::run::{build, run, Model, RunConfig};
 use svo_sim::scene::Scene;
 
 #[derive(Parser, Debug)]
@@ -36,6 +37,9 @@ enum Command {
     /// Measure the reference's speed (rays/s) with and without the hit buffer; asset build
     /// time is reported separately and excluded.
     Bench(BenchArgs),
+    /// Print the default datapath configuration (RON, the input format of --datapath) with
+    /// each unit's DSP48E2 count.
+    Datapath,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -91,6 +95,43 @@ struct RunArgs {
     /// Print only the summary.
     #[arg(long, short)]
     quiet: bool,
+    /// Which model renders the output: the f64 reference, or the fixed-point datapath
+    /// (compared with the reference every frame: accuracy lines, diff_NNNN.png).
+    #[arg(long, value_enum, default_value = "reference")]
+    model: ModelArg,
+    /// Datapath formats and parameters (RON, as printed by `sim datapath`); default: the
+    /// documented default of docs/number-formats.md.
+    #[arg(long, value_name = "FILE")]
+    datapath: Option<PathBuf>,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum ModelArg {
+    /// The f64 reference.
+    Reference,
+    /// The functional fixed-point datapath.
+    Fixed,
+}
+
+/// Reads a datapath configuration file (RON).
+fn load_datapath(path: Option<&PathBuf>) -> Result<DatapathConfig> {
+    let Some(p) = path else {
+        return Ok(DatapathConfig::default());
+    };
+    let text = std::fs::read_to_string(p)
+        .with_context(|| format!("cannot read datapath file {}", p.display()))?;
+    let cfg: DatapathConfig = ron::from_str(&text).map_err(|e| {
+        anyhow::anyhow!(
+            "{}:{}:{}: malformed datapath configuration: {}",
+            p.display(),
+            e.position.line,
+            e.position.col,
+            e.code
+        )
+    })?;
+    cfg.validate()
+        .map_err(|m| anyhow::anyhow!("{}: invalid datapath configuration: {m}", p.display()))?;
+    Ok(cfg)
 }
 
 #[derive(Args, Debug)]
@@ -167,6 +208,11 @@ fn cmd_run(a: RunArgs) -> Result<()> {
         out_dir: (!a.no_png).then(|| a.out.clone()),
         report_json: a.report_json.clone(),
         dump_hits: a.dump_hits.clone(),
+        model: match a.model {
+            ModelArg::Reference => Model::Reference,
+            ModelArg::Fixed => Model::Fixed,
+        },
+        datapath: load_datapath(a.datapath.as_ref())?,
         progress_every: (!a.quiet).then(|| std::time::Duration::from_secs(2)),
     };
     let (w, h) = cfg.scene.file.resolution;
@@ -192,7 +238,22 @@ fn cmd_run(a: RunArgs) -> Result<()> {
     let quiet = a.quiet;
     let out = run(&cfg, |st, n| {
         if !quiet {
-            println!("{}", frame_line(st, n));
+            println!("{}", frame_line(&st.stats, n));
+            if let Some(acc) = &st.accuracy {
+                println!(
+                    "           accuracy: {} px  hit/miss {}  instance {}  voxel {} ({} beyond bound)  t err max {:.3e} m rms {:.3e} m  saturations {}  step limits {}  reference {:.1} ms",
+                    acc.pixels,
+                    acc.hit_mismatches,
+                    acc.instance_mismatches,
+                    acc.voxel_mismatches,
+                    acc.voxel_mismatches_beyond_bound,
+                    acc.t_err_max,
+                    acc.t_err_rms,
+                    acc.saturations,
+                    acc.step_limit_hits,
+                    st.reference_wall_s.unwrap_or(0.0) * 1e3
+                );
+            }
         }
     })?;
     if !quiet {
@@ -319,10 +380,24 @@ fn error_text(e: &anyhow::Error) -> String {
     text
 }
 
+fn cmd_datapath() -> Result<()> {
+    let cfg = DatapathConfig::default();
+    let pretty = ron::ser::PrettyConfig::new().struct_names(false);
+    println!("// Default datapath configuration (docs/number-formats.md). Edit and pass with --datapath.");
+    println!("{}", ron::ser::to_string_pretty(&cfg, pretty)?);
+    eprintln!(
+        "DSP48E2 per unit: transform {}, reciprocal (per axis) {}",
+        rtl_model::units::transform::dsp48e2_count(&cfg.transform),
+        rtl_model::units::reciprocal::dsp48e2_count(&cfg.reciprocal)
+    );
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let r = match cli.command {
         Some(Command::Bench(b)) => cmd_bench(b),
+        Some(Command::Datapath) => cmd_datapath(),
         None => cmd_run(cli.run),
     };
     match r {

@@ -48,7 +48,7 @@ pub fn write_frame(
         let (x, y) = ((k as u32 % width) as u16, (k as u32 / width) as u16);
         buf.extend_from_slice(&frame.to_le_bytes());
         buf.push(u8::from(r.hit));
-        buf.push(r.spheres as u8);
+        buf.push(r.spheres.code());
         buf.extend_from_slice(&r.instance.to_le_bytes());
         buf.extend_from_slice(&r.t.to_le_bytes());
         for v in r.voxel {
@@ -84,7 +84,7 @@ pub fn write_frame_csv(
             w,
             "{frame},{x},{y},{},{},{inst},{:.16e},{},{},{},{},{},{},{},{},{},{}",
             u8::from(r.hit),
-            r.spheres as u8,
+            r.spheres.code(),
             r.t,
             r.voxel[0],
             r.voxel[1],

@@ -108,10 +108,43 @@ pub struct Report {
     pub options: OptionsReport,
     /// Assets.
     pub assets: Vec<AssetReport>,
-    /// Per-frame counters.
-    pub frames: Vec<FrameStats>,
+    /// Per-frame counters (and, for the fixed-point model, accuracy).
+    pub frames: Vec<FrameReport>,
     /// Totals.
     pub summary: Summary,
+    /// The datapath configuration (fixed-point model only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub datapath: Option<rtl_model::datapath::DatapathConfig>,
+}
+
+/// One frame of the report: the model's counters, and for the fixed-point model its accuracy
+/// against the f64 reference, its overflow counts per signal and the reference's wall time.
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameReport {
+    /// Counters of the model that produced the output.
+    #[serde(flatten)]
+    pub stats: FrameStats,
+    /// Accuracy against the f64 reference (fixed-point model only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<crate::fixed_model::Accuracy>,
+    /// Saturations and wraps per signal name, non-zero ones only (fixed-point model only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub overflows: Option<std::collections::BTreeMap<String, u64>>,
+    /// Wall time of the reference on the same frame, seconds (fixed-point model only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference_wall_s: Option<f64>,
+}
+
+impl FrameReport {
+    /// A frame of the reference model.
+    pub fn of(stats: FrameStats) -> Self {
+        Self {
+            stats,
+            accuracy: None,
+            overflows: None,
+            reference_wall_s: None,
+        }
+    }
 }
 
 impl Summary {

@@ -64,6 +64,28 @@ pub struct Dirty {
     pub instances: Vec<bool>,
 }
 
+impl Dirty {
+    /// Dirty flags of `now` against the previous frame (`None`: everything is dirty). Host
+    /// control logic, shared by the reference and the fixed-point model.
+    pub fn between(prev: Option<&FrameState>, now: &FrameState) -> Self {
+        match prev {
+            None => Dirty {
+                camera: true,
+                instances: vec![true; now.poses.len()],
+            },
+            Some(p) => Dirty {
+                camera: camera_bits(&p.camera) != camera_bits(&now.camera),
+                instances: now
+                    .poses
+                    .iter()
+                    .enumerate()
+                    .map(|(i, pose)| p.poses.get(i).map(pose_bits) != Some(pose_bits(pose)))
+                    .collect(),
+            },
+        }
+    }
+}
+
 impl HitBuffer {
     /// An empty buffer: the first frame traces every pixel.
     pub fn new(width: u32, height: u32) -> Self {
@@ -77,21 +99,7 @@ impl HitBuffer {
 
     /// Compares `state` with the previous frame's (bitwise) and remembers it.
     pub fn begin_frame(&mut self, state: &FrameState) -> Dirty {
-        let dirty = match &self.prev {
-            None => Dirty {
-                camera: true,
-                instances: vec![true; state.poses.len()],
-            },
-            Some(p) => Dirty {
-                camera: camera_bits(&p.camera) != camera_bits(&state.camera),
-                instances: state
-                    .poses
-                    .iter()
-                    .enumerate()
-                    .map(|(i, pose)| p.poses.get(i).map(pose_bits) != Some(pose_bits(pose)))
-                    .collect(),
-            },
-        };
+        let dirty = Dirty::between(self.prev.as_ref(), state);
         self.prev = Some(state.clone());
         dirty
     }

@@ -1,28 +1,8 @@
 //! The per-pixel hit record (the paper's hit buffer object, §4.3, plus what tools compare).
 
-/// How many bounding spheres the pixel's ray pierced in its frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-#[repr(u8)]
-pub enum SphereCount {
-    /// No sphere: the ray cannot hit anything.
-    #[default]
-    None = 0,
-    /// Exactly one sphere.
-    One = 1,
-    /// Two or more spheres.
-    Several = 2,
-}
-
-impl SphereCount {
-    /// From a candidate count.
-    pub fn from_count(n: usize) -> Self {
-        match n {
-            0 => Self::None,
-            1 => Self::One,
-            _ => Self::Several,
-        }
-    }
-}
+/// How many bounding spheres the pixel's ray pierced in its frame: the hardware record's
+/// field (`rtl_model::units::hit_record`), one definition for both models.
+pub use rtl_model::units::hit_record::SphereCount;
 
 /// Instance id meaning "no instance".
 pub const NO_INSTANCE: u16 = u16::MAX;

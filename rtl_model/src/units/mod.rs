@@ -4,5 +4,10 @@
 //! from raw codes in the formats of its configuration, plus a named error-bound function of
 //! those formats (derived in `docs/units/`). Saturations and wraps are counted, never silent.
 
+pub mod hit_record;
+pub mod reciprocal;
+pub mod sorter;
+pub mod sphere;
+pub mod sqrt;
 pub mod transform;
 pub mod walker;
