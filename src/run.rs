@@ -250,6 +250,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
                 let ov = fx.overflows.clone().unwrap_or_else(overflow_table);
                 acc.saturations = ov.total() - ov.count(signals::WALKER_STEP_LIMIT);
                 acc.step_limit_hits = fx.walker.step_limit_hits;
+                acc.zero_flushes = fx.zero_flushes;
                 let st = fixed_frame_stats(f, &fx, &reference);
                 let mut report = FrameReport::of(st.clone());
                 report.overflows = Some(ov.nonzero().map(|(n, c)| (n.to_string(), c)).collect());

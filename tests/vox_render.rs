@@ -23,6 +23,8 @@ fn config(scene: Scene) -> RunConfig {
         report_json: None,
         dump_hits: None,
         progress_every: None,
+        model: svo_sim::run::Model::Reference,
+        datapath: Default::default(),
     }
 }
 

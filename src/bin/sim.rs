@@ -241,7 +241,7 @@ fn cmd_run(a: RunArgs) -> Result<()> {
             println!("{}", frame_line(&st.stats, n));
             if let Some(acc) = &st.accuracy {
                 println!(
-                    "           accuracy: {} px  hit/miss {}  instance {}  voxel {} ({} beyond bound)  t err max {:.3e} m rms {:.3e} m  saturations {}  step limits {}  reference {:.1} ms",
+                    "           accuracy: {} px  hit/miss {}  instance {}  voxel {} ({} beyond bound)  t err max {:.3e} m rms {:.3e} m  saturations {}  step limits {}  zero flushes {}  reference {:.1} ms",
                     acc.pixels,
                     acc.hit_mismatches,
                     acc.instance_mismatches,
@@ -251,6 +251,7 @@ fn cmd_run(a: RunArgs) -> Result<()> {
                     acc.t_err_rms,
                     acc.saturations,
                     acc.step_limit_hits,
+                    acc.zero_flushes,
                     st.reference_wall_s.unwrap_or(0.0) * 1e3
                 );
             }

@@ -29,6 +29,9 @@ pub struct Accuracy {
     pub saturations: u64,
     /// Walks stopped by the step limit.
     pub step_limit_hits: u64,
+    /// Direction components below the reciprocal's zero threshold, walked as parallel
+    /// (Revelles §3.3; within the walker's bound, not a saturation).
+    pub zero_flushes: u64,
 }
 
 /// Compares records. `explained(k)` says whether a voxel mismatch at pixel k lies within the

@@ -7,7 +7,7 @@ use crate::reference::ray::primary_ray;
 use crate::scene::{Camera, Pose};
 use glam::DVec3;
 use rtl_model::datapath::DatapathConfig;
-use rtl_model::units::reciprocal::error_bound as reciprocal_bound;
+use rtl_model::units::reciprocal::{error_bound as reciprocal_bound, zero_threshold};
 use rtl_model::units::transform::{dir_error_bound, origin_error_bound};
 use rtl_model::units::walker::spatial_error_bound;
 
@@ -18,7 +18,10 @@ pub fn spatial_bound(cfg: &DatapathConfig, o_local: DVec3, half: DVec3, depth: u
     let reach = rel + 2.0 * half.max_element();
     let origin_err = origin_error_bound(&cfg.transform, rel);
     // A direction error and the reciprocal's relative error (times |d| ≤ 1) both tilt the ray.
-    let dir_err = dir_error_bound(&cfg.transform) + reciprocal_bound(&cfg.reciprocal).rel;
+    // A component flushed to zero (|d| ≤ the reciprocal's threshold) tilts it by at most that.
+    let dir_err = dir_error_bound(&cfg.transform)
+        + reciprocal_bound(&cfg.reciprocal).rel
+        + zero_threshold(&cfg.reciprocal);
     spatial_error_bound(&cfg.walker, origin_err, dir_err, reach, depth)
 }
 

@@ -14,7 +14,7 @@ use rtl_model::units::hit_record::{pack, quantise, unpack, HitRecordF64};
 use rtl_model::units::reciprocal::reciprocal;
 use rtl_model::units::sorter::{Sorter, SorterStats};
 use rtl_model::units::sphere::{sphere_test, SphereRaw, SphereSignals};
-use rtl_model::units::transform::{direction_signs, transform, InstanceRaw, TransformSignals};
+use rtl_model::units::transform::{transform_with_signs, InstanceRaw, TransformSignals};
 use rtl_model::units::walker::{walk_fixed, WalkOutcome, WalkerInput, WalkerStats};
 use std::time::Instant;
 use thiserror::Error;
@@ -55,6 +55,10 @@ pub struct FixedBuffer {
     /// One entry per pixel.
     pub records: Vec<FixedRecord>,
     prev: Option<FrameState>,
+    /// The per-pixel direction table (raw codes) and the camera it was written for: the host
+    /// rewrites it only when the camera changes.
+    dir_table: Vec<[i64; 3]>,
+    table_camera: Option<crate::scene::Camera>,
 }
 
 impl FixedBuffer {
@@ -65,6 +69,8 @@ impl FixedBuffer {
             height,
             records: vec![FixedRecord::default(); width as usize * height as usize],
             prev: None,
+            dir_table: Vec::new(),
+            table_camera: None,
         }
     }
 }
@@ -86,6 +92,8 @@ pub struct FixedStats {
     pub hits: u64,
     /// Walks.
     pub walks: u64,
+    /// Direction components flushed to zero by the reciprocal unit (§3.3 approximation).
+    pub zero_flushes: u64,
     /// Pixels reused from the hit buffer.
     pub hit_buffer_reused: u64,
     /// Walker counters.
@@ -118,6 +126,7 @@ struct Row {
     candidates: u64,
     early: u64,
     hits: u64,
+    flushes: u64,
 }
 
 /// Renders one frame through the fixed-point units into `buffer`.
@@ -193,6 +202,31 @@ pub fn render_frame_fixed(
     let sorter = Sorter::new(&cfg.sorter);
     let t_fmt = cfg.walker.t;
     let key_fmt = cfg.sorter.key;
+    if buffer.table_camera != Some(cam) || buffer.dir_table.len() != buffer.records.len() {
+        // The host writes the direction table: f64 rays quantised into `raygen.dir`.
+        let parts: Vec<(Vec<[i64; 3]>, Overflows)> = (0..h)
+            .into_par_iter()
+            .map(|j| {
+                let mut ov = overflow_table();
+                let row = (0..w)
+                    .map(|i| {
+                        let ray = primary_ray(&cam, w, h, i, j);
+                        ray.dir
+                            .to_array()
+                            .map(|x| from_f64(x, rg.dir, &mut ov, signals::RAYGEN_DIR))
+                    })
+                    .collect();
+                (row, ov)
+            })
+            .collect();
+        buffer.dir_table.clear();
+        for (row, ov) in parts {
+            buffer.dir_table.extend(row);
+            host_ov.merge(&ov);
+        }
+        buffer.table_camera = Some(cam);
+    }
+    let table = &buffer.dir_table;
     let rows: Vec<Row> = buffer
         .records
         .par_chunks_mut(w as usize)
@@ -209,15 +243,12 @@ pub fn render_frame_fixed(
                 candidates: 0,
                 early: 0,
                 hits: 0,
+                flushes: 0,
             };
             let mut cands: Vec<(i64, u16)> = Vec::with_capacity(insts.len());
             for (i, rec) in records.iter_mut().enumerate() {
-                // Ray generation: the direction table entry (f64 on the host, quantised).
-                let ray = primary_ray(&cam, w, h, i as u32, j as u32);
-                let d = ray
-                    .dir
-                    .to_array()
-                    .map(|x| from_f64(x, rg.dir, &mut row.ov, signals::RAYGEN_DIR));
+                // Ray generation: the pixel's direction table entry.
+                let d = table[j * w as usize + i];
                 cands.clear();
                 for (k, inst) in insts.iter().enumerate() {
                     if let Some(s) = sphere_test(
@@ -250,10 +281,12 @@ pub fn render_frame_fixed(
                     }
                 }
                 row.candidates += cands.len() as u64;
-                let order = sorter.sort(&cands, &mut row.sorter);
-                let mut best: Option<(i64, u16, rtl_model::units::walker::WalkerHit)> = None;
-                for &(key, k) in &order {
-                    if let Some((bt, _, _)) = best {
+                sorter.sort_in_place(&mut cands, &mut row.sorter);
+                let order: &[(i64, u16)] = &cands;
+                let mut best: Option<(i64, u16, rtl_model::units::walker::WalkerHit, [bool; 3])> =
+                    None;
+                for &(key, k) in order {
+                    if let Some((bt, _, _, _)) = best {
                         // Early termination: the best hit is no farther than this entry.
                         let lhs = i128::from(bt) << (key_fmt.frac.max(t_fmt.frac) - t_fmt.frac);
                         let rhs = i128::from(key) << (key_fmt.frac.max(t_fmt.frac) - key_fmt.frac);
@@ -263,9 +296,14 @@ pub fn render_frame_fixed(
                         }
                     }
                     let inst = &insts[usize::from(k)];
-                    let (o_local, d_local) =
-                        transform(origin, d, &inst.raw, &cfg.transform, &mut row.ov, tr_sig);
-                    let signs = direction_signs(d, &inst.raw);
+                    let (o_local, d_local, signs) = transform_with_signs(
+                        origin,
+                        d,
+                        &inst.raw,
+                        &cfg.transform,
+                        &mut row.ov,
+                        tr_sig,
+                    );
                     let mut inp = WalkerInput {
                         origin: o_local,
                         half: inst.half,
@@ -280,6 +318,7 @@ pub fn render_frame_fixed(
                             signals::RECIPROCAL,
                         );
                         inp.inv[a] = r.raw.saturating_abs();
+                        row.flushes += u64::from(r.flushed);
                         inp.zero[a] = r.zero;
                         inp.negative[a] = r.negative;
                     }
@@ -293,8 +332,8 @@ pub fn render_frame_fixed(
                         &mut row.walker,
                     ) {
                         WalkOutcome::Hit(hit) => {
-                            if best.is_none_or(|(bt, _, _)| hit.t < bt) {
-                                best = Some((hit.t, k, hit));
+                            if best.is_none_or(|(bt, _, _, _)| hit.t < bt) {
+                                best = Some((hit.t, k, hit, signs));
                             }
                         }
                         WalkOutcome::Miss => {}
@@ -321,7 +360,7 @@ pub fn render_frame_fixed(
                             ..FixedRecord::default()
                         }
                     }
-                    Some((t, k, hit)) => {
+                    Some((t, k, hit, signs)) => {
                         row.hits += 1;
                         let inst = &insts[usize::from(k)];
                         let attr = inst.image.attrs()[hit.attr as usize];
@@ -343,11 +382,7 @@ pub fn render_frame_fixed(
                         );
                         let mut local = [0.0; 3];
                         let axis = usize::from(hit.entry_axis);
-                        local[axis] = if inp_negative(&insts[usize::from(k)], d, axis) {
-                            1.0
-                        } else {
-                            -1.0
-                        };
+                        local[axis] = if signs[axis] { 1.0 } else { -1.0 };
                         let face = (inst.world_from_local * DVec3::from_array(local))
                             .to_array()
                             .map(|v| (v * 127.0).round() as i8);
@@ -377,6 +412,7 @@ pub fn render_frame_fixed(
         st.candidates += r.candidates;
         st.early_terminations += r.early;
         st.hits += r.hits;
+        st.zero_flushes += r.flushes;
         st.hit_buffer_reused += r.reused;
         st.walker.steps += r.walker.steps;
         st.walker.fetches += r.walker.fetches;
@@ -387,11 +423,6 @@ pub fn render_frame_fixed(
     st.overflows = Some(ov);
     st.wall_s = start.elapsed().as_secs_f64();
     Ok(st)
-}
-
-/// Was the walk of instance `inst` mirrored on `axis` (its local direction negative)?
-fn inp_negative(inst: &Inst<'_>, d: [i64; 3], axis: usize) -> bool {
-    direction_signs(d, &inst.raw)[axis]
 }
 
 /// The fixed-point records as the reference's record type, for PNGs, dumps and comparisons:

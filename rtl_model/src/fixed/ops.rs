@@ -13,8 +13,17 @@ const MAX_DIRECT_SHIFT: i32 = 120;
 
 /// Rounds `raw · 2^−from_frac` into `out`: quantisation by `out.quant`, then overflow by
 /// `out.overflow`. Any saturation or wrap is counted on `sig`.
+#[inline]
 pub fn quantize(raw: i128, from_frac: i32, out: Format, ov: &mut Overflows, sig: SignalId) -> i64 {
     let shift = from_frac - i32::from(out.frac);
+    // Fast path, the datapath's common case: a right shift whose result is strictly inside
+    // the range (so no overflow mode can apply). Same result as the general path below.
+    if shift > 0 && shift <= MAX_DIRECT_SHIFT {
+        let q = round_shift(raw, shift as u32, out.quant);
+        if q > i128::from(out.min_raw()) && q <= i128::from(out.max_raw()) {
+            return q as i64;
+        }
+    }
     let q: Option<i128> = if shift <= 0 {
         let k = (-shift) as u32;
         if raw == 0 {

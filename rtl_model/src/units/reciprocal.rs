@@ -14,7 +14,8 @@
 //! 2. Zero test: a ≤ 2^(F_in − k), with k the output's magnitude integer bits, means
 //!    |1/d| ≥ 2^k does not fit the output: the unit flags `zero` and returns ±max (§3.3 of
 //!    Revelles et al.: the walker then uses ±∞ for that axis). A non-zero code flushed this
-//!    way is counted on the signal; an exact zero is not (1/0 = ±∞ is exact).
+//!    way is reported in `flushed` (an approximation within the walker's bound, not an
+//!    overflow); an exact zero is exact (1/0 = ±∞).
 //! 3. Normalise: e = 63 − lzc(a); the mantissa m = a/2^e ∈ [1, 2) truncated to uQ1.G, where
 //!    G = F_out + 2 (two guard bits below the output LSB at |1/d| ≈ 1), clamped to 2..=62.
 //! 4. Seed: the next `table_bits` = t bits of m index a ROM of 2^t entries
@@ -136,6 +137,10 @@ pub struct Reciprocal {
     pub zero: bool,
     /// d is negative: the code's sign, or `sign_negative` for a zero code (so −0 is negative).
     pub negative: bool,
+    /// A non-zero code flushed to `zero`: the documented §3.3 approximation (the ray moves
+    /// less than `zero_threshold` per metre along that axis), reported here rather than as
+    /// an overflow, since nothing saturated.
+    pub flushed: bool,
 }
 
 impl Reciprocal {
@@ -275,9 +280,6 @@ pub fn reciprocal(
         e => u128::from(a) <= 1u128 << e,
     };
     if zero {
-        if a != 0 {
-            ov.hit(sig); // a real direction flushed to "parallel": an approximation, counted
-        }
         let max = i128::from(cfg.output.max_raw());
         let code = if negative { -max } else { max };
         // ±max fits any signed output; an (invalid) unsigned output clamps −max to 0, counted.
@@ -286,6 +288,7 @@ pub fn reciprocal(
             raw,
             zero: true,
             negative,
+            flushed: a != 0,
         };
     }
 
@@ -321,6 +324,7 @@ pub fn reciprocal(
         raw,
         zero: false,
         negative,
+        flushed: false,
     }
 }
 

@@ -339,6 +339,12 @@ pub struct SortTiming {
 /// The cycle model's parameters for one ray of `count` candidates (documented in
 /// [`SortTiming`]); [`sort_candidates`] counts exactly this.
 pub fn sort_timing(count: usize, n: u8) -> SortTiming {
+    sort_timing_with_latency(count, n, network_latency(n.max(1)))
+}
+
+/// [`sort_timing`] with the network latency given (a [`Sorter`] knows it, so its hot path
+/// does not rebuild the network to measure it).
+fn sort_timing_with_latency(count: usize, n: u8, d: u64) -> SortTiming {
     if count == 0 {
         return SortTiming::default();
     }
@@ -346,7 +352,6 @@ pub fn sort_timing(count: usize, n: u8) -> SortTiming {
     let count64 = count as u64;
     let chunks = count.div_ceil(n) as u64;
     let passes = u64::from(64 - (chunks - 1).leading_zeros()); // ⌈log2 chunks⌉, 0 for 1
-    let d = network_latency(n as u8);
     let merge_cycles = passes * (count64 + MERGE_LATENCY);
     SortTiming {
         chunks,
@@ -413,6 +418,8 @@ fn merge_two(a: &[SortKey], b: &[SortKey]) -> Vec<SortKey> {
 pub struct Sorter {
     cfg: SorterConfig,
     net: Vec<(usize, usize)>,
+    /// Network latency, cycles (its depth).
+    latency: u64,
 }
 
 impl Sorter {
@@ -421,6 +428,7 @@ impl Sorter {
         Self {
             cfg: cfg.clone(),
             net: network(cfg.n.max(1)),
+            latency: network_latency(cfg.n.max(1)),
         }
     }
 
@@ -475,16 +483,47 @@ impl Sorter {
             runs = next;
         }
 
-        let t = sort_timing(keys.len(), n);
+        self.count(keys.len(), stats);
+        runs.pop().unwrap_or_default()
+    }
+
+    /// Sorts in place when the keys fit one network issue (the common case, without the
+    /// model's allocations); otherwise as [`Sorter::sort`]. Same order and statistics.
+    pub fn sort_in_place(&self, keys: &mut Vec<(i64, u16)>, stats: &mut SorterStats) {
+        let n = self.cfg.n.max(1);
+        if keys.is_empty()
+            || keys.len() > usize::from(n)
+            || !self.cfg.key.is_valid()
+            || self.cfg.n == 0
+        {
+            let sorted = self.sort(keys, stats);
+            keys.clear();
+            keys.extend_from_slice(&sorted);
+            return;
+        }
+        let (lo, hi) = (self.cfg.key.min_raw(), self.cfg.key.max_raw());
+        for k in keys.iter_mut() {
+            if k.0 < lo || k.0 > hi {
+                stats.keys_clamped += 1;
+                k.0 = k.0.clamp(lo, hi);
+            }
+        }
+        apply_network(&self.net, keys);
+        self.count(keys.len(), stats);
+    }
+
+    /// Statistics of one sort of `count` keys.
+    fn count(&self, count: usize, stats: &mut SorterStats) {
+        let n = self.cfg.n.max(1);
+        let t = sort_timing_with_latency(count, n, self.latency);
         stats.sorts += 1;
-        stats.keys += keys.len() as u64;
+        stats.keys += count as u64;
         stats.networks_run += t.chunks;
         stats.overflow_batches += t.chunks - 1;
         stats.merge_passes += t.merge_passes;
         stats.merge_steps += t.merge_steps;
         stats.cycles += t.latency;
-        stats.extra_cycles += t.latency - network_latency(n);
-        runs.pop().unwrap_or_default()
+        stats.extra_cycles += t.latency - self.latency;
     }
 }
 

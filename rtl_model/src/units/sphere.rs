@@ -21,7 +21,7 @@
 //!   Culled as behind only if even t_ca + Δt + √(T − p²) < 0.
 
 use crate::fixed::{quantize, Format, Overflows, Quant, SignalId};
-use crate::units::sqrt::isqrt;
+use crate::units::sqrt::isqrt_fast as isqrt;
 use serde::{Deserialize, Serialize};
 
 /// Formats of the sphere unit.
@@ -105,7 +105,17 @@ impl SphereConfig {
                 self.sq.name()
             ));
         }
-        if 2 * (u32::from(self.pos.width) + 1) + 2 > 126 || 2 * u32::from(self.tca.width) > 126 {
+        let (lf, tf) = (2 * i32::from(self.pos.frac), 2 * i32::from(self.tca.frac));
+        let f2 = lf.max(tf);
+        if f2 < i32::from(self.sq.frac) {
+            return Err(
+                "sphere.sq: its fraction count must not exceed 2·pos.frac or 2·tca.frac".into(),
+            );
+        }
+        let l2_bits = 2 * (i32::from(self.pos.width) + 1) + 2 + (f2 - lf);
+        let tca2_bits = 2 * i32::from(self.tca.width) + (f2 - tf);
+        let thr_bits = i32::from(self.sq.width) + (f2 - i32::from(self.sq.frac));
+        if l2_bits.max(tca2_bits).max(thr_bits) > 125 {
             return Err("sphere: squares exceed the 127-bit accumulator".into());
         }
         if !(self.reach.is_finite() && self.reach > 0.0) {
@@ -173,6 +183,10 @@ pub struct SphereRaw {
     pub threshold: i64,
     /// "Origin may be inside" threshold ([`SphereConfig::inside_threshold`]), in `sq`.
     pub inside: i64,
+    /// Δt as a raw code of `tca`, rounded up (a constant of the configuration).
+    pub delta_t: i64,
+    /// The reach as a raw code of `pos` (a constant of the configuration).
+    pub reach: i64,
 }
 
 impl SphereRaw {
@@ -182,6 +196,8 @@ impl SphereRaw {
             centre,
             threshold: cfg.threshold(r),
             inside: cfg.inside_threshold(r),
+            delta_t: (cfg.delta_t() * 2f64.powi(i32::from(cfg.tca.frac))).ceil() as i64,
+            reach: (cfg.reach * 2f64.powi(i32::from(cfg.pos.frac))) as i64,
         }
     }
 }
@@ -198,7 +214,7 @@ pub fn sphere_test(
     let (c, threshold, inside) = (sphere.centre, sphere.threshold, sphere.inside);
     let l = [0, 1, 2].map(|k| i128::from(c[k]) - i128::from(o[k]));
     let pf = i32::from(cfg.pos.frac);
-    let reach = (cfg.reach * 2f64.powi(pf)) as i128;
+    let reach = i128::from(sphere.reach);
     if l.iter().any(|v| v.abs() > reach) {
         ov.hit(sig.reach);
         return Some(SphereHit { t_enter: 0 });
@@ -212,31 +228,25 @@ pub fn sphere_test(
         ov,
         sig.tca,
     );
-    // l·l exact (2·pf fraction bits); t_ca² exact (2·tca.frac).
-    let l2: i128 = (l[0] * l[0] + l[1] * l[1]) + l[2] * l[2];
-    let tca2 = i128::from(tca) * i128::from(tca);
-    // Align both to the square format's fraction count: p² = l² − t_ca².
+    // l·l (2·pf fraction bits) and t_ca² (2·tca.frac) exact, aligned to the larger fraction
+    // count F2 by exact left shifts, so p² = l·l − t_ca² is exact too; the thresholds (in
+    // `sq`, F2 ≥ its fraction count by `validate`) are shifted up to meet it.
+    let (lf, tf) = (2 * pf, 2 * i32::from(cfg.tca.frac));
+    let f2 = lf.max(tf);
+    let l2: i128 = ((l[0] * l[0] + l[1] * l[1]) + l[2] * l[2]) << (f2 - lf);
+    let tca2 = (i128::from(tca) * i128::from(tca)) << (f2 - tf);
+    let p2 = l2 - tca2;
     let sqf = i32::from(cfg.sq.frac);
-    let wide = Format {
-        signed: true,
-        width: 64,
-        frac: cfg.sq.frac,
-        quant: Quant::Trn,
-        overflow: crate::fixed::OverflowMode::Sat,
-    };
-    let l2_sq = quantize(l2, 2 * pf, wide, ov, sig.sq);
-    let tca2_sq = quantize(tca2, 2 * i32::from(cfg.tca.frac), wide, ov, sig.sq);
-    let p2 = i128::from(l2_sq) - i128::from(tca2_sq);
-    // Rounding both squares down can lower p² by up to one LSB of `sq`; T is widened by
-    // 2·reach·lsb_tca, far more than that, so the comparison stays conservative.
-    if p2 > i128::from(threshold) {
+    let up_sq = f2 - sqf;
+    if p2 > i128::from(threshold) << up_sq {
         return None;
     }
-    let root_arg = (i128::from(threshold) - p2.max(0)).clamp(0, i128::from(u64::MAX)) as u64;
-    // √ of a code with an even fraction count sqf has sqf/2 fraction bits.
+    // √ of (T − p²) in `sq` (rounded down), which has sqf/2 fraction bits.
+    let root_arg = (((i128::from(threshold) << up_sq) - p2.max(0)) >> up_sq)
+        .clamp(0, i128::from(u64::MAX)) as u64;
     let root = i128::from(isqrt(root_arg));
     let rf = sqf / 2;
-    let dt = (cfg.delta_t() * 2f64.powi(i32::from(cfg.tca.frac))).ceil() as i128;
+    let dt = i128::from(sphere.delta_t);
     // Bring t_ca, Δt and the root to a common fraction count (the larger) and combine.
     let f = i32::from(cfg.tca.frac).max(rf);
     let up = |v: i128, from: i32| v << (f - from);
@@ -246,7 +256,7 @@ pub fn sphere_test(
     if tca_f + dt_f + root_f < 0 {
         return None; // the whole sphere is behind the origin, even allowing for errors
     }
-    if l2_sq <= inside {
+    if l2 <= i128::from(inside) << up_sq {
         return Some(SphereHit { t_enter: 0 });
     }
     let t = (tca_f - dt_f - root_f).max(0);

@@ -129,14 +129,35 @@ pub fn transform(
     ov: &mut Overflows,
     sig: TransformSignals,
 ) -> ([i64; 3], [i64; 3]) {
+    let (o_local, d_local, _) = transform_with_signs(o, d, inst, cfg, ov, sig);
+    (o_local, d_local)
+}
+
+/// [`transform`] plus the signs of the exact direction sums (see [`direction_signs`]), which
+/// the hardware takes from the same adders.
+pub fn transform_with_signs(
+    o: [i64; 3],
+    d: [i64; 3],
+    inst: &InstanceRaw,
+    cfg: &TransformConfig,
+    ov: &mut Overflows,
+    sig: TransformSignals,
+) -> ([i64; 3], [i64; 3], [bool; 3]) {
     // Exact o − c: both in `pos`, so the difference needs one more bit and no rounding.
     let rel = [0, 1, 2].map(|j| i128::from(o[j]) - i128::from(inst.centre[j]));
     let dv = d.map(i128::from);
     let pf = i32::from(cfg.mat.frac) + i32::from(cfg.pos.frac);
     let df = i32::from(cfg.mat.frac) + i32::from(cfg.dir.frac);
     let o_local = [0, 1, 2].map(|k| dot(inst.axes[k], rel, pf, cfg.local_pos, ov, sig.origin));
-    let d_local = [0, 1, 2].map(|k| dot(inst.axes[k], dv, df, cfg.local_dir, ov, sig.dir));
-    (o_local, d_local)
+    let mut signs = [false; 3];
+    let d_local = [0, 1, 2].map(|k| {
+        let col = inst.axes[k];
+        let p = [0, 1, 2].map(|j| i128::from(col[j]) * dv[j]);
+        let sum = (p[0] + p[1]) + p[2];
+        signs[k] = sum < 0;
+        quantize(sum, df, cfg.local_dir, ov, sig.dir)
+    });
+    (o_local, d_local, signs)
 }
 
 /// Worst-case error of converting an exact value into `f` (by its quantisation mode).
