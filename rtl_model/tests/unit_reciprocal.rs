@@ -425,3 +425,36 @@ fn no_panic_on_any_code_or_config() {
         }
     }
 }
+
+/// The frame loop's `ReciprocalUnit` (ROM built once) gives exactly `reciprocal`'s results.
+#[test]
+fn unit_with_rom_equals_the_function() {
+    use rtl_model::fixed::{Overflows, SignalId};
+    use rtl_model::units::reciprocal::{reciprocal, ReciprocalConfig, ReciprocalUnit};
+    for cfg in [
+        ReciprocalConfig::default(),
+        ReciprocalConfig {
+            table_bits: 4,
+            iterations: 3,
+            ..ReciprocalConfig::default()
+        },
+    ] {
+        let unit = ReciprocalUnit::new(&cfg);
+        let (mut a, mut b) = (Overflows::new(&["r"]), Overflows::new(&["r"]));
+        let mut s = 0x0bad_5eed_1234_5678u64;
+        println!("seed = {s:#x}");
+        for case in 0..100_000 {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            let d = (s as i64) >> (s % 40);
+            let neg = case % 3 == 0;
+            assert_eq!(
+                unit.eval(d, neg, &mut a, SignalId(0)),
+                reciprocal(d, neg, &cfg, &mut b, SignalId(0)),
+                "d = {d}"
+            );
+        }
+        assert_eq!(a, b);
+    }
+}

@@ -10,6 +10,7 @@ use rtl_model::datapath::DatapathConfig;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use svo_sim::assets::Materialise;
+use svo_sim::fixed_model::{render_frame_fixed, FixedBuffer};
 use svo_sim::reference::{render_frame, FrameInput, FrameStats, HitBuffer, RenderOptions};
 use svo_sim::run::{build, run, Model, RunConfig};
 use svo_sim::scene::Scene;
@@ -140,6 +141,17 @@ struct BenchArgs {
     /// depth 11).
     #[command(flatten)]
     scene: SceneArgs,
+    /// Also time the fixed-point model against the reference on the same frames (full
+    /// trace, interleaved, best of `--repeat`) and print the speed ratio.
+    #[arg(long, value_enum, default_value = "reference")]
+    model: ModelArg,
+    /// Repetitions per frame for the fixed/reference ratio (the fastest run of each counts,
+    /// which damps noise from other work on a shared machine).
+    #[arg(long, default_value_t = 3)]
+    repeat: u32,
+    /// Datapath configuration for the fixed-point model (RON).
+    #[arg(long, value_name = "FILE")]
+    datapath: Option<PathBuf>,
 }
 
 fn load_scene(a: &SceneArgs, defaults: (Option<(u32, u32)>, Option<u32>)) -> Result<Scene> {
@@ -364,6 +376,48 @@ fn cmd_bench(a: BenchArgs) -> Result<()> {
         "  hit-buffer speed-up: {:.2}x (same run)",
         results[1] / results[0]
     );
+    if a.model == ModelArg::Fixed {
+        let dp = load_datapath(a.datapath.as_ref())?;
+        let repeat = a.repeat.max(1);
+        let full = RenderOptions {
+            use_hit_buffer: false,
+            early_termination: true,
+        };
+        let (mut t_ref, mut t_fix) = (0f64, 0f64);
+        println!(
+            "  fixed-point model against the reference, full trace, best of {repeat} per frame:"
+        );
+        for f in 0..scene.file.frames {
+            let state = scene.frame_state(f, &half).map_err(anyhow::Error::msg)?;
+            let input = FrameInput {
+                scene: &scene,
+                assets: &assets,
+                state: &state,
+            };
+            let (mut best_r, mut best_f) = (f64::INFINITY, f64::INFINITY);
+            for _ in 0..repeat {
+                let mut rb = HitBuffer::new(w, h);
+                best_r = best_r.min(render_frame(&input, &mut rb, full).wall_s);
+                let mut fb = FixedBuffer::new(w, h);
+                best_f = best_f.min(render_frame_fixed(&input, &mut fb, &dp, false)?.wall_s);
+            }
+            println!(
+                "    frame {f:>3}: reference {:>7.1} ms  fixed {:>7.1} ms  ratio {:.3}",
+                best_r * 1e3,
+                best_f * 1e3,
+                best_r / best_f
+            );
+            t_ref += best_r;
+            t_fix += best_f;
+        }
+        let rays = f64::from(w) * f64::from(h) * f64::from(scene.file.frames);
+        println!(
+            "  fixed {:.2} M rays/s, reference {:.2} M rays/s: ratio {:.3} (fixed rays/s ÷ reference rays/s; target ≥ 0.5)",
+            rays / t_fix / 1e6,
+            rays / t_ref / 1e6,
+            t_ref / t_fix
+        );
+    }
     Ok(())
 }
 

@@ -11,7 +11,7 @@ use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
 use rtl_model::fixed::{from_f64, to_f64, Overflows};
 use rtl_model::svo::SvoImage;
 use rtl_model::units::hit_record::{pack, quantise, unpack, HitRecordF64};
-use rtl_model::units::reciprocal::reciprocal;
+use rtl_model::units::reciprocal::ReciprocalUnit;
 use rtl_model::units::sorter::{Sorter, SorterStats};
 use rtl_model::units::sphere::{sphere_test, SphereRaw, SphereSignals};
 use rtl_model::units::transform::{transform_with_signs, InstanceRaw, TransformSignals};
@@ -200,6 +200,24 @@ pub fn render_frame_fixed(
         dir: signals::TRANSFORM_DIR,
     };
     let sorter = Sorter::new(&cfg.sorter);
+    // A miss's record depends only on the sphere count: pack the three words once.
+    let miss_words = [SphereCount::None, SphereCount::One, SphereCount::Several].map(|kind| {
+        let f = quantise(
+            &HitRecordF64 {
+                kind,
+                instance: None,
+                t: f64::INFINITY,
+                normal: [0.0; 3],
+                colour: [0; 3],
+                voxel: [0; 3],
+            },
+            &cfg.hit_record,
+            &mut host_ov,
+            signals::HIT_RECORD,
+        );
+        pack(&f, &cfg.hit_record, &mut host_ov, signals::HIT_RECORD)
+    });
+    let recip = ReciprocalUnit::new(&cfg.reciprocal);
     let t_fmt = cfg.walker.t;
     let key_fmt = cfg.sorter.key;
     if buffer.table_camera != Some(cam) || buffer.dir_table.len() != buffer.records.len() {
@@ -310,13 +328,7 @@ pub fn render_frame_fixed(
                         ..WalkerInput::default()
                     };
                     for a in 0..3 {
-                        let r = reciprocal(
-                            d_local[a],
-                            signs[a],
-                            &cfg.reciprocal,
-                            &mut row.ov,
-                            signals::RECIPROCAL,
-                        );
+                        let r = recip.eval(d_local[a], signs[a], &mut row.ov, signals::RECIPROCAL);
                         inp.inv[a] = r.raw.saturating_abs();
                         row.flushes += u64::from(r.flushed);
                         inp.zero[a] = r.zero;
@@ -341,25 +353,10 @@ pub fn render_frame_fixed(
                     }
                 }
                 *rec = match best {
-                    None => {
-                        let f = quantise(
-                            &HitRecordF64 {
-                                kind: spheres,
-                                instance: None,
-                                t: f64::INFINITY,
-                                normal: [0.0; 3],
-                                colour: [0; 3],
-                                voxel: [0; 3],
-                            },
-                            &cfg.hit_record,
-                            &mut row.ov,
-                            signals::HIT_RECORD,
-                        );
-                        FixedRecord {
-                            word: pack(&f, &cfg.hit_record, &mut row.ov, signals::HIT_RECORD),
-                            ..FixedRecord::default()
-                        }
-                    }
+                    None => FixedRecord {
+                        word: miss_words[usize::from(spheres.code())],
+                        ..FixedRecord::default()
+                    },
                     Some((t, k, hit, signs)) => {
                         row.hits += 1;
                         let inst = &insts[usize::from(k)];

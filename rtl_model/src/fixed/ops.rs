@@ -17,13 +17,26 @@ const MAX_DIRECT_SHIFT: i32 = 120;
 pub fn quantize(raw: i128, from_frac: i32, out: Format, ov: &mut Overflows, sig: SignalId) -> i64 {
     let shift = from_frac - i32::from(out.frac);
     // Fast path, the datapath's common case: a right shift whose result is strictly inside
-    // the range (so no overflow mode can apply). Same result as the general path below.
+    // the range (so no overflow mode can apply). Same result as the general path.
     if shift > 0 && shift <= MAX_DIRECT_SHIFT {
         let q = round_shift(raw, shift as u32, out.quant);
         if q > i128::from(out.min_raw()) && q <= i128::from(out.max_raw()) {
             return q as i64;
         }
     }
+    quantize_general(raw, from_frac, out, ov, sig)
+}
+
+/// The general path of [`quantize`]: any shift, overflow resolution and counting.
+#[inline(never)]
+fn quantize_general(
+    raw: i128,
+    from_frac: i32,
+    out: Format,
+    ov: &mut Overflows,
+    sig: SignalId,
+) -> i64 {
+    let shift = from_frac - i32::from(out.frac);
     let q: Option<i128> = if shift <= 0 {
         let k = (-shift) as u32;
         if raw == 0 {
@@ -115,6 +128,9 @@ fn wrap(v: i128, out: Format) -> i64 {
 #[inline]
 fn round_shift(raw: i128, s: u32, quant: Quant) -> i128 {
     let floor = raw >> s;
+    if quant == Quant::Trn {
+        return floor; // truncation toward −∞ is the arithmetic shift itself
+    }
     let rem = raw - (floor << s); // 0 ≤ rem < 2^s
     if rem == 0 {
         return floor;
@@ -213,7 +229,8 @@ pub fn from_f64(x: f64, out: Format, ov: &mut Overflows, sig: SignalId) -> i64 {
         ov.hit(sig);
         return 0;
     }
-    let scaled = x * 2f64.powi(i32::from(out.frac));
+    // 2^F built from its exponent bits (exact; F is within ±62 for valid formats).
+    let scaled = x * f64::from_bits(((1023 + i64::from(out.frac)) as u64) << 52);
     if x.is_infinite() || scaled.abs() >= 2f64.powi(126) {
         ov.hit(sig);
         if out.overflow == OverflowMode::Wrap && x.is_finite() {

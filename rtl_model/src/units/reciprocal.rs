@@ -265,6 +265,72 @@ pub fn reciprocal(
     sig: SignalId,
 ) -> Reciprocal {
     let p = plan(cfg);
+    evaluate(
+        d_raw,
+        sign_negative,
+        cfg,
+        &p,
+        |idx| placed_seed(&p, idx),
+        ov,
+        sig,
+    )
+}
+
+/// The reciprocal unit with its seed ROM built once: the same results as [`reciprocal`],
+/// for callers that evaluate many components with one configuration (the frame loop).
+#[derive(Clone, Debug)]
+pub struct ReciprocalUnit {
+    cfg: ReciprocalConfig,
+    plan: Plan,
+    rom: Vec<u128>,
+}
+
+impl ReciprocalUnit {
+    /// Builds the ROM for `cfg`.
+    pub fn new(cfg: &ReciprocalConfig) -> Self {
+        let plan = plan(cfg);
+        let rom = (0..1u64 << plan.tb)
+            .map(|i| placed_seed(&plan, i))
+            .collect();
+        Self {
+            cfg: *cfg,
+            plan,
+            rom,
+        }
+    }
+
+    /// [`reciprocal`] of one component.
+    #[inline]
+    pub fn eval(
+        &self,
+        d_raw: i64,
+        sign_negative: bool,
+        ov: &mut Overflows,
+        sig: SignalId,
+    ) -> Reciprocal {
+        evaluate(
+            d_raw,
+            sign_negative,
+            &self.cfg,
+            &self.plan,
+            |idx| self.rom[idx as usize],
+            ov,
+            sig,
+        )
+    }
+}
+
+/// The unit's stages, with the seed ROM read through `seed`.
+#[inline]
+fn evaluate(
+    d_raw: i64,
+    sign_negative: bool,
+    cfg: &ReciprocalConfig,
+    p: &Plan,
+    seed: impl Fn(u64) -> u128,
+    ov: &mut Overflows,
+    sig: SignalId,
+) -> Reciprocal {
     // Stage 1: sign and magnitude (|i64::MIN| = 2^63 fits u64).
     let negative = match d_raw.signum() {
         -1 => true,
@@ -304,7 +370,7 @@ pub fn reciprocal(
     };
 
     // Stage 3: seed ROM.
-    let mut y = placed_seed(&p, idx); // uQ1.G, in [1/2, 1)
+    let mut y = seed(idx); // uQ1.G, in [1/2, 1)
 
     // Stages 4..: Newton–Raphson. Invariants (docs/units/reciprocal.md): y ≤ 1 and
     // p = ⌊m·y⌋ < 2, so q = 2 − p ∈ (0, 2) and every product stays below 2^(2G+2).

@@ -121,6 +121,9 @@ impl SphereConfig {
         if !(self.reach.is_finite() && self.reach > 0.0) {
             return Err("sphere.reach must be positive".into());
         }
+        if self.reach * 2f64.powi(i32::from(self.pos.frac)) >= 2f64.powi(62) {
+            return Err("sphere.reach: its code in `pos` must stay below 2^62".into());
+        }
         Ok(())
     }
 
@@ -175,7 +178,7 @@ impl SphereConfig {
 }
 
 /// A sphere as the host programs it per instance and frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct SphereRaw {
     /// Centre in world space (`pos`).
     pub centre: [i64; 3],
@@ -187,6 +190,11 @@ pub struct SphereRaw {
     pub delta_t: i64,
     /// The reach as a raw code of `pos` (a constant of the configuration).
     pub reach: i64,
+    /// Model speed-up, not hardware: the threshold in f64 at l·l's scale, widened by a
+    /// millionth, for the pre-rejection in [`sphere_test`].
+    pub reject_above: f64,
+    /// 2^−dir.frac, to scale l·d to l's units in that pre-rejection.
+    pub dir_scale: f64,
 }
 
 impl SphereRaw {
@@ -198,6 +206,10 @@ impl SphereRaw {
             inside: cfg.inside_threshold(r),
             delta_t: (cfg.delta_t() * 2f64.powi(i32::from(cfg.tca.frac))).ceil() as i64,
             reach: (cfg.reach * 2f64.powi(i32::from(cfg.pos.frac))) as i64,
+            reject_above: cfg.threshold(r) as f64
+                * 2f64.powi(2 * i32::from(cfg.pos.frac) - i32::from(cfg.sq.frac))
+                * (1.0 + 1e-6),
+            dir_scale: 2f64.powi(-i32::from(cfg.dir.frac)),
         }
     }
 }
@@ -218,6 +230,22 @@ pub fn sphere_test(
     if l.iter().any(|v| v.abs() > reach) {
         ov.hit(sig.reach);
         return Some(SphereHit { t_enter: 0 });
+    }
+    // Within the reach |l_k| fits 64 bits (reach < 2^63 codes), so every product below is a
+    // single 64×64 → 128-bit multiply.
+    let l = l.map(|v| v as i64).map(i128::from);
+    // Model speed-up, not hardware: most spheres are far from most rays. An f64 estimate of
+    // p² from the same codes rejects those whose p² exceeds the threshold by more than a
+    // millionth plus a slack a thousand times f64's rounding of it (~1e-15·l·l); everything
+    // closer takes the exact path below, so every result is the exact path's.
+    {
+        let lf = l.map(|v| v as i64 as f64); // via i64: i128 → f64 is a slow library call
+        let tca_f =
+            (lf[0] * d[0] as f64 + lf[1] * d[1] as f64 + lf[2] * d[2] as f64) * sphere.dir_scale;
+        let l2_f = lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2];
+        if l2_f - tca_f * tca_f > sphere.reject_above + 1e-12 * l2_f {
+            return None;
+        }
     }
     // t_ca = l·d, exact then rounded toward −∞ into `tca`.
     let dot: i128 = (l[0] * i128::from(d[0]) + l[1] * i128::from(d[1])) + l[2] * i128::from(d[2]);

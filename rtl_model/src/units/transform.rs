@@ -49,6 +49,12 @@ impl TransformConfig {
                 ));
             }
         }
+        if self.pos.width > 62 {
+            return Err(format!(
+                "transform.pos: {} is wider than 62 bits (o − c must fit 64)",
+                self.pos.name()
+            ));
+        }
         let widest = u32::from(self.pos.width.max(self.dir.width)) + 1;
         if u32::from(self.mat.width) + widest + 2 > 127 {
             return Err(
@@ -98,13 +104,13 @@ pub struct InstanceRaw {
 #[inline]
 fn dot(
     col: [i64; 3],
-    v: [i128; 3],
+    v: [i64; 3],
     frac: i32,
     out: Format,
     ov: &mut Overflows,
     sig: SignalId,
 ) -> i64 {
-    let p = [0, 1, 2].map(|j| i128::from(col[j]) * v[j]);
+    let p = [0, 1, 2].map(|j| i128::from(col[j]) * i128::from(v[j]));
     quantize((p[0] + p[1]) + p[2], frac, out, ov, sig)
 }
 
@@ -144,15 +150,16 @@ pub fn transform_with_signs(
     sig: TransformSignals,
 ) -> ([i64; 3], [i64; 3], [bool; 3]) {
     // Exact o − c: both in `pos`, so the difference needs one more bit and no rounding.
-    let rel = [0, 1, 2].map(|j| i128::from(o[j]) - i128::from(inst.centre[j]));
-    let dv = d.map(i128::from);
+    // `validate` keeps positions within 62 bits, so o − c is exact in 64 and every product a
+    // single 64×64 → 128-bit multiply.
+    let rel = [0, 1, 2].map(|j| o[j].wrapping_sub(inst.centre[j]));
     let pf = i32::from(cfg.mat.frac) + i32::from(cfg.pos.frac);
     let df = i32::from(cfg.mat.frac) + i32::from(cfg.dir.frac);
     let o_local = [0, 1, 2].map(|k| dot(inst.axes[k], rel, pf, cfg.local_pos, ov, sig.origin));
     let mut signs = [false; 3];
     let d_local = [0, 1, 2].map(|k| {
         let col = inst.axes[k];
-        let p = [0, 1, 2].map(|j| i128::from(col[j]) * dv[j]);
+        let p = [0, 1, 2].map(|j| i128::from(col[j]) * i128::from(d[j]));
         let sum = (p[0] + p[1]) + p[2];
         signs[k] = sum < 0;
         quantize(sum, df, cfg.local_dir, ov, sig.dir)

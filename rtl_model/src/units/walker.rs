@@ -60,6 +60,12 @@ impl WalkerConfig {
                 self.t.name()
             ));
         }
+        if self.pos.width > 61 {
+            return Err(format!(
+                "walker.pos: {} is wider than 61 bits (±e − o must fit 64)",
+                self.pos.name()
+            ));
+        }
         if u32::from(self.pos.width) + 1 + u32::from(self.inv.width) > 126 {
             return Err("walker: pos width + inv width exceed the 127-bit product".into());
         }
@@ -233,14 +239,16 @@ pub fn walk_fixed_visiting<V: FnMut(u8, [u32; 3])>(
             t1[k] = T_POS_INF;
         } else {
             let inv = i128::from(inp.inv[k]);
-            t0[k] = quantize((-e - o) * inv, prod_frac, cfg.t, ov, sig);
-            t1[k] = quantize((e - o) * inv, prod_frac, cfg.t, ov, sig);
+            // `validate` keeps `pos` within 61 bits, so ±e − o fits 64 and each product is a
+            // single 64×64 → 128-bit multiply.
+            let (lo, hi) = ((-e - o) as i64, (e - o) as i64);
+            t0[k] = quantize(i128::from(lo) * inv, prod_frac, cfg.t, ov, sig);
+            t1[k] = quantize(i128::from(hi) * inv, prod_frac, cfg.t, ov, sig);
         }
     }
     if !(max3(t0) < min3(t1) && min3(t1) > 0) {
         return WalkOutcome::Miss;
     }
-    let mut stack = [Frame::default(); MAX_DEPTH as usize + 1];
     st.fetches += 1;
     st.max_stack = st.max_stack.max(1);
     let root = SvoImage::root();
@@ -253,17 +261,37 @@ pub fn walk_fixed_visiting<V: FnMut(u8, [u32; 3])>(
     };
     f.tm = std::array::from_fn(|k| ax.mid(k, t0[k], t1[k], 0, 0));
     f.next = first_child(f.t0, f.tm);
-    stack[0] = f;
-    let mut sp = 0usize;
+    // The explicit stack (at most MAX_DEPTH + 1 frames) lives in a per-thread buffer: a fresh
+    // array per walk would clear ~2 KB each time. The hardware keeps it in registers/LUTRAM.
+    STACK.with(|cell| {
+        let mut stack = cell.borrow_mut();
+        stack.clear();
+        stack.push(f);
+        walk_loop(img, &ax, cfg, st, visit, &mut stack)
+    })
+}
+
+thread_local! {
+    static STACK: std::cell::RefCell<Vec<Frame>> = std::cell::RefCell::new(Vec::with_capacity(MAX_DEPTH as usize + 1));
+}
+
+/// The walker's loop over an explicit stack whose bottom frame is the root.
+fn walk_loop<V: FnMut(u8, [u32; 3])>(
+    img: &SvoImage,
+    ax: &Axes,
+    cfg: &WalkerConfig,
+    st: &mut WalkerStats,
+    visit: &mut V,
+    stack: &mut Vec<Frame>,
+) -> WalkOutcome {
     let mut steps = 0u32;
     loop {
-        let top = &mut stack[sp];
+        let Some(top) = stack.last_mut() else {
+            return WalkOutcome::Miss;
+        };
         let c = top.next;
         if c >= 8 {
-            if sp == 0 {
-                return WalkOutcome::Miss;
-            }
-            sp -= 1;
+            stack.pop();
             continue;
         }
         steps += 1;
@@ -333,9 +361,8 @@ pub fn walk_fixed_visiting<V: FnMut(u8, [u32; 3])>(
                 };
                 child.tm = std::array::from_fn(|k| ax.mid(k, ct0[k], ct1[k], level, coords[k]));
                 child.next = first_child(child.t0, child.tm);
-                sp += 1;
-                stack[sp] = child;
-                st.max_stack = st.max_stack.max(sp as u32 + 1);
+                stack.push(child);
+                st.max_stack = st.max_stack.max(stack.len() as u32);
             }
         }
     }
