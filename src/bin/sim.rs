@@ -38,9 +38,16 @@ enum Command {
     /// Measure the reference's speed (rays/s) with and without the hit buffer; asset build
     /// time is reported separately and excluded.
     Bench(BenchArgs),
-    /// Print the default datapath configuration (RON, the input format of --datapath) with
-    /// each unit's DSP48E2 count.
-    Datapath,
+    /// Print a datapath configuration (RON, the input format of --datapath; the default
+    /// unless --datapath is given), each unit's DSP48E2 count and every named error bound.
+    Datapath(DatapathArgs),
+}
+
+#[derive(Args, Debug)]
+struct DatapathArgs {
+    /// Configuration to print (RON); default: the documented default.
+    #[arg(long, value_name = "FILE")]
+    datapath: Option<PathBuf>,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -435,15 +442,84 @@ fn error_text(e: &anyhow::Error) -> String {
     text
 }
 
-fn cmd_datapath() -> Result<()> {
-    let cfg = DatapathConfig::default();
+fn cmd_datapath(a: DatapathArgs) -> Result<()> {
+    use rtl_model::fixed::{dsp48e2_per_product, Format};
+    use rtl_model::units::{hit_record, reciprocal, sqrt, transform, walker};
+    let cfg = load_datapath(a.datapath.as_ref())?;
     let pretty = ron::ser::PrettyConfig::new().struct_names(false);
-    println!("// Default datapath configuration (docs/number-formats.md). Edit and pass with --datapath.");
+    println!("// Datapath configuration (docs/number-formats.md). Edit and pass with --datapath.");
     println!("{}", ron::ser::to_string_pretty(&cfg, pretty)?);
-    eprintln!(
-        "DSP48E2 per unit: transform {}, reciprocal (per axis) {}",
-        rtl_model::units::transform::dsp48e2_count(&cfg.transform),
-        rtl_model::units::reciprocal::dsp48e2_count(&cfg.reciprocal)
+    let wider = |f: Format| Format {
+        width: f.width + 1,
+        ..f
+    };
+    let sph = &cfg.sphere;
+    let sphere_dsp = 3 * dsp48e2_per_product(wider(sph.pos), sph.dir)
+        + 3 * dsp48e2_per_product(wider(sph.pos), wider(sph.pos))
+        + dsp48e2_per_product(sph.tca, sph.tca);
+    let walker_dsp = 6 * dsp48e2_per_product(wider(cfg.walker.pos), cfg.walker.inv);
+    println!("// DSP48E2 slices per unit (27x18 products, sub-word decomposition):");
+    println!("//   sphere test  {sphere_dsp:>4}  (l.d: 3, l.l: 3, t_ca^2: 1 products)");
+    println!(
+        "//   transform    {:>4}  (9 origin + 9 direction products)",
+        transform::dsp48e2_count(&cfg.transform)
+    );
+    println!(
+        "//   reciprocal   {:>4}  per axis (Newton-Raphson), x3 per walk",
+        reciprocal::dsp48e2_count(&cfg.reciprocal)
+    );
+    println!("//   walker root  {walker_dsp:>4}  (6 slab products per walk; midpoints are adders)");
+    println!(
+        "//   square root     0  (digit recurrence: subtractors only); sorter 0; hit record 0"
+    );
+    let reach = cfg.sphere.reach;
+    let rb = reciprocal::error_bound(&cfg.reciprocal);
+    println!("// Error bounds (metres unless noted), derivations in docs/number-formats.md:");
+    println!(
+        "//   transform origin, |o - c| <= {reach} m : {:.3e}",
+        transform::origin_error_bound(&cfg.transform, reach)
+    );
+    println!(
+        "//   transform origin, |o - c| <= 20 m    : {:.3e}",
+        transform::origin_error_bound(&cfg.transform, 20.0)
+    );
+    println!(
+        "//   transform direction (per component) : {:.3e}",
+        transform::dir_error_bound(&cfg.transform)
+    );
+    println!(
+        "//   sphere p^2 widening W (m^2)         : {:.3e}",
+        sph.widening()
+    );
+    println!(
+        "//   sphere entry (earlier by at most)   : {:.3e}",
+        sph.t_enter_error_bound(1.0)
+    );
+    println!(
+        "//   reciprocal: relative {:.3e}, absolute {:.3e}, zero below |d| = {:.3e}",
+        rb.rel,
+        rb.abs,
+        reciprocal::zero_threshold(&cfg.reciprocal)
+    );
+    let sq = sqrt::SqrtConfig::default();
+    println!(
+        "//   square root (default unit config)   : {:.3e}",
+        sqrt::error_bound(&sq)
+    );
+    let dir_err = transform::dir_error_bound(&cfg.transform)
+        + rb.rel
+        + reciprocal::zero_threshold(&cfg.reciprocal);
+    let spatial = walker::spatial_error_bound(
+        &cfg.walker,
+        transform::origin_error_bound(&cfg.transform, 20.0),
+        dir_err,
+        25.0,
+        11,
+    );
+    println!("//   walker spatial, 20 m away, depth 11  : {spatial:.3e}");
+    println!(
+        "//   hit record t                        : {:.3e}",
+        hit_record::t_error_bound(&cfg.hit_record)
     );
     Ok(())
 }
@@ -452,7 +528,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let r = match cli.command {
         Some(Command::Bench(b)) => cmd_bench(b),
-        Some(Command::Datapath) => cmd_datapath(),
+        Some(Command::Datapath(d)) => cmd_datapath(d),
         None => cmd_run(cli.run),
     };
     match r {

@@ -11,6 +11,7 @@ use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
 use rtl_model::fixed::{from_f64, to_f64, Overflows};
 use rtl_model::svo::SvoImage;
 use rtl_model::units::hit_record::{pack, quantise, unpack, HitRecordF64};
+use rtl_model::units::raygen::direction_entry;
 use rtl_model::units::reciprocal::ReciprocalUnit;
 use rtl_model::units::sorter::{Sorter, SorterStats};
 use rtl_model::units::sphere::{sphere_test, SphereRaw, SphereSignals};
@@ -229,9 +230,7 @@ pub fn render_frame_fixed(
                 let row = (0..w)
                     .map(|i| {
                         let ray = primary_ray(&cam, w, h, i, j);
-                        ray.dir
-                            .to_array()
-                            .map(|x| from_f64(x, rg.dir, &mut ov, signals::RAYGEN_DIR))
+                        direction_entry(ray.dir.to_array(), &rg, &mut ov, signals::RAYGEN_DIR)
                     })
                     .collect();
                 (row, ov)

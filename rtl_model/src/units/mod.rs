@@ -5,6 +5,7 @@
 //! those formats (derived in `docs/units/`). Saturations and wraps are counted, never silent.
 
 pub mod hit_record;
+pub mod raygen;
 pub mod reciprocal;
 pub mod sorter;
 pub mod sphere;

@@ -1,0 +1,36 @@
+//! Ray generation: the per-pixel direction table.
+//!
+//! Pipeline position: the first stage; one entry per pixel feeds the sphere tests and the
+//! transform. Design choice (docs/number-formats.md §3.1): the host computes each pixel's unit
+//! direction in f64 (the exact camera formula of `docs/reference.md` §2) and writes it into a
+//! table in `raygen.dir`, rewriting it only when the camera changes. The hardware then needs
+//! no reciprocal square root; a moving camera costs one table write per frame. The camera
+//! position is one `raygen.pos` value per frame.
+
+use crate::datapath::RaygenConfig;
+use crate::fixed::{from_f64, Overflows, Quant, SignalId};
+
+/// The table entry of one unit direction (each component converted by `cfg.dir`'s mode).
+#[inline]
+pub fn direction_entry(
+    dir: [f64; 3],
+    cfg: &RaygenConfig,
+    ov: &mut Overflows,
+    sig: SignalId,
+) -> [i64; 3] {
+    dir.map(|x| from_f64(x, cfg.dir, ov, sig))
+}
+
+/// Bound on each component's error: one LSB of `dir` when truncating, half when rounding.
+/// The entry's length then differs from 1 by at most √3 times this (plus its square).
+pub fn error_bound(cfg: &RaygenConfig) -> f64 {
+    match cfg.dir.quant {
+        Quant::Trn | Quant::TrnZero => cfg.dir.lsb(),
+        _ => 0.5 * cfg.dir.lsb(),
+    }
+}
+
+/// Bits of the direction table for a `width`×`height` image (three components per pixel).
+pub fn table_bits(cfg: &RaygenConfig, width: u32, height: u32) -> u64 {
+    3 * u64::from(cfg.dir.width) * u64::from(width) * u64::from(height)
+}
