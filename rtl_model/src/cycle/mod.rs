@@ -1,0 +1,3 @@
+//! The cycle-accurate model: clocked stages as pure step functions with two-phase register
+//! commit, bounded valid/ready FIFOs, the hardware configuration, the node-memory model and
+//! waveform recording. The stages and walker pool that use them build on these pieces.
