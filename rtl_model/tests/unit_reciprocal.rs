@@ -14,6 +14,8 @@
 //! exhaustively. The measured worst errors are printed next to the bounds (and quoted in
 //! `docs/units/reciprocal.md`). `-- --nocapture` shows them; `SVO_TEST_SEED` replays.
 
+mod common;
+use common::Rng;
 use std::time::Instant;
 
 use rtl_model::fixed::{to_f64, Format, Overflows, Quant, SignalId};
@@ -23,25 +25,7 @@ use rtl_model::units::reciprocal::{
 };
 
 fn seed() -> u64 {
-    std::env::var("SVO_TEST_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0x5eed_1d1d_0002)
-}
-
-/// splitmix64.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
+    common::seed(0x5eed_1d1d_0002)
 }
 
 #[derive(Default)]

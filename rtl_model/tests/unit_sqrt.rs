@@ -12,6 +12,8 @@
 //!
 //! Run with `-- --nocapture` to see seeds, case counts and times; `SVO_TEST_SEED` replays.
 
+mod common;
+use common::Rng;
 use std::time::Instant;
 
 use rtl_model::fixed::{to_f64, Format, Overflows, Quant, SignalId};
@@ -21,35 +23,7 @@ use rtl_model::units::sqrt::{
 };
 
 fn seed() -> u64 {
-    std::env::var("SVO_TEST_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0x5eed_5c27_0001)
-}
-
-/// splitmix64.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-    /// A value with a random number of significant bits (0..=bits), so small and large
-    /// magnitudes are equally likely.
-    fn bits_up_to(&mut self, bits: u32) -> u64 {
-        let b = self.below(u64::from(bits) + 1) as u32;
-        if b == 0 {
-            0
-        } else {
-            self.next() >> (64 - b)
-        }
-    }
+    common::seed(0x5eed_5c27_0001)
 }
 
 /// ⌊√x⌋ from the f64 square root, corrected until r² ≤ x < (r + 1)² holds exactly.

@@ -4,32 +4,16 @@
 //! below the bounds). The oracle builds R from a random unit quaternion and shares no code
 //! with the unit.
 
+mod common;
+use common::Rng;
 use rtl_model::fixed::{from_f64, to_f64, Overflows, SignalId};
 use rtl_model::units::transform::{
     dir_error_bound, dsp48e2_count, origin_error_bound, transform, InstanceRaw, TransformConfig,
     TransformSignals,
 };
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        // splitmix64
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn f(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 fn seed() -> u64 {
-    std::env::var("SVO_TEST_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0x7a05_f0e3)
+    common::seed(0x7a05_f0e3)
 }
 
 /// Rotation matrix (columns) of a unit quaternion (w, x, y, z).

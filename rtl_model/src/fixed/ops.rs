@@ -149,6 +149,18 @@ fn round_shift(raw: i128, s: u32, quant: Quant) -> i128 {
     floor + i128::from(up)
 }
 
+/// a and b as exact i128 values at the larger of their fraction counts (always a left
+/// shift, exact for valid formats), with that count.
+#[inline]
+fn align(a: i64, fa: Format, b: i64, fb: Format) -> (i128, i128, i32) {
+    let f = fa.frac.max(fb.frac);
+    (
+        i128::from(a) << (f - fa.frac),
+        i128::from(b) << (f - fb.frac),
+        i32::from(f),
+    )
+}
+
 /// a + b into `out` (exact sum at the larger fraction count, then [`quantize`]).
 #[inline]
 pub fn add(
@@ -160,10 +172,8 @@ pub fn add(
     ov: &mut Overflows,
     sig: SignalId,
 ) -> i64 {
-    let f = fa.frac.max(fb.frac);
-    let a2 = i128::from(a) << (f - fa.frac);
-    let b2 = i128::from(b) << (f - fb.frac);
-    quantize(a2 + b2, i32::from(f), out, ov, sig)
+    let (a2, b2, f) = align(a, fa, b, fb);
+    quantize(a2 + b2, f, out, ov, sig)
 }
 
 /// a − b into `out`.
@@ -177,10 +187,8 @@ pub fn sub(
     ov: &mut Overflows,
     sig: SignalId,
 ) -> i64 {
-    let f = fa.frac.max(fb.frac);
-    let a2 = i128::from(a) << (f - fa.frac);
-    let b2 = i128::from(b) << (f - fb.frac);
-    quantize(a2 - b2, i32::from(f), out, ov, sig)
+    let (a2, b2, f) = align(a, fa, b, fb);
+    quantize(a2 - b2, f, out, ov, sig)
 }
 
 /// a · b into `out` (the exact 128-bit product has fa.frac + fb.frac fraction bits).

@@ -1,0 +1,48 @@
+//! Helpers shared by `rtl_model`'s integration tests: the run seed and a small seeded RNG.
+//! Every random test prints its seed; `SVO_TEST_SEED` (decimal) replays a run.
+
+// Each test binary uses a different subset.
+#![allow(dead_code)]
+
+/// `SVO_TEST_SEED` if set, else the test's own default.
+pub fn seed(default: u64) -> u64 {
+    std::env::var("SVO_TEST_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
+/// splitmix64: small, fast, and every seed (0 included) gives a full-period stream.
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// The next 64 random bits.
+    pub fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in 0..n (n > 0; the modulo bias is irrelevant for tests).
+    pub fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+
+    /// Uniform in [lo, hi).
+    pub fn f(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A value with a random number of significant bits (0..=bits), so small and large
+    /// magnitudes are equally likely.
+    pub fn bits_up_to(&mut self, bits: u32) -> u64 {
+        let b = self.below(u64::from(bits) + 1) as u32;
+        if b == 0 {
+            0
+        } else {
+            self.next() >> (64 - b)
+        }
+    }
+}
