@@ -336,6 +336,22 @@ fn saturate_high(out: Format, ov: &mut Overflows, sig: SignalId) -> i64 {
     out.max_raw()
 }
 
+/// ⌊√x⌋ — the same value as [`isqrt`], bit for bit, computed faster for the model: an f64
+/// estimate corrected by exact integer comparisons (the estimate is within one of the root,
+/// and the loops move it to the unique r with r² ≤ x < (r + 1)²). The digit recurrence of
+/// [`isqrt`] stays the specification the RTL follows; `tests/unit_sqrt.rs` pins the equality.
+#[inline]
+pub fn isqrt_fast(x: u64) -> u64 {
+    let mut r = (x as f64).sqrt() as u64;
+    while u128::from(r) * u128::from(r) > u128::from(x) {
+        r -= 1;
+    }
+    while u128::from(r + 1) * u128::from(r + 1) <= u128::from(x) {
+        r += 1;
+    }
+    r
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -385,20 +401,4 @@ mod tests {
         assert_eq!(sqrt_fx(0, &cfg, &mut ov, SignalId(0)), 0);
         assert_eq!(ov.total(), 1);
     }
-}
-
-/// ⌊√x⌋ — the same value as [`isqrt`], bit for bit, computed faster for the model: an f64
-/// estimate corrected by exact integer comparisons (the estimate is within one of the root,
-/// and the loops move it to the unique r with r² ≤ x < (r + 1)²). The digit recurrence of
-/// [`isqrt`] stays the specification the RTL follows; `tests/unit_sqrt.rs` pins the equality.
-#[inline]
-pub fn isqrt_fast(x: u64) -> u64 {
-    let mut r = (x as f64).sqrt() as u64;
-    while u128::from(r) * u128::from(r) > u128::from(x) {
-        r -= 1;
-    }
-    while u128::from(r + 1) * u128::from(r + 1) <= u128::from(x) {
-        r += 1;
-    }
-    r
 }
