@@ -1,0 +1,409 @@
+//! Bounded FIFO with valid/ready handshakes, the joint between every two pipeline stages.
+//!
+//! Where it sits: between ray generation and the transform, the transform and the sphere
+//! units, the sorter and the walker dispatcher, and in front of the hit buffer. The stages on
+//! either side are evaluated in the same cycle; the FIFO decouples them, and its counters are
+//! where the report's "back-pressured" and "starved" cycles and FIFO occupancy come from.
+//!
+//! # Handshake, as a synchronous FIFO in RTL has it
+//!
+//! All signals a neighbour sees come from registered state (start of the cycle), so the
+//! FIFO follows the two-phase discipline of [`super::clocked`]:
+//!
+//! - `ready` (to the producer) = occupancy < depth. **A pop in the same cycle does not free a
+//!   slot for a push in that cycle**: `ready` is the registered not-full flag, as in a
+//!   standard synchronous FIFO. Letting `ready` depend on the consumer's `ready` would be a
+//!   combinational path from the far end of a chain of stages back to its start, the long path
+//!   that FIFOs are put in to cut. The cost, made visible here: a depth-1 FIFO passes at most
+//!   one item every two cycles; depth 2 sustains one per cycle.
+//! - `valid` (to the consumer) = occupancy > 0, and the data is the registered head. There is
+//!   no fall-through: an item pushed in cycle `c` can leave in cycle `c + 1` at the earliest,
+//!   so every item spends at least one cycle inside.
+//! - A push happens in a cycle when the producer offers an item ([`Fifo::try_push`]: valid)
+//!   and `ready`; a pop when the consumer asks ([`Fifo::try_pop`]: ready) and `valid`. Both
+//!   may happen in one cycle (occupancy then stays). A side that is not driven in a cycle has
+//!   its signal low.
+//! - The storage write and the pointer update happen at the edge ([`Commit::commit`], via
+//!   [`super::clocked::Clock::edge`]). The popped item is handed to the consumer during the
+//!   cycle (it is the registered head, which the consumer captures at the same edge), but
+//!   `ready`, `valid` and [`Fifo::occupancy`] keep their start-of-cycle values until the edge,
+//!   so the producer and consumer may be evaluated in either order.
+//!
+//! # Stamps
+//!
+//! An item enters the FIFO's stage ([`Fifo::stage`]) in the cycle of its push and leaves in the
+//! cycle of its pop, so `left ≥ entered + 1`. A [`forward`] from one FIFO to the next makes the
+//! first's exit cycle the second's entry cycle.
+//!
+//! # Misuse
+//!
+//! Nothing panics. Driving a side twice in one cycle (two producers, or one producer pushing
+//! twice) is refused, counted in [`FifoStats::misuse`], and hands the item back. A FIFO that is
+//! committed outside the clock's edge goes out of step, which the next edge reports.
+//!
+//! # Example
+//!
+//! ```
+//! use rtl_model::cycle::clocked::{Clock, StageId, Stamped};
+//! use rtl_model::cycle::fifo::Fifo;
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let mut clock = Clock::new();
+//! let mut fifo = Fifo::new(StageId(3), 2)?;
+//! // Cycle 0: push; the consumer asks but the FIFO is empty at the start of the cycle.
+//! assert!(fifo.try_push(Stamped::new(7u32)).is_ok());
+//! assert!(fifo.try_pop()?.is_none());
+//! clock.edge(&mut [&mut fifo])?;
+//! // Cycle 1: the item is visible now.
+//! let item = fifo.try_pop()?.ok_or("empty")?;
+//! assert_eq!((item.payload, item.latency_in(StageId(3))), (7, Some(1)));
+//! clock.edge(&mut [&mut fifo])?;
+//! assert_eq!(fifo.stats().starved_cycles, 1);
+//! # Ok(())
+//! # }
+//! ```
+
+use std::collections::VecDeque;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use super::clocked::{ClockError, Commit, StageId, Stamped};
+
+/// Deepest FIFO accepted. 65 536 entries of a 64-bit word is already about 114 BRAM36, more
+/// than any inter-stage FIFO of the pipeline needs; the bound keeps the occupancy histogram
+/// (one counter per level) small.
+pub const MAX_DEPTH: usize = 1 << 16;
+
+/// Errors from building or driving a FIFO.
+#[derive(Clone, Copy, Debug, Error, PartialEq, Eq)]
+pub enum FifoError {
+    /// Depth 0: a FIFO that can never accept anything.
+    #[error("FIFO depth must be at least 1")]
+    ZeroDepth,
+    /// Depth above [`MAX_DEPTH`].
+    #[error("FIFO depth {0} is above the maximum {MAX_DEPTH}")]
+    TooDeep(usize),
+    /// The consumer side was driven twice in one cycle.
+    #[error("consumer side driven twice in cycle {cycle}")]
+    PopSideDriven {
+        /// The cycle.
+        cycle: u64,
+    },
+    /// The producer side was driven twice in one cycle.
+    #[error("producer side driven twice in cycle {cycle}")]
+    PushSideDriven {
+        /// The cycle.
+        cycle: u64,
+    },
+    /// [`forward`] between FIFOs that are on different cycles.
+    #[error("FIFOs are on different cycles ({from} and {to})")]
+    OutOfStep {
+        /// Cycle of the upstream FIFO.
+        from: u64,
+        /// Cycle of the downstream FIFO.
+        to: u64,
+    },
+}
+
+/// Why [`Fifo::try_push`] did not take an item.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refusal {
+    /// The FIFO was full at the start of the cycle: back-pressure, the producer keeps the
+    /// item and offers it again. Counted in [`FifoStats::full_cycles`].
+    Full,
+    /// The producer side was already driven this cycle: misuse, counted in
+    /// [`FifoStats::misuse`].
+    AlreadyDriven,
+}
+
+/// An item [`Fifo::try_push`] did not take, handed back to the producer.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Rejected<T> {
+    /// The item, unchanged (no stamp added).
+    pub item: Stamped<T>,
+    /// Why it was not taken.
+    pub reason: Refusal,
+}
+
+impl<T> std::fmt::Display for Rejected<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.reason {
+            Refusal::Full => write!(f, "FIFO full"),
+            Refusal::AlreadyDriven => write!(f, "FIFO producer side driven twice in one cycle"),
+        }
+    }
+}
+
+impl<T: std::fmt::Debug> std::error::Error for Rejected<T> {}
+
+/// Counters of one FIFO. Occupancy samples are the registered occupancy of each cycle (the
+/// value the handshake used), taken once per edge.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FifoStats {
+    /// Edges taken (cycles evaluated).
+    pub cycles: u64,
+    /// Items accepted.
+    pub pushes: u64,
+    /// Items handed out.
+    pub pops: u64,
+    /// Back-pressure: cycles in which the producer offered an item and the FIFO was full.
+    pub full_cycles: u64,
+    /// Starvation: cycles in which the consumer was ready and the FIFO was empty.
+    pub starved_cycles: u64,
+    /// Highest occupancy the FIFO has held (including the current one).
+    pub max_occupancy: u64,
+    /// Sum of the per-cycle occupancy samples; divided by `cycles`, the mean occupancy.
+    pub occupancy_sum: u64,
+    /// Cycles spent at each occupancy, index 0 to depth; sums to `cycles`.
+    pub occupancy_histogram: Vec<u64>,
+    /// Sum over popped items of the cycles each spent inside (exit − entry).
+    pub latency_sum: u64,
+    /// Longest time an item spent inside.
+    pub latency_max: u64,
+    /// Refused misuse: a side driven twice in one cycle, or an item whose stamps did not
+    /// show it inside this FIFO when it left (cannot happen through this API).
+    pub misuse: u64,
+}
+
+impl FifoStats {
+    /// Mean occupancy per cycle, 0 before the first edge.
+    pub fn mean_occupancy(&self) -> f64 {
+        if self.cycles == 0 {
+            0.0
+        } else {
+            self.occupancy_sum as f64 / self.cycles as f64
+        }
+    }
+
+    /// Mean cycles an item spent inside, 0 before the first pop.
+    pub fn mean_latency(&self) -> f64 {
+        if self.pops == 0 {
+            0.0
+        } else {
+            self.latency_sum as f64 / self.pops as f64
+        }
+    }
+}
+
+/// A bounded FIFO of stamped transactions with registered valid/ready (see the module doc).
+#[derive(Clone, Debug)]
+pub struct Fifo<T> {
+    stage: StageId,
+    depth: usize,
+    now: u64,
+    /// Storage; the front is the head. During a cycle it can be one shorter than `occupancy`
+    /// (the head was handed out), and the push waits in `pending` until the edge.
+    items: VecDeque<Stamped<T>>,
+    /// Registered occupancy: what `ready`, `valid` and the counters use all cycle.
+    occupancy: usize,
+    pending: Option<Stamped<T>>,
+    push_driven: bool,
+    pop_driven: bool,
+    popped: bool,
+    stats: FifoStats,
+}
+
+impl<T> Fifo<T> {
+    /// An empty FIFO of `depth` entries at cycle 0, stamping items with `stage`.
+    pub fn new(stage: StageId, depth: usize) -> Result<Self, FifoError> {
+        if depth == 0 {
+            return Err(FifoError::ZeroDepth);
+        }
+        if depth > MAX_DEPTH {
+            return Err(FifoError::TooDeep(depth));
+        }
+        Ok(Self {
+            stage,
+            depth,
+            now: 0,
+            items: VecDeque::with_capacity(depth),
+            occupancy: 0,
+            pending: None,
+            push_driven: false,
+            pop_driven: false,
+            popped: false,
+            stats: FifoStats {
+                occupancy_histogram: vec![0; depth + 1],
+                ..FifoStats::default()
+            },
+        })
+    }
+
+    /// The stage id this FIFO stamps items with.
+    pub fn stage(&self) -> StageId {
+        self.stage
+    }
+
+    /// Capacity in items.
+    pub fn depth(&self) -> usize {
+        self.depth
+    }
+
+    /// Items inside at the start of this cycle (registered; unchanged until the edge).
+    pub fn occupancy(&self) -> usize {
+        self.occupancy
+    }
+
+    /// `ready` to the producer: not full at the start of the cycle. A pop in this cycle does
+    /// not make it true (see the module doc).
+    pub fn ready(&self) -> bool {
+        self.occupancy < self.depth
+    }
+
+    /// `valid` to the consumer: not empty at the start of the cycle.
+    pub fn valid(&self) -> bool {
+        self.occupancy > 0
+    }
+
+    /// The head item, for a consumer that decides on its content before asking. `None` when
+    /// empty, and also once the head has been popped this cycle (it has been handed over).
+    pub fn peek(&self) -> Option<&Stamped<T>> {
+        if self.popped {
+            None
+        } else {
+            self.items.front()
+        }
+    }
+
+    /// The counters so far.
+    pub fn stats(&self) -> &FifoStats {
+        &self.stats
+    }
+
+    /// The producer offers `item` this cycle (asserts valid). Taken if the FIFO was not full at
+    /// the start of the cycle; it is stamped as entering now and becomes visible after the
+    /// edge. Otherwise the item comes back with the reason.
+    pub fn try_push(&mut self, item: Stamped<T>) -> Result<(), Rejected<T>> {
+        if self.push_driven {
+            self.stats.misuse = self.stats.misuse.saturating_add(1);
+            return Err(Rejected {
+                item,
+                reason: Refusal::AlreadyDriven,
+            });
+        }
+        self.push_driven = true;
+        if !self.ready() {
+            self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
+            return Err(Rejected {
+                item,
+                reason: Refusal::Full,
+            });
+        }
+        self.accept(item);
+        Ok(())
+    }
+
+    /// The consumer asserts ready this cycle. Returns the head, stamped as leaving now, if the
+    /// FIFO was not empty at the start of the cycle; `Ok(None)` (a starved cycle) otherwise.
+    pub fn try_pop(&mut self) -> Result<Option<Stamped<T>>, FifoError> {
+        if self.pop_driven {
+            self.stats.misuse = self.stats.misuse.saturating_add(1);
+            return Err(FifoError::PopSideDriven { cycle: self.now });
+        }
+        self.pop_driven = true;
+        if !self.valid() {
+            self.stats.starved_cycles = self.stats.starved_cycles.saturating_add(1);
+            return Ok(None);
+        }
+        Ok(self.take())
+    }
+
+    /// Push half of a handshake that has fired: stamp and hold for the edge.
+    fn accept(&mut self, mut item: Stamped<T>) {
+        item.enter(self.stage, self.now);
+        self.pending = Some(item);
+        self.stats.pushes = self.stats.pushes.saturating_add(1);
+    }
+
+    /// Pop half of a handshake that has fired: hand out the head, stamped.
+    fn take(&mut self) -> Option<Stamped<T>> {
+        // `valid` guarantees an item: storage holds `occupancy` items until the single pop
+        // of the cycle. `?` keeps the impossible case quiet instead of panicking.
+        let mut item = self.items.pop_front()?;
+        self.popped = true;
+        self.stats.pops = self.stats.pops.saturating_add(1);
+        match item.leave(self.stage, self.now) {
+            Ok(latency) => {
+                self.stats.latency_sum = self.stats.latency_sum.saturating_add(latency);
+                self.stats.latency_max = self.stats.latency_max.max(latency);
+            }
+            Err(_) => self.stats.misuse = self.stats.misuse.saturating_add(1),
+        }
+        Some(item)
+    }
+}
+
+/// One cycle of a plain wire between two FIFOs (`from` → `to`): `from`'s consumer is ready
+/// when `to` is ready, `to`'s producer is valid when `from` is valid, both read from registered
+/// state. Returns whether an item moved; it leaves `from` and enters `to` in this cycle. Drives
+/// both sides, so neither may be driven again this cycle; if either already was, or the two
+/// are on different cycles, nothing moves and an error says why.
+pub fn forward<T>(from: &mut Fifo<T>, to: &mut Fifo<T>) -> Result<bool, FifoError> {
+    if from.now != to.now {
+        return Err(FifoError::OutOfStep {
+            from: from.now,
+            to: to.now,
+        });
+    }
+    if from.pop_driven {
+        from.stats.misuse = from.stats.misuse.saturating_add(1);
+        return Err(FifoError::PopSideDriven { cycle: from.now });
+    }
+    if to.push_driven {
+        to.stats.misuse = to.stats.misuse.saturating_add(1);
+        return Err(FifoError::PushSideDriven { cycle: to.now });
+    }
+    let (valid, ready) = (from.valid(), to.ready());
+    from.pop_driven = true;
+    to.push_driven = true;
+    if valid && !ready {
+        to.stats.full_cycles = to.stats.full_cycles.saturating_add(1);
+    }
+    if ready && !valid {
+        from.stats.starved_cycles = from.stats.starved_cycles.saturating_add(1);
+    }
+    if valid && ready {
+        if let Some(item) = from.take() {
+            to.accept(item);
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+impl<T> Commit for Fifo<T> {
+    fn cycle(&self) -> u64 {
+        self.now
+    }
+
+    /// A FIFO needs no evaluation to take the edge: an undriven side has its signal low.
+    fn check(&self, now: u64) -> Result<(), ClockError> {
+        if self.now == now {
+            Ok(())
+        } else {
+            Err(ClockError::OutOfStep {
+                part: self.now,
+                clock: now,
+            })
+        }
+    }
+
+    fn commit(&mut self) {
+        let s = &mut self.stats;
+        s.cycles = s.cycles.saturating_add(1);
+        s.occupancy_sum = s.occupancy_sum.saturating_add(self.occupancy as u64);
+        if let Some(h) = s.occupancy_histogram.get_mut(self.occupancy) {
+            *h = h.saturating_add(1);
+        }
+        if let Some(item) = self.pending.take() {
+            self.items.push_back(item);
+        }
+        self.occupancy = self.items.len();
+        s.max_occupancy = s.max_occupancy.max(self.occupancy as u64);
+        self.push_driven = false;
+        self.pop_driven = false;
+        self.popped = false;
+        self.now = self.now.saturating_add(1);
+    }
+}
