@@ -1,0 +1,1059 @@
+//! The hardware configuration of the cycle model: the target part and its resource budget, the
+//! clock, the latency and initiation interval of every fixed unit, how many of each unit there
+//! are, the walker pool, the FIFO depths between stages, the node memory (on-chip part, cache,
+//! external DRAM) and the hit buffer — plus an estimate of the DSP48E2, BRAM36 and URAM288 a
+//! configuration needs against the part's budget.
+//!
+//! Pipeline position: read once per run, like the datapath configuration; every stage, the
+//! walker pool and the memory model take their part of it, and the report prints the
+//! [`ResourceReport`]. The defaults, and the reason for each number, are documented field by
+//! field here and in `docs/cycle-model.md` ("Hardware configuration").
+//!
+//! Conventions: latencies are cycles from a transaction entering a unit to its result leaving
+//! it; an initiation interval (II) is the number of cycles between two transactions a unit
+//! accepts (1 = fully pipelined). Every structure is serde (RON) with `deny_unknown_fields`,
+//! and every field has a default, so a RON file need only name what it changes.
+
+use super::fifo;
+use super::memory::NodeMemoryConfig;
+use crate::datapath::DatapathConfig;
+use crate::fixed::{dsp48e2_per_product, Format, Quant};
+use crate::svo::MAX_DEPTH;
+use crate::units::hit_record::{bram36_count, uram288_count};
+use crate::units::sphere::SphereConfig;
+use crate::units::sqrt::SqrtConfig;
+use crate::units::transform::TransformConfig;
+use crate::units::walker::WalkerConfig;
+use crate::units::{reciprocal, sorter, sqrt, transform};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// Cycles of one multiply in a DSP48E2 with its input, multiplier and product registers; a
+/// product spanning several slices takes one more cycle to add its partial products. The same
+/// rule as the reciprocal unit's `latency_cycles`, so all units count alike.
+const DSP_PIPELINE_CYCLES: u32 = 3;
+
+/// Bits of a node-memory word address: the walker's node addresses are `u32` word indices
+/// (`svo::SvoImage::nodes`), and a descriptor is one 32-bit word.
+const NODE_ADDRESS_BITS: u32 = 32;
+/// Bits of a child descriptor (`docs/svo-format.md` §3).
+const DESCRIPTOR_BITS: u32 = 32;
+/// Bits of the walker's "next child" state: labels 0..=7 and 8 = done.
+const NEXT_CHILD_BITS: u32 = 4;
+/// Bytes of one node word.
+const NODE_WORD_BYTES: u64 = 4;
+
+/// Upper limits `validate` enforces: far above any sensible design, low enough that every
+/// product of them in [`HwConfig::resources`] stays within `u64`.
+const MAX_CLOCK_MHZ: u32 = 1000;
+const MAX_LATENCY: u32 = 100_000;
+const MAX_UNITS: u32 = 4096;
+const MAX_CONTEXTS: u32 = 1024;
+const MAX_STACK_DEPTH: u8 = 64;
+/// Deepest FIFO the FIFO model builds.
+const FIFO_MAX_DEPTH: u32 = fifo::MAX_DEPTH as u32;
+const MAX_FRAME_SIDE: u32 = 16384;
+
+/// A named FPGA part and its resource budget.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Part {
+    /// AMD/Xilinx device name, e.g. `xcvu9p`.
+    pub name: String,
+    /// DSP48E2 slices (27×18 multipliers).
+    pub dsp48e2: u32,
+    /// 36 Kb block RAMs (RAMB36E2; a RAMB18 pair counts as one).
+    pub bram36: u32,
+    /// 288 Kb UltraRAMs (URAM288); 0 on parts without UltraRAM.
+    pub uram288: u32,
+    /// CLB LUTs: listed for the report; the estimate does not count LUTs.
+    pub luts: u32,
+}
+
+impl Part {
+    /// Virtex UltraScale+ XCVU9P: 6,840 DSP48E2, 2,160 BRAM36 (75.9 Mb), 960 URAM288 (270 Mb),
+    /// 1,182,240 LUTs (AMD DS890, Virtex UltraScale+ feature summary; XMP103 selection guide).
+    /// The default part: its UltraRAM holds the two per-pixel tables of a 1280×768 frame, the
+    /// hit buffer (240 URAM288) and the direction table (480), which parts without UltraRAM
+    /// cannot hold in block RAM.
+    pub fn xcvu9p() -> Self {
+        Self {
+            name: "xcvu9p".into(),
+            dsp48e2: 6840,
+            bram36: 2160,
+            uram288: 960,
+            luts: 1_182_240,
+        }
+    }
+
+    /// Zynq UltraScale+ XCZU9EG: 2,520 DSP48E2, 912 BRAM36 (32.1 Mb), no UltraRAM, 274,080
+    /// LUTs (AMD DS891, Zynq UltraScale+ MPSoC feature summary). The alternative: the
+    /// 1280×768 hit buffer (1,920 BRAM36) does not fit, so it must be external.
+    pub fn xczu9eg() -> Self {
+        Self {
+            name: "xczu9eg".into(),
+            dsp48e2: 2520,
+            bram36: 912,
+            uram288: 0,
+            luts: 274_080,
+        }
+    }
+}
+
+impl Default for Part {
+    fn default() -> Self {
+        Self::xcvu9p()
+    }
+}
+
+/// Latency and initiation interval of a fixed-timing unit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnitTiming {
+    /// Cycles from a transaction entering the unit to its result leaving it (≥ 1: every
+    /// unit's output is registered, which the two-phase commit of the stages needs).
+    pub latency_cycles: u32,
+    /// Cycles between two transactions the unit accepts (1 = fully pipelined).
+    pub ii: u32,
+}
+
+impl UnitTiming {
+    /// A fully pipelined unit (II = 1) of the given latency.
+    pub const fn pipelined(latency_cycles: u32) -> Self {
+        Self {
+            latency_cycles,
+            ii: 1,
+        }
+    }
+}
+
+/// Timing of every fixed-latency unit, one instance each (how many instances there are is
+/// set by [`HwConfig::sphere_units`] and its siblings).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct UnitTimings {
+    /// Ray generation: one direction-table entry and the camera position per ray. Default 4:
+    /// the table's URAM read as the hit buffer's (`HitBuffer::read_latency_cycles`).
+    pub raygen: UnitTiming,
+    /// Sphere test up to the square root's radicand, and the entry subtraction after it
+    /// ([`sphere_latency_cycles`], 15 by default); the square root itself is `sqrt`.
+    pub sphere: UnitTiming,
+    /// Square root of the sphere unit (digit recurrence, one stage per root digit):
+    /// `units::sqrt::latency_cycles` of [`sqrt_config_for`] the sphere formats, 32.
+    pub sqrt: UnitTiming,
+    /// Sorting network: `units::sorter::network_latency(n)` layers (6 for 8 lanes), II
+    /// `network_ii` = 1. Rays with more candidates than lanes take the extra chunks and merge
+    /// passes of `units::sorter::sort_timing` on top.
+    pub sorter: UnitTiming,
+    /// Transform into an instance's frame ([`transform_latency_cycles`], 8 by default).
+    pub transform: UnitTiming,
+    /// One reciprocal 1/d: `units::reciprocal::latency_cycles`, 23 by default.
+    pub reciprocal: UnitTiming,
+    /// Root slabs of a walk, t = (±e − o)·(1/|d|) on three axes and the entry test
+    /// ([`walker_root_latency_cycles`], 8 by default).
+    pub walker_root: UnitTiming,
+    /// Packing a hit record into its word: one register (concatenation, t saturation).
+    pub hit_pack: UnitTiming,
+    /// Unpacking a word read from the hit buffer: one register (wiring and the none-code
+    /// compare).
+    pub hit_unpack: UnitTiming,
+}
+
+impl Default for UnitTimings {
+    fn default() -> Self {
+        Self::for_datapath(&DatapathConfig::default())
+    }
+}
+
+impl UnitTimings {
+    /// The timings the stage counts of `dp`'s units give (the minimum latencies, II = 1).
+    pub fn for_datapath(dp: &DatapathConfig) -> Self {
+        let sqrt_lat = sqrt::latency_cycles(&sqrt_config_for(&dp.sphere));
+        Self {
+            raygen: UnitTiming::pipelined(4),
+            sphere: UnitTiming::pipelined(sphere_latency_cycles(&dp.sphere)),
+            sqrt: UnitTiming::pipelined(sqrt_lat),
+            sorter: UnitTiming {
+                latency_cycles: sat_u32(sorter::network_latency(dp.sorter.n.max(1))),
+                ii: sat_u32(sorter::network_ii(dp.sorter.n.max(1))),
+            },
+            transform: UnitTiming::pipelined(transform_latency_cycles(&dp.transform)),
+            reciprocal: UnitTiming::pipelined(reciprocal::latency_cycles(&dp.reciprocal)),
+            walker_root: UnitTiming::pipelined(walker_root_latency_cycles(&dp.walker)),
+            hit_pack: UnitTiming::pipelined(1),
+            hit_unpack: UnitTiming::pipelined(1),
+        }
+    }
+
+    /// The units by name, in pipeline order (the names `validate` uses).
+    pub fn named(&self) -> [(&'static str, UnitTiming); 9] {
+        [
+            ("raygen", self.raygen),
+            ("sphere", self.sphere),
+            ("sqrt", self.sqrt),
+            ("sorter", self.sorter),
+            ("transform", self.transform),
+            ("reciprocal", self.reciprocal),
+            ("walker_root", self.walker_root),
+            ("hit_pack", self.hit_pack),
+            ("hit_unpack", self.hit_unpack),
+        ]
+    }
+}
+
+/// How a walker keeps the frames of its explicit stack (DESIGN.md §4, "exact pop").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum StackStorage {
+    /// Each frame holds the node's full t-interval (t0, t1 on three axes), as
+    /// `units::walker` does: 6·|t| + 68 bits per frame.
+    FullT,
+    /// Each frame holds the three low bits the midpoint shifts dropped, from which a pop
+    /// rebuilds the parent's interval exactly: 3 + 68 bits per frame.
+    ExactPop,
+}
+
+/// The walker pool.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct WalkerPool {
+    /// W: octree walkers. Default 16: the default scene at depth 11 needs about 16 steps per
+    /// ray with no reuse and 13 with a still camera (`sim --model fixed`, 320×192), so 150 fps
+    /// at 1280×768 needs 6.3 steps per cycle at 300 MHz and 67 fps with a moving camera 3.5;
+    /// 16 walkers at one step per cycle leave 2.5× for memory stalls and imbalance.
+    pub walkers: u32,
+    /// R: ray contexts per walker, interleaved so one context's node fetch does not stall the
+    /// walker. Default 8: a step takes `step_latency_cycles` (3) plus an on-chip or cache
+    /// fetch (3–4), so 8 contexts keep a walker busy on on-chip hits; DRAM misses
+    /// (`node_memory.dram.latency`) are hidden only in part, which the model measures.
+    pub contexts_per_walker: u32,
+    /// Cycles the walker's datapath is busy per child examined (its II). Default 1: a step
+    /// is muxes, 62-bit compares and midpoint adders (no DSP), pipelined.
+    pub step_cycles: u32,
+    /// Cycles from a context's step issuing to the same context's next step: the step
+    /// pipeline (child interval select and entry/exit compares, next-child logic, midpoint
+    /// adders). Default 3; other contexts issue in between.
+    pub step_latency_cycles: u32,
+    /// Stack frames per context. Default 21 = `svo::MAX_DEPTH` + 1, the most `units::walker`
+    /// ever pushes, so any image the builders make fits.
+    pub stack_depth: u8,
+    /// What a stack frame holds. Default [`StackStorage::FullT`]: what the functional walker
+    /// does; 7 BRAM36 per walker (8 contexts × 21 frames × 440 bits) is 5 % of the part, so the
+    /// exact-pop logic is not yet worth it (1 BRAM36 per walker).
+    pub stack: StackStorage,
+}
+
+impl Default for WalkerPool {
+    fn default() -> Self {
+        Self {
+            walkers: 16,
+            contexts_per_walker: 8,
+            step_cycles: 1,
+            step_latency_cycles: 3,
+            stack_depth: MAX_DEPTH + 1,
+            stack: StackStorage::FullT,
+        }
+    }
+}
+
+/// Depths (entries) of the valid/ready FIFOs between stages, in pipeline order.
+///
+/// All are assumed to be LUTRAM/SRL FIFOs and are not counted as block RAM (see
+/// [`HwConfig::resources`]).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FifoDepths {
+    /// Ray generation → sphere tests. Default 4: both II = 1; covers the ready round trip.
+    pub raygen_to_sphere: u32,
+    /// Sphere tests → sorter (a ray's candidates). Default 4: as above.
+    pub sphere_to_sorter: u32,
+    /// Sorter → hit-buffer check. Default 8: absorbs the sorter's merge passes on rays with
+    /// more candidates than lanes (a few cycles each).
+    pub sorter_to_check: u32,
+    /// Hit-buffer check → transform (walks to do). Default 32: decouples the fixed-rate front
+    /// end from the variable-time walkers; reused pixels bypass it.
+    pub check_to_transform: u32,
+    /// Transform → reciprocal. Default 4: both II = 1.
+    pub transform_to_reciprocal: u32,
+    /// Reciprocal → walker root. Default 4: both II = 1.
+    pub reciprocal_to_root: u32,
+    /// Walker root → dispatcher (walks waiting for a free context). Default 64: holds about
+    /// one walk per context (W·R/2) so a context freed is refilled at once.
+    pub root_to_dispatch: u32,
+    /// Walkers → early termination / hit record. Default 16: one per walker.
+    pub walker_to_record: u32,
+    /// Hit record → hit-buffer write and frame buffer. Default 8: covers the write port's
+    /// and the frame-buffer stream's short stalls.
+    pub record_to_write: u32,
+}
+
+impl Default for FifoDepths {
+    fn default() -> Self {
+        Self {
+            raygen_to_sphere: 4,
+            sphere_to_sorter: 4,
+            sorter_to_check: 8,
+            check_to_transform: 32,
+            transform_to_reciprocal: 4,
+            reciprocal_to_root: 4,
+            root_to_dispatch: 64,
+            walker_to_record: 16,
+            record_to_write: 8,
+        }
+    }
+}
+
+impl FifoDepths {
+    /// The FIFOs by name, in pipeline order (the names `validate` uses).
+    pub fn named(&self) -> [(&'static str, u32); 9] {
+        [
+            ("raygen_to_sphere", self.raygen_to_sphere),
+            ("sphere_to_sorter", self.sphere_to_sorter),
+            ("sorter_to_check", self.sorter_to_check),
+            ("check_to_transform", self.check_to_transform),
+            ("transform_to_reciprocal", self.transform_to_reciprocal),
+            ("reciprocal_to_root", self.reciprocal_to_root),
+            ("root_to_dispatch", self.root_to_dispatch),
+            ("walker_to_record", self.walker_to_record),
+            ("record_to_write", self.record_to_write),
+        ]
+    }
+}
+
+/// Where a per-pixel table lives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Placement {
+    /// On chip in block RAM (RAMB36E2).
+    Bram,
+    /// On chip in UltraRAM (URAM288, 4K×72).
+    Uram,
+    /// In external DRAM (sharing its bandwidth with the node fetches).
+    External,
+}
+
+/// The per-pixel hit buffer (paper §4.3).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HitBuffer {
+    /// Where it lives. Default URAM: the 1280×768 buffer of 72-bit words is 240 URAM288
+    /// (a quarter of the part's) against 1,920 BRAM36 (89 % of them);
+    /// `docs/units/hit-record.md` §6.
+    pub placement: Placement,
+    /// Read ports per cycle. Default 1: the reuse check reads each pixel once per frame.
+    pub read_ports: u8,
+    /// Write ports per cycle. Default 1: the write-back writes each pixel once per frame.
+    pub write_ports: u8,
+    /// Cycles from read address to word. Default 4: URAM read, output register and two
+    /// pipeline registers of the cascade and output multiplexer of a 240-block array spread
+    /// over several URAM columns. (External: the model uses the DRAM's latency instead.)
+    pub read_latency_cycles: u32,
+}
+
+impl Default for HitBuffer {
+    fn default() -> Self {
+        Self {
+            placement: Placement::Uram,
+            read_ports: 1,
+            write_ports: 1,
+            read_latency_cycles: 4,
+        }
+    }
+}
+
+/// The largest frame the per-pixel memories are built for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FrameSize {
+    /// Pixels per row. Default 1280 (the paper's resolution).
+    pub width: u32,
+    /// Rows. Default 768.
+    pub height: u32,
+}
+
+impl Default for FrameSize {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 768,
+        }
+    }
+}
+
+impl FrameSize {
+    /// Pixels of the frame.
+    pub fn pixels(&self) -> u64 {
+        u64::from(self.width) * u64::from(self.height)
+    }
+}
+
+/// The whole hardware configuration.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HwConfig {
+    /// Target part and its budget. Default [`Part::xcvu9p`].
+    pub part: Part,
+    /// Clock, MHz. Default 300: the DDR4-2400 controller's user-interface clock (4:1 to the
+    /// 1200 MHz memory clock), so the pipeline and the memory controller share one clock
+    /// without a crossing; well inside the -2 speed grade's limits (DSP48E2 with all
+    /// registers 775 MHz, and 410 MHz even without its pipeline registers, DS923), leaving
+    /// room for the 62-bit adders and the routing of a large three-die design; and 300 M
+    /// rays/s at one ray per clock is 305 fps at 1280×768, twice the 150 fps target.
+    pub clock_mhz: u32,
+    /// Largest frame the hit buffer and direction table are built for.
+    pub frame: FrameSize,
+    /// Latency and II of each fixed unit.
+    pub units: UnitTimings,
+    /// Sphere-test lanes (each with its own square root): instances tested per cycle.
+    /// Default 8: the default scene's instances, so a ray's tests take one cycle.
+    pub sphere_units: u32,
+    /// Lanes of the sorting network; must equal the datapath's `sorter.n`. Default 8.
+    pub sorter_lanes: u8,
+    /// Transform units. Default 1: one walk per cycle, while the default scene needs about
+    /// 0.3 at either target (150 fps with a still camera: 0.49 rays × 0.63 walks per cycle;
+    /// 67 fps with a moving one: 0.22 × 1.32).
+    pub transform_units: u32,
+    /// Reciprocal units, one axis each. Default 3: one walk's three axes per cycle.
+    pub reciprocal_units: u32,
+    /// Walker-root units (root slabs), shared by the pool as a stage before the dispatcher.
+    /// Default 1: one walk per cycle like the transform; one per walker would cost 36 DSP
+    /// each for a unit busy one cycle in a dozen.
+    pub walker_root_units: u32,
+    /// The walker pool.
+    pub walker_pool: WalkerPool,
+    /// FIFO depths between stages.
+    pub fifos: FifoDepths,
+    /// Node memory: on-chip top levels, cache, DRAM — the node-memory model's own
+    /// configuration (`cycle::memory`), whose fields and defaults are documented there.
+    pub node_memory: NodeMemoryConfig,
+    /// Hit buffer.
+    pub hit_buffer: HitBuffer,
+    /// Where the per-pixel direction table (`units::raygen`, 3 × 32 bits per pixel) lives.
+    /// Default URAM: 480 URAM288 at 1280×768. The alternative, a sequential DRAM stream
+    /// through a prefetch FIFO (12 bytes per ray, 9 % of the DRAM's peak at 150 fps), would
+    /// save them, but it would take DRAM bandwidth that the node-memory model does not
+    /// count; on chip, the DRAM carries only the node and attribute reads the model times.
+    /// With the 105-bit hit record (`include_voxel`) the two tables no longer fit the
+    /// part's URAM together, and this is the one to move out.
+    pub direction_table: Placement,
+}
+
+impl Default for HwConfig {
+    fn default() -> Self {
+        Self::for_datapath(&DatapathConfig::default())
+    }
+}
+
+/// Resources in the three counted kinds.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Resources {
+    /// DSP48E2 slices.
+    pub dsp48e2: u64,
+    /// BRAM36 blocks.
+    pub bram36: u64,
+    /// URAM288 blocks.
+    pub uram288: u64,
+}
+
+impl Resources {
+    fn add(self, o: Self) -> Self {
+        Self {
+            dsp48e2: self.dsp48e2.saturating_add(o.dsp48e2),
+            bram36: self.bram36.saturating_add(o.bram36),
+            uram288: self.uram288.saturating_add(o.uram288),
+        }
+    }
+}
+
+/// One line of the estimate: a component, how many instances, and what they take in all.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ResourceItem {
+    /// Component name (`sphere`, `walker_stacks`, `hit_buffer`, …).
+    pub name: String,
+    /// Instances (lanes, units, walkers, banks; 1 for a single memory).
+    pub instances: u64,
+    /// Resources of all instances together.
+    pub used: Resources,
+    /// How the number was obtained.
+    pub note: String,
+}
+
+/// Estimated use of a configuration against its part's budget.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ResourceReport {
+    /// Part name.
+    pub part: String,
+    /// The estimate component by component.
+    pub items: Vec<ResourceItem>,
+    /// Sum of the items.
+    pub used: Resources,
+    /// The part's budget.
+    pub available: Resources,
+}
+
+impl ResourceReport {
+    /// Whether every kind fits the part.
+    pub fn fits(&self) -> bool {
+        self.over_budget().is_empty()
+    }
+
+    /// A message per kind that exceeds the part ("URAM288: 1200 used, 960 available").
+    pub fn over_budget(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for (kind, used, avail) in self.kinds() {
+            if used > avail {
+                out.push(format!(
+                    "{kind}: {used} used, {avail} available on {}",
+                    self.part
+                ));
+            }
+        }
+        out
+    }
+
+    /// Percent of the part used per kind (DSP48E2, BRAM36, URAM288); 0 % of nothing is 0,
+    /// any use of nothing is +∞.
+    pub fn percent(&self) -> [f64; 3] {
+        self.kinds().map(|(_, u, a)| percent(u, a))
+    }
+
+    fn kinds(&self) -> [(&'static str, u64, u64); 3] {
+        [
+            ("DSP48E2", self.used.dsp48e2, self.available.dsp48e2),
+            ("BRAM36", self.used.bram36, self.available.bram36),
+            ("URAM288", self.used.uram288, self.available.uram288),
+        ]
+    }
+}
+
+fn percent(used: u64, avail: u64) -> f64 {
+    if avail == 0 {
+        if used == 0 {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    } else {
+        100.0 * used as f64 / avail as f64
+    }
+}
+
+impl fmt::Display for ResourceReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "resources on {} (estimate):", self.part)?;
+        writeln!(
+            f,
+            "  {:<16} {:>5} {:>8} {:>8} {:>8}  note",
+            "component", "n", "DSP48E2", "BRAM36", "URAM288"
+        )?;
+        for it in &self.items {
+            writeln!(
+                f,
+                "  {:<16} {:>5} {:>8} {:>8} {:>8}  {}",
+                it.name, it.instances, it.used.dsp48e2, it.used.bram36, it.used.uram288, it.note
+            )?;
+        }
+        let p = self.percent();
+        writeln!(
+            f,
+            "  {:<16} {:>5} {:>8} {:>8} {:>8}",
+            "used", "", self.used.dsp48e2, self.used.bram36, self.used.uram288
+        )?;
+        writeln!(
+            f,
+            "  {:<16} {:>5} {:>8} {:>8} {:>8}",
+            "available", "", self.available.dsp48e2, self.available.bram36, self.available.uram288
+        )?;
+        // A kind the part lacks shows as "none" rather than an infinite percentage.
+        let pct = |x: f64| {
+            if x.is_finite() {
+                format!("{x:.1}%")
+            } else {
+                "none".to_string()
+            }
+        };
+        write!(
+            f,
+            "  {:<16} {:>5} {:>8} {:>8} {:>8}  {}",
+            "utilisation",
+            "",
+            pct(p[0]),
+            pct(p[1]),
+            pct(p[2]),
+            if self.fits() {
+                "fits".to_string()
+            } else {
+                format!("DOES NOT FIT: {}", self.over_budget().join("; "))
+            }
+        )
+    }
+}
+
+impl HwConfig {
+    /// The default configuration with the unit timings and sorter lanes of `dp`.
+    pub fn for_datapath(dp: &DatapathConfig) -> Self {
+        Self {
+            part: Part::default(),
+            clock_mhz: 300,
+            frame: FrameSize::default(),
+            units: UnitTimings::for_datapath(dp),
+            sphere_units: 8,
+            sorter_lanes: dp.sorter.n,
+            transform_units: 1,
+            reciprocal_units: 3,
+            walker_root_units: 1,
+            walker_pool: WalkerPool::default(),
+            fifos: FifoDepths::default(),
+            node_memory: NodeMemoryConfig::default(),
+            hit_buffer: HitBuffer::default(),
+            direction_table: Placement::Uram,
+        }
+    }
+
+    /// Checks that the configuration describes buildable hardware; the message names the
+    /// field (its path in the RON file) and says what is wrong. Whether it fits the part is
+    /// [`resources`](Self::resources)' question; scene-dependent limits (stack depth against
+    /// an image's depth, on-chip levels) are the model's to report.
+    pub fn validate(&self) -> Result<(), String> {
+        let p = &self.part;
+        if p.name.trim().is_empty() {
+            return Err("part.name must name the device".into());
+        }
+        for (field, v) in [
+            ("part.dsp48e2", p.dsp48e2),
+            ("part.bram36", p.bram36),
+            ("part.luts", p.luts),
+        ] {
+            if v == 0 {
+                return Err(format!(
+                    "{field} must be positive (every UltraScale+ part has some)"
+                ));
+            }
+        }
+        in_range("clock_mhz", self.clock_mhz, 1, MAX_CLOCK_MHZ)?;
+        in_range("frame.width", self.frame.width, 1, MAX_FRAME_SIDE)?;
+        in_range("frame.height", self.frame.height, 1, MAX_FRAME_SIDE)?;
+        for (name, t) in self.units.named() {
+            in_range(
+                &format!("units.{name}.latency_cycles"),
+                t.latency_cycles,
+                1,
+                MAX_LATENCY,
+            )?;
+            in_range(&format!("units.{name}.ii"), t.ii, 1, MAX_LATENCY)?;
+        }
+        in_range("sphere_units", self.sphere_units, 1, MAX_UNITS)?;
+        if self.sorter_lanes == 0 {
+            return Err("sorter_lanes must be at least 1 (got 0)".into());
+        }
+        in_range("transform_units", self.transform_units, 1, MAX_UNITS)?;
+        in_range("reciprocal_units", self.reciprocal_units, 1, MAX_UNITS)?;
+        in_range("walker_root_units", self.walker_root_units, 1, MAX_UNITS)?;
+        let w = &self.walker_pool;
+        in_range("walker_pool.walkers", w.walkers, 1, MAX_UNITS)?;
+        in_range(
+            "walker_pool.contexts_per_walker",
+            w.contexts_per_walker,
+            1,
+            MAX_CONTEXTS,
+        )?;
+        in_range("walker_pool.step_cycles", w.step_cycles, 1, MAX_LATENCY)?;
+        in_range(
+            "walker_pool.step_latency_cycles",
+            w.step_latency_cycles,
+            1,
+            MAX_LATENCY,
+        )?;
+        in_range(
+            "walker_pool.stack_depth",
+            u32::from(w.stack_depth),
+            1,
+            u32::from(MAX_STACK_DEPTH),
+        )?;
+        for (name, depth) in self.fifos.named() {
+            in_range(&format!("fifos.{name}"), depth, 1, FIFO_MAX_DEPTH)?;
+        }
+        self.validate_node_memory()?;
+        let hb = &self.hit_buffer;
+        // Every pixel is read once (reuse check) and written once (write-back) per frame.
+        in_range("hit_buffer.read_ports", u32::from(hb.read_ports), 1, 2)?;
+        in_range("hit_buffer.write_ports", u32::from(hb.write_ports), 1, 2)?;
+        if hb.placement != Placement::External
+            && u32::from(hb.read_ports) + u32::from(hb.write_ports) > 2
+        {
+            return Err(format!(
+                "hit_buffer.read_ports + write_ports = {} exceeds the 2 ports of an on-chip \
+                 block RAM",
+                u32::from(hb.read_ports) + u32::from(hb.write_ports)
+            ));
+        }
+        in_range(
+            "hit_buffer.read_latency_cycles",
+            hb.read_latency_cycles,
+            1,
+            MAX_LATENCY,
+        )?;
+        Ok(())
+    }
+
+    fn validate_node_memory(&self) -> Result<(), String> {
+        let nm = &self.node_memory;
+        // The memory model's messages start with the field's path below `node_memory`.
+        nm.validate().map_err(|e| format!("node_memory.{e}"))?;
+        if nm.onchip.ports_per_bank > 2 {
+            return Err(format!(
+                "node_memory.onchip.ports_per_bank = {} exceeds the 2 ports of a block RAM",
+                nm.onchip.ports_per_bank
+            ));
+        }
+        Ok(())
+    }
+
+    /// [`validate`](Self::validate), then that the configuration matches the datapath it
+    /// times: `sorter_lanes` equals `dp.sorter.n`, and no unit's latency is below the stage
+    /// count of `dp`'s formats ([`UnitTimings::for_datapath`]). A latency above it is allowed
+    /// (extra pipeline registers for timing closure).
+    pub fn validate_for(&self, dp: &DatapathConfig) -> Result<(), String> {
+        self.validate()?;
+        dp.validate().map_err(|m| format!("datapath: {m}"))?;
+        if self.sorter_lanes != dp.sorter.n {
+            return Err(format!(
+                "sorter_lanes = {} must equal the datapath's sorter.n = {}",
+                self.sorter_lanes, dp.sorter.n
+            ));
+        }
+        let need = UnitTimings::for_datapath(dp);
+        for ((name, have), (_, min)) in self.units.named().into_iter().zip(need.named()) {
+            if have.latency_cycles < min.latency_cycles {
+                return Err(format!(
+                    "units.{name}.latency_cycles = {} is below the {} stages the datapath's \
+                     {name} needs",
+                    have.latency_cycles, min.latency_cycles
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Estimated DSP48E2, BRAM36 and URAM288 of this configuration with datapath `dp`,
+    /// against the part's budget; [`ResourceReport::fits`] says whether it fits. An error
+    /// when either configuration is invalid (the counts are only defined for valid ones).
+    ///
+    /// What is counted (assumptions, `docs/cycle-model.md` has the reasons):
+    /// - DSP48E2: per unit the products of its formats split into 27×18 tiles
+    ///   (`fixed::dsp48e2_per_product`, as `sim datapath` prints), times the instances:
+    ///   sphere lanes, transform, reciprocal (per axis) and walker-root units. The square
+    ///   root, sorter, walkers' steps and hit record use none.
+    /// - Block RAM: the hit buffer and direction table when on chip
+    ///   (`units::hit_record::bram36_count` / `uram288_count` of the frame's pixels); one
+    ///   stack RAM per walker (contexts × stack depth frames) in BRAM; the node memory by the
+    ///   memory model's rule (`NodeMemoryConfig::resources`), the on-chip store at its
+    ///   capacity `max_bytes`.
+    /// - Not counted: LUTs and flip-flops (pipeline registers, sorter comparators, walker
+    ///   context registers, miss-status registers), FIFOs (LUTRAM), the reciprocal's
+    ///   256-entry seed ROM (LUTs), and the memory controller and host interface.
+    pub fn resources(&self, dp: &DatapathConfig) -> Result<ResourceReport, String> {
+        self.validate()?;
+        dp.validate().map_err(|m| format!("datapath: {m}"))?;
+        let mut items = Vec::new();
+        let dsp_item = |name: &str, n: u32, per: u32, note: String| ResourceItem {
+            name: name.into(),
+            instances: u64::from(n),
+            used: Resources {
+                dsp48e2: u64::from(n) * u64::from(per),
+                ..Resources::default()
+            },
+            note,
+        };
+        let sphere = sphere_dsp48e2(&dp.sphere);
+        items.push(dsp_item(
+            "sphere",
+            self.sphere_units,
+            sphere,
+            format!("{sphere} DSP per lane: l·d 3, l·l 3, t_ca² 1 products"),
+        ));
+        let sq = sqrt::dsp48e2_count(&sqrt_config_for(&dp.sphere));
+        items.push(dsp_item(
+            "sqrt",
+            self.sphere_units,
+            sq,
+            "one per sphere lane; digit recurrence, subtractors only".into(),
+        ));
+        let sorter_res = sorter::resources(&dp.sorter, dp.hit_record.instance_bits);
+        items.push(ResourceItem {
+            name: "sorter".into(),
+            instances: 1,
+            used: Resources::default(),
+            note: format!(
+                "{} comparators of {} bits (LUTs)",
+                sorter_res.comparators, sorter_res.compare_bits
+            ),
+        });
+        let tr = transform::dsp48e2_count(&dp.transform);
+        items.push(dsp_item(
+            "transform",
+            self.transform_units,
+            tr,
+            format!("{tr} DSP per unit: 9 origin + 9 direction products"),
+        ));
+        let rc = reciprocal::dsp48e2_count(&dp.reciprocal);
+        items.push(dsp_item(
+            "reciprocal",
+            self.reciprocal_units,
+            rc,
+            format!("{rc} DSP per axis unit (Newton-Raphson)"),
+        ));
+        let wr = walker_root_dsp48e2(&dp.walker);
+        items.push(dsp_item(
+            "walker_root",
+            self.walker_root_units,
+            wr,
+            format!("{wr} DSP per unit: 6 slab products"),
+        ));
+        items.push(self.stack_item(dp));
+        items.push(self.hit_buffer_item(dp));
+        items.push(self.direction_table_item(dp));
+        items.extend(self.node_memory_items());
+        let used = items
+            .iter()
+            .fold(Resources::default(), |a, it| a.add(it.used));
+        Ok(ResourceReport {
+            part: self.part.name.clone(),
+            items,
+            used,
+            available: Resources {
+                dsp48e2: u64::from(self.part.dsp48e2),
+                bram36: u64::from(self.part.bram36),
+                uram288: u64::from(self.part.uram288),
+            },
+        })
+    }
+
+    /// Bits of one walker stack frame: node address, its descriptor (kept so a pop needs no
+    /// refetch) and the next-child state, plus the t-interval (full) or the three dropped
+    /// midpoint bits (exact pop). The midpoints are recomputed by one adder per axis, the
+    /// level is the frame's position, and the leaf coordinates are not stacked.
+    pub fn stack_frame_bits(&self, dp: &DatapathConfig) -> u32 {
+        let t = match self.walker_pool.stack {
+            StackStorage::FullT => 6 * u32::from(dp.walker.t.width),
+            StackStorage::ExactPop => 3,
+        };
+        t + NODE_ADDRESS_BITS + DESCRIPTOR_BITS + NEXT_CHILD_BITS
+    }
+
+    fn stack_item(&self, dp: &DatapathConfig) -> ResourceItem {
+        let w = &self.walker_pool;
+        let bits = self.stack_frame_bits(dp);
+        let frames = u64::from(w.contexts_per_walker) * u64::from(w.stack_depth);
+        let per = bram36_count(bits, frames);
+        ResourceItem {
+            name: "walker_stacks".into(),
+            instances: u64::from(w.walkers),
+            used: Resources {
+                bram36: per.saturating_mul(u64::from(w.walkers)),
+                ..Resources::default()
+            },
+            note: format!(
+                "{per} BRAM36 per walker: {} contexts × {} frames × {bits} bits",
+                w.contexts_per_walker, w.stack_depth
+            ),
+        }
+    }
+
+    fn hit_buffer_item(&self, dp: &DatapathConfig) -> ResourceItem {
+        let bits = dp.hit_record.word_bits();
+        let (used, where_) = per_pixel_table(self.hit_buffer.placement, bits, self.frame.pixels());
+        ResourceItem {
+            name: "hit_buffer".into(),
+            instances: 1,
+            used,
+            note: format!(
+                "{}×{} × {bits}-bit records, {where_}",
+                self.frame.width, self.frame.height
+            ),
+        }
+    }
+
+    fn direction_table_item(&self, dp: &DatapathConfig) -> ResourceItem {
+        let bits = 3 * u32::from(dp.raygen.dir.width);
+        let (used, where_) = per_pixel_table(self.direction_table, bits, self.frame.pixels());
+        ResourceItem {
+            name: "direction_table".into(),
+            instances: 1,
+            used,
+            note: format!(
+                "{}×{} × {bits}-bit directions, {where_}",
+                self.frame.width, self.frame.height
+            ),
+        }
+    }
+
+    /// Words of on-chip node store the hardware is built with: its capacity cap (the RAM is
+    /// sized for the largest scene it accepts, not for one scene's top levels), none when
+    /// no level is on chip.
+    pub fn onchip_node_words(&self) -> u64 {
+        let oc = &self.node_memory.onchip;
+        if oc.levels == 0 {
+            0
+        } else {
+            oc.max_bytes / NODE_WORD_BYTES
+        }
+    }
+
+    fn node_memory_items(&self) -> [ResourceItem; 3] {
+        let nm = &self.node_memory;
+        let m = nm.resources(self.onchip_node_words());
+        let (oc, c) = (&nm.onchip, &nm.cache);
+        [
+            ResourceItem {
+                name: "node_onchip".into(),
+                instances: u64::from(oc.banks),
+                used: Resources {
+                    bram36: m.onchip_bram36,
+                    ..Resources::default()
+                },
+                note: format!(
+                    "top {} levels, capacity {} bytes in {} banks of 1024 × 32-bit BRAM36",
+                    oc.levels, oc.max_bytes, oc.banks
+                ),
+            },
+            ResourceItem {
+                name: "cache_data".into(),
+                instances: u64::from(c.ports),
+                used: Resources {
+                    uram288: m.cache_uram,
+                    ..Resources::default()
+                },
+                note: format!(
+                    "{} bytes, {} ways, {}-byte lines; one URAM copy per lookup port",
+                    c.size_bytes, c.ways, c.line_bytes
+                ),
+            },
+            ResourceItem {
+                name: "cache_tags".into(),
+                instances: u64::from(c.ports),
+                used: Resources {
+                    bram36: m.cache_tag_bram36,
+                    ..Resources::default()
+                },
+                note: format!(
+                    "{} sets × {} ways, one BRAM36 copy per lookup port",
+                    nm.cache_sets(),
+                    c.ways
+                ),
+            },
+        ]
+    }
+}
+
+/// Block RAM for a per-pixel table of `bits`-bit words.
+fn per_pixel_table(placement: Placement, bits: u32, pixels: u64) -> (Resources, &'static str) {
+    match placement {
+        Placement::Bram => (
+            Resources {
+                bram36: bram36_count(bits, pixels),
+                ..Resources::default()
+            },
+            "BRAM36",
+        ),
+        Placement::Uram => (
+            Resources {
+                uram288: uram288_count(bits, pixels),
+                ..Resources::default()
+            },
+            "URAM288 (4K×72)",
+        ),
+        Placement::External => (Resources::default(), "external DRAM"),
+    }
+}
+
+fn in_range(field: &str, v: u32, lo: u32, hi: u32) -> Result<(), String> {
+    if v < lo {
+        Err(format!("{field} must be at least {lo} (got {v})"))
+    } else if v > hi {
+        Err(format!("{field} = {v} exceeds the limit {hi}"))
+    } else {
+        Ok(())
+    }
+}
+
+fn sat_u32(x: u64) -> u32 {
+    u32::try_from(x).unwrap_or(u32::MAX)
+}
+
+/// A format one bit wider: the exact difference of two values of `f` (c − o, ±e − o).
+fn wider(f: Format) -> Format {
+    Format {
+        width: f.width.saturating_add(1),
+        ..f
+    }
+}
+
+/// `fixed::dsp48e2_per_product`, also for formats no valid configuration has: it counts
+/// magnitude bits as width − sign, so a format narrower than its sign bit is taken as one
+/// magnitude bit wide instead of underflowing.
+fn dsp(a: Format, b: Format) -> u32 {
+    let fix = |f: Format| {
+        let least = u8::from(f.signed) + 1;
+        Format {
+            width: f.width.max(least),
+            ..f
+        }
+    };
+    dsp48e2_per_product(fix(a), fix(b))
+}
+
+/// Cycles of one product of `a` × `b` in DSP48E2s: 3, plus 1 when it spans several slices.
+fn product_cycles(a: Format, b: Format) -> u32 {
+    DSP_PIPELINE_CYCLES + u32::from(dsp(a, b) > 1)
+}
+
+/// The square-root unit the sphere test uses: its radicand is the sphere's `sq` format and
+/// its root has half the integer and fraction bits, truncated (the sphere unit floors it).
+/// Equal to `SqrtConfig::default()` for the default sphere formats (uQ16.48 → uQ8.24).
+pub fn sqrt_config_for(sphere: &SphereConfig) -> SqrtConfig {
+    let sq = sphere.sq;
+    let int_bits = i32::from(sq.width) - i32::from(sq.frac);
+    let out_int = (int_bits.max(0) as u32).div_ceil(2).min(32) as u8;
+    let out_frac = (i32::from(sq.frac).max(0) / 2).min(31) as u8;
+    SqrtConfig {
+        input: sq,
+        output: Format::uq(out_int, out_frac).with_quant(Quant::Trn),
+    }
+}
+
+/// DSP48E2 of one sphere lane: l·d (3 of (pos+1)×dir), l·l (3 of (pos+1)×(pos+1)), t_ca²
+/// (1 of tca×tca) — the count `sim datapath` prints (36 by default).
+pub fn sphere_dsp48e2(s: &SphereConfig) -> u32 {
+    let l = wider(s.pos);
+    3 * dsp(l, s.dir) + 3 * dsp(l, l) + dsp(s.tca, s.tca)
+}
+
+/// DSP48E2 of one walker-root unit: 6 slab products (±e − o)×(1/|d|) (36 by default).
+pub fn walker_root_dsp48e2(w: &WalkerConfig) -> u32 {
+    6 * dsp(wider(w.pos), w.inv)
+}
+
+/// Latency of the sphere lane apart from its square root, as stages: l = c − o (1); l·d and
+/// l·l in parallel (one product); the two dot sums (p_x + p_y) + p_z (2); rounding t_ca (1);
+/// t_ca² (one product); p² = l·l − t_ca² and T − p² (1); then after the root, t_ca − Δt − √
+/// and the clamp at 0 (2). 15 for the default (products of 4 cycles).
+pub fn sphere_latency_cycles(s: &SphereConfig) -> u32 {
+    let l = wider(s.pos);
+    let dots = product_cycles(l, s.dir).max(product_cycles(l, l));
+    1 + dots + 2 + 1 + product_cycles(s.tca, s.tca) + 1 + 2
+}
+
+/// Latency of the transform unit, as stages: o − c (1); the 18 products in parallel (one
+/// product); the dot sum (p_x + p_y) + p_z (2); rounding and saturation (1). 8 for the
+/// default.
+pub fn transform_latency_cycles(t: &TransformConfig) -> u32 {
+    let rel = wider(t.pos);
+    let prod = product_cycles(t.mat, rel).max(product_cycles(t.mat, t.dir));
+    1 + prod + 2 + 1
+}
+
+/// Latency of the walker-root unit, as stages: ±e − o with the mirroring negation (1); the
+/// six products in parallel (one product); rounding into `t` (1); max of t0 and min of t1
+/// over the axes (2). 8 for the default.
+pub fn walker_root_latency_cycles(w: &WalkerConfig) -> u32 {
+    1 + product_cycles(wider(w.pos), w.inv) + 1 + 2
+}
