@@ -5,11 +5,15 @@
 //! atomically.
 
 use crate::assets::{build_assets, effective_depths, Asset, Materialise};
+use crate::cycle_model::runner::CycleRun;
+use crate::cycle_model::waves::PipelineWaves;
+use crate::cycle_model::CycleOptions;
 use crate::fixed_model::bound::mismatch_explained;
 use crate::fixed_model::{
     compare, diff_image, render_frame_fixed, to_hit_records, FixedBuffer, FixedStats,
 };
 use crate::output::atomic::{write_atomic, AtomicFile};
+use crate::output::report::CycleSummary;
 use crate::output::report::{
     AssetReport, FrameReport, OptionsReport, Report, SceneReport, Summary,
 };
@@ -19,6 +23,7 @@ use crate::reference::{
 };
 use crate::scene::Scene;
 use anyhow::{bail, Context, Result};
+use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -46,8 +51,17 @@ pub struct RunConfig {
     pub progress_every: Option<Duration>,
     /// Which model renders the output.
     pub model: Model,
-    /// Formats and parameters of the fixed-point datapath (used by `Model::Fixed`).
+    /// Formats and parameters of the fixed-point datapath (used by `Model::Fixed` and
+    /// `Model::Cycle`).
     pub datapath: DatapathConfig,
+    /// The hardware the cycle model times (used by `Model::Cycle`).
+    pub hardware: HwConfig,
+    /// Re-execute every stage of the cycle model and compare with the functional model.
+    pub cross_check: bool,
+    /// Waveforms of the cycle model.
+    pub vcd: Option<VcdRequest>,
+    /// Stage stamps of the first N records of the cycle model, written as JSON lines here.
+    pub transaction_log: Option<(PathBuf, usize)>,
 }
 
 /// The model whose records become the output.
@@ -58,6 +72,18 @@ pub enum Model {
     Reference,
     /// The functional fixed-point datapath, compared with the reference every frame.
     Fixed,
+    /// The cycle-accurate pipeline: the functional fixed-point datapath timed clock by clock
+    /// (bit-exact with `Fixed`), compared with the reference every frame.
+    Cycle,
+}
+
+/// Waveform output of the cycle model.
+#[derive(Clone, Debug)]
+pub struct VcdRequest {
+    /// File to write.
+    pub path: PathBuf,
+    /// Window.
+    pub window: crate::cycle_model::waves::WaveWindow,
 }
 
 /// A fixed-point frame's counters in the reference's report shape.
@@ -161,10 +187,28 @@ pub fn build(scene: &Scene, depth: Option<u8>, mode: Materialise) -> Result<Vec<
 
 /// Runs the reference over all frames. `progress` is called after each frame.
 pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Result<RunOutput> {
-    if cfg.model == Model::Fixed {
+    if cfg.model != Model::Reference {
         cfg.datapath
             .validate()
             .map_err(|m| anyhow::anyhow!("datapath configuration: {m}"))?;
+    }
+    let resources = if cfg.model == Model::Cycle {
+        cfg.hardware
+            .validate_for(&cfg.datapath)
+            .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
+        Some(
+            cfg.hardware
+                .resources(&cfg.datapath)
+                .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?,
+        )
+    } else {
+        None
+    };
+    if let Some(v) = &cfg.vcd {
+        check_parent(&v.path, "--vcd")?;
+    }
+    if let Some((p, _)) = &cfg.transaction_log {
+        check_parent(p, "--transaction-log")?;
     }
     if let Some(p) = &cfg.report_json {
         check_parent(p, "--report-json")?;
@@ -175,10 +219,6 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
     let build_start = Instant::now();
     let assets = build(&cfg.scene, cfg.depth, cfg.materialise)?;
     let build_s = build_start.elapsed().as_secs_f64();
-    if let Some(dir) = &cfg.out_dir {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    }
     let scene = &cfg.scene;
     let (w, h) = scene.file.resolution;
     let frames = scene.file.frames;
@@ -202,6 +242,40 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
     };
     let mut buffer = HitBuffer::new(w, h);
     let mut fixed_buffer = FixedBuffer::new(w, h);
+    let mut cycle_run = if cfg.model == Model::Cycle {
+        let waves = match &cfg.vcd {
+            Some(v) => Some(
+                PipelineWaves::new(
+                    cfg.hardware.clock_mhz,
+                    v.window,
+                    cfg.hardware.walker_pool.walkers,
+                    cfg.hardware.walker_pool.contexts_per_walker,
+                )
+                .map_err(|e| anyhow::anyhow!("--vcd: {e}"))?,
+            ),
+            None => None,
+        };
+        Some(CycleRun::new(
+            &cfg.hardware,
+            &cfg.datapath,
+            &assets,
+            &scene.instance_asset,
+            (w, h),
+            CycleOptions {
+                cross_check: cfg.cross_check,
+                waves,
+                log_limit: cfg.transaction_log.as_ref().map_or(0, |(_, n)| *n),
+            },
+        )?)
+    } else {
+        None
+    };
+    let mut cycle_frames = Vec::new();
+    if let Some(dir) = &cfg.out_dir {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+    }
+    let mut sim_wall = 0.0f64;
     let mut stats = Vec::with_capacity(frames as usize);
     let mut reports = Vec::with_capacity(frames as usize);
     for f in 0..frames {
@@ -223,14 +297,25 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
         );
         let (st, report, fixed_records) = match cfg.model {
             Model::Reference => (reference.clone(), FrameReport::of(reference), None),
-            Model::Fixed => {
-                let fx = render_frame_fixed(
-                    &input,
-                    &mut fixed_buffer,
-                    &cfg.datapath,
-                    cfg.options.use_hit_buffer,
-                )?;
-                let records = to_hit_records(&fixed_buffer, &cfg.datapath);
+            Model::Fixed | Model::Cycle => {
+                let (fx, cyc, fbuf) = match cycle_run.as_mut() {
+                    Some(cr) => {
+                        let r = cr.frame(&input, &cfg.datapath, cfg.options.use_hit_buffer)?;
+                        sim_wall += r.wall_s;
+                        (r.fixed, Some(r.cycles), cr.buffer())
+                    }
+                    None => (
+                        render_frame_fixed(
+                            &input,
+                            &mut fixed_buffer,
+                            &cfg.datapath,
+                            cfg.options.use_hit_buffer,
+                        )?,
+                        None,
+                        &fixed_buffer,
+                    ),
+                };
+                let records = to_hit_records(fbuf, &cfg.datapath);
                 let depths: Vec<u8> = assets.iter().map(Asset::depth).collect();
                 let mut acc = compare(&buffer.records, &records, |k| {
                     let (i, j) = (k as u32 % w, k as u32 / w);
@@ -256,6 +341,10 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
                 report.overflows = Some(ov.nonzero().map(|(n, c)| (n.to_string(), c)).collect());
                 report.reference_wall_s = Some(reference.wall_s);
                 report.accuracy = Some(acc);
+                if let Some(c) = cyc {
+                    cycle_frames.push(c.clone());
+                    report.cycle = Some(c);
+                }
                 if let Some(dir) = &cfg.out_dir {
                     let img = diff_image(&buffer.records, &records, w, h, 1e-6);
                     let path = dir.join(format!("diff_{f:04}.png"));
@@ -295,6 +384,35 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
     if let Some(df) = dump_file {
         df.commit().context("cannot finish the hit dump")?;
     }
+    if let Some(cr) = cycle_run.as_mut() {
+        if let Some(v) = &cfg.vcd {
+            if let Some(waves) = cr.model().take_waves() {
+                waves
+                    .write(&v.path)
+                    .with_context(|| format!("cannot write --vcd {}", v.path.display()))?;
+            }
+        }
+        if let Some((p, _)) = &cfg.transaction_log {
+            let mut text = String::new();
+            for (pixel, stamps) in &cr.model().log {
+                let line = serde_json::json!({
+                    "pixel": pixel,
+                    "x": pixel % w,
+                    "y": pixel / w,
+                    "stages": stamps.iter().map(|s| serde_json::json!({
+                        "stage": crate::cycle_model::pipeline::STAGE_NAMES
+                            .get(usize::from(s.stage.0)).copied().unwrap_or("?"),
+                        "entered": s.entered,
+                        "left": s.left,
+                    })).collect::<Vec<_>>(),
+                });
+                text.push_str(&line.to_string());
+                text.push('\n');
+            }
+            write_atomic(p, text.as_bytes())
+                .with_context(|| format!("cannot write {}", p.display()))?;
+        }
+    }
     let report = Report {
         tool: format!("svo_sim {}", env!("CARGO_PKG_VERSION")),
         scene: SceneReport {
@@ -308,15 +426,20 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
             model: match cfg.model {
                 Model::Reference => "reference".into(),
                 Model::Fixed => "fixed".into(),
+                Model::Cycle => "cycle".into(),
             },
             hit_buffer: cfg.options.use_hit_buffer,
             early_termination: cfg.options.early_termination,
             threads: rayon::current_num_threads(),
         },
         assets: assets.iter().map(AssetReport::from).collect(),
-        summary: Summary::of(&stats, build_s),
+        summary: Summary {
+            cycle: resources.map(|r| CycleSummary::of(&cycle_frames, &cfg.hardware, r, sim_wall)),
+            ..Summary::of(&stats, build_s)
+        },
         frames: reports,
-        datapath: (cfg.model == Model::Fixed).then(|| cfg.datapath.clone()),
+        datapath: (cfg.model != Model::Reference).then(|| cfg.datapath.clone()),
+        hardware: (cfg.model == Model::Cycle).then(|| cfg.hardware.clone()),
     };
     if let Some(p) = &cfg.report_json {
         let text = serde_json::to_string_pretty(&report)?;

@@ -874,8 +874,19 @@ fn threads_zero() {
 #[test]
 fn depth_too_large_for_memory_is_refused_or_rendered() {
     let t = Tmp::new("depth_too_large_for_memory");
+    // The reference walks depth-16 SDF assets implicitly; the fixed-point and cycle models
+    // refuse them (tests/cycle_cli.rs).
     let mut a = args(&[
-        "--width", "32", "--height", "24", "--frames", "1", "--depth", "16",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--frames",
+        "1",
+        "--depth",
+        "16",
+        "--model",
+        "reference",
     ]);
     for (flag, name) in [
         ("--out", "out"),

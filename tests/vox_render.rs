@@ -25,6 +25,10 @@ fn config(scene: Scene) -> RunConfig {
         progress_every: None,
         model: svo_sim::run::Model::Reference,
         datapath: Default::default(),
+        hardware: Default::default(),
+        cross_check: false,
+        vcd: None,
+        transaction_log: None,
     }
 }
 

@@ -6,13 +6,16 @@
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
+use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use svo_sim::assets::Materialise;
+use svo_sim::cycle_model::waves::WaveWindow;
+use svo_sim::cycle_model::CycleFrame;
 use svo_sim::fixed_model::{render_frame_fixed, FixedBuffer};
 use svo_sim::reference::{render_frame, FrameInput, FrameStats, HitBuffer, RenderOptions};
-use svo_sim::run::{build, run, Model, RunConfig};
+use svo_sim::run::{build, run, Model, RunConfig, VcdRequest};
 use svo_sim::scene::Scene;
 
 #[derive(Parser, Debug)]
@@ -103,22 +106,101 @@ struct RunArgs {
     /// Print only the summary.
     #[arg(long, short)]
     quiet: bool,
-    /// Which model renders the output: the f64 reference, or the fixed-point datapath
-    /// (compared with the reference every frame: accuracy lines, diff_NNNN.png).
-    #[arg(long, value_enum, default_value = "reference")]
+    /// Which model renders the output: the cycle-accurate pipeline (default: cycle report
+    /// per frame), the functional fixed-point datapath, or the f64 reference. The fixed and
+    /// cycle models are compared with the reference every frame (accuracy lines,
+    /// diff_NNNN.png).
+    #[arg(long, value_enum, default_value = "cycle")]
     model: ModelArg,
     /// Datapath formats and parameters (RON, as printed by `sim datapath`); default: the
     /// documented default of docs/number-formats.md.
     #[arg(long, value_name = "FILE")]
     datapath: Option<PathBuf>,
+    /// Hardware configuration of the cycle model (RON, as printed by `sim hardware`; a file
+    /// names only what it changes); default: docs/cycle-model.md.
+    #[arg(long, value_name = "FILE")]
+    hw: Option<PathBuf>,
+    /// Cycle model: re-execute every stage's arithmetic (sphere tests, sort, transform,
+    /// reciprocals, walk, record) and stop with an error at the first difference from the
+    /// functional model. Slower; the hit buffer is compared word for word every frame anyway.
+    #[arg(long)]
+    cross_check: bool,
+    /// Cycle model: write waveforms (VCD, for GTKWave) of the window given by --vcd-cycles
+    /// or --vcd-pixels.
+    #[arg(long, value_name = "FILE")]
+    vcd: Option<PathBuf>,
+    /// Cycle window of --vcd, FROM:TO (cycles of the run, the first frame starts at 0).
+    #[arg(
+        long,
+        value_name = "FROM:TO",
+        default_value = "0:20000",
+        conflicts_with = "vcd_pixels"
+    )]
+    vcd_cycles: String,
+    /// Pixel window of --vcd, FROM:TO (raster indices in frame --vcd-frame): from the cycle
+    /// pixel FROM is generated until pixel TO's record is written.
+    #[arg(long, value_name = "FROM:TO")]
+    vcd_pixels: Option<String>,
+    /// Frame of --vcd-pixels.
+    #[arg(long, default_value_t = 0)]
+    vcd_frame: u32,
+    /// Cycle model: write the stage stamps (entry and exit cycle per stage) of the first
+    /// --log-count records as JSON lines, to check an RTL's latency stage by stage.
+    #[arg(long, value_name = "FILE")]
+    transaction_log: Option<PathBuf>,
+    /// Records in --transaction-log.
+    #[arg(long, default_value_t = 1000)]
+    log_count: usize,
+}
+
+/// Parses `FROM:TO` with FROM ≤ TO.
+fn parse_window(flag: &str, text: &str) -> Result<(u64, u64)> {
+    let (a, b) = text
+        .split_once(':')
+        .ok_or_else(|| anyhow::anyhow!("{flag} {text:?}: expected FROM:TO"))?;
+    let a: u64 = a
+        .trim()
+        .parse()
+        .with_context(|| format!("{flag} {text:?}: FROM is not a number"))?;
+    let b: u64 = b
+        .trim()
+        .parse()
+        .with_context(|| format!("{flag} {text:?}: TO is not a number"))?;
+    if a > b {
+        anyhow::bail!("{flag} {text:?}: FROM is after TO");
+    }
+    Ok((a, b))
+}
+
+/// Reads a hardware configuration file (RON).
+fn load_hw(path: Option<&PathBuf>) -> Result<HwConfig> {
+    let Some(p) = path else {
+        return Ok(HwConfig::default());
+    };
+    let text = std::fs::read_to_string(p)
+        .with_context(|| format!("cannot read hardware file {}", p.display()))?;
+    let cfg: HwConfig = ron::from_str(&text).map_err(|e| {
+        anyhow::anyhow!(
+            "{}:{}:{}: malformed hardware configuration: {}",
+            p.display(),
+            e.position.line,
+            e.position.col,
+            e.code
+        )
+    })?;
+    cfg.validate()
+        .map_err(|m| anyhow::anyhow!("{}: invalid hardware configuration: {m}", p.display()))?;
+    Ok(cfg)
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 enum ModelArg {
-    /// The f64 reference.
-    Reference,
+    /// The cycle-accurate pipeline (bit-exact with `fixed`, timed clock by clock).
+    Cycle,
     /// The functional fixed-point datapath.
     Fixed,
+    /// The f64 reference.
+    Reference,
 }
 
 /// Reads a datapath configuration file (RON).
@@ -209,6 +291,72 @@ fn frame_line(st: &FrameStats, frames: u32) -> String {
     )
 }
 
+fn walker_cycles(c: &CycleFrame) -> f64 {
+    let w = &c.walkers;
+    (w.issuing + w.memory_wait + w.latency_wait + w.backpressured + w.empty).max(1) as f64
+}
+
+/// The last frame's stage, FIFO and memory tables.
+fn print_cycle_tables(c: &CycleFrame) {
+    let cyc = c.cycles.max(1) as f64;
+    println!("last frame, per stage (% of {} cycles):", c.cycles);
+    println!(
+        "  {:<11} {:>7} {:>8} {:>14} {:>6} {:>12}",
+        "stage", "busy", "starved", "backpressured", "idle", "transactions"
+    );
+    for st in &c.stages {
+        println!(
+            "  {:<11} {:>6.1}% {:>7.1}% {:>13.1}% {:>5.1}% {:>12}",
+            st.name,
+            100.0 * st.busy as f64 / cyc,
+            100.0 * st.starved as f64 / cyc,
+            100.0 * st.backpressured as f64 / cyc,
+            100.0 * st.idle as f64 / cyc,
+            st.transactions
+        );
+    }
+    let w = &c.walkers;
+    let wc = walker_cycles(c);
+    println!(
+        "  walkers: {} walks, {} issue slots; walker-cycles {:.1}% issuing, {:.1}% waiting on memory, {:.1}% on the step pipeline, {:.1}% back-pressured, {:.1}% empty; contexts {:.1}% occupied; {} dispatch stalls",
+        w.walks,
+        w.slots,
+        100.0 * w.issuing as f64 / wc,
+        100.0 * w.memory_wait as f64 / wc,
+        100.0 * w.latency_wait as f64 / wc,
+        100.0 * w.backpressured as f64 / wc,
+        100.0 * w.empty as f64 / wc,
+        100.0 * c.context_occupancy,
+        w.dispatch_stalls
+    );
+    println!("  FIFOs (depth, mean / max occupancy, full cycles):");
+    for f in &c.fifos {
+        println!(
+            "    {:<24} {:>4}  {:>6.2} / {:<4} {:>8}",
+            f.name, f.depth, f.mean_occupancy, f.max_occupancy, f.full_cycles
+        );
+    }
+    let m = &c.memory;
+    println!(
+        "  node memory: {} node + {} far + {} attr reads, {} bytes; {} on chip; cache hit rate {:.1}%; DRAM {} bytes = {:.1}% of peak; mean latency {:.1} cycles",
+        m.node_fetches,
+        m.far_fetches,
+        m.attr_fetches,
+        m.bytes,
+        m.onchip_reads,
+        100.0 * m.cache_hit_rate,
+        m.dram_bytes,
+        m.dram_bandwidth_pct,
+        m.mean_latency
+    );
+    let o = &c.ops_per_pixel;
+    println!(
+        "  per pixel: {:.1} multiplies, {:.1} adds, {:.2} square roots, {:.2} reciprocals",
+        o.multiplies, o.adds, o.square_roots, o.reciprocals
+    );
+    println!("  bound: {} — {}", c.bound.limit, c.bound.reason);
+}
+
 fn cmd_run(a: RunArgs) -> Result<()> {
     set_threads(a.scene.threads)?;
     let scene = load_scene(&a.scene, (None, None))?;
@@ -230,8 +378,32 @@ fn cmd_run(a: RunArgs) -> Result<()> {
         model: match a.model {
             ModelArg::Reference => Model::Reference,
             ModelArg::Fixed => Model::Fixed,
+            ModelArg::Cycle => Model::Cycle,
         },
         datapath: load_datapath(a.datapath.as_ref())?,
+        hardware: load_hw(a.hw.as_ref())?,
+        cross_check: a.cross_check,
+        vcd: match &a.vcd {
+            None => None,
+            Some(p) => Some(VcdRequest {
+                path: p.clone(),
+                window: match &a.vcd_pixels {
+                    Some(t) => {
+                        let (from, to) = parse_window("--vcd-pixels", t)?;
+                        WaveWindow::Pixels {
+                            frame: a.vcd_frame,
+                            from,
+                            to,
+                        }
+                    }
+                    None => {
+                        let (from, to) = parse_window("--vcd-cycles", &a.vcd_cycles)?;
+                        WaveWindow::Cycles(from, to)
+                    }
+                },
+            }),
+        },
+        transaction_log: a.transaction_log.clone().map(|p| (p, a.log_count)),
         progress_every: (!a.quiet).then(|| std::time::Duration::from_secs(2)),
     };
     let (w, h) = cfg.scene.file.resolution;
@@ -255,6 +427,7 @@ fn cmd_run(a: RunArgs) -> Result<()> {
         },
     );
     let quiet = a.quiet;
+    let hw_mhz = cfg.hardware.clock_mhz;
     let out = run(&cfg, |st, n| {
         if !quiet {
             println!("{}", frame_line(&st.stats, n));
@@ -274,8 +447,27 @@ fn cmd_run(a: RunArgs) -> Result<()> {
                     st.reference_wall_s.unwrap_or(0.0) * 1e3
                 );
             }
+            if let Some(c) = &st.cycle {
+                println!(
+                    "           cycles {:>9}  {:>8.1} fps @ {} MHz  {:.3} rays/cycle (ideal 1)  walkers {:>3.0}% issuing {:>3.0}% on memory  cache hit {:>5.1}%  DRAM {:>4.1}% of peak  bound: {}",
+                    c.cycles,
+                    c.fps_at_clock,
+                    hw_mhz,
+                    c.rays_per_cycle,
+                    100.0 * c.walkers.issuing as f64 / walker_cycles(c),
+                    100.0 * c.walkers.memory_wait as f64 / walker_cycles(c),
+                    100.0 * c.memory.cache_hit_rate,
+                    c.memory.dram_bandwidth_pct,
+                    c.bound.limit
+                );
+            }
         }
     })?;
+    if let Some(last) = out.report.frames.last().and_then(|f| f.cycle.as_ref()) {
+        if !quiet {
+            print_cycle_tables(last);
+        }
+    }
     if !quiet {
         println!("assets:");
         for r in &out.report.assets {
@@ -304,8 +496,28 @@ fn cmd_run(a: RunArgs) -> Result<()> {
         s.walker_steps,
         s.build_s
     );
+    if let Some(c) = &s.cycle {
+        println!(
+            "cycle model: {} cycles = {:.1} fps at {} MHz (slowest frame {:.1} fps), {:.3} rays/cycle; bound: {}; simulated {:.2} M rays/s, {:.2} M cycles/s",
+            c.cycles,
+            c.fps_at_clock,
+            c.clock_mhz,
+            c.fps_at_clock_min,
+            c.rays_per_cycle,
+            c.bound,
+            c.sim_rays_per_s / 1e6,
+            c.sim_cycles_per_s / 1e6
+        );
+        println!("{}", c.resources);
+    }
     if let Some(dir) = &cfg.out_dir {
         println!("wrote {} PNGs to {}", s.frames, dir.display());
+    }
+    if let Some(v) = &cfg.vcd {
+        println!("wrote waveforms {}", v.path.display());
+    }
+    if let Some((p, _)) = &cfg.transaction_log {
+        println!("wrote transaction log {}", p.display());
     }
     if let Some(p) = &cfg.report_json {
         println!("wrote report {}", p.display());

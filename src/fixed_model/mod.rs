@@ -10,8 +10,11 @@
 pub mod accuracy;
 pub mod bound;
 pub mod frame;
+pub mod plan;
+pub mod trace;
 
 pub use accuracy::{compare, diff_image, Accuracy};
 pub use frame::{
-    render_frame_fixed, to_hit_records, FixedBuffer, FixedError, FixedRecord, FixedStats,
+    render_frame_fixed, render_frame_fixed_traced, render_planned, to_hit_records, FixedBuffer,
+    FixedError, FixedRecord, FixedStats,
 };

@@ -95,6 +95,9 @@ pub struct Summary {
     pub walker_steps: u64,
     /// Asset build time, seconds.
     pub build_s: f64,
+    /// The cycle model's summary (`--model cycle`).
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub cycle: Option<CycleSummary>,
 }
 
 /// The whole report.
@@ -112,9 +115,12 @@ pub struct Report {
     pub frames: Vec<FrameReport>,
     /// Totals.
     pub summary: Summary,
-    /// The datapath configuration (fixed-point model only).
+    /// The datapath configuration (fixed-point and cycle models).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub datapath: Option<rtl_model::datapath::DatapathConfig>,
+    /// The hardware configuration (cycle model only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hardware: Option<rtl_model::cycle::hw_config::HwConfig>,
 }
 
 /// One frame of the report: the model's counters, and for the fixed-point model its accuracy
@@ -133,6 +139,10 @@ pub struct FrameReport {
     /// Wall time of the reference on the same frame, seconds (fixed-point model only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference_wall_s: Option<f64>,
+    /// The cycle model's report of the frame (`--model cycle`): `cycles`, `fps_at_clock`,
+    /// `rays_per_cycle`, `stages`, `memory`, `bound`, … (docs/report.md).
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub cycle: Option<crate::cycle_model::CycleFrame>,
 }
 
 impl FrameReport {
@@ -143,6 +153,7 @@ impl FrameReport {
             accuracy: None,
             overflows: None,
             reference_wall_s: None,
+            cycle: None,
         }
     }
 }
@@ -162,6 +173,71 @@ impl Summary {
             reuse_fraction: reused as f64 / (rays as f64).max(1.0),
             walker_steps: frames.iter().map(|f| f.walker_steps).sum(),
             build_s,
+            cycle: None,
+        }
+    }
+}
+
+/// The cycle model's totals.
+#[derive(Clone, Debug, Serialize)]
+pub struct CycleSummary {
+    /// Clock, MHz.
+    pub clock_mhz: u32,
+    /// Cycles over all frames.
+    pub cycles: u64,
+    /// Frames per second at the clock: frames / (cycles / clock).
+    pub fps_at_clock: f64,
+    /// The slowest frame's rate.
+    pub fps_at_clock_min: f64,
+    /// Pixels per cycle over the run.
+    pub rays_per_cycle: f64,
+    /// Simulated pixels per wall second (functional model and cycle model together).
+    pub sim_rays_per_s: f64,
+    /// Simulated cycles per wall second.
+    pub sim_cycles_per_s: f64,
+    /// Which limit held most frames.
+    pub bound: String,
+    /// The configuration's resources against the part.
+    pub resources: rtl_model::cycle::hw_config::ResourceReport,
+}
+
+impl CycleSummary {
+    /// Totals of `frames`.
+    pub fn of(
+        frames: &[crate::cycle_model::CycleFrame],
+        hw: &rtl_model::cycle::hw_config::HwConfig,
+        resources: rtl_model::cycle::hw_config::ResourceReport,
+        wall_s: f64,
+    ) -> Self {
+        let cycles: u64 = frames.iter().map(|f| f.cycles).sum();
+        let pixels: f64 = frames
+            .iter()
+            .map(|f| f.rays_per_cycle * f.cycles as f64)
+            .sum();
+        let clock = f64::from(hw.clock_mhz) * 1e6;
+        let mut bounds: std::collections::BTreeMap<&str, u32> = Default::default();
+        for f in frames {
+            *bounds.entry(f.bound.limit.as_str()).or_default() += 1;
+        }
+        let bound = bounds
+            .iter()
+            .max_by_key(|(_, n)| **n)
+            .map_or("none", |(b, _)| b)
+            .to_string();
+        Self {
+            clock_mhz: hw.clock_mhz,
+            cycles,
+            fps_at_clock: frames.len() as f64 * clock / (cycles.max(1) as f64),
+            fps_at_clock_min: frames
+                .iter()
+                .map(|f| f.fps_at_clock)
+                .fold(f64::INFINITY, f64::min)
+                .min(1e300),
+            rays_per_cycle: pixels / cycles.max(1) as f64,
+            sim_rays_per_s: pixels / wall_s.max(1e-9),
+            sim_cycles_per_s: cycles as f64 / wall_s.max(1e-9),
+            bound,
+            resources,
         }
     }
 }

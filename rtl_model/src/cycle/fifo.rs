@@ -230,6 +230,14 @@ impl<T> Fifo<T> {
         })
     }
 
+    /// An empty FIFO that comes out of reset at cycle `cycle` (a pipeline rebuilt between
+    /// frames while the clock and the memories keep running).
+    pub fn new_at(stage: StageId, depth: usize, cycle: u64) -> Result<Self, FifoError> {
+        let mut f = Self::new(stage, depth)?;
+        f.now = cycle;
+        Ok(f)
+    }
+
     /// The stage id this FIFO stamps items with.
     pub fn stage(&self) -> StageId {
         self.stage

@@ -6,4 +6,8 @@ pub mod clocked;
 pub mod fifo;
 pub mod hw_config;
 pub mod memory;
+pub mod stage_stats;
+pub mod unit_pipe;
+pub mod walk_op;
+pub mod walker_pool;
 pub mod waves;

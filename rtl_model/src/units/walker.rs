@@ -22,6 +22,7 @@
 //! - A step limit stops a walk that runs too long (it cannot happen with a well-formed image,
 //!   but the hardware needs the guard); it is reported, never silent.
 
+use crate::cycle::memory::FetchKind;
 use crate::fixed::{quantize, Format, Overflows, SignalId};
 use crate::svo::{ChildDescriptor, ChildRef, SvoImage, MAX_DEPTH};
 use serde::{Deserialize, Serialize};
@@ -199,7 +200,42 @@ pub fn walk_fixed(
     sig: SignalId,
     st: &mut WalkerStats,
 ) -> WalkOutcome {
-    walk_fixed_visiting(img, inp, cfg, ov, sig, st, &mut |_, _| {})
+    walk_fixed_observed(img, inp, cfg, ov, sig, st, &mut NoObserver)
+}
+
+/// What a walk does, event by event, for the cycle model's timing and for node-by-node
+/// comparisons. Every method has an empty default, so an observer implements only what it
+/// needs; the calls come in the order the hardware walker performs them.
+pub trait WalkObserver {
+    /// A node is entered (an internal node or the final leaf): its level and coordinates.
+    #[inline]
+    fn enter(&mut self, _level: u8, _coords: [u32; 3]) {}
+    /// One loop iteration: a child examined (one issue slot of the walker's datapath).
+    #[inline]
+    fn step(&mut self) {}
+    /// A frame popped off the stack (the parent's next child follows).
+    #[inline]
+    fn pop(&mut self) {}
+    /// A memory read, in the order the walker needs them: a descriptor or leaf slot
+    /// ([`FetchKind::Node`], word address), a far word ([`FetchKind::Far`]) or the hit leaf's
+    /// attribute record ([`FetchKind::Attr`], attribute index).
+    #[inline]
+    fn read(&mut self, _kind: FetchKind, _addr: u32) {}
+}
+
+/// An observer that ignores everything.
+pub struct NoObserver;
+
+impl WalkObserver for NoObserver {}
+
+/// Adapts a `visit(level, coords)` closure to [`WalkObserver`].
+struct Visiting<'v, V>(&'v mut V);
+
+impl<V: FnMut(u8, [u32; 3])> WalkObserver for Visiting<'_, V> {
+    #[inline]
+    fn enter(&mut self, level: u8, coords: [u32; 3]) {
+        (self.0)(level, coords);
+    }
 }
 
 /// [`walk_fixed`], calling `visit(level, coords)` for every node it enters (internal nodes
@@ -212,6 +248,19 @@ pub fn walk_fixed_visiting<V: FnMut(u8, [u32; 3])>(
     sig: SignalId,
     st: &mut WalkerStats,
     visit: &mut V,
+) -> WalkOutcome {
+    walk_fixed_observed(img, inp, cfg, ov, sig, st, &mut Visiting(visit))
+}
+
+/// [`walk_fixed`], reporting every step, pop, node entered and memory read to `obs`.
+pub fn walk_fixed_observed<O: WalkObserver>(
+    img: &SvoImage,
+    inp: &WalkerInput,
+    cfg: &WalkerConfig,
+    ov: &mut Overflows,
+    sig: SignalId,
+    st: &mut WalkerStats,
+    obs: &mut O,
 ) -> WalkOutcome {
     let mut ax = Axes {
         o: [0; 3],
@@ -252,6 +301,7 @@ pub fn walk_fixed_visiting<V: FnMut(u8, [u32; 3])>(
     st.fetches += 1;
     st.max_stack = st.max_stack.max(1);
     let root = SvoImage::root();
+    obs.read(FetchKind::Node, root);
     let mut f = Frame {
         t0,
         t1,
@@ -267,7 +317,7 @@ pub fn walk_fixed_visiting<V: FnMut(u8, [u32; 3])>(
         let mut stack = cell.borrow_mut();
         stack.clear();
         stack.push(f);
-        walk_loop(img, &ax, cfg, st, visit, &mut stack)
+        walk_loop(img, &ax, cfg, st, obs, &mut stack)
     })
 }
 
@@ -276,12 +326,12 @@ thread_local! {
 }
 
 /// The walker's loop over an explicit stack whose bottom frame is the root.
-fn walk_loop<V: FnMut(u8, [u32; 3])>(
+fn walk_loop<O: WalkObserver>(
     img: &SvoImage,
     ax: &Axes,
     cfg: &WalkerConfig,
     st: &mut WalkerStats,
-    visit: &mut V,
+    obs: &mut O,
     stack: &mut Vec<Frame>,
 ) -> WalkOutcome {
     let mut steps = 0u32;
@@ -292,10 +342,12 @@ fn walk_loop<V: FnMut(u8, [u32; 3])>(
         let c = top.next;
         if c >= 8 {
             stack.pop();
+            obs.pop();
             continue;
         }
         steps += 1;
         st.steps += 1;
+        obs.step();
         if steps > cfg.max_steps {
             st.step_limit_hits += 1;
             return WalkOutcome::StepLimit;
@@ -327,7 +379,17 @@ fn walk_loop<V: FnMut(u8, [u32; 3])>(
         ];
         let child = img.child(top.addr, desc, real);
         if child != ChildRef::Empty {
-            visit(level, coords);
+            // The reads this child costs (docs/svo-format.md §12): the far word when the
+            // parent uses the far escape, then the child's slot (descriptor or leaf slot).
+            if desc.far {
+                obs.read(FetchKind::Far, top.addr + u32::from(desc.ptr));
+            }
+            let slot = match child {
+                ChildRef::Node(a) => a,
+                _ => img.group_base(top.addr, desc) + desc.slot(real),
+            };
+            obs.read(FetchKind::Node, slot);
+            obs.enter(level, coords);
         }
         match child {
             ChildRef::Empty => {}
@@ -339,6 +401,7 @@ fn walk_loop<V: FnMut(u8, [u32; 3])>(
                 } else {
                     2
                 };
+                obs.read(FetchKind::Attr, attr);
                 return WalkOutcome::Hit(WalkerHit {
                     t: enter.max(0),
                     voxel: coords,

