@@ -187,6 +187,9 @@ pub fn build(scene: &Scene, depth: Option<u8>, mode: Materialise) -> Result<Vec<
 
 /// Runs the reference over all frames. `progress` is called after each frame.
 pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Result<RunOutput> {
+    if cfg.model != Model::Reference && !cfg.options.early_termination {
+        bail!("--no-early-termination applies to --model reference only: the fixed-point and cycle models are the hardware, which always terminates early");
+    }
     if cfg.model != Model::Reference {
         cfg.datapath
             .validate()

@@ -413,12 +413,16 @@ fn bench_prints_its_speed() {
 /// count (pixels are independent).
 #[test]
 fn switches_that_must_not_change_records() {
+    // The reference's switches (implicit walks exist only in the reference).
     let base = Tmp::new("switch_base");
-    tiny_run(&base, "hits.bin", &[]);
+    tiny_run(&base, "hits.bin", &["--model", "reference"]);
     for (name, extra) in [
-        ("switch_no_early", &["--no-early-termination"][..]),
-        ("switch_implicit", &["--implicit"][..]),
-        ("switch_one_thread", &["--threads", "1"][..]),
+        (
+            "switch_no_early",
+            &["--model", "reference", "--no-early-termination"][..],
+        ),
+        ("switch_implicit", &["--model", "reference", "--implicit"][..]),
+        ("switch_one_thread", &["--model", "reference", "--threads", "1"][..]),
     ] {
         let t = Tmp::new(name);
         tiny_run(&t, "hits.bin", extra);
