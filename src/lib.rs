@@ -10,6 +10,7 @@
 #![forbid(unsafe_code)]
 
 pub mod assets;
+pub mod drift;
 pub mod error;
 pub mod fixed_model;
 pub mod output;

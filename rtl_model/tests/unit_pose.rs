@@ -134,7 +134,7 @@ fn keyframe_angles_and_matrices_within_bounds() {
     println!("Euler matrix: worst {worst:.3e}, bound {b_mat:.3e}");
     // Interpolated angles: exact value of base + step·k (f64 is exact enough: 2^-60 turn).
     let (k_max, step_max) = (1e6, 0.49);
-    let b_ang = angle_error_bound(&cfg, k_max, step_max);
+    let b_ang = angle_error_bound(&cfg, k_max, step_max, true);
     for _ in 0..20_000 {
         let base_t = unit(&mut rng) - 0.5;
         let step_t = (unit(&mut rng) - 0.5) * 2.0 * step_max;

@@ -9,6 +9,7 @@
 
 pub mod accuracy;
 pub mod bound;
+pub mod explain;
 pub mod frame;
 
 pub use accuracy::{compare, diff_image, Accuracy};

@@ -181,9 +181,12 @@ fn conv(f: Format) -> f64 {
 /// Bound (radians) on an interpolated angle's error against the exact base + step·k, for
 /// k ≤ `k_max` frames and |step| ≤ `step_max` turns per frame: the base's and the step's
 /// quantisation (times k), k's quantisation (times |step|), and the output's half LSB.
-pub fn angle_error_bound(cfg: &KeyframeConfig, k_max: f64, step_max: f64) -> f64 {
+/// `k_exact`: every key lies on a multiple of the `frame` format's LSB (integer keys do), so
+/// k is exact and its term vanishes.
+pub fn angle_error_bound(cfg: &KeyframeConfig, k_max: f64, step_max: f64, k_exact: bool) -> f64 {
     let out = 0.5 * 2f64.powi(-(ANGLE_FRAC as i32));
-    TAU * (conv(cfg.angle_base) + k_max * conv(cfg.angle_step) + step_max * conv(cfg.frame) + out)
+    let k_err = if k_exact { 0.0 } else { conv(cfg.frame) };
+    TAU * (conv(cfg.angle_base) + k_max * conv(cfg.angle_step) + step_max * k_err + out)
 }
 
 /// Bound on each matrix entry's error against the exact Rz·Ry·Rx of the exact angles, given
