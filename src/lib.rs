@@ -11,6 +11,7 @@
 
 pub mod assets;
 pub mod cycle_model;
+pub mod drift;
 pub mod error;
 pub mod fixed_model;
 pub mod output;

@@ -44,6 +44,9 @@ enum Command {
     /// Print a datapath configuration (RON, the input format of --datapath; the default
     /// unless --datapath is given), each unit's DSP48E2 count and every named error bound.
     Datapath(DatapathArgs),
+    /// Error over animation run time: fixed-point pose paths over a long animation
+    /// (docs/drift.md); writes drift.csv, drift.json and drift.png.
+    Drift(svo_sim::drift::cli::DriftArgs),
 }
 
 #[derive(Args, Debug)]
@@ -741,6 +744,7 @@ fn main() -> ExitCode {
     let r = match cli.command {
         Some(Command::Bench(b)) => cmd_bench(b),
         Some(Command::Datapath(d)) => cmd_datapath(d),
+        Some(Command::Drift(d)) => svo_sim::drift::cli::run_cli(&d),
         None => cmd_run(cli.run),
     };
     match r {

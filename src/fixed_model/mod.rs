@@ -9,6 +9,7 @@
 
 pub mod accuracy;
 pub mod bound;
+pub mod explain;
 pub mod frame;
 pub mod plan;
 pub mod trace;

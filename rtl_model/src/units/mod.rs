@@ -4,9 +4,12 @@
 //! from raw codes in the formats of its configuration, plus a named error-bound function of
 //! those formats (derived in `docs/units/`). Saturations and wraps are counted, never silent.
 
+pub mod cordic;
 pub mod hit_record;
+pub mod keyframe;
 pub mod raygen;
 pub mod reciprocal;
+pub mod rotation;
 pub mod sorter;
 pub mod sphere;
 pub mod sqrt;

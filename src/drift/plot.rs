@@ -1,0 +1,189 @@
+//! The drift plot: three stacked panels over the frame number, log scale — the matrix's
+//! orthonormality error, its error against the exact pose, and the image's largest t error —
+//! one line per pose path, the bounds dashed.
+//!
+//! Pipeline position: the last output of `sim drift`. Drawn with `plotters` into an RGB
+//! buffer (bitmap backend only) and encoded by the project's PNG writer. Text uses DejaVu Sans
+//! compiled into the binary (the `dejavu` crate) through plotters' `ab_glyph` feature, so no
+//! system font is looked up and the picture is the same on every machine.
+
+use super::run::{DriftResult, FrameDrift, Mode};
+use plotters::prelude::*;
+use std::sync::OnceLock;
+
+/// Picture size in pixels.
+pub const SIZE: (u32, u32) = (900, 960);
+
+/// Values at or below this are drawn at it (log scale; an exact 0 has no logarithm).
+const FLOOR: f64 = 1e-12;
+
+/// Registers the embedded font under the family name the plot uses, once per process.
+fn register_font() -> Result<(), String> {
+    static DONE: OnceLock<Result<(), String>> = OnceLock::new();
+    DONE.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+            .map_err(|_| "the embedded DejaVu Sans font cannot be parsed".to_string())
+    })
+    .clone()
+}
+
+fn colour(m: Mode) -> RGBColor {
+    match m {
+        Mode::Keyframe => RGBColor(31, 90, 200),
+        Mode::Incremental => RGBColor(20, 150, 60),
+        Mode::IncrementalNoReorth => RGBColor(210, 40, 40),
+    }
+}
+
+fn label(m: Mode) -> &'static str {
+    match m {
+        Mode::Keyframe => "(a) keyframes, fixed point",
+        Mode::Incremental => "(b) incremental + re-orthonormalisation",
+        Mode::IncrementalNoReorth => "(b) incremental, no correction",
+    }
+}
+
+/// A dashed bound line: (label, colour, points).
+type Bound = (String, RGBColor, Vec<(f64, f64)>);
+
+fn panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    frames: f64,
+    series: &[(Mode, Vec<(f64, f64)>)],
+    bounds: &[Bound],
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+    let top = series
+        .iter()
+        .flat_map(|(_, p)| p.iter())
+        .chain(bounds.iter().flat_map(|(_, _, p)| p.iter()))
+        .map(|&(_, v)| v)
+        .fold(FLOOR * 10.0, f64::max);
+    let hi = 10f64.powf(top.log10().ceil() + 0.3);
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(32)
+        .y_label_area_size(64)
+        .build_cartesian_2d(0f64..frames, (FLOOR..hi).log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("frame")
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(err)?;
+    for (m, pts) in series {
+        let c = colour(*m);
+        chart
+            .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(1)))
+            .map_err(err)?
+            .label(label(*m))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
+    }
+    for (name, c, pts) in bounds {
+        let c = *c;
+        chart
+            .draw_series(DashedLineSeries::new(
+                pts.iter().copied(),
+                6,
+                4,
+                c.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(name.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], c.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font(("sans-serif", 12))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)?;
+    Ok(())
+}
+
+/// Renders the plot as RGB pixels (`SIZE`).
+pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
+    register_font()?;
+    let (w, h) = SIZE;
+    let mut buf = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| format!("plot: {e}"))?;
+        let areas = root.split_evenly((3, 1));
+        let frames = f64::from(result.frames.max(2) - 1);
+        let pick = |f: fn(&FrameDrift) -> f64| -> Vec<(Mode, Vec<(f64, f64)>)> {
+            Mode::ALL
+                .iter()
+                .map(|&m| {
+                    let pts = result
+                        .rows
+                        .iter()
+                        .filter(|r| r.mode == m)
+                        .map(|r| (f64::from(r.frame), f(r).max(FLOOR)))
+                        .collect();
+                    (m, pts)
+                })
+                .collect()
+        };
+        let b = &result.bounds;
+        let flat = |v: f64| vec![(0.0, v.max(FLOOR)), (frames, v.max(FLOOR))];
+        let inc_growth: Vec<(f64, f64)> = result
+            .rows
+            .iter()
+            .filter(|r| r.mode == Mode::Incremental)
+            .map(|r| (f64::from(r.frame), r.matrix_bound.max(FLOOR)))
+            .collect();
+        panel(
+            &areas[0],
+            "orthonormality error max |RᵀR − I|",
+            frames,
+            &pick(|r| r.orthonormality),
+            &[
+                (
+                    "bound (a), dashed".into(),
+                    colour(Mode::Keyframe),
+                    flat(b.keyframe_orthonormality),
+                ),
+                (
+                    "bound (b) with correction, dashed".into(),
+                    colour(Mode::Incremental),
+                    flat(b.incremental_orthonormality),
+                ),
+            ],
+        )?;
+        panel(
+            &areas[1],
+            "matrix error max |R − R_exact|",
+            frames,
+            &pick(|r| r.matrix_error),
+            &[
+                (
+                    "bound (a), dashed".into(),
+                    colour(Mode::Keyframe),
+                    flat(b.keyframe_matrix),
+                ),
+                (
+                    "bound (b), linear in frames, dashed".into(),
+                    colour(Mode::Incremental),
+                    inc_growth,
+                ),
+            ],
+        )?;
+        panel(
+            &areas[2],
+            "largest t error against f64 (m), same-leaf pixels",
+            frames,
+            &pick(|r| r.t_err_max),
+            &[],
+        )?;
+        root.present().map_err(|e| format!("plot: {e}"))?;
+    }
+    image::RgbImage::from_raw(w, h, buf).ok_or_else(|| "plot: buffer size".to_string())
+}
