@@ -421,8 +421,14 @@ fn switches_that_must_not_change_records() {
             "switch_no_early",
             &["--model", "reference", "--no-early-termination"][..],
         ),
-        ("switch_implicit", &["--model", "reference", "--implicit"][..]),
-        ("switch_one_thread", &["--model", "reference", "--threads", "1"][..]),
+        (
+            "switch_implicit",
+            &["--model", "reference", "--implicit"][..],
+        ),
+        (
+            "switch_one_thread",
+            &["--model", "reference", "--threads", "1"][..],
+        ),
     ] {
         let t = Tmp::new(name);
         tiny_run(&t, "hits.bin", extra);

@@ -61,7 +61,7 @@ fn resource_estimate_of_the_default() {
     assert_eq!(item(&r, "transform"), (1, 72, 0, 0));
     assert_eq!(item(&r, "reciprocal"), (3, 36, 0, 0));
     assert_eq!(item(&r, "walker_root"), (1, 36, 0, 0));
-    assert_eq!(item(&r, "walker_stacks"), (16, 0, 112, 0));
+    assert_eq!(item(&r, "walker_stacks"), (32, 0, 224, 0));
     assert_eq!(item(&r, "hit_buffer"), (1, 0, 0, 240));
     assert_eq!(item(&r, "direction_table"), (1, 0, 0, 480));
     assert_eq!(item(&r, "node_onchip"), (4, 0, 64, 0));
@@ -69,14 +69,14 @@ fn resource_estimate_of_the_default() {
     assert_eq!(item(&r, "cache_tags"), (2, 0, 8, 0));
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (432, 184, 736)
+        (432, 296, 736)
     );
     assert_eq!(
         (r.available.dsp48e2, r.available.bram36, r.available.uram288),
         (6840, 2160, 960)
     );
     let p = r.percent();
-    assert!((p[0] - 6.3).abs() < 0.05 && (p[1] - 8.5).abs() < 0.05 && (p[2] - 76.7).abs() < 0.05);
+    assert!((p[0] - 6.3).abs() < 0.05 && (p[1] - 13.7).abs() < 0.05 && (p[2] - 76.7).abs() < 0.05);
     // The used line is the sum of the items.
     let sum = r.items.iter().fold((0, 0, 0), |a, i| {
         (
@@ -291,7 +291,7 @@ fn zu9eg_needs_the_per_pixel_tables_off_chip() {
     assert_eq!(item(&r, "hit_buffer"), (1, 0, 1920, 0));
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (432, 2096, 0)
+        (432, 2208, 0)
     );
     assert!(
         r.over_budget()[0].starts_with("BRAM36"),
@@ -305,7 +305,7 @@ fn zu9eg_needs_the_per_pixel_tables_off_chip() {
     assert!(r.fits(), "{:?}", r.over_budget());
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (432, 176, 0)
+        (432, 288, 0)
     );
 }
 
@@ -317,10 +317,10 @@ fn exact_pop_stacks_fit_one_bram_per_walker() {
     cfg.walker_pool.stack = StackStorage::ExactPop;
     assert_eq!(cfg.stack_frame_bits(&dp), 71);
     let r = cfg.resources(&dp).unwrap();
-    assert_eq!(item(&r, "walker_stacks"), (16, 0, 16, 0));
+    assert_eq!(item(&r, "walker_stacks"), (32, 0, 32, 0));
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (432, 88, 736)
+        (432, 104, 736)
     );
     assert!(r.fits());
 }

@@ -44,6 +44,9 @@ enum Command {
     /// Print a datapath configuration (RON, the input format of --datapath; the default
     /// unless --datapath is given), each unit's DSP48E2 count and every named error bound.
     Datapath(DatapathArgs),
+    /// Print a hardware configuration of the cycle model (RON, the input format of --hw; the
+    /// default unless --hw is given) and its resource estimate against the part.
+    Hardware(HardwareArgs),
     /// Error over animation run time: fixed-point pose paths over a long animation
     /// (docs/drift.md); writes drift.csv, drift.json and drift.png.
     Drift(svo_sim::drift::cli::DriftArgs),
@@ -233,8 +236,10 @@ struct BenchArgs {
     /// depth 11).
     #[command(flatten)]
     scene: SceneArgs,
-    /// Also time the fixed-point model against the reference on the same frames (full
-    /// trace, interleaved, best of `--repeat`) and print the speed ratio.
+    /// `fixed`: also time the fixed-point model against the reference on the same frames
+    /// (full trace, interleaved, best of `--repeat`) and print the speed ratio. `cycle`: time
+    /// the cycle model against the reference frame by frame (still and moving camera), with
+    /// the modelled frame rate, and with --scaling the walker and DRAM-latency sweep.
     #[arg(long, value_enum, default_value = "reference")]
     model: ModelArg,
     /// Repetitions per frame for the fixed/reference ratio (the fastest run of each counts,
@@ -244,6 +249,102 @@ struct BenchArgs {
     /// Datapath configuration for the fixed-point model (RON).
     #[arg(long, value_name = "FILE")]
     datapath: Option<PathBuf>,
+    /// Hardware configuration for `--model cycle` (RON).
+    #[arg(long, value_name = "FILE")]
+    hw: Option<PathBuf>,
+    /// With `--model cycle`: also sweep walkers (1–64) and DRAM latency (15–480 cycles) on one
+    /// full-trace frame and write scaling.csv and scaling.png into DIR.
+    #[arg(long, value_name = "DIR")]
+    scaling: Option<PathBuf>,
+}
+
+/// `sim bench --model cycle`.
+fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[svo_sim::assets::Asset]) -> Result<()> {
+    use svo_sim::cycle_model::bench;
+    let dp = load_datapath(a.datapath.as_ref())?;
+    let hw = load_hw(a.hw.as_ref())?;
+    if let Some(dir) = &a.scaling {
+        if !dir.is_dir() {
+            anyhow::bail!("--scaling {}: not a folder", dir.display());
+        }
+    }
+    for (label, hb) in [
+        ("still camera (hit buffer on)", true),
+        (
+            "camera moving every frame (no reuse: every pixel traced)",
+            false,
+        ),
+    ] {
+        let frames = bench::speed(scene, assets, &dp, &hw, hb)?;
+        println!("{label}:");
+        println!(
+            "  {:>5} {:>10} {:>10} {:>7} {:>10} {:>9} {:>9} {:>10} {:>8}",
+            "frame",
+            "ref ms",
+            "cycle ms",
+            "ratio",
+            "cycles",
+            "fps",
+            "rays/cyc",
+            "M rays/s",
+            "bound"
+        );
+        let px = f64::from(scene.file.resolution.0) * f64::from(scene.file.resolution.1);
+        for f in &frames {
+            println!(
+                "  {:>5} {:>10.1} {:>10.1} {:>7.2} {:>10} {:>9.1} {:>9.3} {:>10.3} {:>8}",
+                f.frame,
+                f.reference_s * 1e3,
+                f.cycle_s * 1e3,
+                f.cycle_s / f.reference_s.max(1e-9),
+                f.cycles,
+                f.fps,
+                f.rays_per_cycle,
+                px / f.cycle_s.max(1e-9) / 1e6,
+                f.bound
+            );
+        }
+        let rs: f64 = frames.iter().map(|f| f.reference_s).sum();
+        let cs: f64 = frames.iter().map(|f| f.cycle_s).sum();
+        let cy: u64 = frames.iter().map(|f| f.cycles).sum();
+        let n = frames.len() as f64;
+        println!(
+            "  total: cycle model / reference wall time {:.2}; simulated {:.3} M rays/s, {:.3} M cycles/s; modelled {:.1} fps at {} MHz (slowest frame {:.1})",
+            cs / rs.max(1e-9),
+            n * px / cs.max(1e-9) / 1e6,
+            cy as f64 / cs.max(1e-9) / 1e6,
+            n * f64::from(hw.clock_mhz) * 1e6 / cy.max(1) as f64,
+            hw.clock_mhz,
+            frames.iter().map(|f| f.fps).fold(f64::INFINITY, f64::min)
+        );
+    }
+    if let Some(dir) = &a.scaling {
+        println!("scaling (frame 0, every pixel traced):");
+        println!(
+            "  {:<13} {:>6} {:>10} {:>9}  bound",
+            "sweep", "value", "cycles", "fps"
+        );
+        let pts = bench::scaling(scene, assets, &dp, &hw, |p| {
+            println!(
+                "  {:<13} {:>6} {:>10} {:>9.1}  {} — {}",
+                p.sweep, p.value, p.cycles, p.fps, p.bound, p.reason
+            );
+        })?;
+        let csv = dir.join("scaling.csv");
+        svo_sim::output::atomic::write_atomic(&csv, bench::scaling_csv(&pts).as_bytes())
+            .with_context(|| format!("cannot write {}", csv.display()))?;
+        let (w, h) = scene.file.resolution;
+        let img = bench::scaling_plot(
+            &pts,
+            &format!("cycles per frame, {w}×{h}, every pixel traced"),
+        )
+        .map_err(anyhow::Error::msg)?;
+        let png = dir.join("scaling.png");
+        svo_sim::output::atomic::write_atomic(&png, &svo_sim::output::png::encode_png(&img)?)
+            .with_context(|| format!("cannot write {}", png.display()))?;
+        println!("wrote {} and {}", csv.display(), png.display());
+    }
+    Ok(())
 }
 
 fn load_scene(a: &SceneArgs, defaults: (Option<(u32, u32)>, Option<u32>)) -> Result<Scene> {
@@ -557,6 +658,9 @@ fn cmd_bench(a: BenchArgs) -> Result<()> {
         "assets built in {:.2} s (excluded)",
         t.elapsed().as_secs_f64()
     );
+    if a.model == ModelArg::Cycle {
+        return bench_cycle(&a, &scene, &assets);
+    }
     let half: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
     let mut results = Vec::new();
     for (label, hb) in [
@@ -657,6 +761,33 @@ fn error_text(e: &anyhow::Error) -> String {
     text
 }
 
+#[derive(Args, Debug)]
+struct HardwareArgs {
+    /// Configuration to print (RON); default: the documented default.
+    #[arg(long, value_name = "FILE")]
+    hw: Option<PathBuf>,
+    /// Datapath the hardware is checked against (RON); default: the documented default.
+    #[arg(long, value_name = "FILE")]
+    datapath: Option<PathBuf>,
+}
+
+fn cmd_hardware(a: HardwareArgs) -> Result<()> {
+    let hw = load_hw(a.hw.as_ref())?;
+    let dp = load_datapath(a.datapath.as_ref())?;
+    let pretty = ron::ser::PrettyConfig::new().struct_names(false);
+    println!("// Hardware configuration of the cycle model (docs/cycle-model.md). Edit and pass with --hw.");
+    println!("{}", ron::ser::to_string_pretty(&hw, pretty)?);
+    hw.validate_for(&dp)
+        .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
+    let r = hw
+        .resources(&dp)
+        .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
+    for line in r.to_string().lines() {
+        println!("// {line}");
+    }
+    Ok(())
+}
+
 fn cmd_datapath(a: DatapathArgs) -> Result<()> {
     use rtl_model::fixed::{dsp48e2_per_product, Format};
     use rtl_model::units::{hit_record, reciprocal, sqrt, transform, walker};
@@ -744,6 +875,7 @@ fn main() -> ExitCode {
     let r = match cli.command {
         Some(Command::Bench(b)) => cmd_bench(b),
         Some(Command::Datapath(d)) => cmd_datapath(d),
+        Some(Command::Hardware(h)) => cmd_hardware(h),
         Some(Command::Drift(d)) => svo_sim::drift::cli::run_cli(&d),
         None => cmd_run(cli.run),
     };

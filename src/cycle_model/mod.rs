@@ -7,6 +7,7 @@
 //! frame in parallel and records its work (`fixed_model::trace`); `pipeline::CycleModel`
 //! times it and checks every decision and the final hit buffer against it.
 
+pub mod bench;
 pub mod layout;
 pub mod pipeline;
 pub mod runner;

@@ -304,7 +304,7 @@ impl CycleModel {
         let mut f_rg_sp: Fifo<Ray> = mk(ST_F_RG_SP, fd.raygen_to_sphere, t0)?;
         let mut f_sp_so: Fifo<Ray> = mk(ST_F_SP_SO, fd.sphere_to_sorter, t0)?;
         let mut f_so_ck: Fifo<Ray> = mk(ST_F_SO_CK, fd.sorter_to_check, t0)?;
-        let mut f_ck_tr: Fifo<Walk> = mk(ST_F_CK_TR, fd.check_to_transform, t0)?;
+        let mut f_ck_tr: Fifo<Ray> = mk(ST_F_CK_TR, fd.check_to_transform, t0)?;
         let pool_ctx = hw.walker_pool.walkers * hw.walker_pool.contexts_per_walker;
         let ray_slots = pool_ctx + fd.root_to_dispatch;
         let mut f_loop: Fifo<Walk> = mk(ST_F_LOOP, ray_slots, t0)?;
@@ -658,18 +658,34 @@ impl CycleModel {
             st[s_recip].count(p_recip.state(now, !pushed, more_walks));
             let pushed = pass_through(&mut p_transform, ST_TRANSFORM, &mut f_tr_rc, now)?;
             if p_transform.can_accept(now) {
-                let src = if f_loop.valid() {
-                    Some(&mut f_loop)
-                } else if f_ck_tr.valid() {
-                    Some(&mut f_ck_tr)
-                } else {
-                    None
-                };
-                if let Some(fifo) = src {
-                    if let Some(mut w) = fifo
+                if f_loop.valid() {
+                    if let Some(mut w) = f_loop
                         .try_pop()
                         .map_err(|e| CycleError::Internal(e.to_string()))?
                     {
+                        w.enter(ST_TRANSFORM, now);
+                        p_transform.accept(now, w, 1, 0);
+                    }
+                } else if f_ck_tr.valid() && !free_slots.is_empty() {
+                    // A new ray takes a slot as its first walk enters the transform.
+                    if let Some(ray) = f_ck_tr
+                        .try_pop()
+                        .map_err(|e| CycleError::Internal(e.to_string()))?
+                    {
+                        let Some(slot) = free_slots.pop() else {
+                            return Err(CycleError::Internal("no ray slot".into()));
+                        };
+                        let pixel = ray.payload.pixel;
+                        let (tr, pw) = trace_of(pixel);
+                        let s = &mut slots[slot as usize];
+                        s.pixel = pixel;
+                        s.cands.clear();
+                        s.cands.extend_from_slice(tr.candidates_of(pw));
+                        s.best = None;
+                        s.best_full = None;
+                        s.walks = 0;
+                        s.stamps = Some(ray);
+                        let mut w = Stamped::new(Walk { slot, cand: 0 });
                         w.enter(ST_TRANSFORM, now);
                         p_transform.accept(now, w, 1, 0);
                     }
@@ -717,23 +733,11 @@ impl CycleModel {
                     } else {
                         check_blocked = true;
                     }
-                } else if !free_slots.is_empty() && f_ck_tr.ready() {
+                } else if f_ck_tr.ready() {
                     if let Some((mut ray, _)) = p_check.pop(now) {
                         let _ = ray.leave(ST_CHECK, now);
-                        let Some(slot) = free_slots.pop() else {
-                            return Err(CycleError::Internal("no ray slot".into()));
-                        };
-                        let s = &mut slots[slot as usize];
-                        s.pixel = pixel;
-                        s.cands.clear();
-                        s.cands.extend_from_slice(cands);
-                        s.best = None;
-                        s.best_full = None;
-                        s.walks = 0;
-                        let wk = Stamped::new(Walk { slot, cand: 0 });
-                        s.stamps = Some(ray);
                         f_ck_tr
-                            .try_push(wk)
+                            .try_push(ray)
                             .map_err(|e| CycleError::Internal(e.to_string()))?;
                         walks_entered += 1;
                         passed[3] += 1;

@@ -232,11 +232,13 @@ fn bound_of(
     pixels: u64,
 ) -> Bound {
     let c = cycles.max(1) as f64;
+    // A unit's throughput use: transactions per cycle (every unit here has II 1 per
+    // transaction; a long pipeline with one item inside is not "busy" in this sense).
     let share = |n: &str| {
         stages
             .iter()
             .find(|s| s.name == n)
-            .map_or(0.0, |s| s.busy as f64 / c)
+            .map_or(0.0, |s| s.transactions as f64 / c)
     };
     let wc = (w.issuing + w.memory_wait + w.latency_wait + w.backpressured + w.empty).max(1) as f64;
     let issuing = w.issuing as f64 / wc;

@@ -216,10 +216,13 @@ pub enum StackStorage {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WalkerPool {
-    /// W: octree walkers. Default 16: the default scene at depth 11 needs about 16 steps per
-    /// ray with no reuse and 13 with a still camera (`sim --model fixed`, 320×192), so 150 fps
-    /// at 1280×768 needs 6.3 steps per cycle at 300 MHz and 67 fps with a moving camera 3.5;
-    /// 16 walkers at one step per cycle leave 2.5× for memory stalls and imbalance.
+    /// W: octree walkers. Default 32. The default scene at depth 11 needs about 16 steps per
+    /// ray with no reuse and 13 with a still camera, so 150 fps at 1280×768 needs 6.3 steps
+    /// per cycle at 300 MHz; but walks cluster in the image rows of the car and wait on node
+    /// reads, and the cycle model measures (`sim bench --model cycle --scaling`, frame 1 with a
+    /// still camera / every pixel traced): 16 walkers 147.5 / 124.6 fps, bound by the walkers;
+    /// 32 walkers 159.4 / 138.6 fps, bound by memory. 32 meets the 150 fps target for 112
+    /// more BRAM36 of stacks (296 of 2,160 in all).
     pub walkers: u32,
     /// R: ray contexts per walker, interleaved so one context's node fetch does not stall the
     /// walker. Default 8: a step takes `step_latency_cycles` (3) plus an on-chip or cache
@@ -245,7 +248,7 @@ pub struct WalkerPool {
 impl Default for WalkerPool {
     fn default() -> Self {
         Self {
-            walkers: 16,
+            walkers: 32,
             contexts_per_walker: 8,
             step_cycles: 1,
             step_latency_cycles: 3,
@@ -269,8 +272,13 @@ pub struct FifoDepths {
     /// Sorter → hit-buffer check. Default 8: absorbs the sorter's merge passes on rays with
     /// more candidates than lanes (a few cycles each).
     pub sorter_to_check: u32,
-    /// Hit-buffer check → transform (walks to do). Default 32: decouples the fixed-rate front
-    /// end from the variable-time walkers; reused pixels bypass it.
+    /// Hit-buffer check → transform (rays to trace; a ray takes a walker slot only when its
+    /// first walk enters the transform). Default 1024: the rays of the image rows where most
+    /// pixels need walks wait here while the reused and empty pixels behind them keep flowing
+    /// to the write port; with 32 the front end stalls behind every traced region and a still
+    /// camera gains almost nothing from the hit buffer (cycle model: 0.43 against 0.41 rays
+    /// per cycle). At about 360 bits per entry (pixel and its sorted candidates) it is 10
+    /// BRAM36, not yet in the estimate (see `resources`).
     pub check_to_transform: u32,
     /// Transform → reciprocal. Default 4: both II = 1.
     pub transform_to_reciprocal: u32,
@@ -292,7 +300,7 @@ impl Default for FifoDepths {
             raygen_to_sphere: 4,
             sphere_to_sorter: 4,
             sorter_to_check: 8,
-            check_to_transform: 32,
+            check_to_transform: 1024,
             transform_to_reciprocal: 4,
             reciprocal_to_root: 4,
             root_to_dispatch: 64,
