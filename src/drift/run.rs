@@ -415,7 +415,7 @@ fn check_claims(rows: &[FrameDrift], b: &DriftBounds) -> DriftClaims {
             && r.saturations == 0
     });
     let no_reorth_drifts = of(Mode::IncrementalNoReorth)
-        .last()
+        .next_back()
         .is_some_and(|r| r.orthonormality > 10.0 * b.incremental_orthonormality);
     DriftClaims {
         keyframe_bounded,
