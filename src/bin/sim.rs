@@ -41,6 +41,10 @@ enum Command {
     /// Print a datapath configuration (RON, the input format of --datapath; the default
     /// unless --datapath is given), each unit's DSP48E2 count and every named error bound.
     Datapath(DatapathArgs),
+    /// Write HDL test vectors of every stage ($readmemh hex, JSON manifests, SystemVerilog
+    /// packages) from adversarial cases, a real frame and seeded random stimulus
+    /// (docs/vectors.md).
+    Vectors(svo_sim::vectors::cli::VectorsArgs),
 }
 
 #[derive(Args, Debug)]
@@ -529,6 +533,7 @@ fn main() -> ExitCode {
     let r = match cli.command {
         Some(Command::Bench(b)) => cmd_bench(b),
         Some(Command::Datapath(d)) => cmd_datapath(d),
+        Some(Command::Vectors(v)) => svo_sim::vectors::cli::run(v),
         None => cmd_run(cli.run),
     };
     match r {

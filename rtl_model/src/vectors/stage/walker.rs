@@ -93,7 +93,7 @@ fn synthetic_images() -> Result<Vec<NamedImage>, VectorError> {
     let corners = vec![[0, 0, 0], [15, 15, 15]];
     let lattice: Vec<[u32; 3]> = (0..4096u32)
         .map(|i| [i & 15, (i >> 4) & 15, i >> 8])
-        .filter(|c| (c[0] + c[1] + c[2]) % 5 == 0 && c[1] > 2)
+        .filter(|c| (c[0] + 2 * c[1] + c[2]) % 7 == 0 && c[1] > 3)
         .collect();
     [
         ("adv_cube3", 3, full),
@@ -275,13 +275,18 @@ impl WalkerStage {
                 input: self.input_for(o, d, half),
             });
         };
-        for image in [cube, corners, lattice] {
-            for half in [cubic, aniso] {
+        for (image, half) in [
+            (cube, cubic),
+            (corners, cubic),
+            (lattice, cubic),
+            (lattice, aniso),
+        ] {
+            {
                 // Axis-parallel rays, both ways, through the centre and off it; −0 on the
                 // other axes.
                 for k in 0..3 {
                     for sign in [1.0, -1.0] {
-                        for off in [0.0, 0.3, -0.77] {
+                        for off in [0.0, -0.77] {
                             let mut o = [off * half[0], -off * half[1], off * half[2]];
                             o[k] = -sign * 3.0 * half[k];
                             let mut d = [0.0, -0.0, 0.0];
@@ -451,7 +456,7 @@ impl WalkerStage {
                     "index": i,
                     "name": n.name,
                     "nodes_file": format!("svo_{}_nodes.hex", n.name),
-                    "attrs_file": format!("svo_{}_attrs.hex", n.name),
+                    "attrs_file": (i < self.synthetic).then(|| format!("svo_{}_attrs.hex", n.name)),
                     "depth": n.image.depth(),
                     "node_words": n.image.nodes().len(),
                     "leaves": n.image.attrs().len(),
@@ -464,11 +469,12 @@ impl WalkerStage {
         (walks, visits)
     }
 
-    /// The memory tables of every image: node words (32 bits, `docs/svo-format.md`) and leaf
-    /// attributes (64 bits: normal word high, colour word low).
+    /// The memory tables of every image: node words (32 bits, `docs/svo-format.md`) and, for
+    /// the scene's images (the end-to-end frame shades from them), leaf attributes (64 bits:
+    /// normal word high, colour word low).
     pub fn image_tables(&self) -> Vec<VectorTable> {
         let mut out = Vec::new();
-        for n in &self.images {
+        for (i, n) in self.images.iter().enumerate() {
             let mut nl = Layout::new();
             nl.uint("word", Output, 32, "node memory word");
             let mut t = VectorTable::new(
@@ -486,6 +492,9 @@ impl WalkerStage {
                     .collect(),
             );
             out.push(t);
+            if i >= self.synthetic {
+                continue;
+            }
             let mut al = Layout::new();
             al.uint("colour_rgba8", Output, 32, "R in bits 7..0, then G, B, A");
             al.uint(
