@@ -10,6 +10,7 @@
 use super::layout::{b, s, u, Direction::*, Layout};
 use super::table::{Origin, VectorTable};
 use crate::datapath::DatapathConfig;
+use crate::fixed::Format;
 use crate::units::transform::InstanceRaw;
 
 /// One instance as the host programs it for the frame.
@@ -109,7 +110,15 @@ pub fn frame_tables(
     il.fixed("threshold", Input, dp.sphere.sq, "sphere threshold T, m^2");
     il.fixed("inside", Input, dp.sphere.sq, "inside threshold, m^2");
     il.fixed("delta_t", Input, dp.sphere.tca, "sphere Δt, m");
-    il.fixed("reach", Input, dp.sphere.pos, "sphere reach, m");
+    il.fixed(
+        "reach",
+        Input,
+        Format {
+            signed: false,
+            ..dp.sphere.pos
+        },
+        "sphere reach, m (unsigned)",
+    );
     for a in AXES {
         il.fixed(
             &format!("half_{a}"),

@@ -216,11 +216,40 @@ impl Layout {
     /// mismatch is a programming error caught by every stage's round-trip test.
     pub fn pack(&self, values: &[u128]) -> Word {
         debug_assert_eq!(values.len(), self.fields.len(), "one value per field");
+        debug_assert!(
+            self.misfits(values).is_empty(),
+            "values that do not fit their fields: {:?}",
+            self.misfits(values)
+        );
         let mut w = Word::zero(self.bits);
         for (f, &v) in self.fields.iter().zip(values) {
             w.put(f.offset, f.width, v);
         }
         w
+    }
+
+    /// The names of the fields whose value in `values` (field order) does not fit the
+    /// field: a signed value outside −2^(w−1)..2^(w−1), an unsigned one at or above 2^w.
+    /// Rows must never carry such values (the RTL would see a different number); every
+    /// stage's tests check it.
+    pub fn misfits(&self, values: &[u128]) -> Vec<String> {
+        self.fields
+            .iter()
+            .zip(values)
+            .filter(|(f, &v)| {
+                let w = f.width.min(128);
+                if w >= 128 {
+                    return false;
+                }
+                if f.signed {
+                    let x = v as i128;
+                    x < -(1i128 << (w - 1)) || x >= 1i128 << (w - 1)
+                } else {
+                    v >> w != 0
+                }
+            })
+            .map(|(f, _)| f.name.clone())
+            .collect()
     }
 
     /// A field of a packed word, sign-extended if the field is signed; `None` for an unknown

@@ -74,3 +74,41 @@ pub(crate) fn dedup<T: PartialEq + Clone>(items: Vec<T>) -> Vec<T> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::datapath::DatapathConfig;
+
+    /// Every value of every adversarial and random row fits its field: a row never carries
+    /// a number the RTL would read differently.
+    fn all_fit<S: Stage>(s: &S) {
+        let l = s.layout();
+        let mut rng = Rng::new(77);
+        let mut txns = s.adversarial();
+        txns.extend((0..500).map(|_| s.random(&mut rng)));
+        for (i, t) in txns.iter().enumerate() {
+            let v = s.encode(t);
+            assert_eq!(
+                v.len(),
+                l.fields().len(),
+                "{}: one value per field",
+                s.name()
+            );
+            let bad = l.misfits(&v);
+            assert!(bad.is_empty(), "{} case {i}: {bad:?} do not fit", s.name());
+        }
+    }
+
+    #[test]
+    fn every_value_fits_its_field() {
+        let dp = DatapathConfig::default();
+        all_fit(&raygen::RaygenStage::new(&dp));
+        all_fit(&sphere::SphereStage::new(&dp));
+        all_fit(&sqrt::SqrtStage::new(&dp));
+        all_fit(&sorter::SorterStage::new(&dp));
+        all_fit(&transform::TransformStage::new(&dp));
+        all_fit(&reciprocal::ReciprocalStage::new(&dp));
+        all_fit(&hit_record::HitRecordStage::new(&dp));
+    }
+}

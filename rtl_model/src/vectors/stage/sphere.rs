@@ -178,8 +178,11 @@ impl Stage for SphereStage {
         l.fixed(
             "reach",
             Input,
-            c.pos,
-            "largest |c - o| per axis the bound covers, m",
+            Format {
+                signed: false,
+                ..c.pos
+            },
+            "largest |c - o| per axis the bound covers, m (unsigned: it may be 2^(W-1))",
         );
         l.flag("hit", Output, "sphere kept (a candidate); 0 = culled");
         l.fixed(
@@ -276,19 +279,22 @@ impl Stage for SphereStage {
             }
         }
         // The reach: |l_x| = reach takes the exact path, reach + 1 is flagged.
+        // (o and c split the distance, so both stay codes of `pos` even when the reach is not.)
         for x in [reach, reach + 1, -reach, -reach - 1] {
-            v.push(txn(zero, [one, 0, 0], [x, 0, 0], sqmax, 0));
-            v.push(txn(zero, [0, 0, one], [0, 0, x], sqmax, 0));
+            let (c, o) = (x / 2, x / 2 - x);
+            v.push(txn([o, 0, 0], [one, 0, 0], [c, 0, 0], sqmax, 0));
+            v.push(txn([0, 0, o], [0, 0, one], [0, 0, c], sqmax, 0));
         }
         v.push(txn([pmax; 3], [one, 0, 0], [-pmax; 3], sqmax, 0));
         // t_ca saturates: |l·d| = 3 · 2 · reach exceeds the t_ca format.
-        v.push(txn(zero, [dmin; 3], [reach; 3], sqmax, 0));
-        v.push(txn(zero, [dmin; 3], [-reach; 3], sqmax, 0));
-        v.push(txn(zero, [one; 3], [reach; 3], sqmax, sqmax));
+        let near = reach.min(pmax);
+        v.push(txn(zero, [dmin; 3], [near; 3], sqmax, 0));
+        v.push(txn(zero, [dmin; 3], [-near; 3], sqmax, 0));
+        v.push(txn(zero, [one; 3], [near; 3], sqmax, sqmax));
         // Threshold 0 (only rays through the centre) and thresholds at the maximum.
         v.push(txn(zero, [one, 0, 0], [ten, 0, 0], 0, 0));
         v.push(txn(zero, [one, 0, 0], [ten, 1, 0], 0, 0));
-        v.push(txn(zero, [0, one, 0], [0, reach, reach], sqmax, 0));
+        v.push(txn(zero, [0, one, 0], [0, near, near], sqmax, 0));
         // Tiny and diagonal directions.
         let diag = code(1.0 / 3f64.sqrt(), cfg.dir);
         v.push(SphereTxn::of(zero, [diag; 3], &self.sphere([ten; 3], 0.5)));
