@@ -48,6 +48,10 @@ pub fn run(a: VectorsArgs) -> Result<()> {
         height: a.height,
         depth: a.depth,
     };
+    // An --out that cannot be a folder fails before any work (write_files checks it again).
+    if a.out.exists() && !a.out.is_dir() {
+        anyhow::bail!("--out {} is a file, not a folder", a.out.display());
+    }
     let set = generate(&opts)?;
     write_files(&a.out, &set.files)?;
     println!(

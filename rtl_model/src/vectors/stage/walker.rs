@@ -143,11 +143,11 @@ impl WalkerStage {
             half: half.map(|x| p(x, &mut ov)),
             ..WalkerInput::default()
         };
-        for k in 0..3 {
-            let code = from_f64(dir[k], self.dir, &mut ov, SignalId(0));
+        for (k, &x) in dir.iter().enumerate() {
+            let code = from_f64(x, self.dir, &mut ov, SignalId(0));
             let r = self
                 .recip
-                .eval(code, dir[k].is_sign_negative(), &mut ov, SignalId(0));
+                .eval(code, x.is_sign_negative(), &mut ov, SignalId(0));
             inp.inv[k] = r.raw.saturating_abs();
             inp.zero[k] = r.zero;
             inp.negative[k] = r.negative;
@@ -254,12 +254,7 @@ impl WalkerStage {
             "level of the node entered (1 = a child of the root)",
         );
         for a in AXES {
-            l.uint(
-                &format!("{a}"),
-                Output,
-                COORD_BITS,
-                "node coordinate at its level",
-            );
+            l.uint(a, Output, COORD_BITS, "node coordinate at its level");
         }
         l
     }
