@@ -28,7 +28,6 @@ pub mod word;
 
 use crate::datapath::DatapathConfig;
 use crate::svo::{BuildError, LeafSetError};
-use stage::Stage;
 use table::VectorTable;
 use thiserror::Error;
 
@@ -134,8 +133,3 @@ pub fn unit_tables(
 
 /// The names of the stages with a fixed-latency RTL unit in `testbench/`.
 pub const RTL_UNITS: [&str; 4] = ["sqrt", "reciprocal", "transform", "sphere"];
-
-/// Adversarial rows of a stage (for reports and tests).
-pub fn adversarial_count<S: Stage>(s: &S) -> usize {
-    s.adversarial().len()
-}
