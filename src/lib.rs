@@ -19,5 +19,6 @@ pub mod reference;
 pub mod run;
 pub mod scene;
 pub mod sdf;
+pub mod vectors;
 
 pub use error::{AssetError, SceneError};

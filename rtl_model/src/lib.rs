@@ -13,3 +13,4 @@ pub mod datapath;
 pub mod fixed;
 pub mod svo;
 pub mod units;
+pub mod vectors;

@@ -50,6 +50,10 @@ enum Command {
     /// Error over animation run time: fixed-point pose paths over a long animation
     /// (docs/drift.md); writes drift.csv, drift.json and drift.png.
     Drift(svo_sim::drift::cli::DriftArgs),
+    /// Write HDL test vectors of every stage ($readmemh hex, JSON manifests, SystemVerilog
+    /// packages) from adversarial cases, a real frame and seeded random stimulus
+    /// (docs/vectors.md).
+    Vectors(svo_sim::vectors::cli::VectorsArgs),
 }
 
 #[derive(Args, Debug)]
@@ -877,6 +881,7 @@ fn main() -> ExitCode {
         Some(Command::Datapath(d)) => cmd_datapath(d),
         Some(Command::Hardware(h)) => cmd_hardware(h),
         Some(Command::Drift(d)) => svo_sim::drift::cli::run_cli(&d),
+        Some(Command::Vectors(v)) => svo_sim::vectors::cli::run(v),
         None => cmd_run(cli.run),
     };
     match r {

@@ -1,0 +1,124 @@
+// Shared body of the self-checking testbenches (included inside each tb_<unit> module, after
+// `import <unit>_vectors_pkg::*;` and a `localparam UNIT = "<unit>"`).
+//
+// What it does: reads <dir>/<unit>.hex (dir from +vectors=DIR, default "vectors") with
+// $readmemh into rows[]; after a short reset drives one row per cycle, leaving a bubble in
+// every 17th slot so valid propagation is exercised; remembers the cycle each row entered.
+// The including module compares the unit's outputs with the row's expected fields through
+// check_field() inside `check_row_begin` / `check_row_end`; a row passes when every field
+// matches (4-state: X or Z never match) and it left exactly LATENCY cycles after it entered.
+// The last line printed is "N passed, N failed" (rows never seen count as failed).
+
+localparam int MAX_REPORTS = 10;    // failures printed in detail
+localparam int BUBBLE_EVERY = 17;
+
+reg clk = 1'b0;
+always #5 clk = ~clk;
+reg rst = 1'b1;
+
+reg [WORD_BITS-1:0] rows [0:DEPTH-1];
+reg                 drive_valid = 1'b0;
+reg [WORD_BITS-1:0] drive_row = '0;
+reg [WORD_BITS-1:0] exp_row;
+
+longint cycle = 0;
+longint issued_at [0:DEPTH-1];
+int n_issued = 0;
+int n_checked = 0;
+int n_passed = 0;
+int n_failed = 0;
+int n_reports = 0;
+int slot = 0;
+int first_latency = -1;
+bit row_ok;
+bit format_ok = 1'b1;
+string dir;
+string path;
+
+always @(posedge clk) cycle <= cycle + 1;
+
+// Drive: one row per cycle at the falling edge; the next rising edge samples it.
+always @(negedge clk) begin
+    if (rst || n_issued >= DEPTH || !format_ok) begin
+        drive_valid = 1'b0;
+    end else if (slot % BUBBLE_EVERY == BUBBLE_EVERY - 1) begin
+        drive_valid = 1'b0;
+    end else begin
+        drive_row = rows[n_issued];
+        drive_valid = 1'b1;
+        issued_at[n_issued] = cycle;
+        n_issued = n_issued + 1;
+    end
+    slot = slot + 1;
+end
+
+// One failed field of the current row.
+task automatic check_field(input string name, input logic [127:0] got, input logic [127:0] expected);
+    if (got !== expected) begin
+        row_ok = 1'b0;
+        if (n_reports < MAX_REPORTS)
+            $display("FAIL %s row %0d: %s = %h, expected %h", UNIT, n_checked, name, got, expected);
+        n_reports = n_reports + 1;
+    end
+endtask
+
+// Opens the check of the next expected row (call on each valid output, at the falling edge).
+task automatic check_row_begin;
+    row_ok = 1'b1;
+    if (n_checked < DEPTH) begin
+        exp_row = rows[n_checked];
+        if (first_latency < 0) first_latency = int'(cycle - issued_at[n_checked]);
+        if (cycle - issued_at[n_checked] != LATENCY) begin
+            row_ok = 1'b0;
+            if (n_reports < MAX_REPORTS)
+                $display("FAIL %s row %0d: left after %0d cycles, the model's latency is %0d",
+                         UNIT, n_checked, cycle - issued_at[n_checked], LATENCY);
+            n_reports = n_reports + 1;
+        end
+    end else begin
+        exp_row = '0;
+        row_ok = 1'b0;
+        $display("FAIL %s: an output beyond the %0d rows", UNIT, DEPTH);
+    end
+endtask
+
+task automatic check_row_end;
+    if (row_ok) n_passed = n_passed + 1;
+    else n_failed = n_failed + 1;
+    n_checked = n_checked + 1;
+endtask
+
+// A port width that disagrees with the manifest: nothing can be checked.
+task automatic require_width(input string name, input int rtl, input int manifest);
+    if (rtl != manifest) begin
+        $display("FAIL %s: field %s is %0d bits in the vectors, %0d in the RTL", UNIT, name, manifest, rtl);
+        format_ok = 1'b0;
+    end
+endtask
+
+initial begin
+    if (!$value$plusargs("vectors=%s", dir)) dir = "vectors";
+    path = $sformatf("%0s/%0s.hex", dir, UNIT);
+    $readmemh(path, rows);
+    #1;
+    if (!format_ok) begin
+        $display("%0d passed, %0d failed", 0, DEPTH);
+        $finish;
+    end
+    repeat (3) @(negedge clk);
+    rst = 1'b0;
+    wait (n_issued == DEPTH);
+    fork
+        wait (n_checked >= DEPTH);
+        repeat (LATENCY + 4 * II + 20) @(negedge clk);
+    join_any
+    repeat (2) @(negedge clk);  // anything beyond the last row is reported too
+    if (n_checked < DEPTH) begin
+        $display("FAIL %s: %0d rows never came out", UNIT, DEPTH - n_checked);
+        n_failed = n_failed + (DEPTH - n_checked);
+    end
+    $display("%s: %0d rows from %s, latency %0d cycles (model %0d), II %0d, %0d bubbles",
+             UNIT, DEPTH, dir, first_latency, LATENCY, II, slot / BUBBLE_EVERY);
+    $display("%0d passed, %0d failed", n_passed, n_failed);
+    $finish;
+end
