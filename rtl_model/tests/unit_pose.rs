@@ -19,7 +19,7 @@ use rtl_model::units::rotation::{
 use std::f64::consts::TAU;
 
 fn seed() -> u64 {
-    common::seed(0x90_5e_2019)
+    common::seed(0x905e_2019)
 }
 
 fn unit(rng: &mut Rng) -> f64 {

@@ -1,6 +1,6 @@
 //! The drift plot: three stacked panels over the frame number, log scale — the matrix's
 //! orthonormality error, its error against the exact pose, and the image's largest t error —
-//! one line per pose path, the bounds dashed.
+//! one line per pose path (the largest value over each run of frames), the bounds dashed.
 //!
 //! Pipeline position: the last output of `sim drift`. Drawn with `plotters` into an RGB
 //! buffer (bitmap backend only) and encoded by the project's PNG writer. Text uses DejaVu Sans
@@ -12,7 +12,11 @@ use plotters::prelude::*;
 use std::sync::OnceLock;
 
 /// Picture size in pixels.
-pub const SIZE: (u32, u32) = (900, 960);
+pub const SIZE: (u32, u32) = (800, 840);
+
+/// Points drawn per line at most: each is the largest value of a run of frames (the envelope
+/// that a bound is about), which keeps the PNG small and its lines legible.
+const MAX_POINTS: usize = 500;
 
 /// Values at or below this are drawn at it (log scale; an exact 0 has no logarithm).
 const FLOOR: f64 = 1e-12;
@@ -74,6 +78,7 @@ fn panel<DB: DrawingBackend>(
         .x_label_formatter(&|v| format!("{v:.0}"))
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .label_style(("sans-serif", 13))
+        .light_line_style(WHITE)
         .draw()
         .map_err(err)?;
     for (m, pts) in series {
@@ -108,6 +113,39 @@ fn panel<DB: DrawingBackend>(
     Ok(())
 }
 
+/// The largest value of `f` over runs of consecutive frames, at most [`MAX_POINTS`] points,
+/// each at its run's first frame (and the last frame's own point, so lines reach the end).
+fn envelope(rows: &[&FrameDrift], f: fn(&FrameDrift) -> f64) -> Vec<(f64, f64)> {
+    let run = rows.len().div_ceil(MAX_POINTS).max(1);
+    let mut pts: Vec<(f64, f64)> = rows
+        .chunks(run)
+        .map(|c| {
+            let y = c.iter().map(|r| f(r)).fold(FLOOR, f64::max);
+            (f64::from(c[0].frame), y)
+        })
+        .collect();
+    if let Some(last) = rows.last() {
+        pts.push((f64::from(last.frame), f(last).max(FLOOR)));
+    }
+    pts
+}
+
+/// Encodes the plot as PNG with the strongest compression (it is committed under `docs/`).
+pub fn encode(img: &image::RgbImage) -> Result<Vec<u8>, String> {
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    use image::ImageEncoder;
+    let mut bytes = Vec::new();
+    PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
+        .write_image(
+            img.as_raw(),
+            img.width(),
+            img.height(),
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(|e| format!("drift.png: {e}"))?;
+    Ok(bytes)
+}
+
 /// Renders the plot as RGB pixels (`SIZE`).
 pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
     register_font()?;
@@ -122,24 +160,20 @@ pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
             Mode::ALL
                 .iter()
                 .map(|&m| {
-                    let pts = result
-                        .rows
-                        .iter()
-                        .filter(|r| r.mode == m)
-                        .map(|r| (f64::from(r.frame), f(r).max(FLOOR)))
-                        .collect();
-                    (m, pts)
+                    let mine: Vec<&FrameDrift> =
+                        result.rows.iter().filter(|r| r.mode == m).collect();
+                    (m, envelope(&mine, f))
                 })
                 .collect()
         };
         let b = &result.bounds;
         let flat = |v: f64| vec![(0.0, v.max(FLOOR)), (frames, v.max(FLOOR))];
-        let inc_growth: Vec<(f64, f64)> = result
+        let inc: Vec<&FrameDrift> = result
             .rows
             .iter()
             .filter(|r| r.mode == Mode::Incremental)
-            .map(|r| (f64::from(r.frame), r.matrix_bound.max(FLOOR)))
             .collect();
+        let inc_growth = envelope(&inc, |r| r.matrix_bound);
         panel(
             &areas[0],
             "orthonormality error max |RᵀR − I|",

@@ -163,6 +163,7 @@ pub fn nearness(
 /// What a frame's judgement needs besides the records: the datapath, the exact camera and
 /// poses, each instance's octree depth, and an extra matrix error allowed on top of the
 /// datapath's (0 when the matrices come straight from the exact poses).
+#[derive(Clone, Copy)]
 pub struct JudgeCtx<'a> {
     /// The datapath whose bounds apply.
     pub cfg: &'a DatapathConfig,
