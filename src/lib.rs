@@ -18,5 +18,6 @@ pub mod reference;
 pub mod run;
 pub mod scene;
 pub mod sdf;
+pub mod stress;
 
 pub use error::{AssetError, SceneError};

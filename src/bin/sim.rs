@@ -44,6 +44,9 @@ enum Command {
     /// Error over animation run time: fixed-point pose paths over a long animation
     /// (docs/drift.md); writes drift.csv, drift.json and drift.png.
     Drift(svo_sim::drift::cli::DriftArgs),
+    /// Stiff and extreme cases against the f64 reference, with a verdict each
+    /// (docs/stability.md).
+    Stress(svo_sim::stress::cli::StressArgs),
 }
 
 #[derive(Args, Debug)]
@@ -533,6 +536,7 @@ fn main() -> ExitCode {
         Some(Command::Bench(b)) => cmd_bench(b),
         Some(Command::Datapath(d)) => cmd_datapath(d),
         Some(Command::Drift(d)) => svo_sim::drift::cli::run_cli(&d),
+        Some(Command::Stress(s)) => svo_sim::stress::cli::run_cli(&s),
         None => cmd_run(cli.run),
     };
     match r {
