@@ -45,6 +45,7 @@ pub fn all() -> Vec<CaseSpec> {
         CaseSpec { name: "range_beyond", what: "camera and instance beyond the position format's range (140-150 m)", bound: "not representable by sQ8.32 positions: must be flagged (raygen/pos saturates)", expected: Verdict::Flagged, build: range_beyond },
         CaseSpec { name: "far_camera", what: "camera 100 m from a 1 m instance, 1.2° field of view", bound: SPATIAL, expected: Verdict::Pass, build: far_camera },
         CaseSpec { name: "far_beyond_reach", what: "camera 200 m from the instance (beyond the sphere unit's 128 m reach and the local position range)", bound: "not representable: must be flagged (sphere/reach, transform/origin)", expected: Verdict::Flagged, build: far_beyond_reach },
+        CaseSpec { name: "far_diagonal", what: "camera 205 m from the instance along the diagonal: every component of c − o (118 m) within the 128 m reach, the length not", bound: "beyond the sphere unit's analysed range |c − o| ≤ 128 m: must be flagged (sphere/reach); was unflagged before the fix of the unit's reach guard", expected: Verdict::Flagged, build: far_diagonal },
         CaseSpec { name: "overlap_72", what: "72 overlapping instances (rings along the view axis): up to 72 candidates per ray, 9× the sorter's N = 8", bound: "no candidate dropped (chunked sort + merge); mismatches within ε", expected: Verdict::Pass, build: overlap_72 },
     ]
 }
@@ -322,6 +323,19 @@ fn far_beyond_reach() -> Result<CaseInput, String> {
     let a = shape_asset("ball6", &shell(0.9), 1.0, 6)?;
     let c = DVec3::new(100.0, 0.0, 0.0);
     let camera = look_at(DVec3::new(-100.0, 0.0, 0.0), c, DVec3::Y, 1.2);
+    case(
+        (33, 33),
+        vec![a],
+        &[0],
+        camera,
+        vec![upright(c, DVec3::ONE)],
+    )
+}
+
+fn far_diagonal() -> Result<CaseInput, String> {
+    let a = shape_asset("ball6", &shell(0.9), 1.0, 6)?;
+    let c = DVec3::splat(60.0);
+    let camera = look_at(DVec3::splat(-58.36), c, DVec3::Y, 1.0);
     case(
         (33, 33),
         vec![a],
