@@ -38,6 +38,7 @@ pub fn all() -> Vec<CaseSpec> {
         CaseSpec { name: "grazing_sphere", what: "rays tangent to a bounding sphere within 10^-6 where it touches the box corner, the corner leaf solid", bound: "sphere test never rejects an exact hit (widened threshold W); mismatches within ε", expected: Verdict::Pass, build: grazing_sphere },
         CaseSpec { name: "camera_in_sphere", what: "camera inside two bounding spheres but outside their boxes (sort keys 0), a third instance behind", bound: SPATIAL, expected: Verdict::Pass, build: camera_in_sphere },
         CaseSpec { name: "camera_in_svo", what: "camera inside a rotated octree, in a hollow shell: every walk starts inside the box", bound: SPATIAL, expected: Verdict::Pass, build: camera_in_svo },
+        CaseSpec { name: "camera_in_leaf", what: "camera inside a solid leaf of a full octree: every ray hits at t = 0", bound: SPATIAL, expected: Verdict::Pass, build: camera_in_leaf },
         CaseSpec { name: "scale_1e4", what: "a 5 mm and a 50 m instance in one frame (scale ratio 10^4), the camera 5 cm from the small one and inside the big one's sphere", bound: SPATIAL, expected: Verdict::Pass, build: scale_1e4 },
         CaseSpec { name: "anisotropic_1000", what: "one instance scaled 20 m × 2 cm × 2 m (1000:1), rotated", bound: SPATIAL, expected: Verdict::Pass, build: anisotropic },
         CaseSpec { name: "depth16", what: "a depth-16 octree (30 µm leaves): a checkerboard patch and a diagonal line of leaves, seen from 1 cm", bound: SPATIAL, expected: Verdict::Pass, build: depth16 },
@@ -209,6 +210,25 @@ fn camera_in_svo() -> Result<CaseInput, String> {
         &[0],
         camera,
         vec![pose([10.0, 20.0, 30.0], DVec3::ZERO, DVec3::ONE)],
+    )
+}
+
+fn camera_in_leaf() -> Result<CaseInput, String> {
+    let n = 1u32 << 4;
+    let all = (0..n).flat_map(move |z| (0..n).flat_map(move |y| (0..n).map(move |x| [x, y, z])));
+    let a = voxel_asset("full4", 4, 1.0, all)?;
+    let camera = look_at(
+        DVec3::new(0.3, 0.2, 0.1),
+        DVec3::new(1.0, -0.5, 2.0),
+        DVec3::Y,
+        90.0,
+    );
+    case(
+        (33, 33),
+        vec![a],
+        &[0],
+        camera,
+        vec![pose([0.0, 0.0, 45.0], DVec3::ZERO, DVec3::ONE)],
     )
 }
 
