@@ -14,7 +14,7 @@
 //!   pixel, which would be a defect of the model.
 
 use super::build::CaseInput;
-use crate::fixed_model::explain::{judge, JudgeCtx};
+use crate::fixed_model::explain::{bound_with_matrix_error, direction_error, judge, JudgeCtx};
 use crate::fixed_model::{render_frame_fixed, to_hit_records, FixedBuffer};
 use crate::reference::ray::primary_ray;
 use crate::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
@@ -82,6 +82,9 @@ pub struct CaseResult {
     pub height: u32,
     /// Deepest octree of the case.
     pub depth_max: u8,
+    /// The spatial bound ε (metres) for rays from the camera into the first instance (the
+    /// datapath's bound, `number-formats.md` §3.5, at this distance and depth).
+    pub eps: f64,
     /// What the rays exercise.
     pub census: RayCensus,
     /// Pixels the reference hit.
@@ -193,6 +196,17 @@ pub fn measure(
         mat_err: 0.0,
     };
     let j = judge(&ctx, &reference.records, &fixed);
+    let eps = input.state.poses.first().map_or(0.0, |p| {
+        let rel = p.world_from_local.transpose() * (input.state.camera.position - p.centre);
+        bound_with_matrix_error(
+            cfg,
+            direction_error(cfg),
+            rel,
+            p.half_extent,
+            depths[0],
+            0.0,
+        )
+    });
     let ov = fx
         .overflows
         .clone()
@@ -222,6 +236,7 @@ pub fn measure(
         width: w,
         height: h,
         depth_max: depths.iter().copied().max().unwrap_or(0),
+        eps,
         census: census(input),
         reference_hits: reference.records.iter().filter(|r| r.hit).count() as u64,
         fixed_hits: fixed.iter().filter(|r| r.hit).count() as u64,
