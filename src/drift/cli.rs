@@ -52,6 +52,12 @@ pub fn run_cli(a: &DriftArgs) -> Result<()> {
                 start.elapsed().as_secs_f64()
             );
         }
+    })
+    .with_context(|| {
+        format!(
+            "sim drift --frames {} --width {} --height {} --depth {}",
+            a.frames, a.width, a.height, a.depth
+        )
     })?;
     std::fs::create_dir_all(&a.out)
         .with_context(|| format!("cannot create output folder {}", a.out.display()))?;
