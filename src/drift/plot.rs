@@ -1,5 +1,6 @@
-//! The drift plot: three stacked panels over the frame number, log scale — the matrix's
-//! orthonormality error, its error against the exact pose, and the image's largest t error —
+//! The drift plot: four stacked panels over the frame number, log scale — the matrix's
+//! orthonormality error, its error against the exact pose, the image's largest t error, and
+//! that error over the per-pixel bound a pose rebuilt from the keys guarantees —
 //! one line per pose path (the largest value over each run of frames), the bounds dashed.
 //!
 //! Pipeline position: the last output of `sim drift`. Drawn with `plotters` into an RGB
@@ -12,7 +13,7 @@ use plotters::prelude::*;
 use std::sync::OnceLock;
 
 /// Picture size in pixels.
-pub const SIZE: (u32, u32) = (800, 840);
+pub const SIZE: (u32, u32) = (800, 1080);
 
 /// Points drawn per line at most: each is the largest value of a run of frames (the envelope
 /// that a bound is about), which keeps the PNG small and its lines legible.
@@ -56,6 +57,8 @@ fn panel<DB: DrawingBackend>(
     frames: f64,
     series: &[(Mode, Vec<(f64, f64)>)],
     bounds: &[Bound],
+    lo: f64,
+    legend: SeriesLabelPosition,
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
     let top = series
@@ -63,14 +66,14 @@ fn panel<DB: DrawingBackend>(
         .flat_map(|(_, p)| p.iter())
         .chain(bounds.iter().flat_map(|(_, _, p)| p.iter()))
         .map(|&(_, v)| v)
-        .fold(FLOOR * 10.0, f64::max);
+        .fold(lo * 10.0, f64::max);
     let hi = 10f64.powf(top.log10().ceil() + 0.3);
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 18))
         .margin(10)
         .x_label_area_size(32)
         .y_label_area_size(64)
-        .build_cartesian_2d(0f64..frames, (FLOOR..hi).log_scale())
+        .build_cartesian_2d(0f64..frames, (lo..hi).log_scale())
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -104,7 +107,7 @@ fn panel<DB: DrawingBackend>(
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
+        .position(legend)
         .label_font(("sans-serif", 12))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
@@ -154,7 +157,7 @@ pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| format!("plot: {e}"))?;
-        let areas = root.split_evenly((3, 1));
+        let areas = root.split_evenly((4, 1));
         let frames = f64::from(result.frames.max(2) - 1);
         let pick = |f: fn(&FrameDrift) -> f64| -> Vec<(Mode, Vec<(f64, f64)>)> {
             Mode::ALL
@@ -191,6 +194,8 @@ pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
                     flat(b.incremental_orthonormality),
                 ),
             ],
+            FLOOR,
+            SeriesLabelPosition::UpperLeft,
         )?;
         panel(
             &areas[1],
@@ -209,6 +214,8 @@ pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
                     inc_growth,
                 ),
             ],
+            FLOOR,
+            SeriesLabelPosition::UpperLeft,
         )?;
         panel(
             &areas[2],
@@ -216,6 +223,17 @@ pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
             frames,
             &pick(|r| r.t_err_max),
             &[],
+            1e-9,
+            SeriesLabelPosition::UpperLeft,
+        )?;
+        panel(
+            &areas[3],
+            "largest t error ÷ its per-pixel bound with (a)'s matrix bound",
+            frames,
+            &pick(|r| r.t_err_over_keyframe_bound),
+            &[("1: the bound".into(), RGBColor(0, 0, 0), flat(1.0))],
+            1e-2,
+            SeriesLabelPosition::LowerRight,
         )?;
         root.present().map_err(|e| format!("plot: {e}"))?;
     }

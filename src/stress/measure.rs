@@ -14,10 +14,11 @@
 //!   pixel, which would be a defect of the model.
 
 use super::build::CaseInput;
-use crate::fixed_model::explain::{bound_with_matrix_error, direction_error, judge, JudgeCtx};
+use crate::fixed_model::explain::{bound_with_matrix_error, judge, DirectionError, JudgeCtx};
 use crate::fixed_model::{render_frame_fixed, to_hit_records, FixedBuffer};
 use crate::reference::ray::primary_ray;
 use crate::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
+use glam::DVec3;
 use rtl_model::datapath::{signals, DatapathConfig};
 use serde::Serialize;
 
@@ -83,8 +84,11 @@ pub struct CaseResult {
     /// Deepest octree of the case.
     pub depth_max: u8,
     /// The spatial bound ε (metres) for rays from the camera into the first instance (the
-    /// datapath's bound, `number-formats.md` §3.5, at this distance and depth).
+    /// datapath's bound, `number-formats.md` §3.5, at this distance and depth), for a ray
+    /// with a component that may be flushed to zero.
     pub eps: f64,
+    /// The same for a ray without one (no zero-threshold term).
+    pub eps_unflushed: f64,
     /// What the rays exercise.
     pub census: RayCensus,
     /// Pixels the reference hit.
@@ -196,16 +200,11 @@ pub fn measure(
         mat_err: 0.0,
     };
     let j = judge(&ctx, &reference.records, &fixed);
-    let eps = input.state.poses.first().map_or(0.0, |p| {
+    let dir = DirectionError::of(cfg);
+    let (eps, eps_unflushed) = input.state.poses.first().map_or((0.0, 0.0), |p| {
         let rel = p.world_from_local.transpose() * (input.state.camera.position - p.centre);
-        bound_with_matrix_error(
-            cfg,
-            direction_error(cfg),
-            rel,
-            p.half_extent,
-            depths[0],
-            0.0,
-        )
+        let at = |d: f64| bound_with_matrix_error(cfg, d, rel, p.half_extent, depths[0], 0.0);
+        (at(dir.any_ray()), at(dir.for_ray(DVec3::ONE, 0.0)))
     });
     let ov = fx
         .overflows
@@ -237,6 +236,7 @@ pub fn measure(
         height: h,
         depth_max: depths.iter().copied().max().unwrap_or(0),
         eps,
+        eps_unflushed,
         census: census(input),
         reference_hits: reference.records.iter().filter(|r| r.hit).count() as u64,
         fixed_hits: fixed.iter().filter(|r| r.hit).count() as u64,
