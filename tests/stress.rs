@@ -186,3 +186,33 @@ fn cli_writes_the_table_and_refuses_unknown_cases() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn coincident_instances_go_to_the_lower_id_in_both_models() {
+    let spec = all().into_iter().find(|s| s.name == "coincident").unwrap();
+    let mut input = (spec.build)().unwrap();
+    // Keep the two instances at the very same pose; drop the one 10^-9 m beside them.
+    input.state.poses.truncate(2);
+    input.scene.instance_asset.truncate(2);
+    input.scene.file.instances.truncate(2);
+    let (w, h) = input.scene.file.resolution;
+    let frame = FrameInput {
+        scene: &input.scene,
+        assets: &input.assets,
+        state: &input.state,
+    };
+    let mut reference = HitBuffer::new(w, h);
+    render_frame(&frame, &mut reference, RenderOptions::default());
+    let cfg = rtl_model::datapath::DatapathConfig::default();
+    let mut fixed = svo_sim::fixed_model::FixedBuffer::new(w, h);
+    svo_sim::fixed_model::render_frame_fixed(&frame, &mut fixed, &cfg, false).unwrap();
+    let fixed = svo_sim::fixed_model::to_hit_records(&fixed, &cfg);
+    let hits = reference.records.iter().filter(|r| r.hit).count();
+    assert!(hits > 100);
+    for (r, f) in reference.records.iter().zip(&fixed) {
+        assert_eq!(r.hit, f.hit);
+        if r.hit {
+            assert_eq!((r.instance, f.instance), (0, 0));
+        }
+    }
+}

@@ -32,6 +32,7 @@ const SPATIAL: &str = "every mismatch within ε (spatial bound, number-formats �
 pub fn all() -> Vec<CaseSpec> {
     vec![
         CaseSpec { name: "axis_zero", what: "axis-parallel rays with exact +0 and −0 components, in the octree's root centre planes, over a 3-D checkerboard", bound: SPATIAL, expected: Verdict::Pass, build: axis_zero },
+        CaseSpec { name: "zero_dir_at_centre", what: "the same ±0 rays from the exact centre of an octree (origin on all three root centre planes), inside a hollow shell", bound: SPATIAL, expected: Verdict::Pass, build: zero_dir_at_centre },
         CaseSpec { name: "near_axis", what: "rays within 2·10^-6 of the z axis: components from 1.2·10^-7 to 1.9·10^-6 (below 2^-21 flushed to zero, up to 2^-20), crossing voxel boundaries", bound: SPATIAL, expected: Verdict::Pass, build: near_axis },
         CaseSpec { name: "corners", what: "rays along the main diagonal through the corners of every level's nodes, leaves touching the diagonal only at corners", bound: SPATIAL, expected: Verdict::Pass, build: corners },
         CaseSpec { name: "edges", what: "rays lying in a grid plane (d_z = ±0) and through vertical node edges, over a checkerboard", bound: SPATIAL, expected: Verdict::Pass, build: edges },
@@ -47,6 +48,7 @@ pub fn all() -> Vec<CaseSpec> {
         CaseSpec { name: "far_camera", what: "camera 100 m from a 1 m instance, 1.2° field of view", bound: SPATIAL, expected: Verdict::Pass, build: far_camera },
         CaseSpec { name: "far_beyond_reach", what: "camera 200 m from the instance (beyond the sphere unit's 128 m reach and the local position range)", bound: "not representable: must be flagged (sphere/reach, transform/origin)", expected: Verdict::Flagged, build: far_beyond_reach },
         CaseSpec { name: "far_diagonal", what: "camera 205 m from the instance along the diagonal: every component of c − o (118 m) within the 128 m reach, the length not", bound: "beyond the sphere unit's analysed range |c − o| ≤ 128 m: must be flagged (sphere/reach); was unflagged before the fix of the unit's reach guard", expected: Verdict::Flagged, build: far_diagonal },
+        CaseSpec { name: "coincident", what: "two instances at the same pose (equal sort keys and equal hit t: the lower id must win in both models) and a third 10^-9 m beside them", bound: "ties go to the lower instance id; mismatches within ε", expected: Verdict::Pass, build: coincident },
         CaseSpec { name: "overlap_72", what: "72 overlapping instances (rings along the view axis): up to 72 candidates per ray, 9× the sorter's N = 8", bound: "no candidate dropped (chunked sort + merge); mismatches within ε", expected: Verdict::Pass, build: overlap_72 },
     ]
 }
@@ -76,6 +78,31 @@ fn axis_zero() -> Result<CaseInput, String> {
         tan_half_vfov: 20f64.to_radians().tan(),
     };
     let a = voxel_asset("checker5", 5, 1.0, checkerboard(5))?;
+    case(
+        (33, 33),
+        vec![a],
+        &[0],
+        camera,
+        vec![upright(DVec3::ZERO, DVec3::ONE)],
+    )
+}
+
+/// The mirrored basis of [`axis_zero`]: exact −0 components in the middle row and column.
+fn signed_zero_camera(position: DVec3) -> Camera {
+    Camera {
+        position,
+        forward: DVec3::new(-0.0, -0.0, -1.0),
+        right: DVec3::new(-1.0, -0.0, -0.0),
+        up: DVec3::new(-0.0, -1.0, -0.0),
+        tan_half_vfov: 20f64.to_radians().tan(),
+    }
+}
+
+fn zero_dir_at_centre() -> Result<CaseInput, String> {
+    // Zero components with the origin exactly on their centre plane: the §3.3 midpoint rule
+    // (−∞ at or above the plane) decides, never (−∞ + ∞)/2.
+    let a = shape_asset("ball6", &shell(0.9), 1.0, 6)?;
+    let camera = signed_zero_camera(DVec3::ZERO);
     case(
         (33, 33),
         vec![a],
@@ -363,6 +390,15 @@ fn far_diagonal() -> Result<CaseInput, String> {
         camera,
         vec![upright(c, DVec3::ONE)],
     )
+}
+
+fn coincident() -> Result<CaseInput, String> {
+    let a = shape_asset("ball6", &shell(0.9), 1.0, 6)?;
+    let camera = look_at(DVec3::new(0.5, 0.8, 3.0), DVec3::ZERO, DVec3::Y, 50.0);
+    let p = pose([10.0, 20.0, 30.0], DVec3::ZERO, DVec3::ONE);
+    let mut beside = p;
+    beside.centre = DVec3::new(1e-9, 0.0, 0.0);
+    case((33, 33), vec![a], &[0, 0, 0], camera, vec![p, p, beside])
 }
 
 fn overlap_72() -> Result<CaseInput, String> {
