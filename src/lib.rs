@@ -19,6 +19,7 @@ pub mod reference;
 pub mod run;
 pub mod scene;
 pub mod sdf;
+pub mod stress;
 pub mod vectors;
 
 pub use error::{AssetError, SceneError};

@@ -111,3 +111,71 @@ fn conservative_and_within_bound() {
         "the widening should keep few extra spheres: {extra}"
     );
 }
+
+/// Regression (found by `sim stress`, case `far_diagonal`): the conservative analysis holds
+/// for |l| ≤ reach, but the unit used to check the reach per component, so a sphere up to
+/// √3·reach away along a diagonal passed the guard unflagged and could be rejected although
+/// the exact test accepts it. Every grazing ray here is 205 m from the sphere along the
+/// diagonal (each component of l about 118 m, below the 128 m reach): the unit must keep the
+/// sphere or count it on the reach signal, never reject it silently.
+#[test]
+fn beyond_reach_along_a_diagonal_is_never_silently_rejected() {
+    let seed: u64 = std::env::var("SVO_TEST_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0xd1a9);
+    println!("seed = {seed} (SVO_TEST_SEED replays)");
+    let mut rng = Rng(seed);
+    let cfg = SphereConfig::default();
+    let mut ov = Overflows::new(&["in", "tca", "sq", "t_enter", "reach"]);
+    let sig = SphereSignals {
+        tca: SignalId(1),
+        sq: SignalId(2),
+        t_enter: SignalId(3),
+        reach: SignalId(4),
+    };
+    let (mut kept, mut counted) = (0u64, 0u64);
+    for case in 0..20_000 {
+        let c = [
+            60.0 + rng.f(-1.0, 1.0),
+            60.0 + rng.f(-1.0, 1.0),
+            60.0 + rng.f(-1.0, 1.0),
+        ];
+        let r = rng.f(0.5, 3.0);
+        let k = 3f64.sqrt().recip();
+        let d = {
+            let v = [
+                k + rng.f(-0.03, 0.03),
+                k + rng.f(-0.03, 0.03),
+                k + rng.f(-0.03, 0.03),
+            ];
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            v.map(|x| x / n)
+        };
+        let side = unit(&mut rng);
+        let s = side[0] * d[0] + side[1] * d[1] + side[2] * d[2];
+        let mut p = [side[0] - s * d[0], side[1] - s * d[1], side[2] - s * d[2]];
+        let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt().max(1e-9);
+        p = p.map(|x| x / n * r * (1.0 - 1e-9));
+        let o = [0, 1, 2].map(|i| c[i] + p[i] - d[i] * 205.0);
+        assert!((0..3).all(|i| (c[i] - o[i]).abs() < 128.0));
+        let q = |v: [f64; 3], f, ov: &mut Overflows| v.map(|x| from_f64(x, f, ov, SignalId(0)));
+        let (oq, dq, cq) = (
+            q(o, cfg.pos, &mut ov),
+            q(d, cfg.dir, &mut ov),
+            q(c, cfg.pos, &mut ov),
+        );
+        let before = ov.count(sig.reach);
+        let got = sphere_test(oq, dq, &SphereRaw::new(cq, r, &cfg), &cfg, &mut ov, sig);
+        let flagged = ov.count(sig.reach) > before;
+        if exact(o, d, c, r).is_some() {
+            assert!(
+                got.is_some() || flagged,
+                "seed {seed} case {case}: rejected silently beyond the reach (o {o:?} d {d:?} c {c:?} r {r})"
+            );
+            kept += u64::from(got.is_some());
+            counted += u64::from(flagged);
+        }
+    }
+    println!("exact hits kept: {kept}, counted on sphere/reach: {counted}");
+}

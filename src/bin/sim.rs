@@ -54,6 +54,9 @@ enum Command {
     /// packages) from adversarial cases, a real frame and seeded random stimulus
     /// (docs/vectors.md).
     Vectors(svo_sim::vectors::cli::VectorsArgs),
+    /// Stiff and extreme cases against the f64 reference, with a verdict each
+    /// (docs/stability.md).
+    Stress(svo_sim::stress::cli::StressArgs),
 }
 
 #[derive(Args, Debug)]
@@ -882,6 +885,7 @@ fn main() -> ExitCode {
         Some(Command::Hardware(h)) => cmd_hardware(h),
         Some(Command::Drift(d)) => svo_sim::drift::cli::run_cli(&d),
         Some(Command::Vectors(v)) => svo_sim::vectors::cli::run(v),
+        Some(Command::Stress(s)) => svo_sim::stress::cli::run_cli(&s),
         None => cmd_run(cli.run),
     };
     match r {

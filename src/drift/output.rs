@@ -6,12 +6,11 @@
 use super::plot;
 use super::run::DriftResult;
 use crate::output::atomic::write_atomic;
-use crate::output::png::encode_png;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Header of `drift.csv`.
-pub const CSV_HEADER: &str = "frame,mode,orthonormality,matrix_error,matrix_bound,t_err_max,t_err_rms,t_err_over_bound,hit_mismatches,instance_mismatches,voxel_mismatches,beyond_bound,saturations";
+pub const CSV_HEADER: &str = "frame,mode,orthonormality,matrix_error,matrix_bound,t_err_max,t_err_rms,t_err_over_bound,hit_mismatches,instance_mismatches,voxel_mismatches,beyond_bound,beyond_keyframe_bound,t_err_over_keyframe_bound,saturations";
 
 /// The CSV text.
 pub fn csv(result: &DriftResult) -> String {
@@ -22,7 +21,7 @@ pub fn csv(result: &DriftResult) -> String {
         // `{:e}` is Rust's shortest round-trip form: exact and deterministic.
         let _ = writeln!(
             s,
-            "{},{},{:e},{:e},{:e},{:e},{:e},{:e},{},{},{},{},{}",
+            "{},{},{:e},{:e},{:e},{:e},{:e},{:e},{},{},{},{},{},{:e},{}",
             r.frame,
             r.mode.name(),
             r.orthonormality,
@@ -35,6 +34,8 @@ pub fn csv(result: &DriftResult) -> String {
             r.instance_mismatches,
             r.voxel_mismatches,
             r.beyond_bound,
+            r.beyond_keyframe_bound,
+            r.t_err_over_keyframe_bound,
             r.saturations
         );
     }
@@ -44,7 +45,7 @@ pub fn csv(result: &DriftResult) -> String {
 /// Writes the three files into `dir` (which must exist) and returns their paths. The plot is
 /// rendered before anything is written, so a drawing error leaves no file behind.
 pub fn write_outputs(result: &DriftResult, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let png = encode_png(&plot::render(result)?).map_err(|e| format!("drift.png: {e}"))?;
+    let png = plot::encode(&plot::render(result)?)?;
     let json = serde_json::to_string_pretty(result).map_err(|e| format!("drift.json: {e}"))?;
     let files = [
         ("drift.csv", csv(result).into_bytes()),

@@ -1,6 +1,7 @@
-//! The drift plot: three stacked panels over the frame number, log scale — the matrix's
-//! orthonormality error, its error against the exact pose, and the image's largest t error —
-//! one line per pose path, the bounds dashed.
+//! The drift plot: four stacked panels over the frame number, log scale — the matrix's
+//! orthonormality error, its error against the exact pose, the image's largest t error, and
+//! that error over the per-pixel bound a pose rebuilt from the keys guarantees —
+//! one line per pose path (the largest value over each run of frames), the bounds dashed.
 //!
 //! Pipeline position: the last output of `sim drift`. Drawn with `plotters` into an RGB
 //! buffer (bitmap backend only) and encoded by the project's PNG writer. Text uses DejaVu Sans
@@ -12,7 +13,11 @@ use plotters::prelude::*;
 use std::sync::OnceLock;
 
 /// Picture size in pixels.
-pub const SIZE: (u32, u32) = (900, 960);
+pub const SIZE: (u32, u32) = (800, 1080);
+
+/// Points drawn per line at most: each is the largest value of a run of frames (the envelope
+/// that a bound is about), which keeps the PNG small and its lines legible.
+const MAX_POINTS: usize = 500;
 
 /// Values at or below this are drawn at it (log scale; an exact 0 has no logarithm).
 const FLOOR: f64 = 1e-12;
@@ -52,6 +57,8 @@ fn panel<DB: DrawingBackend>(
     frames: f64,
     series: &[(Mode, Vec<(f64, f64)>)],
     bounds: &[Bound],
+    lo: f64,
+    legend: SeriesLabelPosition,
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
     let top = series
@@ -59,14 +66,14 @@ fn panel<DB: DrawingBackend>(
         .flat_map(|(_, p)| p.iter())
         .chain(bounds.iter().flat_map(|(_, _, p)| p.iter()))
         .map(|&(_, v)| v)
-        .fold(FLOOR * 10.0, f64::max);
+        .fold(lo * 10.0, f64::max);
     let hi = 10f64.powf(top.log10().ceil() + 0.3);
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 18))
         .margin(10)
         .x_label_area_size(32)
         .y_label_area_size(64)
-        .build_cartesian_2d(0f64..frames, (FLOOR..hi).log_scale())
+        .build_cartesian_2d(0f64..frames, (lo..hi).log_scale())
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -74,6 +81,7 @@ fn panel<DB: DrawingBackend>(
         .x_label_formatter(&|v| format!("{v:.0}"))
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .label_style(("sans-serif", 13))
+        .light_line_style(WHITE)
         .draw()
         .map_err(err)?;
     for (m, pts) in series {
@@ -99,13 +107,46 @@ fn panel<DB: DrawingBackend>(
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
+        .position(legend)
         .label_font(("sans-serif", 12))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()
         .map_err(err)?;
     Ok(())
+}
+
+/// The largest value of `f` over runs of consecutive frames, at most [`MAX_POINTS`] points,
+/// each at its run's first frame (and the last frame's own point, so lines reach the end).
+fn envelope(rows: &[&FrameDrift], f: fn(&FrameDrift) -> f64) -> Vec<(f64, f64)> {
+    let run = rows.len().div_ceil(MAX_POINTS).max(1);
+    let mut pts: Vec<(f64, f64)> = rows
+        .chunks(run)
+        .map(|c| {
+            let y = c.iter().map(|r| f(r)).fold(FLOOR, f64::max);
+            (f64::from(c[0].frame), y)
+        })
+        .collect();
+    if let Some(last) = rows.last() {
+        pts.push((f64::from(last.frame), f(last).max(FLOOR)));
+    }
+    pts
+}
+
+/// Encodes the plot as PNG with the strongest compression (it is committed under `docs/`).
+pub fn encode(img: &image::RgbImage) -> Result<Vec<u8>, String> {
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    use image::ImageEncoder;
+    let mut bytes = Vec::new();
+    PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
+        .write_image(
+            img.as_raw(),
+            img.width(),
+            img.height(),
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(|e| format!("drift.png: {e}"))?;
+    Ok(bytes)
 }
 
 /// Renders the plot as RGB pixels (`SIZE`).
@@ -116,30 +157,26 @@ pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| format!("plot: {e}"))?;
-        let areas = root.split_evenly((3, 1));
+        let areas = root.split_evenly((4, 1));
         let frames = f64::from(result.frames.max(2) - 1);
         let pick = |f: fn(&FrameDrift) -> f64| -> Vec<(Mode, Vec<(f64, f64)>)> {
             Mode::ALL
                 .iter()
                 .map(|&m| {
-                    let pts = result
-                        .rows
-                        .iter()
-                        .filter(|r| r.mode == m)
-                        .map(|r| (f64::from(r.frame), f(r).max(FLOOR)))
-                        .collect();
-                    (m, pts)
+                    let mine: Vec<&FrameDrift> =
+                        result.rows.iter().filter(|r| r.mode == m).collect();
+                    (m, envelope(&mine, f))
                 })
                 .collect()
         };
         let b = &result.bounds;
         let flat = |v: f64| vec![(0.0, v.max(FLOOR)), (frames, v.max(FLOOR))];
-        let inc_growth: Vec<(f64, f64)> = result
+        let inc: Vec<&FrameDrift> = result
             .rows
             .iter()
             .filter(|r| r.mode == Mode::Incremental)
-            .map(|r| (f64::from(r.frame), r.matrix_bound.max(FLOOR)))
             .collect();
+        let inc_growth = envelope(&inc, |r| r.matrix_bound);
         panel(
             &areas[0],
             "orthonormality error max |RᵀR − I|",
@@ -157,6 +194,8 @@ pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
                     flat(b.incremental_orthonormality),
                 ),
             ],
+            FLOOR,
+            SeriesLabelPosition::UpperLeft,
         )?;
         panel(
             &areas[1],
@@ -175,6 +214,8 @@ pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
                     inc_growth,
                 ),
             ],
+            FLOOR,
+            SeriesLabelPosition::UpperLeft,
         )?;
         panel(
             &areas[2],
@@ -182,6 +223,17 @@ pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
             frames,
             &pick(|r| r.t_err_max),
             &[],
+            1e-9,
+            SeriesLabelPosition::UpperLeft,
+        )?;
+        panel(
+            &areas[3],
+            "largest t error ÷ its per-pixel bound with (a)'s matrix bound",
+            frames,
+            &pick(|r| r.t_err_over_keyframe_bound),
+            &[("1: the bound".into(), RGBColor(0, 0, 0), flat(1.0))],
+            1e-2,
+            SeriesLabelPosition::LowerRight,
         )?;
         root.present().map_err(|e| format!("plot: {e}"))?;
     }

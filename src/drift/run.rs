@@ -132,6 +132,12 @@ pub struct FrameDrift {
     /// Mismatches of any kind, and t errors, beyond the bound (datapath bound plus the mode's
     /// matrix bound).
     pub beyond_bound: u64,
+    /// Mismatches and t errors beyond the bound that holds for (a) — the datapath bound plus
+    /// (a)'s constant matrix bound: where an incremental path's pixels leave what a pose
+    /// rebuilt from the keys guarantees.
+    pub beyond_keyframe_bound: u64,
+    /// Largest t error over its per-pixel bound with (a)'s matrix bound.
+    pub t_err_over_keyframe_bound: f64,
     /// Saturations in the datapath and the pose path.
     pub saturations: u64,
 }
@@ -173,6 +179,12 @@ pub struct ModeSummary {
     pub mismatches: u64,
     /// Mismatches beyond the bound, all frames.
     pub beyond_bound: u64,
+    /// Mismatches and t errors beyond (a)'s bound, all frames.
+    pub beyond_keyframe_bound: u64,
+    /// Largest t error over its per-pixel bound with (a)'s matrix bound.
+    pub t_err_over_keyframe_bound_max: f64,
+    /// First frame with a pixel beyond (a)'s bound, if any.
+    pub first_frame_beyond_keyframe_bound: Option<u32>,
     /// Saturations, all frames.
     pub saturations: u64,
 }
@@ -332,6 +344,18 @@ pub fn run_drift(
                 mat_err: mat_bound,
             };
             let j = judge(&ctx, &reference.records, &records);
+            let jk = if mode == Mode::Keyframe {
+                j.clone()
+            } else {
+                judge(
+                    &JudgeCtx {
+                        mat_err: key_mat,
+                        ..ctx
+                    },
+                    &reference.records,
+                    &records,
+                )
+            };
             let ov = fx
                 .overflows
                 .as_ref()
@@ -350,6 +374,8 @@ pub fn run_drift(
                 instance_mismatches: a.instance_mismatches,
                 voxel_mismatches: a.voxel_mismatches,
                 beyond_bound: j.all_beyond_bound(),
+                beyond_keyframe_bound: jk.all_beyond_bound(),
+                t_err_over_keyframe_bound: jk.t_err_over_bound_max,
                 saturations: ov + (pose_ov.total() - before),
             });
         }
@@ -396,12 +422,19 @@ fn summarise(rows: &[FrameDrift], mode: Mode, frames: u32) -> ModeSummary {
             .map(|r| r.hit_mismatches + r.instance_mismatches + r.voxel_mismatches)
             .sum(),
         beyond_bound: mine.iter().map(|r| r.beyond_bound).sum(),
+        beyond_keyframe_bound: mine.iter().map(|r| r.beyond_keyframe_bound).sum(),
+        t_err_over_keyframe_bound_max: max(&mut mine.iter().map(|r| r.t_err_over_keyframe_bound)),
+        first_frame_beyond_keyframe_bound: mine
+            .iter()
+            .find(|r| r.beyond_keyframe_bound > 0)
+            .map(|r| r.frame),
         saturations: mine.iter().map(|r| r.saturations).sum(),
     }
 }
 
 fn check_claims(rows: &[FrameDrift], b: &DriftBounds) -> DriftClaims {
     let of = |m: Mode| rows.iter().filter(move |r| r.mode == m);
+
     let keyframe_bounded = of(Mode::Keyframe).all(|r| {
         r.orthonormality <= b.keyframe_orthonormality
             && r.matrix_error <= b.keyframe_matrix

@@ -5,7 +5,7 @@
 //! instance), before `units::rotation` multiplies the three axis rotations into the matrix
 //! the transform unit reads. No multiplier: shifts, adds and a small arctangent ROM.
 //!
-//! Datapath (bit for bit what [`sin_cos`] computes):
+//! Datapath (bit for bit what [`Cordic::sin_cos`] computes):
 //! 1. The angle θ is a binary angle: sQ0.32 turns, so its two's-complement wrap *is* the
 //!    modulo-one-turn of an angle (`units::keyframe`).
 //! 2. Quadrant: q = ⌊4θ + ½⌋ from the top bits, residual r = θ − q/4 ∈ [−⅛, ⅛] turn (exact).

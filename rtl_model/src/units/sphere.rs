@@ -14,8 +14,12 @@
 //!   Δl² = 2·reach·2√3·e_p + (2√3·e_p)², so p² = l·l − t_ca² by at most
 //!   W = Δl² + 2·reach·Δt + Δt² + 2·lsb_sq ([`SphereConfig::widening`]). The host programs
 //!   each instance's threshold as T = r² + W ([`SphereConfig::threshold`]); the unit rejects
-//!   iff p² > T. A ray with some |l_k| > reach is outside the analysis: it is kept (entry 0)
-//!   and counted on the `reach` signal, never silently wrong.
+//!   iff p² > T. A ray with |l| > reach is outside the analysis: it is kept (entry 0) and
+//!   counted on the `reach` signal, never silently wrong. The guard compares the length
+//!   (exact l·l against reach², a comparator on a product the unit forms anyway), not the
+//!   components: along a diagonal every |l_k| can be within the reach while |l| is up to √3
+//!   times it, where W is too small and an exact hit could be rejected (found by
+//!   `sim stress`, case `far_diagonal`; regression test in `tests/unit_sphere.rs`).
 //! - Entry: t_enter = max(0, t_ca − Δt − √(T − p²)), the square root by the digit-recurrence
 //!   unit (floor), all rounded toward −∞; 0 when the origin may be inside (l·l ≤ r² + Δl²).
 //!   Culled as behind only if even t_ca + Δt + √(T − p²) < 0.
@@ -234,6 +238,13 @@ pub fn sphere_test(
     // Within the reach |l_k| fits 64 bits (reach < 2^63 codes), so every product below is a
     // single 64×64 → 128-bit multiply.
     let l = l.map(|v| v as i64).map(i128::from);
+    // The analysis needs |l| ≤ reach, the length: l·l exact (< 3·2^124 for reach < 2^62 codes)
+    // against reach², both with 2·pos.frac fraction bits.
+    let l2_exact = (l[0] * l[0] + l[1] * l[1]) + l[2] * l[2];
+    if l2_exact > reach * reach {
+        ov.hit(sig.reach);
+        return Some(SphereHit { t_enter: 0 });
+    }
     // Model speed-up, not hardware: most spheres are far from most rays. An f64 estimate of
     // p² from the same codes rejects those whose p² exceeds the threshold by more than a
     // millionth plus a slack a thousand times f64's rounding of it (~1e-15·l·l); everything
@@ -261,7 +272,7 @@ pub fn sphere_test(
     // `sq`, F2 ≥ its fraction count by `validate`) are shifted up to meet it.
     let (lf, tf) = (2 * pf, 2 * i32::from(cfg.tca.frac));
     let f2 = lf.max(tf);
-    let l2: i128 = ((l[0] * l[0] + l[1] * l[1]) + l[2] * l[2]) << (f2 - lf);
+    let l2: i128 = l2_exact << (f2 - lf);
     let tca2 = (i128::from(tca) * i128::from(tca)) << (f2 - tf);
     let p2 = l2 - tca2;
     let sqf = i32::from(cfg.sq.frac);
