@@ -50,6 +50,7 @@ module svo_sphere (
     reg signed [40:0] l1 [0:2];
     reg signed [31:0] d1 [0:2];
     reg               far1;
+    reg        [79:0] reach2_1;   // reach^2 (64 fraction bits), for the length test at stage 13
     reg        [63:0] thr1, ins1;
     reg signed [41:0] dt1;
     wire signed [40:0] l_now [0:2];
@@ -70,6 +71,7 @@ module svo_sphere (
         far1 <= (l_now[0] > reach_s) || (l_now[0] < -reach_s)
              || (l_now[1] > reach_s) || (l_now[1] < -reach_s)
              || (l_now[2] > reach_s) || (l_now[2] < -reach_s);
+        reach2_1 <= in_reach * in_reach;
         thr1 <= in_threshold;
         ins1 <= in_inside;
         dt1  <= $signed(in_delta_t);
@@ -88,10 +90,12 @@ module svo_sphere (
     endgenerate
     // Side-band of stages 2..12 (11 cycles after stage 1's registers, beside the products).
     wire        far13;
+    wire [79:0] reach2_13;
     wire [63:0] thr13, ins13;
     wire [41:0] dt13;
-    svo_delay #(.W(1 + 64 + 64 + 42), .D(11)) side13 (
-        .clk(clk), .rst(1'b0), .d({far1, thr1, ins1, dt1}), .q({far13, thr13, ins13, dt13}));
+    svo_delay #(.W(1 + 80 + 64 + 64 + 42), .D(11)) side13 (
+        .clk(clk), .rst(1'b0), .d({far1, reach2_1, thr1, ins1, dt1}),
+        .q({far13, reach2_13, thr13, ins13, dt13}));
 
     // ---- Stages 6, 7: (p0 + p1) + p2. ------------------------------------------------
     reg signed [74:0] dot01, dot7;
@@ -142,7 +146,9 @@ module svo_sphere (
         radicand13 <= radicand_now;
         cull13     <= cull_now;
         inside13   <= inside_now;
-        far13r     <= far13;
+        // Beyond the reach by length (exact l.l against reach^2), not only by component:
+        // along a diagonal every |l_k| can be within the reach while |l| is not.
+        far13r     <= far13 || (l2_12 > {4'b0, reach2_13});
         tca13      <= tca12;
         dt13r      <= $signed(dt13);
     end
