@@ -385,12 +385,14 @@ mod tests {
             kept += usize::from(hit);
             culled += usize::from(!hit);
             reach += usize::from(l.read(&w, "ov_reach") == Some(1));
-            // The captured radicand reproduces the entry distance of a kept, outside sphere.
+            // The captured radicand reproduces the entry distance of a kept, outside sphere
+            // within the reach (beyond it the unit keeps the sphere with entry 0, flagged).
+            let far = l.read(&w, "ov_reach") == Some(1);
             let l2: i128 = (0..3)
                 .map(|k| (i128::from(t.centre[k]) - i128::from(t.o[k])).pow(2))
                 .sum();
             let outside = l2 > i128::from(t.inside) << 16;
-            if let (true, true, Some(x)) = (hit, outside, st.radicand(t)) {
+            if let (true, true, false, Some(x)) = (hit, outside, far, st.radicand(t)) {
                 let root = i128::from(sqrt::isqrt(x as u64));
                 let dot: i128 = (0..3)
                     .map(|k| (i128::from(t.centre[k]) - i128::from(t.o[k])) * i128::from(t.d[k]))
