@@ -522,12 +522,7 @@ impl CycleModel {
                             word,
                         });
                         p_pack.accept(now, rec, 1, 0);
-                        let sl = std::mem::take(&mut slots[slot as usize]);
-                        slots[slot as usize].cands = {
-                            let mut c = sl.cands;
-                            c.clear();
-                            c
-                        };
+                        // The slot is initialised afresh when the transform allocates it.
                         free_slots.push(slot);
                     }
                     rec_state = StageState::Busy;
@@ -536,7 +531,6 @@ impl CycleModel {
             st[s_record].count(rec_state);
 
             // --- walkers: retire one, dispatch one, issue.
-            let mut retired = false;
             if self.pool.finished_head().is_some() && f_wk_rc.ready() {
                 if let Some(tag) = self.pool.retire() {
                     let mut wk = Stamped::new(Walk {
@@ -548,10 +542,8 @@ impl CycleModel {
                     f_wk_rc
                         .try_push(wk)
                         .map_err(|e| CycleError::Internal(e.to_string()))?;
-                    retired = true;
                 }
             }
-            let _ = retired;
             if f_rt_dp.valid() {
                 if self.pool.has_free() {
                     if let Some(wk) = f_rt_dp
@@ -610,7 +602,7 @@ impl CycleModel {
                             .dispatch((u64::from(slot) << 16) | u64::from(cand), &ops_scratch);
                     }
                 } else {
-                    self.pool.dispatch(0, &[]); // counts the stall
+                    self.pool.note_dispatch_stall();
                 }
             }
             self.pool.issue();
@@ -695,11 +687,10 @@ impl CycleModel {
 
             // --- check: hit-buffer read at entry, decision at exit.
             let mut check_blocked = false;
-            if let Some((ray, _)) = p_check.ready(now) {
+            if let Some(&(ref ray, prev)) = p_check.ready(now) {
                 let pixel = ray.payload.pixel;
                 let (tr, pw) = trace_of(pixel);
                 let cands = tr.candidates_of(pw);
-                let prev = p_check.ready(now).map(|(_, w)| *w).unwrap_or(0);
                 let reuse = plan.reuse(prev, cands, &mut xc_counters);
                 if reuse.is_some() != pw.reused {
                     return Err(self.mismatch(
@@ -866,8 +857,6 @@ impl CycleModel {
             ));
 
             // Walker pool as a stage: busy if any walker issued.
-            let pc = self.pool.cycles();
-            let _ = pc;
             st[s_walk].count(
                 if (0..hw.walker_pool.walkers as usize).any(|w| self.pool.walker_issued(w)) {
                     StageState::Busy

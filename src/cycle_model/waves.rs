@@ -167,7 +167,7 @@ impl PipelineWaves {
         if self.finished || self.error.is_some() {
             return;
         }
-        let active = match self.window {
+        match self.window {
             WaveWindow::Cycles(a, b) => {
                 if now > b {
                     self.finished = true;
@@ -182,7 +182,6 @@ impl PipelineWaves {
                         return;
                     }
                 }
-                true
             }
             WaveWindow::Pixels { frame: f, from, to } => {
                 if frame < f {
@@ -203,11 +202,7 @@ impl PipelineWaves {
                         return;
                     }
                 }
-                true
             }
-        };
-        if !active {
-            return;
         }
         let Some((w, s)) = self.rec.as_mut() else {
             return;

@@ -263,11 +263,17 @@ impl WalkerPoolModel {
         Ok(())
     }
 
+    /// Counts a cycle in which a walk waited at the dispatcher with every context busy.
+    pub fn note_dispatch_stall(&mut self) {
+        self.cycles.dispatch_stalls += 1;
+    }
+
     /// Phase 2: dispatches a walk (its ops with global addresses) if a context is free;
-    /// returns whether it was taken. At most one call per cycle.
+    /// returns whether it was taken (a refusal counts as a dispatch stall). At most one call
+    /// per cycle.
     pub fn dispatch(&mut self, tag: u64, ops: &[u64]) -> bool {
         if !self.has_free() {
-            self.cycles.dispatch_stalls += 1;
+            self.note_dispatch_stall();
             return false;
         }
         // The walker with the most free contexts, the lowest index on ties.
