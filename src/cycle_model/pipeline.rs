@@ -606,7 +606,6 @@ impl CycleModel {
                 }
             }
             self.pool.issue();
-            self.pool.account();
 
             // --- root, reciprocal, transform: fixed pipes between FIFOs.
             fn pass_through(
@@ -857,21 +856,19 @@ impl CycleModel {
             ));
 
             // Walker pool as a stage: busy if any walker issued.
-            st[s_walk].count(
-                if (0..hw.walker_pool.walkers as usize).any(|w| self.pool.walker_issued(w)) {
-                    StageState::Busy
-                } else if self.pool.busy_contexts() > 0 {
-                    if f_wk_rc.ready() {
-                        StageState::Idle
-                    } else {
-                        StageState::Backpressured
-                    }
-                } else if more_walks {
-                    StageState::Starved
-                } else {
+            st[s_walk].count(if self.pool.issued_count() > 0 {
+                StageState::Busy
+            } else if self.pool.busy_contexts() > 0 {
+                if f_wk_rc.ready() {
                     StageState::Idle
-                },
-            );
+                } else {
+                    StageState::Backpressured
+                }
+            } else if more_walks {
+                StageState::Starved
+            } else {
+                StageState::Idle
+            });
 
             if let Some(wv) = self.waves.as_mut() {
                 wv.sample(

@@ -94,6 +94,7 @@
 //! on-chip store is read only during a frame (it is loaded between frames), so it has no
 //! read-during-write case.
 
+use super::completion_wheel::CompletionWheel;
 use crate::svo::{ChildDescriptor, SvoImage};
 use serde::{Deserialize, Serialize};
 use std::cmp::Reverse;
@@ -439,9 +440,17 @@ pub struct MemoryLayout {
     node_words: u64,
     attr_records: u64,
     onchip: Vec<(u32, u32)>,
+    /// The same whitelist as one bit per word up to the last on-chip word, for the per-read
+    /// test (a binary search over thousands of scattered groups costs a cache miss per
+    /// probe); empty when that would exceed [`MAX_ONCHIP_BITMAP_WORDS`].
+    onchip_bits: Vec<u64>,
     onchip_levels: u8,
     onchip_words: u64,
 }
+
+/// Largest word range the on-chip bitmap covers (2^28 words: a 32 MiB bitmap); beyond it
+/// [`MemoryLayout::is_onchip`] searches the ranges instead.
+pub const MAX_ONCHIP_BITMAP_WORDS: u64 = 1 << 28;
 
 impl MemoryLayout {
     /// A layout without an on-chip part.
@@ -482,10 +491,21 @@ impl MemoryLayout {
             prev_end = end;
         }
         let onchip_words = ranges.iter().map(|&(s, e)| u64::from(e - s)).sum();
+        let span = ranges.last().map_or(0, |&(_, e)| u64::from(e));
+        let mut onchip_bits = Vec::new();
+        if span <= MAX_ONCHIP_BITMAP_WORDS {
+            onchip_bits = vec![0u64; span.div_ceil(64) as usize];
+            for &(s, e) in &ranges {
+                for a in s..e {
+                    onchip_bits[(a / 64) as usize] |= 1 << (a % 64);
+                }
+            }
+        }
         Ok(Self {
             node_words,
             attr_records,
             onchip: ranges,
+            onchip_bits,
             onchip_levels: 0,
             onchip_words,
         })
@@ -591,7 +611,14 @@ impl MemoryLayout {
     }
 
     /// Whether node word `addr` is in the on-chip store.
+    #[inline]
     pub fn is_onchip(&self, addr: u32) -> bool {
+        if !self.onchip_bits.is_empty() || self.onchip.is_empty() {
+            return self
+                .onchip_bits
+                .get((addr / 64) as usize)
+                .is_some_and(|w| w & (1 << (addr % 64)) != 0);
+        }
         // Index of the first range starting after addr; the one before may contain it.
         let i = self.onchip.partition_point(|&(s, _)| s <= addr);
         i > 0 && addr < self.onchip[i - 1].1
@@ -820,22 +847,6 @@ struct Req {
     kind: FetchKind,
 }
 
-/// A completion waiting for its cycle; ordered by (done, id).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Pending(Completion);
-
-impl Ord for Pending {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        (self.0.cycle_done, self.0.id).cmp(&(other.0.cycle_done, other.0.id))
-    }
-}
-
-impl PartialOrd for Pending {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
 /// A line fill on the DRAM bus. Byte slots count bus capacity: cycle `c` carries slots
 /// `c·B .. (c+1)·B`, so fills serialised on slots never exceed the per-cycle budget.
 #[derive(Clone, Copy, Debug)]
@@ -929,8 +940,11 @@ pub struct NodeMemory {
     /// First cycle not yet simulated.
     next: u64,
     next_id: u64,
-    /// Requests whose cycle has not been reached.
+    /// Requests made for a later cycle than `next`.
     future: BinaryHeap<Reverse<Req>>,
+    /// Requests made for cycle `next` (the usual case: a walker asks in the cycle it is
+    /// evaluated); sorted into service order when that cycle is simulated.
+    arrivals: Vec<Req>,
     /// Requests waiting for a port, per on-chip bank, in service order.
     banks: Vec<VecDeque<Req>>,
     /// Requests waiting for a cache lookup port, in service order.
@@ -941,7 +955,7 @@ pub struct NodeMemory {
     fills: VecDeque<Fill>,
     /// First free byte slot of the DRAM bus.
     bus_next: u128,
-    pending: BinaryHeap<Reverse<Pending>>,
+    pending: CompletionWheel,
     stats: NodeMemoryStats,
 }
 
@@ -961,13 +975,14 @@ impl NodeMemory {
             next: 0,
             next_id: 0,
             future: BinaryHeap::new(),
+            arrivals: Vec::new(),
             cache_q: VecDeque::new(),
             waiting: 0,
             tags,
             mshrs: BTreeMap::new(),
             fills: VecDeque::new(),
             bus_next: 0,
-            pending: BinaryHeap::new(),
+            pending: CompletionWheel::default(),
             stats,
         })
     }
@@ -989,7 +1004,7 @@ impl NodeMemory {
 
     /// Requests made and not yet returned by [`tick`](Self::tick) or [`drain`](Self::drain).
     pub fn outstanding(&self) -> usize {
-        self.future.len() + self.waiting + self.pending.len()
+        self.future.len() + self.arrivals.len() + self.waiting + self.pending.len()
     }
 
     /// Whether every request has been returned.
@@ -1030,13 +1045,18 @@ impl NodeMemory {
         self.stats.fetches.add(kind);
         self.stats.words += kind.words();
         self.stats.bytes += 4 * kind.words();
-        self.future.push(Reverse(Req {
+        let req = Req {
             cycle,
             requester,
             id,
             addr,
             kind,
-        }));
+        };
+        if cycle == self.next {
+            self.arrivals.push(req);
+        } else {
+            self.future.push(Reverse(req));
+        }
         Ok(RequestId(id))
     }
 
@@ -1044,23 +1064,34 @@ impl NodeMemory {
     /// whose data is valid by `cycle` (`cycle_done ≤ cycle`) and were not returned before,
     /// ordered by (done, id).
     pub fn tick(&mut self, cycle: u64) -> Vec<Completion> {
-        self.advance_to(cycle.min(MAX_CYCLE + 1));
         let mut out = Vec::new();
-        while let Some(Reverse(p)) = self.pending.peek() {
-            if p.0.cycle_done > cycle {
-                break;
-            }
-            out.push(p.0);
-            self.pending.pop();
-        }
+        self.tick_into(cycle, &mut out);
         out
+    }
+
+    /// Simulates every cycle before `cycle` without collecting completions (a later
+    /// [`tick`](Self::tick) of the same cycle returns them). Requests for `cycle` made after
+    /// this take the fast path of the current cycle instead of the heap of future requests.
+    pub fn catch_up(&mut self, cycle: u64) {
+        self.advance_to(cycle.min(MAX_CYCLE + 1));
+    }
+
+    /// [`tick`](Self::tick) appending to `out`, so a caller that ticks every cycle can reuse
+    /// one buffer instead of allocating per cycle.
+    pub fn tick_into(&mut self, cycle: u64, out: &mut Vec<Completion>) {
+        self.advance_to(cycle.min(MAX_CYCLE + 1));
+        self.pending.pop_due(cycle, out);
     }
 
     /// Simulates until every request has been served and returns all completions not yet
     /// returned, ordered by (done, id). `now` is then the cycle after the last one with any
     /// activity, which may be before the last `cycle_done`.
     pub fn drain(&mut self) -> Vec<Completion> {
-        while !(self.future.is_empty() && self.waiting == 0 && self.fills.is_empty()) {
+        while !(self.future.is_empty()
+            && self.arrivals.is_empty()
+            && self.waiting == 0
+            && self.fills.is_empty())
+        {
             let k = self.next;
             if self.has_work(k) {
                 self.step(k);
@@ -1070,8 +1101,8 @@ impl NodeMemory {
                 self.next = self.next_event().unwrap_or(k + 1);
             }
         }
-        let mut out: Vec<Completion> = self.pending.drain().map(|Reverse(p)| p.0).collect();
-        out.sort_unstable_by_key(|c| (c.cycle_done, c.id));
+        let mut out = Vec::new();
+        self.pending.drain_all(&mut out);
         out
     }
 
@@ -1113,7 +1144,7 @@ impl NodeMemory {
     /// Whether cycle `k` changes anything: a request arrives or waits, a fill completes or
     /// moves bytes.
     fn has_work(&self, k: u64) -> bool {
-        if self.waiting > 0 {
+        if self.waiting > 0 || !self.arrivals.is_empty() {
             return true;
         }
         if self.future.peek().is_some_and(|Reverse(r)| r.cycle <= k) {
@@ -1154,23 +1185,33 @@ impl NodeMemory {
                 }
             }
         }
-        // 2. Requests of this cycle join their queue. They pop in (cycle, requester, id)
-        //    order and everything already queued is from an earlier cycle, so appending keeps
-        //    each queue in service order.
+        // 2. Requests of this cycle join their queue, in (requester, id) order: all are of
+        //    cycle k (`arrivals` holds those made for `next` = k, the heap any made earlier
+        //    for k) and everything already queued is from an earlier cycle, so appending
+        //    keeps each queue in (cycle, requester, id) service order.
         while let Some(Reverse(r)) = self.future.peek().copied() {
             if r.cycle > k {
                 break;
             }
             self.future.pop();
+            self.arrivals.push(r);
+        }
+        if self.arrivals.len() > 1 {
+            self.arrivals.sort_unstable_by_key(|r| (r.requester, r.id));
+        }
+        let banks = self.cfg.onchip.banks;
+        for i in 0..self.arrivals.len() {
+            let r = self.arrivals[i];
             let onchip = r.kind != FetchKind::Attr && self.layout.is_onchip(r.addr);
             if onchip {
-                let bank = (r.addr % self.cfg.onchip.banks) as usize;
+                let bank = (r.addr % banks) as usize;
                 self.banks[bank].push_back(r);
             } else {
                 self.cache_q.push_back(r);
             }
-            self.waiting += 1;
         }
+        self.waiting += self.arrivals.len();
+        self.arrivals.clear();
         // 3. Bytes on the DRAM bus in this cycle.
         let rate = self.bus_rate();
         let (lo, hi) = (u128::from(k) * rate, (u128::from(k) + 1) * rate);
@@ -1306,7 +1347,7 @@ impl NodeMemory {
         self.stats.served += 1;
         self.stats.latency_sum += latency;
         self.stats.latency_max = self.stats.latency_max.max(latency);
-        self.pending.push(Reverse(Pending(Completion {
+        self.pending.push(Completion {
             id: RequestId(r.id),
             requester: r.requester,
             kind: r.kind,
@@ -1315,6 +1356,6 @@ impl NodeMemory {
             cycle_served: served,
             cycle_done: done,
             source,
-        })));
+        });
     }
 }

@@ -3,6 +3,7 @@
 //! waveform recording. The stages and walker pool that use them build on these pieces.
 pub mod bram;
 pub mod clocked;
+pub mod completion_wheel;
 pub mod fifo;
 pub mod hw_config;
 pub mod memory;

@@ -26,7 +26,7 @@
 use std::collections::VecDeque;
 
 use super::hw_config::WalkerPool as PoolConfig;
-use super::memory::{NodeMemory, RequestError};
+use super::memory::{Completion, NodeMemory, RequestError};
 use super::walk_op::WalkOp;
 use serde::{Deserialize, Serialize};
 
@@ -116,6 +116,8 @@ pub struct WalkerPoolModel {
     busy_total: u32,
     now: u64,
     issued_now: Vec<bool>,
+    issued_count: u32,
+    completions: Vec<Completion>,
     cycles: PoolCycles,
 }
 
@@ -148,6 +150,8 @@ impl WalkerPoolModel {
             busy_total: 0,
             now: 0,
             issued_now: vec![false; w],
+            issued_count: 0,
+            completions: Vec::new(),
             cycles: PoolCycles::default(),
         })
     }
@@ -170,6 +174,11 @@ impl WalkerPoolModel {
     /// Whether walker `w` issued in the current cycle.
     pub fn walker_issued(&self, w: usize) -> bool {
         self.issued_now.get(w).copied().unwrap_or(false)
+    }
+
+    /// Walkers that issued in the current cycle.
+    pub fn issued_count(&self) -> u32 {
+        self.issued_count
     }
 
     /// Whether a walk can be dispatched (a context is free).
@@ -240,7 +249,9 @@ impl WalkerPoolModel {
     /// completed. Call once per cycle, in order, before the other phases.
     pub fn wake(&mut self, now: u64, mem: &mut NodeMemory) -> Result<(), PoolError> {
         self.now = now;
-        self.issued_now.iter_mut().for_each(|b| *b = false);
+        // Bring the memory to this cycle first, so the reads requested below are this
+        // cycle's arrivals (the same arbitration either way; only cheaper).
+        mem.catch_up(now);
         let mask = self.wheel.len() - 1;
         let due = std::mem::take(&mut self.wheel[(now as usize) & mask]);
         for &ctx in &due {
@@ -249,7 +260,10 @@ impl WalkerPoolModel {
         let mut due = due;
         due.clear();
         self.wheel[(now as usize) & mask] = due;
-        for comp in mem.tick(now) {
+        let mut done = std::mem::take(&mut self.completions);
+        done.clear();
+        mem.tick_into(now, &mut done);
+        for comp in &done {
             let ctx = comp.requester;
             let Some(c) = self.ctxs.get_mut(ctx as usize) else {
                 continue;
@@ -260,6 +274,7 @@ impl WalkerPoolModel {
                 self.advance(ctx, mem)?;
             }
         }
+        self.completions = done;
         Ok(())
     }
 
@@ -304,27 +319,45 @@ impl WalkerPoolModel {
         true
     }
 
-    /// Phase 3: every walker issues one ready context (if its II allows).
+    /// Phase 3: every walker issues one ready context (if its II allows), and every walker's
+    /// cycle is classified (the last phase: retire and dispatch of this cycle come first).
+    /// Issue and classification share one pass over the walkers, the pool's only per-cycle
+    /// loop over all of them.
     pub fn issue(&mut self) {
         let now = self.now;
         let lat = u64::from(self.cfg.step_latency_cycles.max(1));
         let ii = u64::from(self.cfg.step_cycles.max(1));
-        for w in 0..self.walkers.len() {
-            let wk = &mut self.walkers[w];
-            if now < wk.next_issue {
-                continue;
+        let mask = self.wheel.len() - 1;
+        let slot = ((now + lat) as usize) & mask;
+        let mut issued = 0u32;
+        let c = &mut self.cycles;
+        c.busy_context_cycles += u64::from(self.busy_total);
+        for (w, wk) in self.walkers.iter_mut().enumerate() {
+            let mut did = false;
+            if now >= wk.next_issue {
+                if let Some(ctx) = wk.ready.pop_front() {
+                    wk.next_issue = now + ii;
+                    did = true;
+                    self.ctxs[ctx as usize].remaining -= 1;
+                    self.wheel[slot].push(ctx);
+                }
             }
-            let Some(ctx) = wk.ready.pop_front() else {
-                continue;
-            };
-            wk.next_issue = now + ii;
-            self.issued_now[w] = true;
-            let c = &mut self.ctxs[ctx as usize];
-            c.remaining -= 1;
-            self.cycles.slots += 1;
-            let mask = self.wheel.len() - 1;
-            self.wheel[((now + lat) as usize) & mask].push(ctx);
+            self.issued_now[w] = did;
+            if did {
+                issued += 1;
+            } else if wk.busy == 0 {
+                c.empty += 1;
+            } else if wk.waiting_mem > 0 {
+                c.memory_wait += 1;
+            } else if wk.finished == wk.busy {
+                c.backpressured += 1;
+            } else {
+                c.latency_wait += 1;
+            }
         }
+        c.issuing += u64::from(issued);
+        c.slots += u64::from(issued);
+        self.issued_count = issued;
     }
 
     /// The tag of the oldest finished walk, if any.
@@ -344,23 +377,5 @@ impl WalkerPoolModel {
         wk.free.push(ctx);
         self.busy_total -= 1;
         Some(c.tag)
-    }
-
-    /// Phase 5: classifies every walker's cycle (after the other phases).
-    pub fn account(&mut self) {
-        self.cycles.busy_context_cycles += u64::from(self.busy_total);
-        for (w, wk) in self.walkers.iter().enumerate() {
-            if self.issued_now[w] {
-                self.cycles.issuing += 1;
-            } else if wk.busy == 0 {
-                self.cycles.empty += 1;
-            } else if wk.waiting_mem > 0 {
-                self.cycles.memory_wait += 1;
-            } else if wk.finished == wk.busy {
-                self.cycles.backpressured += 1;
-            } else {
-                self.cycles.latency_wait += 1;
-            }
-        }
     }
 }
