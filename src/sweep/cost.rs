@@ -161,7 +161,8 @@ mod tests {
         assert_eq!(c.dsp48e2, 432);
         assert_eq!(c.dsp48e2, hw.resources(&dp).unwrap().used.dsp48e2);
         assert_eq!(c.multipliers.transform, "32x41");
-        assert_eq!(c.multipliers.walker_root, "42x48");
+        // (±e − o) is sQ8.32 + 1 bit = 41 bits, 1/|d| sQ22.26 = 48.
+        assert_eq!(c.multipliers.walker_root, "41x48");
         assert_eq!(c.multipliers.reciprocal, "29x29");
         // 32 walkers × 8 contexts × 21 frames × (6·62 + 68) bits.
         assert_eq!(c.stack_bits, 32 * 8 * 21 * (6 * 62 + 68));

@@ -53,20 +53,22 @@ pub fn on_front(points: &[Point]) -> Vec<bool> {
     front
 }
 
-/// 1 − a/b, the relative improvement from b down to a; for b = 0 there is none to make (0 when
-/// a = 0 too, −∞ when a is worse).
+/// 1 − a/b: how far p's coordinate b must shrink (as a fraction) before it drops below q's
+/// coordinate a. For b = 0 it cannot shrink: q is escaped on this axis already when a > 0
+/// (−∞) and never when a = 0 (+∞, so the other axis decides).
 fn gain(a: f64, b: f64) -> f64 {
     if b > 0.0 {
         1.0 - a / b
-    } else if a <= 0.0 {
-        0.0
-    } else {
+    } else if a > 0.0 {
         f64::NEG_INFINITY
+    } else {
+        f64::INFINITY
     }
 }
 
 /// Each point's distance δ to the front (a fraction: 0.05 is 5 %). Only front points need be
-/// tried as q: every point is weakly dominated by one of them, whose terms are no smaller.
+/// tried as q: every point is weakly dominated by one of them, whose terms are no smaller. A q
+/// equal to p in both coordinates is skipped: equal points never dominate each other.
 pub fn distance(points: &[Point]) -> Vec<f64> {
     let front = on_front(points);
     let fp: Vec<Point> = points
@@ -79,6 +81,7 @@ pub fn distance(points: &[Point]) -> Vec<f64> {
         .iter()
         .map(|p| {
             fp.iter()
+                .filter(|q| *q != p)
                 .map(|q| gain(q.error, p.error).min(gain(q.cost, p.cost)))
                 .fold(0.0, f64::max)
         })
