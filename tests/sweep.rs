@@ -69,7 +69,10 @@ fn pareto_front_distance_and_excess_match_brute_force() {
         let excess = error_excess(&pts);
         for (k, &p) in pts.iter().enumerate() {
             let want = !pts.iter().any(|&q| dominates(q, p));
-            assert_eq!(front[k], want, "seed {seed:#x} trial {trial} point {k}: {pts:?}");
+            assert_eq!(
+                front[k], want,
+                "seed {seed:#x} trial {trial} point {k}: {pts:?}"
+            );
             off_front += usize::from(!want);
             let d = distance_oracle(&pts, p);
             assert!(
@@ -180,7 +183,9 @@ fn small_sweep_writes_well_formed_deterministic_files() {
     let dsp = |c: &str| -> u64 { column(header, row(&csv, c), "dsp48e2").parse().unwrap() };
     assert_eq!(dsp("default"), 432);
     assert!(dsp("coarse") < dsp("default"));
-    let pixels: u64 = column(header, row(&csv, "default"), "pixels").parse().unwrap();
+    let pixels: u64 = column(header, row(&csv, "default"), "pixels")
+        .parse()
+        .unwrap();
     assert_eq!(pixels, 40 * 24 * 2);
 
     let json = std::fs::read_to_string(a.join("sweep.json")).unwrap();
@@ -290,12 +295,16 @@ fn coarse_datapath_has_more_error_on_the_vox_scene() {
             width: 64,
             height: 40,
             frames: 2,
+            depth: None,
         },
         |_| {},
     )
     .unwrap();
     let (d, c) = (&r.rows[0], &r.rows[1]);
-    assert_eq!((d.config.as_str(), c.config.as_str()), ("default", "coarse"));
+    assert_eq!(
+        (d.config.as_str(), c.config.as_str()),
+        ("default", "coarse")
+    );
     println!(
         "vox_traffic: default score {:e} (t rms {:e} m), coarse {:e} (t rms {:e} m)",
         d.error.error_score, d.error.t_err_rms, c.error.error_score, c.error.t_err_rms

@@ -41,6 +41,11 @@ pub struct SweepArgs {
     /// Frames per scene (the first traces every pixel, later ones reuse the hit buffer).
     #[arg(long, default_value_t = 4)]
     pub frames: u32,
+    /// Octree depth of each scene's deepest asset (1-20; the others keep their offset to it,
+    /// as `sim --depth`). Default: the scenes' own depths (the car's body is 10). The
+    /// fixed-point model needs memory images, so the car stops at 12.
+    #[arg(long)]
+    pub depth: Option<u8>,
     /// Folder for sweep.csv, sweep.json, sweep_cycles.png and sweep_dsp.png (created if
     /// missing).
     #[arg(long, value_name = "DIR", default_value = "sweep_out")]
@@ -213,14 +218,17 @@ pub fn run_cli(a: &SweepArgs) -> Result<()> {
         width: a.width,
         height: a.height,
         frames: a.frames,
+        depth: a.depth,
     };
     println!(
-        "sim sweep: {} configurations x {} scenes at {}x{}, {} frames each",
+        "sim sweep: {} configurations x {} scenes at {}x{}, {} frames each, depth {}",
         configs.len(),
         scenes.len(),
         a.width,
         a.height,
-        a.frames
+        a.frames,
+        a.depth
+            .map_or_else(|| "as the scenes".to_string(), |d| d.to_string())
     );
     eprintln!("{}", header(false));
     let result = run_sweep(&configs, &scenes, opts, |r| {

@@ -204,7 +204,7 @@ pub fn render(result: &SweepResult, axis: Axis) -> Result<image::RgbImage, Strin
                 .filter(|r| r.scene == scene.name)
                 .collect();
             let title = format!(
-                "{}: error score against {}, {}×{}, {} frames",
+                "{}: error score against {}, {}×{}, {} frames{}",
                 scene.name,
                 match axis {
                     Axis::Cycles => "cycles per frame",
@@ -212,7 +212,8 @@ pub fn render(result: &SweepResult, axis: Axis) -> Result<image::RgbImage, Strin
                 },
                 o.width,
                 o.height,
-                o.frames
+                o.frames,
+                o.depth.map_or_else(String::new, |d| format!(", depth {d}"))
             );
             panel(area, &title, &rows, axis)?;
         }

@@ -34,6 +34,9 @@ pub struct SweepOptions {
     pub height: u32,
     /// Frames per scene.
     pub frames: u32,
+    /// Octree depth of each scene's deepest asset (the others keep their offset to it, as
+    /// `sim --depth`); `None`: the scenes' own depths.
+    pub depth: Option<u8>,
 }
 
 /// A scene to sweep over, under the name the outputs use.
@@ -214,7 +217,7 @@ fn prepare(ns: &NamedScene, opts: SweepOptions) -> Result<Prepared, SweepError> 
         scene: ns.name.clone(),
         source,
     };
-    let depths = effective_depths(&scene, None).map_err(asset_err)?;
+    let depths = effective_depths(&scene, opts.depth).map_err(asset_err)?;
     let assets = build_assets(&scene, &depths, Materialise::Auto).map_err(asset_err)?;
     let half: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
     let mut buffer = HitBuffer::new(opts.width, opts.height);
