@@ -151,19 +151,16 @@ fn panel<DB: DrawingBackend>(
         }
         let (colour, size) = if is_default { (red, 15) } else { (BLACK, 12) };
         // Front labels alternate above and below their dot, so neighbours do not overprint.
-        let dy = if is_default {
-            4
+        let (dx, dy) = if is_default {
+            // Left of its dot: the front's labels are on the right.
+            (-62, -8)
         } else {
             nth_front += 1;
-            if nth_front % 2 == 1 {
-                -16
-            } else {
-                6
-            }
+            (7, if nth_front % 2 == 1 { -16 } else { 6 })
         };
         let text = Text::new(
             r.config.clone(),
-            (7, dy),
+            (dx, dy),
             ("sans-serif", size).into_font().color(&colour),
         );
         chart
