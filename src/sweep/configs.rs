@@ -5,7 +5,9 @@
 //! through every unit it passes, so the interfaces `DatapathConfig::validate` checks stay
 //! consistent: the direction family is raygen → sphere → transform in and out → reciprocal in;
 //! the position family raygen → sphere → transform in and out → walker; the matrix family
-//! raygen → transform; t is the walker's; the square root's digits follow the sphere's squared
+//! raygen → transform; t is the walker's; the sphere's t_ca = l·d is its own (it is not in the
+//! position family: narrowing it with positions would force the squared distances, and with
+//! them the square root, narrower too); the square root's digits follow the sphere's squared
 //! distances (`hw_config::sqrt_config_for`); the reciprocal's iterations, seed table and output
 //! (with the walker's matching input) are its own.
 
@@ -241,6 +243,7 @@ pub fn builtin() -> Vec<NamedConfig> {
         variant("mat_frac17", |d| set_mat_frac(d, 17)),
         variant("pos_frac24", |d| set_pos_frac(d, 24)),
         variant("pos_frac16", |d| set_pos_frac(d, 16)),
+        variant("tca_frac24", |d| d.sphere.tca = Format::sq(10, 24)),
         variant("sqrt_digits24", |d| set_sqrt_digits(d, 24)),
         variant("sqrt_digits16", |d| set_sqrt_digits(d, 16)),
         variant("recip_iter1", |d| d.reciprocal.iterations = 1),
