@@ -318,3 +318,30 @@ fn coarse_datapath_has_more_error_on_the_vox_scene() {
     assert_eq!(r.default.len(), 1);
     assert!(r.default[0].within_5_percent);
 }
+
+#[test]
+fn docs_match_the_built_in_list_and_the_example_file_is_valid() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let doc = std::fs::read_to_string(root.join("docs/accuracy.md")).unwrap();
+    let list = builtin();
+    assert!(list.len() >= 12);
+    for c in &list {
+        // Each configuration has its row in the cost table of §2.
+        let cell = format!("| `{}` |", c.name);
+        assert!(doc.contains(&cell), "docs/accuracy.md lacks {cell}");
+    }
+    let example = svo_sim::sweep::configs::load(&root.join("docs/sweep_configs_example.ron"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let names: Vec<&str> = example.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["default", "recip30_tca24"]);
+    assert_eq!(example[0].datapath, list[0].datapath);
+    // The example combines two built-in variants: recip_frac30's reciprocal and walker, and
+    // tca_frac24's sphere.
+    let pick = |n: &str| list.iter().find(|c| c.name == n).unwrap().datapath.clone();
+    let (r30, tca) = (pick("recip_frac30"), pick("tca_frac24"));
+    let combo = &example[1].datapath;
+    assert_eq!(combo.reciprocal, r30.reciprocal);
+    assert_eq!(combo.walker, r30.walker);
+    assert_eq!(combo.sphere, tca.sphere);
+    assert_eq!(combo.transform, list[0].datapath.transform);
+}
