@@ -162,8 +162,10 @@ pub fn load(path: &Path) -> Result<Vec<NamedConfig>, ConfigsError> {
     parse(&text, &shown)
 }
 
-/// Keeps a format's integer bits and signedness and sets its fraction bits.
+/// Keeps a format's integer bits and signedness and sets its fraction bits (at most 62, the
+/// layer's limit; a width beyond 64 is clamped and left for `validate` to refuse).
 fn with_frac(f: Format, frac: u8) -> Format {
+    let frac = frac.min(62);
     let int = i32::from(f.width) - i32::from(f.frac);
     Format {
         width: (int + i32::from(frac)).clamp(1, 64) as u8,
