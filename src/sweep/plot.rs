@@ -143,32 +143,36 @@ fn panel<DB: DrawingBackend>(
         .map_err(err)?
         .label("on the front")
         .legend(move |(x, y)| Circle::new((x + 9, y), 5, blue.filled()));
-    let mut nth_front = 0;
-    for (r, &p) in rows.iter().zip(&pts) {
+    // Labels: the default first, then the front by cost; each takes the first of a few places
+    // around its dot where it overlaps no label placed before it and no dot.
+    let mut order: Vec<usize> = (0..rows.len())
+        .filter(|&k| rows[k].config == DEFAULT_NAME || axis.on_front(rows[k]))
+        .collect();
+    order.sort_by(|&a, &b| {
+        let key = |k: usize| rows[k].config != DEFAULT_NAME;
+        key(a).cmp(&key(b)).then(pts[a].0.total_cmp(&pts[b].0))
+    });
+    let dots: Vec<(i32, i32)> = pts.iter().map(|p| chart.backend_coord(p)).collect();
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let inside: Rect = (xr.start, yr.start, xr.end, yr.end);
+    let mut taken: Vec<Rect> = Vec::new();
+    for k in order {
+        let r = rows[k];
         let is_default = r.config == DEFAULT_NAME;
-        if !(is_default || axis.on_front(r)) {
-            continue;
-        }
         let (colour, size) = if is_default { (red, 15) } else { (BLACK, 12) };
-        // Front labels alternate above and below their dot, so neighbours do not overprint.
-        let (dx, dy) = if is_default {
-            // Left of its dot: the front's labels are on the right.
-            (-62, -8)
-        } else {
-            nth_front += 1;
-            (7, if nth_front % 2 == 1 { -16 } else { 6 })
-        };
+        let (dx, dy) = place_label(&r.config, size, dots[k], &dots, &taken, inside);
+        taken.push(label_rect(&r.config, size, dots[k], (dx, dy)));
         let text = Text::new(
             r.config.clone(),
             (dx, dy),
             ("sans-serif", size).into_font().color(&colour),
         );
         chart
-            .draw_series(std::iter::once(EmptyElement::at(p) + text))
+            .draw_series(std::iter::once(EmptyElement::at(pts[k]) + text))
             .map_err(err)?;
         if is_default {
             chart
-                .draw_series(std::iter::once(Circle::new(p, 6, red.stroke_width(2))))
+                .draw_series(std::iter::once(Circle::new(pts[k], 6, red.stroke_width(2))))
                 .map_err(err)?;
         }
     }
@@ -181,6 +185,59 @@ fn panel<DB: DrawingBackend>(
         .draw()
         .map_err(err)?;
     Ok(())
+}
+
+/// A label's box in pixels: (left, top, right, bottom).
+type Rect = (i32, i32, i32, i32);
+
+/// The box of `text` at `size` pixels drawn at offset `d` from the dot at `at` (the width is
+/// estimated at 0.6 em per character, enough to keep labels apart).
+fn label_rect(text: &str, size: i32, at: (i32, i32), d: (i32, i32)) -> Rect {
+    let w = (text.chars().count() as f64 * 0.6 * f64::from(size)).ceil() as i32;
+    let (x, y) = (at.0 + d.0, at.1 + d.1);
+    (x, y, x + w, y + size)
+}
+
+fn overlaps(a: Rect, b: Rect) -> bool {
+    a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
+}
+
+/// The first offset, of right-above, right-below, left-above, left-below and the same further
+/// out, whose box lies inside the plotting area and hits no earlier label and no dot; the
+/// first when none does.
+fn place_label(
+    text: &str,
+    size: i32,
+    at: (i32, i32),
+    dots: &[(i32, i32)],
+    taken: &[Rect],
+    inside: Rect,
+) -> (i32, i32) {
+    let w = (text.chars().count() as f64 * 0.6 * f64::from(size)).ceil() as i32;
+    let candidates = [
+        (8, -size - 4),
+        (8, 5),
+        (-w - 8, -size - 4),
+        (-w - 8, 5),
+        (8, -2 * size - 6),
+        (8, size + 8),
+        (-w - 8, -2 * size - 6),
+        (-w - 8, size + 8),
+    ];
+    let free = |d: (i32, i32)| {
+        let b = label_rect(text, size, at, d);
+        let within = b.0 >= inside.0 && b.1 >= inside.1 && b.2 <= inside.2 && b.3 <= inside.3;
+        within
+            && !taken.iter().any(|&t| overlaps(b, t))
+            && !dots
+                .iter()
+                .any(|&(x, y)| overlaps(b, (x - 5, y - 5, x + 5, y + 5)))
+    };
+    candidates
+        .iter()
+        .copied()
+        .find(|&d| free(d))
+        .unwrap_or(candidates[0])
 }
 
 /// Renders the plot of `axis` as RGB pixels: one panel per scene, stacked.
