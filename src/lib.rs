@@ -20,6 +20,7 @@ pub mod run;
 pub mod scene;
 pub mod sdf;
 pub mod stress;
+pub mod sweep;
 pub mod vectors;
 
 pub use error::{AssetError, SceneError};

@@ -57,6 +57,9 @@ enum Command {
     /// Stiff and extreme cases against the f64 reference, with a verdict each
     /// (docs/stability.md).
     Stress(svo_sim::stress::cli::StressArgs),
+    /// Accuracy against cost over datapath configurations on one or more scenes, with the
+    /// Pareto fronts (docs/accuracy.md); writes sweep.csv, sweep.json and two PNG plots.
+    Sweep(svo_sim::sweep::cli::SweepArgs),
 }
 
 #[derive(Args, Debug)]
@@ -886,6 +889,7 @@ fn main() -> ExitCode {
         Some(Command::Drift(d)) => svo_sim::drift::cli::run_cli(&d),
         Some(Command::Vectors(v)) => svo_sim::vectors::cli::run(v),
         Some(Command::Stress(s)) => svo_sim::stress::cli::run_cli(&s),
+        Some(Command::Sweep(s)) => svo_sim::sweep::cli::run_cli(&s),
         None => cmd_run(cli.run),
     };
     match r {
