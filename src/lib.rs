@@ -12,6 +12,7 @@
 pub mod assets;
 pub mod cycle_model;
 pub mod drift;
+pub mod elaborate;
 pub mod error;
 pub mod fixed_model;
 pub mod output;

@@ -62,6 +62,9 @@ pub struct RunConfig {
     pub vcd: Option<VcdRequest>,
     /// Stage stamps of the first N records of the cycle model, written as JSON lines here.
     pub transaction_log: Option<(PathBuf, usize)>,
+    /// The scene-driven elaboration behind `datapath`, `hardware` and the hit-buffer switch
+    /// (`None`: none was made); its resource adjustments and report section come from here.
+    pub elaboration: Option<crate::elaborate::Elaboration>,
 }
 
 /// The model whose records become the output.
@@ -199,11 +202,14 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
         cfg.hardware
             .validate_for(&cfg.datapath)
             .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
-        Some(
-            cfg.hardware
-                .resources(&cfg.datapath)
-                .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?,
-        )
+        let mut r = cfg
+            .hardware
+            .resources(&cfg.datapath)
+            .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
+        if let Some(e) = &cfg.elaboration {
+            e.adjust_resources(&mut r);
+        }
+        Some(r)
     } else {
         None
     };
@@ -443,6 +449,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
         frames: reports,
         datapath: (cfg.model != Model::Reference).then(|| cfg.datapath.clone()),
         hardware: (cfg.model == Model::Cycle).then(|| cfg.hardware.clone()),
+        elaboration: cfg.elaboration.clone(),
     };
     if let Some(p) = &cfg.report_json {
         let text = serde_json::to_string_pretty(&report)?;

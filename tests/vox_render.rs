@@ -29,6 +29,7 @@ fn config(scene: Scene) -> RunConfig {
         cross_check: false,
         vcd: None,
         transaction_log: None,
+        elaboration: None,
     }
 }
 

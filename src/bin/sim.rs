@@ -167,6 +167,12 @@ struct RunArgs {
     /// Records in --transaction-log.
     #[arg(long, default_value_t = 1000)]
     log_count: usize,
+    /// Keep every unit of the pipeline: no scene-driven elaboration (by default the cycle
+    /// model leaves out what the scene cannot use, e.g. the sorter for one instance or the
+    /// hit buffer when the camera moves every frame; images are identical either way;
+    /// docs/elaboration.md).
+    #[arg(long)]
+    no_prune: bool,
 }
 
 /// Parses `FROM:TO` with FROM ≤ TO.
@@ -474,7 +480,7 @@ fn print_cycle_tables(c: &CycleFrame) {
 fn cmd_run(a: RunArgs) -> Result<()> {
     set_threads(a.scene.threads)?;
     let scene = load_scene(&a.scene, (None, None))?;
-    let cfg = RunConfig {
+    let mut cfg = RunConfig {
         scene,
         depth: a.scene.depth,
         materialise: if a.scene.implicit {
@@ -519,7 +525,22 @@ fn cmd_run(a: RunArgs) -> Result<()> {
         },
         transaction_log: a.transaction_log.clone().map(|p| (p, a.log_count)),
         progress_every: (!a.quiet).then(|| std::time::Duration::from_secs(2)),
+        elaboration: None,
     };
+    if cfg.model == Model::Cycle {
+        let e = svo_sim::elaborate::elaborate(
+            &cfg.scene,
+            cfg.depth,
+            &cfg.hardware,
+            &cfg.datapath,
+            cfg.options.use_hit_buffer,
+        )?;
+        let e = if a.no_prune { e.not_applied() } else { e };
+        if !a.quiet {
+            println!("{e}");
+        }
+        e.apply_to(&mut cfg);
+    }
     let (w, h) = cfg.scene.file.resolution;
     println!(
         "sim: {} — {}x{}, {} frames, {} instances, {} threads, hit buffer {}, early termination {}",

@@ -121,6 +121,9 @@ pub struct Report {
     /// The hardware configuration (cycle model only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub hardware: Option<rtl_model::cycle::hw_config::HwConfig>,
+    /// Scene-driven elaboration: facts, decisions, savings (cycle model only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub elaboration: Option<crate::elaborate::Elaboration>,
 }
 
 /// One frame of the report: the model's counters, and for the fixed-point model its accuracy

@@ -60,6 +60,9 @@ pub enum VectorsError {
     /// The vector encoder failed.
     #[error(transparent)]
     Vectors(#[from] VectorError),
+    /// The scene could not be elaborated.
+    #[error(transparent)]
+    Elaborate(#[from] crate::elaborate::ElaborateError),
     /// The output folder or a file could not be written.
     #[error("cannot write {path}: {source}")]
     Io {
@@ -195,7 +198,11 @@ pub fn generate(opts: &VectorsOptions) -> Result<VectorSet, VectorsError> {
     for t in &tables {
         files.extend(table_files(t).map_err(VectorError::from)?);
     }
-    files.push(index_file(opts, &scene, &depths, &dp, &tables)?);
+    // The manifest records what the scene's elaborated pipeline keeps (with the default
+    // hardware); the unit vectors themselves exercise every unit at its full size.
+    let hw = rtl_model::cycle::hw_config::HwConfig::for_datapath(&dp);
+    let elab = crate::elaborate::elaborate(&scene, opts.depth, &hw, &dp, true)?;
+    files.push(index_file(opts, &scene, &depths, &dp, &tables, &elab)?);
     Ok(VectorSet {
         files,
         tables: tables.iter().map(summary).collect(),
@@ -224,6 +231,7 @@ fn index_file(
     depths: &[u8],
     dp: &DatapathConfig,
     tables: &[VectorTable],
+    elaboration: &crate::elaborate::Elaboration,
 ) -> Result<VectorFile, VectorsError> {
     let list: Vec<serde_json::Value> = tables
         .iter()
@@ -253,6 +261,7 @@ fn index_file(
         "unit_timings": UnitTimings::for_datapath(dp),
         "datapath": dp,
         "cycle_logs": serde_json::Value::Array(Vec::new()),
+        "elaboration": elaboration,
         "tables": list,
     });
     let mut text = serde_json::to_string_pretty(&index).map_err(VectorError::from)?;

@@ -1,0 +1,164 @@
+//! What each elaboration decision saves: DSP48E2, block RAM (BRAM36, URAM288 and the bits
+//! they hold), sorter comparators and cycles of latency per ray.
+//!
+//! Pipeline position: after [`super::plan`], before the run. The counts come from the
+//! hardware model's own estimate (`HwConfig::resources`) of the full and the elaborated
+//! configuration, so a saving is exactly the difference of two estimates `sim hardware`
+//! would print; the two units the configuration cannot drop (hit buffer, transform products)
+//! are taken out of the elaborated estimate by [`adjust_resources`].
+
+use super::plan::{narrowed_positions, position_int_bits, Plan};
+use rtl_model::cycle::hw_config::{HwConfig, ResourceItem, ResourceReport, Resources};
+use rtl_model::datapath::DatapathConfig;
+use rtl_model::units::sorter;
+use serde::Serialize;
+
+/// What one decision saves against the full pipeline.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Saving {
+    /// DSP48E2 slices.
+    pub dsp48e2: u64,
+    /// BRAM36 blocks.
+    pub bram36: u64,
+    /// URAM288 blocks.
+    pub uram288: u64,
+    /// Bits of on-chip memory no longer stored (words × word bits, before block rounding).
+    pub ram_bits: u64,
+    /// Compare-exchange elements of the sorting network (LUTs; not in the DSP/RAM estimate).
+    pub comparators: u64,
+    /// Cycles of latency per ray taken off the unit's configured latency.
+    pub latency_cycles: u64,
+}
+
+impl Saving {
+    /// Sum of two savings.
+    pub fn plus(self, o: Self) -> Self {
+        Self {
+            dsp48e2: self.dsp48e2 + o.dsp48e2,
+            bram36: self.bram36 + o.bram36,
+            uram288: self.uram288 + o.uram288,
+            ram_bits: self.ram_bits + o.ram_bits,
+            comparators: self.comparators + o.comparators,
+            latency_cycles: self.latency_cycles + o.latency_cycles,
+        }
+    }
+}
+
+fn item<'a>(r: &'a ResourceReport, name: &str) -> Resources {
+    r.items
+        .iter()
+        .find(|i: &&'a ResourceItem| i.name == name)
+        .map(|i| i.used)
+        .unwrap_or_default()
+}
+
+fn less(full: Resources, kept: Resources) -> Saving {
+    Saving {
+        dsp48e2: full.dsp48e2.saturating_sub(kept.dsp48e2),
+        bram36: full.bram36.saturating_sub(kept.bram36),
+        uram288: full.uram288.saturating_sub(kept.uram288),
+        ..Saving::default()
+    }
+}
+
+/// Takes the units the elaborated configuration still describes but the elaborated pipeline
+/// does not have out of `r`: the hit buffer's memory and the transform's products. Their
+/// items stay in the table with zero use and a note, and the total is summed again.
+pub fn adjust_resources(r: &mut ResourceReport, hit_buffer_out: bool, transform_out: bool) {
+    for it in &mut r.items {
+        if hit_buffer_out && it.name == "hit_buffer" {
+            it.used = Resources::default();
+            it.note = format!("left out by elaboration (was {})", it.note);
+        }
+        if transform_out && it.name == "transform" {
+            it.used.dsp48e2 = 0;
+            it.note = "left out by elaboration: o − c subtractors only, no products".into();
+        }
+    }
+    r.used = r
+        .items
+        .iter()
+        .fold(Resources::default(), |a, it| Resources {
+            dsp48e2: a.dsp48e2.saturating_add(it.used.dsp48e2),
+            bram36: a.bram36.saturating_add(it.used.bram36),
+            uram288: a.uram288.saturating_add(it.used.uram288),
+        });
+}
+
+/// Fills in every decision's saving. `full` is the estimate of the configured pipeline,
+/// `elaborated` that of the plan's (already adjusted); `range_m` the scene's coordinate range.
+pub fn fill(
+    plan: &mut Plan,
+    range_m: f64,
+    hw: &HwConfig,
+    dp: &DatapathConfig,
+    full: &ResourceReport,
+    elaborated: &ResourceReport,
+) {
+    let (ehw, edp) = (plan.hardware.clone(), plan.datapath.clone());
+    for d in &mut plan.decisions {
+        let diff = |names: &[&str]| {
+            let sum = |r: &ResourceReport| {
+                names.iter().fold(Resources::default(), |a, n| {
+                    let u = item(r, n);
+                    Resources {
+                        dsp48e2: a.dsp48e2 + u.dsp48e2,
+                        bram36: a.bram36 + u.bram36,
+                        uram288: a.uram288 + u.uram288,
+                    }
+                })
+            };
+            less(sum(full), sum(elaborated))
+        };
+        d.saved = match d.unit.as_str() {
+            "sphere_lanes" => diff(&["sphere", "sqrt"]),
+            "sorter" => Saving {
+                comparators: (sorter::comparator_count(dp.sorter.n) as u64)
+                    .saturating_sub(sorter::comparator_count(edp.sorter.n) as u64),
+                latency_cycles: u64::from(
+                    hw.units
+                        .sorter
+                        .latency_cycles
+                        .saturating_sub(ehw.units.sorter.latency_cycles),
+                ),
+                ..Saving::default()
+            },
+            "transform_products" => diff(&["transform"]),
+            "hit_buffer" if d.applied => Saving {
+                ram_bits: hw.frame.pixels() * u64::from(dp.hit_record.word_bits()),
+                latency_cycles: u64::from(
+                    hw.hit_buffer
+                        .read_latency_cycles
+                        .saturating_sub(ehw.hit_buffer.read_latency_cycles),
+                ),
+                ..diff(&["hit_buffer"])
+            },
+            "walker_stacks" => {
+                let w = &hw.walker_pool;
+                let frames = u64::from(w.stack_depth.saturating_sub(ehw.walker_pool.stack_depth));
+                Saving {
+                    ram_bits: u64::from(w.walkers)
+                        * u64::from(w.contexts_per_walker)
+                        * frames
+                        * u64::from(hw.stack_frame_bits(dp)),
+                    ..diff(&["walker_stacks"])
+                }
+            }
+            "position_format" if !d.applied && d.action != super::plan::Action::Kept => {
+                narrowing_saving(hw, dp, range_m)
+            }
+            _ => Saving::default(),
+        };
+    }
+}
+
+/// DSP48E2 the narrowed position formats would save (zero if the narrowed datapath does not
+/// validate).
+fn narrowing_saving(hw: &HwConfig, dp: &DatapathConfig, range_m: f64) -> Saving {
+    let int_bits = position_int_bits(range_m, dp.raygen.pos.frac);
+    let ndp = narrowed_positions(dp, int_bits);
+    match (hw.resources(dp), hw.resources(&ndp)) {
+        (Ok(a), Ok(b)) => less(a.used, b.used),
+        _ => Saving::default(),
+    }
+}
