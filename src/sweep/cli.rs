@@ -230,8 +230,13 @@ pub fn run_cli(a: &SweepArgs) -> Result<()> {
         a.depth
             .map_or_else(|| "as the scenes".to_string(), |d| d.to_string())
     );
-    eprintln!("{}", header(false));
+    // The progress header waits for the first row, so an input error is not preceded by an
+    // empty table.
+    let mut first = true;
     let result = run_sweep(&configs, &scenes, opts, |r| {
+        if std::mem::take(&mut first) {
+            eprintln!("{}", header(false));
+        }
         eprintln!("{}  [{}]", row_line(r, false), r.scene);
     })?;
     print_table(&result);
