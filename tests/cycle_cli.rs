@@ -3,35 +3,14 @@
 
 mod common;
 
-use common::process::run_sim;
-use std::path::PathBuf;
+use common::process::{run_sim, Scratch};
 use std::time::Duration;
-
-struct Tmp(PathBuf);
-
-impl Tmp {
-    fn new(name: &str) -> Self {
-        let d = std::env::temp_dir().join(format!("svo_cycle_cli_{name}_{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        Self(d)
-    }
-    fn p(&self, n: &str) -> String {
-        self.0.join(n).display().to_string()
-    }
-}
-
-impl Drop for Tmp {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 const LIMIT: Duration = Duration::from_secs(300);
 
 #[test]
 fn report_vcd_and_transaction_log() {
-    let t = Tmp::new("report");
+    let t = Scratch::new("cycle_cli", "report");
     let (json, vcd, log) = (t.p("r.json"), t.p("w.vcd"), t.p("log.jsonl"));
     let r = run_sim(
         &[
@@ -164,7 +143,7 @@ fn report_vcd_and_transaction_log() {
 
 #[test]
 fn bad_hardware_files_are_errors_naming_the_problem() {
-    let t = Tmp::new("badhw");
+    let t = Scratch::new("cycle_cli", "badhw");
     let cases = [
         ("(walker_pool: (walkers: 0))", "walkers"),
         ("(clock_mhz: 300, walker_pool: (walker: 3))", "walker"),

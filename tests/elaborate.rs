@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::process::run_sim;
+use common::process::{run_sim, Scratch};
 use common::SplitMix64;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
@@ -163,30 +163,13 @@ fn hit_buffer_rule_follows_the_camera() {
     );
 }
 
-struct Tmp(PathBuf);
-
-impl Tmp {
-    fn new(name: &str) -> Self {
-        let d = std::env::temp_dir().join(format!("svo_elaborate_{name}_{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        Self(d)
-    }
-}
-
-impl Drop for Tmp {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 /// Runs `sim` pruned and with `--no-prune`; returns both runs' dumps, PNGs and reports.
 fn pruned_and_full(
     scene: Option<&str>,
     extra: &[&str],
     tag: &str,
 ) -> [(Vec<u8>, Vec<Vec<u8>>, serde_json::Value); 2] {
-    let t = Tmp::new(tag);
+    let t = Scratch::new("elaborate", tag);
     [false, true].map(|full| {
         let dir = t.0.join(if full { "full" } else { "pruned" });
         std::fs::create_dir_all(&dir).unwrap();

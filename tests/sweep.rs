@@ -314,7 +314,7 @@ fn coarse_datapath_has_more_error_on_the_vox_scene() {
     assert!(c.error.t_err_rms > 10.0 * d.error.t_err_rms);
     // Two points: each is on both fronts (coarse is cheaper, the default more accurate) or
     // the default dominates.
-    assert!(d.front_dsp && c.front_dsp);
+    assert!(d.dsp_front.on_front && c.dsp_front.on_front);
     assert_eq!(r.default.len(), 1);
     assert!(r.default[0].within_5_percent);
 }

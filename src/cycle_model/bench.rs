@@ -14,7 +14,6 @@ use crate::scene::Scene;
 use plotters::prelude::*;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
-use std::sync::OnceLock;
 use std::time::Instant;
 
 /// One frame of the speed comparison.
@@ -171,19 +170,10 @@ pub fn scaling_csv(points: &[ScalePoint]) -> String {
     s
 }
 
-fn register_font() -> Result<(), String> {
-    static DONE: OnceLock<Result<(), String>> = OnceLock::new();
-    DONE.get_or_init(|| {
-        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
-            .map_err(|_| "the embedded DejaVu Sans font cannot be parsed".to_string())
-    })
-    .clone()
-}
-
 /// Two panels, cycles per frame against walkers and against DRAM latency (both log2 axes),
 /// each point labelled with its bound.
 pub fn scaling_plot(points: &[ScalePoint], title: &str) -> Result<image::RgbImage, String> {
-    register_font()?;
+    crate::output::figure::register_font()?;
     let (w, h) = (1000u32, 480u32);
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {

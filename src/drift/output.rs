@@ -5,7 +5,8 @@
 
 use super::plot;
 use super::run::DriftResult;
-use crate::output::atomic::write_atomic;
+use crate::output::atomic::write_files_atomic;
+use crate::output::figure::encode_png_best;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -45,18 +46,12 @@ pub fn csv(result: &DriftResult) -> String {
 /// Writes the three files into `dir` (which must exist) and returns their paths. The plot is
 /// rendered before anything is written, so a drawing error leaves no file behind.
 pub fn write_outputs(result: &DriftResult, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let png = plot::encode(&plot::render(result)?)?;
+    let png = encode_png_best(&plot::render(result)?, "drift.png")?;
     let json = serde_json::to_string_pretty(result).map_err(|e| format!("drift.json: {e}"))?;
     let files = [
         ("drift.csv", csv(result).into_bytes()),
         ("drift.json", json.into_bytes()),
         ("drift.png", png),
     ];
-    let mut paths = Vec::new();
-    for (name, bytes) in files {
-        let p = dir.join(name);
-        write_atomic(&p, &bytes).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
-        paths.push(p);
-    }
-    Ok(paths)
+    write_files_atomic(dir, &files)
 }

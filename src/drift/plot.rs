@@ -10,7 +10,6 @@
 
 use super::run::{DriftResult, FrameDrift, Mode};
 use plotters::prelude::*;
-use std::sync::OnceLock;
 
 /// Picture size in pixels.
 pub const SIZE: (u32, u32) = (800, 1080);
@@ -21,16 +20,6 @@ const MAX_POINTS: usize = 500;
 
 /// Values at or below this are drawn at it (log scale; an exact 0 has no logarithm).
 const FLOOR: f64 = 1e-12;
-
-/// Registers the embedded font under the family name the plot uses, once per process.
-fn register_font() -> Result<(), String> {
-    static DONE: OnceLock<Result<(), String>> = OnceLock::new();
-    DONE.get_or_init(|| {
-        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
-            .map_err(|_| "the embedded DejaVu Sans font cannot be parsed".to_string())
-    })
-    .clone()
-}
 
 fn colour(m: Mode) -> RGBColor {
     match m {
@@ -133,25 +122,9 @@ fn envelope(rows: &[&FrameDrift], f: fn(&FrameDrift) -> f64) -> Vec<(f64, f64)> 
     pts
 }
 
-/// Encodes the plot as PNG with the strongest compression (it is committed under `docs/`).
-pub fn encode(img: &image::RgbImage) -> Result<Vec<u8>, String> {
-    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-    use image::ImageEncoder;
-    let mut bytes = Vec::new();
-    PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
-        .write_image(
-            img.as_raw(),
-            img.width(),
-            img.height(),
-            image::ExtendedColorType::Rgb8,
-        )
-        .map_err(|e| format!("drift.png: {e}"))?;
-    Ok(bytes)
-}
-
 /// Renders the plot as RGB pixels (`SIZE`).
 pub fn render(result: &DriftResult) -> Result<image::RgbImage, String> {
-    register_font()?;
+    crate::output::figure::register_font()?;
     let (w, h) = SIZE;
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {

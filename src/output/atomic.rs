@@ -57,3 +57,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     f.writer().write_all(bytes)?;
     f.commit()
 }
+
+/// Writes each `(name, bytes)` into `dir` (which must exist), each atomically, in order, and
+/// returns their paths. Callers encode everything first, so an encoding error writes nothing;
+/// a write error names the file.
+pub fn write_files_atomic(dir: &Path, files: &[(&str, Vec<u8>)]) -> Result<Vec<PathBuf>, String> {
+    let mut paths = Vec::with_capacity(files.len());
+    for (name, bytes) in files {
+        let p = dir.join(name);
+        write_atomic(&p, bytes).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+        paths.push(p);
+    }
+    Ok(paths)
+}

@@ -3,5 +3,6 @@
 
 pub mod atomic;
 pub mod dump;
+pub mod figure;
 pub mod png;
 pub mod report;

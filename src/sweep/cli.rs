@@ -3,7 +3,7 @@
 
 use super::configs::{self, NamedConfig};
 use super::output::write_outputs;
-use super::run::{run_sweep, NamedScene, SweepOptions, SweepResult, SweepRow};
+use super::run::{run_sweep, FrontPlace, NamedScene, SweepOptions, SweepResult, SweepRow};
 use crate::scene::Scene;
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -131,12 +131,12 @@ fn row_line(r: &SweepRow, fronts: bool) -> String {
     if fronts {
         s.push_str(&format!(
             " {:>7.2}{} {:>7.1} {:>7.2}{} {:>7.1}",
-            100.0 * r.dist_cycles,
-            mark(r.front_cycles),
-            100.0 * r.excess_cycles,
-            100.0 * r.dist_dsp,
-            mark(r.front_dsp),
-            100.0 * r.excess_dsp
+            100.0 * r.cycles_front.distance,
+            mark(r.cycles_front.on_front),
+            100.0 * r.cycles_front.excess,
+            100.0 * r.dsp_front.distance,
+            mark(r.dsp_front.on_front),
+            100.0 * r.dsp_front.excess
         ));
     }
     s.push_str(&format!(" {:>8.0}", 1e3 * r.wall_s));
@@ -185,22 +185,22 @@ fn print_table(result: &SweepResult) {
 configuration of no greater cost avoids; docs/accuracy.md)"
     );
     for v in &result.default {
-        let pos = |on: bool, d: f64, x: f64| {
-            if on {
+        let pos = |f: FrontPlace| {
+            if f.on_front {
                 "on the front".to_string()
             } else {
                 format!(
                     "off the front, distance {:.2} %, error excess {:.1} %",
-                    100.0 * d,
-                    100.0 * x
+                    100.0 * f.distance,
+                    100.0 * f.excess
                 )
             }
         };
         println!(
             "default on {}: error vs cycles {}; error vs DSP {}; within 5 %: {}",
             v.scene,
-            pos(v.front_cycles, v.dist_cycles, v.excess_cycles),
-            pos(v.front_dsp, v.dist_dsp, v.excess_dsp),
+            pos(v.cycles_front),
+            pos(v.dsp_front),
             if v.within_5_percent { "yes" } else { "NO" }
         );
     }

@@ -8,7 +8,8 @@
 
 use super::plot::{self, Axis};
 use super::run::SweepResult;
-use crate::output::atomic::write_atomic;
+use crate::output::atomic::write_files_atomic;
+use crate::output::figure::encode_png_best;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -54,12 +55,12 @@ pub fn csv(result: &SweepResult) -> String {
             c.bram_bits,
             c.bram36,
             c.uram288,
-            r.front_cycles,
-            100.0 * r.dist_cycles,
-            100.0 * r.excess_cycles,
-            r.front_dsp,
-            100.0 * r.dist_dsp,
-            100.0 * r.excess_dsp,
+            r.cycles_front.on_front,
+            100.0 * r.cycles_front.distance,
+            100.0 * r.cycles_front.excess,
+            r.dsp_front.on_front,
+            100.0 * r.dsp_front.distance,
+            100.0 * r.dsp_front.excess,
             r.wall_s
         );
     }
@@ -69,8 +70,8 @@ pub fn csv(result: &SweepResult) -> String {
 /// Writes the four files into `dir` (which must exist) and returns their paths. Everything is
 /// encoded before the first file is written, so an error leaves no file behind.
 pub fn write_outputs(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let cycles = plot::encode(&plot::render(result, Axis::Cycles)?)?;
-    let dsp = plot::encode(&plot::render(result, Axis::Dsp)?)?;
+    let cycles = encode_png_best(&plot::render(result, Axis::Cycles)?, "sweep_cycles.png")?;
+    let dsp = encode_png_best(&plot::render(result, Axis::Dsp)?, "sweep_dsp.png")?;
     let json = serde_json::to_string_pretty(result).map_err(|e| format!("sweep.json: {e}"))?;
     let files = [
         ("sweep.csv", csv(result).into_bytes()),
@@ -78,11 +79,5 @@ pub fn write_outputs(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>, S
         ("sweep_cycles.png", cycles),
         ("sweep_dsp.png", dsp),
     ];
-    let mut paths = Vec::new();
-    for (name, bytes) in files {
-        let p = dir.join(name);
-        write_atomic(&p, &bytes).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
-        paths.push(p);
-    }
-    Ok(paths)
+    write_files_atomic(dir, &files)
 }

@@ -10,7 +10,6 @@
 use super::configs::DEFAULT_NAME;
 use super::run::{SweepResult, SweepRow};
 use plotters::prelude::*;
-use std::sync::OnceLock;
 
 /// Width of the picture and height of one scene's panel, pixels.
 pub const PANEL: (u32, u32) = (900, 420);
@@ -37,8 +36,8 @@ impl Axis {
 
     fn on_front(self, r: &SweepRow) -> bool {
         match self {
-            Axis::Cycles => r.front_cycles,
-            Axis::Dsp => r.front_dsp,
+            Axis::Cycles => r.cycles_front.on_front,
+            Axis::Dsp => r.dsp_front.on_front,
         }
     }
 
@@ -48,15 +47,6 @@ impl Axis {
             Axis::Dsp => "DSP48E2 slices (whole pipeline)",
         }
     }
-}
-
-fn register_font() -> Result<(), String> {
-    static DONE: OnceLock<Result<(), String>> = OnceLock::new();
-    DONE.get_or_init(|| {
-        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
-            .map_err(|_| "the embedded DejaVu Sans font cannot be parsed".to_string())
-    })
-    .clone()
 }
 
 fn panel<DB: DrawingBackend>(
@@ -242,7 +232,7 @@ fn place_label(
 
 /// Renders the plot of `axis` as RGB pixels: one panel per scene, stacked.
 pub fn render(result: &SweepResult, axis: Axis) -> Result<image::RgbImage, String> {
-    register_font()?;
+    crate::output::figure::register_font()?;
     let n = result.scenes.len().max(1) as u32;
     let (w, h) = (PANEL.0, PANEL.1 * n);
     let mut buf = vec![0u8; (w * h * 3) as usize];
@@ -274,21 +264,4 @@ pub fn render(result: &SweepResult, axis: Axis) -> Result<image::RgbImage, Strin
         root.present().map_err(|e| format!("plot: {e}"))?;
     }
     image::RgbImage::from_raw(w, h, buf).ok_or_else(|| "plot: buffer size".to_string())
-}
-
-/// Encodes a plot as PNG with the strongest compression (the figures are committed under
-/// `docs/images/`).
-pub fn encode(img: &image::RgbImage) -> Result<Vec<u8>, String> {
-    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-    use image::ImageEncoder;
-    let mut bytes = Vec::new();
-    PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
-        .write_image(
-            img.as_raw(),
-            img.width(),
-            img.height(),
-            image::ExtendedColorType::Rgb8,
-        )
-        .map_err(|e| format!("sweep plot PNG: {e}"))?;
-    Ok(bytes)
 }

@@ -100,6 +100,18 @@ pub enum SweepError {
     },
 }
 
+/// Where a row sits against one Pareto front (error against one cost) of its scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct FrontPlace {
+    /// On the front.
+    pub on_front: bool,
+    /// Relative distance to the front (a fraction, 0.05 = 5 %; `pareto::distance`).
+    pub distance: f64,
+    /// Share of the error a configuration of no greater cost avoids (a fraction;
+    /// `pareto::error_excess`).
+    pub excess: f64,
+}
+
 /// One (configuration, scene): its error, its cost and where it sits on the fronts.
 #[derive(Clone, Debug, Serialize)]
 pub struct SweepRow {
@@ -113,18 +125,10 @@ pub struct SweepRow {
     pub cycles_per_frame: f64,
     /// Hardware cost.
     pub cost: Cost,
-    /// On the front of error against cycles per frame.
-    pub front_cycles: bool,
-    /// Distance to that front (a fraction, 0.05 = 5 %).
-    pub dist_cycles: f64,
-    /// Share of the error a configuration with no more cycles per frame avoids (fraction).
-    pub excess_cycles: f64,
-    /// On the front of error against DSP48E2.
-    pub front_dsp: bool,
-    /// Distance to that front.
-    pub dist_dsp: f64,
-    /// Share of the error a configuration with no more DSP48E2 avoids (fraction).
-    pub excess_dsp: f64,
+    /// Place against the front of error against cycles per frame.
+    pub cycles_front: FrontPlace,
+    /// Place against the front of error against DSP48E2.
+    pub dsp_front: FrontPlace,
     /// Wall time of the simulation (functional and cycle model, all frames), seconds. The only
     /// figure that changes from run to run.
     pub wall_s: f64,
@@ -148,18 +152,10 @@ pub struct SceneInfo {
 pub struct DefaultVerdict {
     /// Scene name.
     pub scene: String,
-    /// On the cycles front.
-    pub front_cycles: bool,
-    /// Distance to it (fraction).
-    pub dist_cycles: f64,
-    /// Its error excess at its cycles (fraction).
-    pub excess_cycles: f64,
-    /// On the DSP front.
-    pub front_dsp: bool,
-    /// Distance to it (fraction).
-    pub dist_dsp: f64,
-    /// Its error excess at its DSP count (fraction).
-    pub excess_dsp: f64,
+    /// Its place against the cycles front.
+    pub cycles_front: FrontPlace,
+    /// Its place against the DSP front.
+    pub dsp_front: FrontPlace,
     /// Both distances ≤ 5 %.
     pub within_5_percent: bool,
 }
@@ -299,12 +295,8 @@ fn run_one(
         error: tally.summary(leaf_edge(&p.assets)),
         cycles_per_frame: cycles as f64 / p.reference.len().max(1) as f64,
         cost: cost.clone(),
-        front_cycles: false,
-        dist_cycles: 0.0,
-        excess_cycles: 0.0,
-        front_dsp: false,
-        dist_dsp: 0.0,
-        excess_dsp: 0.0,
+        cycles_front: FrontPlace::default(),
+        dsp_front: FrontPlace::default(),
         wall_s: start.elapsed().as_secs_f64(),
     })
 }
@@ -319,17 +311,21 @@ fn place_on_fronts(rows: &mut [SweepRow]) {
             })
             .collect()
     };
-    let cyc = pts(|r| r.cycles_per_frame);
-    let dsp = pts(|r| r.cost.dsp48e2 as f64);
-    let (fc, dc, xc) = (on_front(&cyc), distance(&cyc), error_excess(&cyc));
-    let (fd, dd, xd) = (on_front(&dsp), distance(&dsp), error_excess(&dsp));
-    for (k, r) in rows.iter_mut().enumerate() {
-        r.front_cycles = fc[k];
-        r.dist_cycles = dc[k];
-        r.excess_cycles = xc[k];
-        r.front_dsp = fd[k];
-        r.dist_dsp = dd[k];
-        r.excess_dsp = xd[k];
+    let places = |p: &[Point]| -> Vec<FrontPlace> {
+        let (f, d, x) = (on_front(p), distance(p), error_excess(p));
+        (0..p.len())
+            .map(|k| FrontPlace {
+                on_front: f[k],
+                distance: d[k],
+                excess: x[k],
+            })
+            .collect()
+    };
+    let cyc = places(&pts(|r| r.cycles_per_frame));
+    let dsp = places(&pts(|r| r.cost.dsp48e2 as f64));
+    for ((r, c), d) in rows.iter_mut().zip(cyc).zip(dsp) {
+        r.cycles_front = c;
+        r.dsp_front = d;
     }
 }
 
@@ -371,13 +367,9 @@ pub fn run_sweep(
         if let Some(d) = mine.iter().find(|r| r.config == DEFAULT_NAME) {
             verdicts.push(DefaultVerdict {
                 scene: ns.name.clone(),
-                front_cycles: d.front_cycles,
-                dist_cycles: d.dist_cycles,
-                excess_cycles: d.excess_cycles,
-                front_dsp: d.front_dsp,
-                dist_dsp: d.dist_dsp,
-                excess_dsp: d.excess_dsp,
-                within_5_percent: d.dist_cycles <= 0.05 && d.dist_dsp <= 0.05,
+                cycles_front: d.cycles_front,
+                dsp_front: d.dsp_front,
+                within_5_percent: d.cycles_front.distance <= 0.05 && d.dsp_front.distance <= 0.05,
             });
         }
         rows.extend(mine);

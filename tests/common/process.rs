@@ -71,3 +71,27 @@ pub fn run_sim<S: AsRef<OsStr> + std::fmt::Debug>(
         stderr,
     }
 }
+
+/// A scratch folder for a test's outputs, emptied on creation and removed when dropped.
+pub struct Scratch(pub std::path::PathBuf);
+
+impl Scratch {
+    /// `<temp>/svo_<suite>_<name>_<pid>`: unique per test and per process.
+    pub fn new(suite: &str, name: &str) -> Self {
+        let d = std::env::temp_dir().join(format!("svo_{suite}_{name}_{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).expect("create the scratch folder");
+        Self(d)
+    }
+
+    /// A path inside the folder, as a string argument.
+    pub fn p(&self, name: &str) -> String {
+        self.0.join(name).display().to_string()
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
