@@ -202,13 +202,10 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
         cfg.hardware
             .validate_for(&cfg.datapath)
             .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
-        let mut r = cfg
+        let r = cfg
             .hardware
             .resources(&cfg.datapath)
             .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
-        if let Some(e) = &cfg.elaboration {
-            e.adjust_resources(&mut r);
-        }
         Some(r)
     } else {
         None
@@ -309,7 +306,10 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
             Model::Fixed | Model::Cycle => {
                 let (fx, cyc, fbuf) = match cycle_run.as_mut() {
                     Some(cr) => {
-                        let r = cr.frame(&input, &cfg.datapath, cfg.options.use_hit_buffer)?;
+                        // A pipeline without a hit buffer (`hit_buffer.present: false`)
+                        // traces every pixel, whatever the reuse switch says.
+                        let reuse = cfg.options.use_hit_buffer && cfg.hardware.hit_buffer.present;
+                        let r = cr.frame(&input, &cfg.datapath, reuse)?;
                         sim_wall += r.wall_s;
                         (r.fixed, Some(r.cycles), cr.buffer())
                     }

@@ -7,7 +7,7 @@
 use rtl_model::cycle::hw_config::{
     sphere_dsp48e2, sphere_latency_cycles, sqrt_config_for, transform_latency_cycles,
     walker_root_dsp48e2, walker_root_latency_cycles, HwConfig, Part, Placement, ResourceReport,
-    StackStorage, UnitTimings, WalkerPool,
+    StackStorage, UnitTimings, WalkerPool, TRANSFORM_LATENCY_WITHOUT_PRODUCTS,
 };
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::units::sqrt::SqrtConfig;
@@ -405,4 +405,44 @@ fn ron_round_trip() {
         let e = ron::from_str::<HwConfig>(text).unwrap_err().to_string();
         assert!(e.contains(name), "{text}: {e}");
     }
+}
+
+/// The elaboration knobs: a transform without products costs no DSP48E2 and may be as short
+/// as its subtract and round, but no shorter; with products the datapath's stage count holds.
+/// An absent hit buffer costs no memory and no read cycles; the other items do not move.
+#[test]
+fn transform_without_products_and_absent_hit_buffer() {
+    let dp = DatapathConfig::default();
+    let full = default_report();
+    let mut cfg = HwConfig::default();
+    cfg.transform_products = false;
+    cfg.units.transform.latency_cycles = TRANSFORM_LATENCY_WITHOUT_PRODUCTS;
+    cfg.validate_for(&dp)
+        .expect("2 stages suffice without products");
+    let r = cfg.resources(&dp).unwrap();
+    assert_eq!(item(&r, "transform").1, 0);
+    assert_eq!(
+        full.used.dsp48e2 - r.used.dsp48e2,
+        item(&full, "transform").1
+    );
+    assert_eq!(item(&full, "transform").1, 72);
+    cfg.units.transform.latency_cycles = TRANSFORM_LATENCY_WITHOUT_PRODUCTS - 1;
+    let e = cfg.validate_for(&dp).unwrap_err();
+    assert!(e.contains("units.transform.latency_cycles"), "{e}");
+    cfg.transform_products = true;
+    cfg.units.transform.latency_cycles = TRANSFORM_LATENCY_WITHOUT_PRODUCTS;
+    assert!(cfg.validate_for(&dp).is_err(), "products need their stages");
+
+    let mut cfg = HwConfig::default();
+    assert_eq!(cfg.hit_buffer_read_cycles(), 4);
+    cfg.hit_buffer.placement = Placement::External;
+    assert_eq!(cfg.hit_buffer_read_cycles(), cfg.node_memory.dram.latency);
+    cfg.hit_buffer.present = false;
+    assert_eq!(cfg.hit_buffer_read_cycles(), 0);
+    cfg.hit_buffer.placement = Placement::Uram;
+    let r = cfg.resources(&dp).unwrap();
+    assert_eq!(item(&r, "hit_buffer"), (0, 0, 0, 0));
+    assert_eq!(item(&full, "hit_buffer").3, 240);
+    assert_eq!(full.used.uram288 - r.used.uram288, 240);
+    assert_eq!(r.used.dsp48e2, full.used.dsp48e2);
 }

@@ -46,7 +46,7 @@ use crate::reference::SphereCount;
 use rtl_model::cycle::bram::Bram;
 use rtl_model::cycle::clocked::{Clock, Commit, StageId, Stamped};
 use rtl_model::cycle::fifo::Fifo;
-use rtl_model::cycle::hw_config::{HwConfig, Placement};
+use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::memory::{FetchKind, NodeMemory};
 use rtl_model::cycle::stage_stats::{StageCycles, StageState};
 use rtl_model::cycle::unit_pipe::UnitPipe;
@@ -325,10 +325,7 @@ impl CycleModel {
         );
         let mut p_sorter: UnitPipe<Stamped<Ray>> =
             UnitPipe::new(u.sorter.latency_cycles, u.sorter.ii);
-        let hb_latency = match hw.hit_buffer.placement {
-            Placement::External => hw.node_memory.dram.latency,
-            _ => hw.hit_buffer.read_latency_cycles,
-        } + u.hit_unpack.latency_cycles;
+        let hb_latency = hw.hit_buffer_read_cycles() + u.hit_unpack.latency_cycles;
         let mut p_check: UnitPipe<(Stamped<Ray>, u128)> = UnitPipe::new(hb_latency, 1);
         // Transform, reciprocal and root: `n` units of II `ii` act as one unit of II ii/n.
         let units_ii = |ii: u32, n: u32| ii.div_ceil(n.max(1)).max(1);

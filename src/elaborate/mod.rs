@@ -18,7 +18,7 @@ use crate::run::RunConfig;
 use crate::scene::Scene;
 use analyse::SceneFacts;
 use plan::Decision;
-use rtl_model::cycle::hw_config::{HwConfig, ResourceReport, Resources};
+use rtl_model::cycle::hw_config::{HwConfig, Resources};
 use rtl_model::datapath::DatapathConfig;
 use serde::Serialize;
 use thiserror::Error;
@@ -56,10 +56,6 @@ pub struct Elaboration {
     /// Whether the elaborated pipeline reads its hit buffer.
     #[serde(skip)]
     pub use_hit_buffer: bool,
-    #[serde(skip)]
-    hit_buffer_left_out: bool,
-    #[serde(skip)]
-    transform_products_left_out: bool,
 }
 
 /// Elaborates `scene` (as it will run: resolution, frames and `depth` overridden) against the
@@ -73,19 +69,10 @@ pub fn elaborate(
 ) -> Result<Elaboration, ElaborateError> {
     let facts = analyse::analyse(scene, depth, dp)?;
     let mut p = plan::plan(&facts, hw, dp, use_hit_buffer);
-    let hit_buffer_left_out = p
-        .decisions
-        .iter()
-        .any(|d| d.unit == "hit_buffer" && d.applied);
     let bad = ElaborateError::Hardware;
     p.hardware.validate_for(&p.datapath).map_err(bad)?;
     let full = hw.resources(dp).map_err(bad)?;
-    let mut elaborated = p.hardware.resources(&p.datapath).map_err(bad)?;
-    savings::adjust_resources(
-        &mut elaborated,
-        hit_buffer_left_out,
-        p.transform_products_left_out,
-    );
+    let elaborated = p.hardware.resources(&p.datapath).map_err(bad)?;
     savings::fill(&mut p, facts.coordinate_range_m, hw, dp, &full, &elaborated);
     Ok(Elaboration {
         applied: true,
@@ -96,8 +83,6 @@ pub fn elaborate(
         hardware: p.hardware,
         datapath: p.datapath,
         use_hit_buffer: p.use_hit_buffer,
-        hit_buffer_left_out,
-        transform_products_left_out: p.transform_products_left_out,
     })
 }
 
@@ -135,18 +120,5 @@ impl Elaboration {
             cfg.options.use_hit_buffer = self.use_hit_buffer;
         }
         cfg.elaboration = Some(self);
-    }
-
-    /// Takes the units the elaborated pipeline leaves out but its configuration still
-    /// describes (hit buffer, transform products) out of a resource estimate of
-    /// [`Self::hardware`]; nothing when not applied.
-    pub fn adjust_resources(&self, r: &mut ResourceReport) {
-        if self.applied {
-            savings::adjust_resources(
-                r,
-                self.hit_buffer_left_out,
-                self.transform_products_left_out,
-            );
-        }
     }
 }

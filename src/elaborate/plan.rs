@@ -8,7 +8,7 @@
 
 use super::analyse::SceneFacts;
 use super::savings::Saving;
-use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::cycle::hw_config::{HwConfig, TRANSFORM_LATENCY_WITHOUT_PRODUCTS};
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::fixed::Format;
 use serde::Serialize;
@@ -70,8 +70,6 @@ pub struct Plan {
     pub datapath: DatapathConfig,
     /// Whether the elaborated pipeline has a hit buffer to read.
     pub use_hit_buffer: bool,
-    /// The transform's products are left out (every instance's transform is o − c).
-    pub transform_products_left_out: bool,
     /// The decisions, in pipeline order.
     pub decisions: Vec<Decision>,
 }
@@ -156,8 +154,13 @@ pub fn plan(facts: &SceneFacts, hw: &HwConfig, dp: &DatapathConfig, use_hit_buff
     // Transform products: R = I in every frame (as quantised) makes Rᵀ(o − c) = o − c and
     // Rᵀd = d exactly, so the unit is its subtractor and the output rounding.
     let rotating: Vec<&str> = facts.rotating().map(|i| i.name.as_str()).collect();
-    let transform_products_left_out = rotating.is_empty();
-    ds.push(if transform_products_left_out {
+    ds.push(if rotating.is_empty() {
+        out_hw.transform_products = false;
+        out_hw.units.transform.latency_cycles = out_hw
+            .units
+            .transform
+            .latency_cycles
+            .min(TRANSFORM_LATENCY_WITHOUT_PRODUCTS);
         decision(
             "transform_products",
             Action::LeftOut,
@@ -199,8 +202,8 @@ pub fn plan(facts: &SceneFacts, hw: &HwConfig, dp: &DatapathConfig, use_hit_buff
     // frame, so if it changes between every two frames no word is ever read for reuse.
     let hb_unused = facts.camera_moves_every_frame || !use_hit_buffer;
     ds.push(if hb_unused {
-        // The check stage keeps its unpack register; the read latency is the 1-cycle minimum.
-        out_hw.hit_buffer.read_latency_cycles = 1;
+        // The check stage keeps its unpack register and reads nothing.
+        out_hw.hit_buffer.present = false;
         decision(
             "hit_buffer",
             Action::LeftOut,
@@ -284,7 +287,6 @@ pub fn plan(facts: &SceneFacts, hw: &HwConfig, dp: &DatapathConfig, use_hit_buff
         hardware: out_hw,
         datapath: out_dp,
         use_hit_buffer: use_hit_buffer && !hb_unused,
-        transform_products_left_out,
         decisions: ds,
     }
 }

@@ -61,30 +61,6 @@ fn less(full: Resources, kept: Resources) -> Saving {
     }
 }
 
-/// Takes the units the elaborated configuration still describes but the elaborated pipeline
-/// does not have out of `r`: the hit buffer's memory and the transform's products. Their
-/// items stay in the table with zero use and a note, and the total is summed again.
-pub fn adjust_resources(r: &mut ResourceReport, hit_buffer_out: bool, transform_out: bool) {
-    for it in &mut r.items {
-        if hit_buffer_out && it.name == "hit_buffer" {
-            it.used = Resources::default();
-            it.note = format!("left out by elaboration (was {})", it.note);
-        }
-        if transform_out && it.name == "transform" {
-            it.used.dsp48e2 = 0;
-            it.note = "left out by elaboration: o − c subtractors only, no products".into();
-        }
-    }
-    r.used = r
-        .items
-        .iter()
-        .fold(Resources::default(), |a, it| Resources {
-            dsp48e2: a.dsp48e2.saturating_add(it.used.dsp48e2),
-            bram36: a.bram36.saturating_add(it.used.bram36),
-            uram288: a.uram288.saturating_add(it.used.uram288),
-        });
-}
-
 /// Fills in every decision's saving. `full` is the estimate of the configured pipeline,
 /// `elaborated` that of the plan's (already adjusted); `range_m` the scene's coordinate range.
 pub fn fill(
@@ -123,13 +99,20 @@ pub fn fill(
                 ),
                 ..Saving::default()
             },
-            "transform_products" => diff(&["transform"]),
+            "transform_products" => Saving {
+                latency_cycles: u64::from(
+                    hw.units
+                        .transform
+                        .latency_cycles
+                        .saturating_sub(ehw.units.transform.latency_cycles),
+                ),
+                ..diff(&["transform"])
+            },
             "hit_buffer" if d.applied => Saving {
                 ram_bits: hw.frame.pixels() * u64::from(dp.hit_record.word_bits()),
                 latency_cycles: u64::from(
-                    hw.hit_buffer
-                        .read_latency_cycles
-                        .saturating_sub(ehw.hit_buffer.read_latency_cycles),
+                    hw.hit_buffer_read_cycles()
+                        .saturating_sub(ehw.hit_buffer_read_cycles()),
                 ),
                 ..diff(&["hit_buffer"])
             },

@@ -342,6 +342,11 @@ pub enum Placement {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct HitBuffer {
+    /// Whether the pipeline has a hit buffer. Default true; false when no pixel can ever be
+    /// reused (scene-driven elaboration: the camera moves between every two frames): the
+    /// check stage then reads nothing and passes rays on after its unpack register, and the
+    /// buffer costs no memory.
+    pub present: bool,
     /// Where it lives. Default URAM: the 1280×768 buffer of 72-bit words is 240 URAM288
     /// (a quarter of the part's) against 1,920 BRAM36 (89 % of them);
     /// `docs/units/hit-record.md` §6.
@@ -359,6 +364,7 @@ pub struct HitBuffer {
 impl Default for HitBuffer {
     fn default() -> Self {
         Self {
+            present: true,
             placement: Placement::Uram,
             read_ports: 1,
             write_ports: 1,
@@ -419,6 +425,11 @@ pub struct HwConfig {
     /// 0.3 at either target (150 fps with a still camera: 0.49 rays × 0.63 walks per cycle;
     /// 67 fps with a moving one: 0.22 × 1.32).
     pub transform_units: u32,
+    /// Whether the transform units have their 18 products. Default true; false only when no
+    /// instance ever rotates (scene-driven elaboration, `docs/elaboration.md`): R = I makes
+    /// the unit o − c and its rounding, exactly, with no DSP48E2 and
+    /// [`TRANSFORM_LATENCY_WITHOUT_PRODUCTS`] stages.
+    pub transform_products: bool,
     /// Reciprocal units, one axis each. Default 3: one walk's three axes per cycle.
     pub reciprocal_units: u32,
     /// Walker-root units (root slabs), shared by the pool as a stage before the dispatcher.
@@ -606,6 +617,7 @@ impl HwConfig {
             sphere_units: 8,
             sorter_lanes: dp.sorter.n,
             transform_units: 1,
+            transform_products: true,
             reciprocal_units: 3,
             walker_root_units: 1,
             walker_pool: WalkerPool::default(),
@@ -728,7 +740,10 @@ impl HwConfig {
                 self.sorter_lanes, dp.sorter.n
             ));
         }
-        let need = UnitTimings::for_datapath(dp);
+        let mut need = UnitTimings::for_datapath(dp);
+        if !self.transform_products {
+            need.transform.latency_cycles = TRANSFORM_LATENCY_WITHOUT_PRODUCTS;
+        }
         for ((name, have), (_, min)) in self.units.named().into_iter().zip(need.named()) {
             if have.latency_cycles < min.latency_cycles {
                 return Err(format!(
@@ -739,6 +754,16 @@ impl HwConfig {
             }
         }
         Ok(())
+    }
+
+    /// Cycles the hit-buffer check waits for its read, before the unpack register: the
+    /// buffer's read latency on chip, the DRAM's latency when external, none when absent.
+    pub fn hit_buffer_read_cycles(&self) -> u32 {
+        match self.hit_buffer.placement {
+            _ if !self.hit_buffer.present => 0,
+            Placement::External => self.node_memory.dram.latency,
+            _ => self.hit_buffer.read_latency_cycles,
+        }
     }
 
     /// Estimated DSP48E2, BRAM36 and URAM288 of this configuration with datapath `dp`,
@@ -795,13 +820,22 @@ impl HwConfig {
                 sorter_res.comparators, sorter_res.compare_bits
             ),
         });
-        let tr = transform::dsp48e2_count(&dp.transform);
-        items.push(dsp_item(
-            "transform",
-            self.transform_units,
-            tr,
-            format!("{tr} DSP per unit: 9 origin + 9 direction products"),
-        ));
+        items.push(if self.transform_products {
+            let tr = transform::dsp48e2_count(&dp.transform);
+            dsp_item(
+                "transform",
+                self.transform_units,
+                tr,
+                format!("{tr} DSP per unit: 9 origin + 9 direction products"),
+            )
+        } else {
+            dsp_item(
+                "transform",
+                self.transform_units,
+                0,
+                "no products (no instance rotates): o − c and rounding only".into(),
+            )
+        });
         let rc = reciprocal::dsp48e2_count(&dp.reciprocal);
         items.push(dsp_item(
             "reciprocal",
@@ -867,6 +901,14 @@ impl HwConfig {
     }
 
     fn hit_buffer_item(&self, dp: &DatapathConfig) -> ResourceItem {
+        if !self.hit_buffer.present {
+            return ResourceItem {
+                name: "hit_buffer".into(),
+                instances: 0,
+                used: Resources::default(),
+                note: "absent: no pixel can be reused".into(),
+            };
+        }
         let bits = dp.hit_record.word_bits();
         let (used, where_) = per_pixel_table(self.hit_buffer.placement, bits, self.frame.pixels());
         ResourceItem {
@@ -1058,6 +1100,10 @@ pub fn transform_latency_cycles(t: &TransformConfig) -> u32 {
     let prod = product_cycles(t.mat, rel).max(product_cycles(t.mat, t.dir));
     1 + prod + 2 + 1
 }
+
+/// Latency of a transform unit without products (`transform_products: false`): o − c (1) and
+/// rounding and saturation (1).
+pub const TRANSFORM_LATENCY_WITHOUT_PRODUCTS: u32 = 2;
 
 /// Latency of the walker-root unit, as stages: ±e − o with the mirroring negation (1); the
 /// six products in parallel (one product); rounding into `t` (1); max of t0 and min of t1
