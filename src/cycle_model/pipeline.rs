@@ -40,8 +40,9 @@ use super::layout::SceneLayout;
 use super::stats::CycleFrame;
 use super::waves::PipelineWaves;
 use crate::fixed_model::plan::{Best, FramePlan, PixelCounters};
+use crate::fixed_model::row_feed::{FeedError, RowFeed};
+use crate::fixed_model::trace::PixelWork;
 use crate::fixed_model::trace::{OpRecorder, RowTrace, WalkOp};
-use crate::fixed_model::FixedBuffer;
 use crate::reference::SphereCount;
 use rtl_model::cycle::bram::Bram;
 use rtl_model::cycle::clocked::{Clock, Commit, StageId, Stamped};
@@ -278,26 +279,25 @@ impl CycleModel {
         }
     }
 
-    /// Runs one frame. `plan` is the frame's prepared datapath, `traces` the functional
-    /// model's work per row, `functional` its buffer after the frame.
+    /// Runs one frame. `plan` is the frame's prepared datapath, `feed` the functional
+    /// model's work per row (rows may still be arriving: ray generation waits for each row
+    /// before its first pixel), `dir` the frame's direction table.
     pub fn run_frame(
         &mut self,
         plan: &FramePlan<'_>,
-        traces: &[RowTrace],
-        functional: &FixedBuffer,
+        feed: &RowFeed,
+        dir: &[[i64; 3]],
         instance_asset: &[usize],
     ) -> Result<CycleFrame, CycleError> {
         let wall = Instant::now();
-        let w = self.width as usize;
         let pixels = (self.width as u64) * (self.height as u64);
-        if traces.len() != self.height as usize
-            || functional.records.len() != pixels as usize
-            || traces.iter().any(|t| t.pixels.len() != w)
-        {
+        if feed.len() != self.height as usize || dir.len() != pixels as usize {
             return Err(CycleError::Internal(
-                "trace or buffer does not match the frame size".into(),
+                "trace or direction table does not match the frame size".into(),
             ));
         }
+        // The rows received so far from the functional model.
+        let mut rows: Vec<&RowTrace> = Vec::with_capacity(self.height as usize);
         let hw = self.hw.clone();
         let fd = &hw.fifos;
         let t0 = self.clock.now();
@@ -402,12 +402,6 @@ impl CycleModel {
         let frame = self.frame;
         let width = self.width;
         let cross = self.cross_check;
-        let dir = &functional.dir_table;
-
-        let trace_of = |p: u32| {
-            let (i, j) = ((p % width) as usize, (p / width) as usize);
-            (&traces[j], &traces[j].pixels[i])
-        };
 
         while written < pixels {
             let now = self.clock.now();
@@ -458,7 +452,7 @@ impl CycleModel {
                 {
                     let Walk { slot, cand } = wk.payload;
                     let s = &mut slots[slot as usize];
-                    let (tr, pw) = trace_of(s.pixel);
+                    let (tr, pw, i) = trace_at(&rows, width, s.pixel)?;
                     let twalks = tr.walks_of(pw);
                     let Some(tw) = twalks.get(usize::from(cand)) else {
                         return Err(self.mismatch(
@@ -507,7 +501,9 @@ impl CycleModel {
                             let spheres = SphereCount::from_count(s.cands.len());
                             plan.finish(s.best_full, spheres, &mut xc_counters).word
                         } else {
-                            functional.records[s.pixel as usize].word
+                            tr.words.get(i).copied().ok_or_else(|| {
+                                CycleError::Internal(format!("no word for pixel {}", s.pixel))
+                            })?
                         };
                         let mut ray = s
                             .stamps
@@ -549,7 +545,7 @@ impl CycleModel {
                     {
                         let Walk { slot, cand } = wk.payload;
                         let s = &mut slots[slot as usize];
-                        let (tr, pw) = trace_of(s.pixel);
+                        let (tr, pw, _) = trace_at(&rows, width, s.pixel)?;
                         let (_, k) = s.cands[usize::from(cand)];
                         let Some(tw) = tr.walks_of(pw).get(usize::from(cand)) else {
                             return Err(self.mismatch(
@@ -664,7 +660,7 @@ impl CycleModel {
                             return Err(CycleError::Internal("no ray slot".into()));
                         };
                         let pixel = ray.payload.pixel;
-                        let (tr, pw) = trace_of(pixel);
+                        let (tr, pw, _) = trace_at(&rows, width, pixel)?;
                         let s = &mut slots[slot as usize];
                         s.pixel = pixel;
                         s.cands.clear();
@@ -685,7 +681,7 @@ impl CycleModel {
             let mut check_blocked = false;
             if let Some(&(ref ray, prev)) = p_check.ready(now) {
                 let pixel = ray.payload.pixel;
-                let (tr, pw) = trace_of(pixel);
+                let (tr, pw, _) = trace_at(&rows, width, pixel)?;
                 let cands = tr.candidates_of(pw);
                 let reuse = plan.reuse(prev, cands, &mut xc_counters);
                 if reuse.is_some() != pw.reused {
@@ -769,7 +765,7 @@ impl CycleModel {
                     .map_err(|e| CycleError::Internal(e.to_string()))?
                 {
                     ray.enter(ST_SORTER, now);
-                    let (tr, pw) = trace_of(ray.payload.pixel);
+                    let (tr, pw, _) = trace_at(&rows, width, ray.payload.pixel)?;
                     if cross {
                         let d = dir[ray.payload.pixel as usize];
                         plan.candidates(d, &mut xc_cands, &mut xc_counters);
@@ -839,6 +835,10 @@ impl CycleModel {
                 }
             }
             if next_pixel < pixels && p_raygen.can_accept(now) {
+                let row = (next_pixel / u64::from(width)) as usize;
+                if row >= rows.len() {
+                    receive(feed, row, width, &mut rows)?;
+                }
                 let mut ray = Stamped::new(Ray {
                     pixel: next_pixel as u32,
                 });
@@ -934,15 +934,20 @@ impl CycleModel {
         }
         let end = self.clock.now();
         // Bit-exact: the hit buffer equals the functional model's, word for word.
-        for (p, r) in functional.records.iter().enumerate() {
+        if rows.len() != self.height as usize {
+            return Err(CycleError::Internal(format!(
+                "frame ended with {} of {} rows received",
+                rows.len(),
+                self.height
+            )));
+        }
+        let words = rows.iter().flat_map(|r| r.words.iter());
+        for (p, &theirs) in words.enumerate() {
             let mine = self.bram.peek(p).copied().unwrap_or(0);
-            if mine != r.word {
+            if mine != theirs {
                 return Err(self.mismatch(
                     p as u32,
-                    format!(
-                        "hit-buffer word {mine:#x} here, {:#x} in the functional model",
-                        r.word
-                    ),
+                    format!("hit-buffer word {mine:#x} here, {theirs:#x} in the functional model"),
                 ));
             }
         }
@@ -998,4 +1003,49 @@ impl CycleModel {
             wall.elapsed().as_secs_f64(),
         ))
     }
+}
+
+/// The trace of pixel `p` (its row, its work and its column) from the rows received.
+fn trace_at<'r>(
+    rows: &[&'r RowTrace],
+    width: u32,
+    p: u32,
+) -> Result<(&'r RowTrace, &'r PixelWork, usize), CycleError> {
+    let (i, j) = ((p % width) as usize, (p / width) as usize);
+    let row = rows.get(j).copied().ok_or_else(|| {
+        CycleError::Internal(format!("pixel {p} used before its row {j} was received"))
+    })?;
+    let work = row
+        .pixels
+        .get(i)
+        .ok_or_else(|| CycleError::Internal(format!("row {j} of the trace has no pixel {i}")))?;
+    Ok((row, work, i))
+}
+
+/// Waits for row `row` of the functional model's trace and takes every row published up to
+/// it, checking each is a whole row.
+fn receive<'r>(
+    feed: &'r RowFeed,
+    row: usize,
+    width: u32,
+    rows: &mut Vec<&'r RowTrace>,
+) -> Result<(), CycleError> {
+    let published = feed.wait_for(row).map_err(|e| match e {
+        FeedError::Closed(_) => CycleError::Internal(e.to_string()),
+        _ => CycleError::Internal(format!("trace feed: {e}")),
+    })?;
+    for j in rows.len()..published {
+        let t = feed
+            .get(j)
+            .ok_or_else(|| CycleError::Internal(format!("row {j} announced but absent")))?;
+        if t.pixels.len() != width as usize || t.words.len() != width as usize {
+            return Err(CycleError::Internal(format!(
+                "row {j} of the trace has {} pixels and {} words, the frame is {width} wide",
+                t.pixels.len(),
+                t.words.len()
+            )));
+        }
+        rows.push(t);
+    }
+    Ok(())
 }

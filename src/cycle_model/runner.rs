@@ -8,8 +8,8 @@ use super::pipeline::{CycleError, CycleModel, CycleOptions};
 use super::stats::{CycleFrame, OpCounts};
 use crate::assets::Asset;
 use crate::fixed_model::plan::FramePlan;
-use crate::fixed_model::trace::RowTrace;
-use crate::fixed_model::{render_planned, FixedBuffer, FixedError, FixedStats};
+use crate::fixed_model::row_feed::RowFeed;
+use crate::fixed_model::{render_streamed, FixedBuffer, FixedError, FixedStats};
 use crate::reference::FrameInput;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::{overflow_table, DatapathConfig};
@@ -36,7 +36,6 @@ pub enum CycleRunError {
 /// Both models' state across the frames of a run.
 pub struct CycleRun {
     model: CycleModel,
-    traces: Vec<RowTrace>,
     buffer: FixedBuffer,
     instance_asset: Vec<usize>,
 }
@@ -74,7 +73,6 @@ impl CycleRun {
         let layout = SceneLayout::new(assets, &hw.node_memory.onchip)?;
         Ok(Self {
             model: CycleModel::new(hw, layout, width, height, opts)?,
-            traces: Vec::new(),
             buffer: FixedBuffer::new(width, height),
             instance_asset: instance_asset.to_vec(),
         })
@@ -90,7 +88,9 @@ impl CycleRun {
         &mut self.model
     }
 
-    /// Runs one frame through both models.
+    /// Runs one frame through both models at the same time: the functional model renders
+    /// rows on a second thread and hands each to the cycle model as it completes
+    /// (`fixed_model::row_feed`), so a frame takes about as long as the slower of the two.
     pub fn frame(
         &mut self,
         input: &FrameInput<'_>,
@@ -100,13 +100,30 @@ impl CycleRun {
         let start = Instant::now();
         let mut host_ov = overflow_table();
         let plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?;
-        let mut fixed = render_planned(&plan, &mut self.buffer, Some(&mut self.traces));
+        let (w, h) = (self.buffer.width, self.buffer.height);
+        let feed = RowFeed::new(h as usize);
+        let FixedBuffer {
+            records, dir_table, ..
+        } = &mut self.buffer;
+        let dir: &[[i64; 3]] = dir_table;
+        let model = &mut self.model;
+        let instance_asset = &self.instance_asset;
+        let (mut fixed, cycles) = std::thread::scope(|s| {
+            let producer = s.spawn(|| render_streamed(&plan, dir, records, (w, h), &feed));
+            let cycles = model.run_frame(&plan, &feed, dir, instance_asset);
+            if cycles.is_err() {
+                feed.cancel();
+            }
+            match producer.join() {
+                Ok(fixed) => (fixed, cycles),
+                // A panic in the functional model is a bug there: let it surface as one.
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        });
         if let Some(ov) = fixed.overflows.as_mut() {
             ov.merge(&host_ov);
         }
-        let mut cycles =
-            self.model
-                .run_frame(&plan, &self.traces, &self.buffer, &self.instance_asset)?;
+        let mut cycles = cycles?;
         let descents = fixed.walker.fetches.saturating_sub(fixed.walks);
         cycles.ops_per_pixel = OpCounts::per_pixel(
             fixed.rays,

@@ -1,6 +1,7 @@
 //! One frame of the functional fixed-point model.
 
 use super::plan::{FramePlan, PixelCounters};
+use super::row_feed::{FeedGuard, RowFeed};
 use super::trace::RowTrace;
 use crate::reference::{FrameInput, HitRecord};
 use crate::scene::FrameState;
@@ -130,54 +131,40 @@ pub fn render_frame_fixed_traced(
     Ok(st)
 }
 
-/// Runs a prepared frame (`FramePlan::new` already updated `buffer`'s direction table and
-/// previous state) over every pixel, recording the work into `trace` if given.
-pub fn render_planned(
+/// One row of a prepared frame: every pixel of row `j` through the datapath into `records`
+/// (that row's entries), its work recorded into `trace` if given.
+fn render_row(
     plan: &FramePlan<'_>,
-    buffer: &mut FixedBuffer,
-    trace: Option<&mut Vec<RowTrace>>,
-) -> FixedStats {
-    let start = Instant::now();
-    let (w, h) = (buffer.width, buffer.height);
-    let table = &buffer.dir_table;
-    let width = w as usize;
-    let run_row = |j: usize, records: &mut [FixedRecord], t: Option<&mut RowTrace>| {
-        let mut c = PixelCounters::default();
-        let mut cands: Vec<(i64, u16)> = Vec::with_capacity(plan.instances());
-        let mut t = t;
-        if let Some(t) = t.as_deref_mut() {
-            t.pixels.clear();
-            t.candidates.clear();
-            t.walks.clear();
-            t.ops.clear();
+    table: &[[i64; 3]],
+    j: usize,
+    records: &mut [FixedRecord],
+    mut trace: Option<&mut RowTrace>,
+) -> PixelCounters {
+    let width = records.len();
+    let mut c = PixelCounters::default();
+    let mut cands: Vec<(i64, u16)> = Vec::with_capacity(plan.instances());
+    if let Some(t) = trace.as_deref_mut() {
+        t.pixels.clear();
+        t.candidates.clear();
+        t.walks.clear();
+        t.ops.clear();
+        t.words.clear();
+    }
+    for (i, rec) in records.iter_mut().enumerate() {
+        // Ray generation: the pixel's direction table entry.
+        let d = table[j * width + i];
+        plan.pixel(d, rec, &mut c, &mut cands, trace.as_deref_mut());
+        if let Some(t) = trace.as_deref_mut() {
+            t.words.push(rec.word);
         }
-        for (i, rec) in records.iter_mut().enumerate() {
-            // Ray generation: the pixel's direction table entry.
-            let d = table[j * width + i];
-            plan.pixel(d, rec, &mut c, &mut cands, t.as_deref_mut());
-        }
-        c
-    };
-    let rows: Vec<PixelCounters> = match trace {
-        None => buffer
-            .records
-            .par_chunks_mut(width)
-            .enumerate()
-            .map(|(j, records)| run_row(j, records, None))
-            .collect(),
-        Some(traces) => {
-            traces.resize_with(h as usize, RowTrace::default);
-            buffer
-                .records
-                .par_chunks_mut(width)
-                .zip(traces.par_iter_mut())
-                .enumerate()
-                .map(|(j, (records, t))| run_row(j, records, Some(t)))
-                .collect()
-        }
-    };
+    }
+    c
+}
+
+/// The frame's counters from its rows'.
+fn frame_stats(rows: &[PixelCounters], w: u32, h: u32, start: Instant) -> FixedStats {
     let mut all = PixelCounters::default();
-    for r in &rows {
+    for r in rows {
         all.merge(r);
     }
     FixedStats {
@@ -195,6 +182,67 @@ pub fn render_planned(
         overflows: Some(all.ov),
         wall_s: start.elapsed().as_secs_f64(),
     }
+}
+
+/// Runs a prepared frame (`FramePlan::new` already updated `buffer`'s direction table and
+/// previous state) over every pixel, in parallel over rows, recording the work into `trace`
+/// if given.
+pub fn render_planned(
+    plan: &FramePlan<'_>,
+    buffer: &mut FixedBuffer,
+    trace: Option<&mut Vec<RowTrace>>,
+) -> FixedStats {
+    let start = Instant::now();
+    let (w, h) = (buffer.width, buffer.height);
+    let table = &buffer.dir_table;
+    let width = w as usize;
+    let rows: Vec<PixelCounters> = match trace {
+        None => buffer
+            .records
+            .par_chunks_mut(width)
+            .enumerate()
+            .map(|(j, records)| render_row(plan, table, j, records, None))
+            .collect(),
+        Some(traces) => {
+            traces.resize_with(h as usize, RowTrace::default);
+            buffer
+                .records
+                .par_chunks_mut(width)
+                .zip(traces.par_iter_mut())
+                .enumerate()
+                .map(|(j, (records, t))| render_row(plan, table, j, records, Some(t)))
+                .collect()
+        }
+    };
+    frame_stats(&rows, w, h, start)
+}
+
+/// Runs a prepared frame on the calling thread, row after row, publishing each row's trace
+/// into `feed` as soon as it is complete (for a cycle model running at the same time on
+/// another thread). `records` and `table` are the buffer's records and direction table.
+/// Stops early, leaving the later rows unrendered, if the consumer cancels the feed; the feed
+/// is closed on return, also by a panic.
+pub fn render_streamed(
+    plan: &FramePlan<'_>,
+    table: &[[i64; 3]],
+    records: &mut [FixedRecord],
+    (w, h): (u32, u32),
+    feed: &RowFeed,
+) -> FixedStats {
+    let _close = FeedGuard(feed);
+    let start = Instant::now();
+    let mut rows = Vec::with_capacity(h as usize);
+    for (j, row) in records.chunks_mut(w as usize).enumerate() {
+        if feed.is_cancelled() {
+            break;
+        }
+        let mut t = RowTrace::default();
+        rows.push(render_row(plan, table, j, row, Some(&mut t)));
+        if feed.publish(j, t).is_err() {
+            break;
+        }
+    }
+    frame_stats(&rows, w, h, start)
 }
 
 /// The fixed-point records as the reference's record type, for PNGs, dumps and comparisons:

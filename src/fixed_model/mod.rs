@@ -12,10 +12,11 @@ pub mod bound;
 pub mod explain;
 pub mod frame;
 pub mod plan;
+pub mod row_feed;
 pub mod trace;
 
 pub use accuracy::{compare, diff_image, Accuracy};
 pub use frame::{
-    render_frame_fixed, render_frame_fixed_traced, render_planned, to_hit_records, FixedBuffer,
-    FixedError, FixedRecord, FixedStats,
+    render_frame_fixed, render_frame_fixed_traced, render_planned, render_streamed, to_hit_records,
+    FixedBuffer, FixedError, FixedRecord, FixedStats,
 };

@@ -48,6 +48,9 @@ pub struct RowTrace {
     pub walks: Vec<WalkWork>,
     /// Packed [`WalkOp`]s of every walk.
     pub ops: Vec<u64>,
+    /// The hit-buffer word each pixel ends the frame with, left to right: what the cycle
+    /// model's record and write stages must produce.
+    pub words: Vec<u128>,
 }
 
 impl RowTrace {

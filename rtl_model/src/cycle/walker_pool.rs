@@ -94,6 +94,71 @@ struct Walker {
     next_issue: u64,
 }
 
+/// What a walker that does not issue in a cycle is doing, from its context counts alone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Class {
+    Empty = 0,
+    MemoryWait = 1,
+    Backpressured = 2,
+    LatencyWait = 3,
+}
+
+impl Walker {
+    fn class(&self) -> Class {
+        if self.busy == 0 {
+            Class::Empty
+        } else if self.waiting_mem > 0 {
+            Class::MemoryWait
+        } else if self.finished == self.busy {
+            Class::Backpressured
+        } else {
+            Class::LatencyWait
+        }
+    }
+}
+
+/// Walkers per [`Class`], kept up to date as contexts change state, so that classifying a
+/// cycle's idle walkers costs nothing per walker: only the walkers that issued are
+/// subtracted.
+#[derive(Clone, Debug, Default)]
+struct ClassCounts([u32; 4]);
+
+impl ClassCounts {
+    /// Moves one walker from class `from` to class `to`.
+    fn moved(&mut self, from: Class, to: Class) {
+        if from != to {
+            self.0[from as usize] -= 1;
+            self.0[to as usize] += 1;
+        }
+    }
+}
+
+/// A set of walker indices as bits, iterated in ascending order.
+#[derive(Clone, Debug, Default)]
+struct WalkerSet(Vec<u64>);
+
+impl WalkerSet {
+    fn new(walkers: usize) -> Self {
+        Self(vec![0; walkers.div_ceil(64)])
+    }
+
+    fn insert(&mut self, w: usize) {
+        self.0[w / 64] |= 1 << (w % 64);
+    }
+
+    fn remove(&mut self, w: usize) {
+        self.0[w / 64] &= !(1 << (w % 64));
+    }
+
+    fn contains(&self, w: usize) -> bool {
+        self.0.get(w / 64).is_some_and(|b| b & (1 << (w % 64)) != 0)
+    }
+
+    fn clear(&mut self) {
+        self.0.iter_mut().for_each(|b| *b = 0);
+    }
+}
+
 /// Why the pool stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum PoolError {
@@ -115,8 +180,12 @@ pub struct WalkerPoolModel {
     finished: VecDeque<u32>,
     busy_total: u32,
     now: u64,
-    issued_now: Vec<bool>,
+    /// Walkers with a ready context.
+    has_ready: WalkerSet,
+    /// Walkers that issued in the current cycle.
+    issued_now: WalkerSet,
     issued_count: u32,
+    classes: ClassCounts,
     completions: Vec<Completion>,
     cycles: PoolCycles,
 }
@@ -149,8 +218,10 @@ impl WalkerPoolModel {
             finished: VecDeque::new(),
             busy_total: 0,
             now: 0,
-            issued_now: vec![false; w],
+            has_ready: WalkerSet::new(w),
+            issued_now: WalkerSet::new(w),
             issued_count: 0,
+            classes: ClassCounts([w as u32, 0, 0, 0]),
             completions: Vec::new(),
             cycles: PoolCycles::default(),
         })
@@ -171,9 +242,14 @@ impl WalkerPoolModel {
         self.walkers.get(w).map_or(0, |k| k.waiting_mem)
     }
 
+    /// Contexts of walker `w` holding a finished walk the record stage has not taken.
+    pub fn walker_finished(&self, w: usize) -> u32 {
+        self.walkers.get(w).map_or(0, |k| k.finished)
+    }
+
     /// Whether walker `w` issued in the current cycle.
     pub fn walker_issued(&self, w: usize) -> bool {
-        self.issued_now.get(w).copied().unwrap_or(false)
+        self.issued_now.contains(w)
     }
 
     /// Walkers that issued in the current cycle.
@@ -211,11 +287,13 @@ impl WalkerPoolModel {
     fn advance(&mut self, ctx: u32, mem: &mut NodeMemory) -> Result<(), PoolError> {
         let now = self.now;
         let c = &mut self.ctxs[ctx as usize];
-        let wk = &mut self.walkers[c.walker as usize];
+        let wi = c.walker as usize;
+        let wk = &mut self.walkers[wi];
         loop {
             if c.in_issue {
                 if c.remaining > 0 {
                     wk.ready.push_back(ctx);
+                    self.has_ready.insert(wi);
                     return Ok(());
                 }
                 c.in_issue = false;
@@ -223,7 +301,9 @@ impl WalkerPoolModel {
             }
             let Some(&op) = c.ops.get(c.pc) else {
                 c.finished = true;
+                let from = wk.class();
                 wk.finished += 1;
+                self.classes.moved(from, wk.class());
                 self.finished.push_back(ctx);
                 return Ok(());
             };
@@ -238,7 +318,9 @@ impl WalkerPoolModel {
                     self.cycles.reads += 1;
                     c.pc += 1;
                     c.waiting_mem = true;
+                    let from = wk.class();
                     wk.waiting_mem += 1;
+                    self.classes.moved(from, wk.class());
                     return Ok(());
                 }
             }
@@ -270,7 +352,10 @@ impl WalkerPoolModel {
             };
             if c.waiting_mem {
                 c.waiting_mem = false;
-                self.walkers[c.walker as usize].waiting_mem -= 1;
+                let wk = &mut self.walkers[c.walker as usize];
+                let from = wk.class();
+                wk.waiting_mem -= 1;
+                self.classes.moved(from, wk.class());
                 self.advance(ctx, mem)?;
             }
         }
@@ -311,7 +396,10 @@ impl WalkerPoolModel {
         c.in_issue = false;
         c.waiting_mem = false;
         c.finished = false;
-        self.walkers[best].busy += 1;
+        let wk = &mut self.walkers[best];
+        let from = wk.class();
+        wk.busy += 1;
+        self.classes.moved(from, wk.class());
         self.busy_total += 1;
         self.cycles.walks += 1;
         let at = self.now + 1;
@@ -321,8 +409,8 @@ impl WalkerPoolModel {
 
     /// Phase 3: every walker issues one ready context (if its II allows), and every walker's
     /// cycle is classified (the last phase: retire and dispatch of this cycle come first).
-    /// Issue and classification share one pass over the walkers, the pool's only per-cycle
-    /// loop over all of them.
+    /// Only walkers with a ready context are visited, in ascending order; the others'
+    /// classes come from the running [`ClassCounts`], minus the walkers that issued.
     pub fn issue(&mut self) {
         let now = self.now;
         let lat = u64::from(self.cfg.step_latency_cycles.max(1));
@@ -330,31 +418,39 @@ impl WalkerPoolModel {
         let mask = self.wheel.len() - 1;
         let slot = ((now + lat) as usize) & mask;
         let mut issued = 0u32;
-        let c = &mut self.cycles;
-        c.busy_context_cycles += u64::from(self.busy_total);
-        for (w, wk) in self.walkers.iter_mut().enumerate() {
-            let mut did = false;
-            if now >= wk.next_issue {
-                if let Some(ctx) = wk.ready.pop_front() {
-                    wk.next_issue = now + ii;
-                    did = true;
-                    self.ctxs[ctx as usize].remaining -= 1;
-                    self.wheel[slot].push(ctx);
+        // Issuing walkers by the class they would otherwise have been counted in.
+        let mut issued_by_class = [0u32; 4];
+        self.issued_now.clear();
+        for word in 0..self.has_ready.0.len() {
+            let mut bits = self.has_ready.0[word];
+            while bits != 0 {
+                let w = word * 64 + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let wk = &mut self.walkers[w];
+                if now < wk.next_issue {
+                    continue;
                 }
-            }
-            self.issued_now[w] = did;
-            if did {
+                let Some(ctx) = wk.ready.pop_front() else {
+                    continue;
+                };
+                if wk.ready.is_empty() {
+                    self.has_ready.remove(w);
+                }
+                wk.next_issue = now + ii;
+                issued_by_class[wk.class() as usize] += 1;
+                self.issued_now.insert(w);
                 issued += 1;
-            } else if wk.busy == 0 {
-                c.empty += 1;
-            } else if wk.waiting_mem > 0 {
-                c.memory_wait += 1;
-            } else if wk.finished == wk.busy {
-                c.backpressured += 1;
-            } else {
-                c.latency_wait += 1;
+                self.ctxs[ctx as usize].remaining -= 1;
+                self.wheel[slot].push(ctx);
             }
         }
+        let idle = |k: Class| u64::from(self.classes.0[k as usize] - issued_by_class[k as usize]);
+        let c = &mut self.cycles;
+        c.busy_context_cycles += u64::from(self.busy_total);
+        c.empty += idle(Class::Empty);
+        c.memory_wait += idle(Class::MemoryWait);
+        c.backpressured += idle(Class::Backpressured);
+        c.latency_wait += idle(Class::LatencyWait);
         c.issuing += u64::from(issued);
         c.slots += u64::from(issued);
         self.issued_count = issued;
@@ -372,8 +468,10 @@ impl WalkerPoolModel {
         c.busy = false;
         c.finished = false;
         let wk = &mut self.walkers[c.walker as usize];
+        let from = wk.class();
         wk.finished -= 1;
         wk.busy -= 1;
+        self.classes.moved(from, wk.class());
         wk.free.push(ctx);
         self.busy_total -= 1;
         Some(c.tag)
