@@ -394,7 +394,6 @@ impl CycleModel {
         let mut walks_entered: u64 = 0;
         let mut early: u64 = 0;
         let mut reused: u64 = 0;
-        let mut ops_scratch: Vec<u64> = Vec::with_capacity(64);
         let mut xc_cands: Vec<(i64, u16)> = Vec::new();
         let mut xc_counters = PixelCounters::default();
         let mut last_progress = (start, 0u64);
@@ -583,16 +582,19 @@ impl CycleModel {
                                 }
                             }
                         }
-                        ops_scratch.clear();
-                        ops_scratch.extend(ops.iter().map(|&o| match WalkOp::unpack(o) {
+                        // Node and attribute addresses are per asset: relocate them to the
+                        // asset's place in the node memory as the context takes them.
+                        let relocate = |o: &u64| match WalkOp::unpack(*o) {
                             WalkOp::Read(FetchKind::Attr, a) => {
                                 WalkOp::Read(FetchKind::Attr, a + ab).pack()
                             }
                             WalkOp::Read(kind, a) => WalkOp::Read(kind, a + nb).pack(),
                             op => op.pack(),
-                        }));
+                        };
                         self.pool
-                            .dispatch((u64::from(slot) << 16) | u64::from(cand), &ops_scratch);
+                            .dispatch_with((u64::from(slot) << 16) | u64::from(cand), |v| {
+                                v.extend(ops.iter().map(relocate))
+                            });
                     }
                 } else {
                     self.pool.note_dispatch_stall();

@@ -98,7 +98,7 @@ use super::completion_wheel::CompletionWheel;
 use crate::svo::{ChildDescriptor, SvoImage};
 use serde::{Deserialize, Serialize};
 use std::cmp::Reverse;
-use std::collections::{BTreeMap, BinaryHeap, VecDeque};
+use std::collections::{BinaryHeap, VecDeque};
 use thiserror::Error;
 
 /// Largest request cycle accepted. Keeping cycles below 2^62 leaves room for every latency
@@ -951,7 +951,9 @@ pub struct NodeMemory {
     cache_q: VecDeque<Req>,
     waiting: usize,
     tags: Tags,
-    mshrs: BTreeMap<u64, Mshr>,
+    /// Lines in flight and their MSHRs; a handful (`dram.mshrs`), so a linear search beats
+    /// a tree.
+    mshrs: Vec<(u64, Mshr)>,
     fills: VecDeque<Fill>,
     /// First free byte slot of the DRAM bus.
     bus_next: u128,
@@ -979,7 +981,7 @@ impl NodeMemory {
             cache_q: VecDeque::new(),
             waiting: 0,
             tags,
-            mshrs: BTreeMap::new(),
+            mshrs: Vec::new(),
             fills: VecDeque::new(),
             bus_next: 0,
             pending: CompletionWheel::default(),
@@ -1179,7 +1181,8 @@ impl NodeMemory {
                 break;
             }
             self.fills.pop_front();
-            if let Some(m) = self.mshrs.remove(&f.line) {
+            let freed = self.mshrs.iter().position(|&(l, _)| l == f.line);
+            if let Some((_, m)) = freed.map(|i| self.mshrs.swap_remove(i)) {
                 if m.install {
                     self.tags.install(f.line);
                 }
@@ -1295,7 +1298,8 @@ impl NodeMemory {
             self.stats.cache_hits += 1;
             return Some((Source::CacheHit, k + u64::from(self.cfg.cache.hit_latency)));
         }
-        let (source, done) = if let Some(m) = self.mshrs.get_mut(&line) {
+        let in_flight = self.mshrs.iter_mut().find(|(l, _)| *l == line);
+        let (source, done) = if let Some((_, m)) = in_flight {
             m.install |= cached;
             (Source::Merged, m.done)
         } else if self.mshrs.len() < self.cfg.dram.mshrs as usize {
@@ -1311,13 +1315,13 @@ impl NodeMemory {
                 end,
                 done,
             });
-            self.mshrs.insert(
+            self.mshrs.push((
                 line,
                 Mshr {
                     done,
                     install: cached,
                 },
-            );
+            ));
             self.stats.dram_fills += 1;
             self.stats.mshr_max_in_use = self.stats.mshr_max_in_use.max(self.mshrs.len() as u64);
             (Source::Miss, done)

@@ -372,6 +372,12 @@ impl WalkerPoolModel {
     /// returns whether it was taken (a refusal counts as a dispatch stall). At most one call
     /// per cycle.
     pub fn dispatch(&mut self, tag: u64, ops: &[u64]) -> bool {
+        self.dispatch_with(tag, |v| v.extend_from_slice(ops))
+    }
+
+    /// [`dispatch`](Self::dispatch) with the ops written by `fill` straight into the
+    /// context's own (emptied) op list, saving a copy per walk.
+    pub fn dispatch_with(&mut self, tag: u64, fill: impl FnOnce(&mut Vec<u64>)) -> bool {
         if !self.has_free() {
             self.note_dispatch_stall();
             return false;
@@ -390,7 +396,7 @@ impl WalkerPoolModel {
         c.busy = true;
         c.tag = tag;
         c.ops.clear();
-        c.ops.extend_from_slice(ops);
+        fill(&mut c.ops);
         c.pc = 0;
         c.remaining = 0;
         c.in_issue = false;
