@@ -294,10 +294,11 @@ fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[svo_sim::assets::Asset]) 
         let frames = bench::speed(scene, assets, &dp, &hw, hb)?;
         println!("{label}:");
         println!(
-            "  {:>5} {:>10} {:>10} {:>7} {:>10} {:>9} {:>9} {:>10} {:>8}",
+            "  {:>5} {:>10} {:>10} {:>9} {:>7} {:>10} {:>9} {:>9} {:>10} {:>8}",
             "frame",
             "ref ms",
             "cycle ms",
+            "func ms",
             "ratio",
             "cycles",
             "fps",
@@ -308,10 +309,11 @@ fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[svo_sim::assets::Asset]) 
         let px = f64::from(scene.file.resolution.0) * f64::from(scene.file.resolution.1);
         for f in &frames {
             println!(
-                "  {:>5} {:>10.1} {:>10.1} {:>7.2} {:>10} {:>9.1} {:>9.3} {:>10.3} {:>8}",
+                "  {:>5} {:>10.1} {:>10.1} {:>9.1} {:>7.2} {:>10} {:>9.1} {:>9.3} {:>10.3} {:>8}",
                 f.frame,
                 f.reference_s * 1e3,
                 f.cycle_s * 1e3,
+                f.functional_s * 1e3,
                 f.cycle_s / f.reference_s.max(1e-9),
                 f.cycles,
                 f.fps,

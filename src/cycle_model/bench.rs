@@ -23,8 +23,12 @@ pub struct SpeedFrame {
     pub frame: u32,
     /// Reference wall time, s.
     pub reference_s: f64,
-    /// Cycle model wall time (functional model and cycle simulation), s.
+    /// Cycle model wall time (functional model and cycle simulation, which run at the same
+    /// time on two threads), s.
     pub cycle_s: f64,
+    /// Of which the functional model's wall time on its own thread, s: when it is well below
+    /// `cycle_s`, the cycle simulation sets the pace.
+    pub functional_s: f64,
     /// Cycles of the frame.
     pub cycles: u64,
     /// Frames per second at the clock.
@@ -77,6 +81,7 @@ pub fn speed(
             frame: f,
             reference_s,
             cycle_s: r.wall_s,
+            functional_s: r.fixed.wall_s,
             cycles: r.cycles.cycles,
             fps: r.cycles.fps_at_clock,
             rays_per_cycle: r.cycles.rays_per_cycle,
