@@ -1255,3 +1255,110 @@ fn configuration_files_reject_unknown_fields() {
     ));
     assert!(typo.unwrap_err().to_string().contains("mshr"));
 }
+
+/// On-chip banks against a cycle-by-cycle oracle: per bank a queue served `ports` reads per
+/// cycle in (cycle, requester, id) order. Checks every read's service cycle, and the port-wait
+/// and port-conflict counts, also when the statistics window is split at random cycles and
+/// when ticks skip many cycles.
+#[test]
+fn onchip_banks_agree_with_a_per_cycle_queue_oracle() {
+    let s = seed(
+        "onchip_banks_agree_with_a_per_cycle_queue_oracle",
+        0xba4c_5107,
+    );
+    let mut rng = Rng(s);
+    for case in 0..40 {
+        let banks = 1 + rng.below(6) as u32;
+        let ports = 1 + rng.below(2) as u32;
+        let latency = 1 + rng.below(5) as u32;
+        let cfg = config(latency, banks, ports, 8192, 4, 64, 4, 2, 60, 64, 4);
+        let layout = MemoryLayout::with_onchip_ranges(1 << 12, 16, vec![(0, 1 << 12)]).unwrap();
+        let mut mem = NodeMemory::new(cfg, layout).unwrap();
+        // Bursts (hot banks, long queues) and quiet stretches (skipped cycles).
+        let mut reqs: Vec<(u64, u32, u32, u64)> = Vec::new(); // (cycle, requester, addr, id)
+        let mut cycle = 0u64;
+        for _ in 0..60 {
+            cycle += if rng.below(4) == 0 {
+                5 + rng.below(40)
+            } else {
+                rng.below(2)
+            };
+            let hot = rng.below(u64::from(banks)) as u32;
+            let mut requesters: Vec<u32> = (0..16).collect();
+            for _ in 0..rng.below(7) {
+                let k = rng.below(requesters.len() as u64) as usize;
+                let requester = requesters.swap_remove(k);
+                let addr = if rng.below(2) == 0 {
+                    hot + banks * rng.below(50) as u32
+                } else {
+                    rng.below(1 << 12) as u32
+                };
+                reqs.push((cycle, requester, addr, 0));
+            }
+        }
+        // Make them in cycle order, ticking now and then, and split the statistics window.
+        let mut windows = Vec::new();
+        let mut done: Vec<Completion> = Vec::new();
+        for r in reqs.iter_mut() {
+            if r.0 > mem.now() && rng.below(3) == 0 {
+                done.extend(mem.tick(r.0));
+                if rng.below(3) == 0 {
+                    windows.push(mem.reset_stats());
+                }
+            }
+            r.3 = mem.request(r.0, r.2, FetchKind::Node, r.1).unwrap().0;
+        }
+        done.extend(mem.drain());
+        windows.push(mem.stats());
+
+        // The oracle.
+        let mut order = reqs.clone();
+        order.sort_by_key(|&(c, req, _, id)| (c, req, id));
+        let mut queues: Vec<std::collections::VecDeque<(u64, u64)>> =
+            vec![Default::default(); banks as usize]; // (id, request cycle)
+        let mut served: HashMap<u64, u64> = HashMap::new();
+        let (mut wait, mut conflicts) = (0u64, 0u64);
+        let mut next = 0;
+        let mut k = 0u64;
+        while served.len() < order.len() {
+            while next < order.len() && order[next].0 == k {
+                let (_, _, addr, id) = order[next];
+                queues[(addr % banks) as usize].push_back((id, k));
+                next += 1;
+            }
+            let mut left_any = false;
+            for q in queues.iter_mut() {
+                for _ in 0..ports {
+                    if let Some((id, _)) = q.pop_front() {
+                        served.insert(id, k);
+                    }
+                }
+                wait += q.len() as u64;
+                left_any |= !q.is_empty();
+            }
+            conflicts += u64::from(left_any);
+            k += 1;
+        }
+        let what = format!("seed {s}, case {case}: {banks} banks × {ports} ports");
+        assert_eq!(done.len(), reqs.len(), "{what}");
+        for c in &done {
+            assert_eq!(
+                Some(&c.cycle_served),
+                served.get(&c.id.0),
+                "{what}: read {}",
+                c.id.0
+            );
+            assert_eq!(c.cycle_done, c.cycle_served + u64::from(latency), "{what}");
+        }
+        let total = |f: fn(&rtl_model::cycle::memory::NodeMemoryStats) -> u64| -> u64 {
+            windows.iter().map(f).sum()
+        };
+        assert_eq!(total(|w| w.port_wait), wait, "{what}: port wait");
+        assert_eq!(
+            total(|w| w.port_conflict_cycles),
+            conflicts,
+            "{what}: conflict cycles"
+        );
+        assert_eq!(total(|w| w.onchip_reads), reqs.len() as u64, "{what}");
+    }
+}

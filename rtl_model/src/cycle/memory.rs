@@ -857,6 +857,13 @@ struct Fill {
     done: u64,
 }
 
+/// The next free read port of an on-chip bank: `used` of its ports are taken in `cycle`.
+#[derive(Clone, Copy, Debug, Default)]
+struct BankSlot {
+    cycle: u64,
+    used: u32,
+}
+
 /// An MSHR: a line in flight.
 #[derive(Clone, Copy, Debug)]
 struct Mshr {
@@ -945,10 +952,18 @@ pub struct NodeMemory {
     /// Requests made for cycle `next` (the usual case: a walker asks in the cycle it is
     /// evaluated); sorted into service order when that cycle is simulated.
     arrivals: Vec<Req>,
-    /// Requests waiting for a port, per on-chip bank, in service order.
-    banks: Vec<VecDeque<Req>>,
+    /// Per on-chip bank, its next free port. A bank serves its requests first come first
+    /// served at a fixed rate, so a request's service cycle is known the moment it joins the
+    /// bank's queue; it goes straight to `pending` instead of waiting in a queue of its own.
+    bank_slots: Vec<BankSlot>,
+    /// The last cycle, plus one, in which some bank still has a request waiting for a port
+    /// (among the requests arbitrated so far).
+    bank_busy_until: u64,
+    /// Cycles before this one are counted in `port_conflict_cycles`.
+    conflicts_counted: u64,
     /// Requests waiting for a cache lookup port, in service order.
     cache_q: VecDeque<Req>,
+    /// Requests in `cache_q`.
     waiting: usize,
     tags: Tags,
     /// Lines in flight and their MSHRs; a handful (`dram.mshrs`), so a linear search beats
@@ -971,7 +986,9 @@ impl NodeMemory {
             ..Default::default()
         };
         Ok(Self {
-            banks: vec![VecDeque::new(); cfg.onchip.banks as usize],
+            bank_slots: vec![BankSlot::default(); cfg.onchip.banks as usize],
+            bank_busy_until: 0,
+            conflicts_counted: 0,
             cfg,
             layout,
             next: 0,
@@ -1103,6 +1120,12 @@ impl NodeMemory {
                 self.next = self.next_event().unwrap_or(k + 1);
             }
         }
+        // The banks' last service (a read that waited) is activity too, though no step runs
+        // for it: it happens in cycle `bank_busy_until`. (A read served as it arrived was
+        // stepped in its own cycle, so `next` is past it already.)
+        if self.bank_busy_until > 0 && self.bank_busy_until >= self.next {
+            self.next = self.bank_busy_until + 1;
+        }
         let mut out = Vec::new();
         self.pending.drain_all(&mut out);
         out
@@ -1112,13 +1135,23 @@ impl NodeMemory {
     pub fn stats(&self) -> NodeMemoryStats {
         let mut s = self.stats.clone();
         s.window_cycles = self.next.saturating_sub(s.window_start);
+        s.port_conflict_cycles += self.bank_conflicts_before(self.next);
         s
+    }
+
+    /// Cycles from `conflicts_counted` to `end` in which a bank had a request waiting; valid
+    /// when no request arrives in between (every bank interval then starts before them).
+    fn bank_conflicts_before(&self, end: u64) -> u64 {
+        self.bank_busy_until
+            .min(end)
+            .saturating_sub(self.conflicts_counted)
     }
 
     /// Returns the current window's statistics and starts a new window at [`now`](Self::now)
     /// (e.g. per frame). Cache contents and requests in flight are kept.
     pub fn reset_stats(&mut self) -> NodeMemoryStats {
         let out = self.stats();
+        self.conflicts_counted = self.conflicts_counted.max(self.next);
         self.stats = NodeMemoryStats {
             window_start: self.next,
             dram_peak_bytes_per_cycle: out.dram_peak_bytes_per_cycle,
@@ -1202,18 +1235,46 @@ impl NodeMemory {
         if self.arrivals.len() > 1 {
             self.arrivals.sort_unstable_by_key(|r| (r.requester, r.id));
         }
+        // Cycles skipped since the last step had no arrivals and no cache work: they were
+        // conflict cycles exactly when a bank still had a request waiting.
+        self.stats.port_conflict_cycles += self.bank_conflicts_before(k);
+        self.conflicts_counted = k;
         let banks = self.cfg.onchip.banks;
+        let ports = self.cfg.onchip.ports_per_bank.max(1);
+        let latency = u64::from(self.cfg.onchip.latency);
         for i in 0..self.arrivals.len() {
             let r = self.arrivals[i];
             let onchip = r.kind != FetchKind::Attr && self.layout.is_onchip(r.addr);
             if onchip {
+                // 4. On-chip banks: `ports` reads per cycle each, in arrival order.
                 let bank = (r.addr % banks) as usize;
-                self.banks[bank].push_back(r);
+                let slot = &mut self.bank_slots[bank];
+                if slot.cycle < k {
+                    *slot = BankSlot { cycle: k, used: 0 };
+                }
+                let served = slot.cycle;
+                slot.used += 1;
+                if slot.used == ports {
+                    *slot = BankSlot {
+                        cycle: served + 1,
+                        used: 0,
+                    };
+                }
+                // Waiting in cycles k .. served − 1.
+                self.stats.port_wait += served - k;
+                self.bank_busy_until = self.bank_busy_until.max(served);
+                self.stats.onchip_reads += 1;
+                self.complete(
+                    r,
+                    served,
+                    served + latency,
+                    Source::OnChip { bank: bank as u32 },
+                );
             } else {
                 self.cache_q.push_back(r);
+                self.waiting += 1;
             }
         }
-        self.waiting += self.arrivals.len();
         self.arrivals.clear();
         // 3. Bytes on the DRAM bus in this cycle.
         let rate = self.bus_rate();
@@ -1232,24 +1293,8 @@ impl NodeMemory {
             self.stats.dram_busy_cycles += 1;
             self.stats.dram_max_bytes_in_cycle = self.stats.dram_max_bytes_in_cycle.max(bytes);
         }
-        // 4. On-chip banks.
-        let mut port_conflict = false;
-        let latency = u64::from(self.cfg.onchip.latency);
-        let ports = self.cfg.onchip.ports_per_bank as usize;
-        for b in 0..self.banks.len() {
-            for _ in 0..ports {
-                let Some(r) = self.banks[b].pop_front() else {
-                    break;
-                };
-                self.stats.onchip_reads += 1;
-                self.complete(r, k, k + latency, Source::OnChip { bank: b as u32 });
-            }
-            let left = self.banks[b].len() as u64;
-            if left > 0 {
-                port_conflict = true;
-                self.stats.port_wait += left;
-            }
-        }
+        // A bank has a request left waiting after this cycle's service.
+        let mut port_conflict = self.bank_busy_until > k;
         // 5. The cache pipeline, in order.
         let mut blocked = false;
         for _ in 0..self.cfg.cache.ports {
@@ -1261,6 +1306,7 @@ impl NodeMemory {
                 break;
             };
             self.cache_q.pop_front();
+            self.waiting -= 1;
             self.complete(r, k, source_done.1, source_done.0);
         }
         let left = self.cache_q.len() as u64;
@@ -1276,6 +1322,7 @@ impl NodeMemory {
         if port_conflict {
             self.stats.port_conflict_cycles += 1;
         }
+        self.conflicts_counted = k + 1;
     }
 
     /// The cache line holding a read: node words from byte 0, attribute records from
@@ -1346,7 +1393,6 @@ impl NodeMemory {
     }
 
     fn complete(&mut self, r: Req, served: u64, done: u64, source: Source) {
-        self.waiting -= 1;
         let latency = done - r.cycle;
         self.stats.served += 1;
         self.stats.latency_sum += latency;
