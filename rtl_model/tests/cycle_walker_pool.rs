@@ -1,7 +1,8 @@
 //! The walker pool's per-cycle classification of every walker (issuing, waiting on memory,
 //! waiting on its step latency, back-pressured, empty) against a recount from each walker's
-//! context counts, cycle by cycle, under random walks, memory and record-stage back-pressure.
-//! The pool keeps the counts incrementally; this test recounts them from scratch.
+//! context counts, cycle by cycle, under random walks, memory and record-stage back-pressure;
+//! and the dispatcher's choice (most free contexts, lowest index on ties) against a scan of
+//! all walkers. The pool keeps both incrementally; this test recounts them from scratch.
 
 mod common;
 
@@ -86,8 +87,14 @@ fn classification_matches_a_recount_every_cycle() {
             }
             if to_dispatch > 0 && rng.below(4) > 0 {
                 let ops = random_walk(&mut rng);
+                let busy: Vec<u32> = (0..walkers).map(|w| pool.walker_busy(w)).collect();
                 if pool.dispatch(u64::from(to_dispatch), &ops) {
                     to_dispatch -= 1;
+                    // The walker with the most free contexts took it, the lowest on ties.
+                    let least = busy.iter().min().copied().unwrap_or(0);
+                    let want = busy.iter().position(|&b| b == least);
+                    let got = (0..walkers).find(|&w| pool.walker_busy(w) != busy[w]);
+                    assert_eq!(got, want, "seed {s}, case {case}, cycle {now}: dispatch");
                 }
             }
             let before = *pool.cycles();

@@ -157,6 +157,15 @@ impl WalkerSet {
     fn clear(&mut self) {
         self.0.iter_mut().for_each(|b| *b = 0);
     }
+
+    /// The lowest walker in the set.
+    fn first(&self) -> Option<usize> {
+        self.0
+            .iter()
+            .enumerate()
+            .find(|(_, &b)| b != 0)
+            .map(|(i, b)| i * 64 + b.trailing_zeros() as usize)
+    }
 }
 
 /// Why the pool stopped.
@@ -182,6 +191,8 @@ pub struct WalkerPoolModel {
     now: u64,
     /// Walkers with a ready context.
     has_ready: WalkerSet,
+    /// `by_free[f]`: the walkers with exactly `f` free contexts (the dispatcher's choice).
+    by_free: Vec<WalkerSet>,
     /// Walkers that issued in the current cycle.
     issued_now: WalkerSet,
     issued_count: u32,
@@ -219,6 +230,15 @@ impl WalkerPoolModel {
             busy_total: 0,
             now: 0,
             has_ready: WalkerSet::new(w),
+            by_free: (0..=r)
+                .map(|f| {
+                    let mut set = WalkerSet::new(w);
+                    if f == r {
+                        (0..w).for_each(|i| set.insert(i));
+                    }
+                    set
+                })
+                .collect(),
             issued_now: WalkerSet::new(w),
             issued_count: 0,
             classes: ClassCounts([w as u32, 0, 0, 0]),
@@ -383,15 +403,17 @@ impl WalkerPoolModel {
             return false;
         }
         // The walker with the most free contexts, the lowest index on ties.
-        let mut best = 0usize;
-        for (i, w) in self.walkers.iter().enumerate() {
-            if w.free.len() > self.walkers[best].free.len() {
-                best = i;
-            }
-        }
+        let Some((f, best)) = (1..self.by_free.len())
+            .rev()
+            .find_map(|f| self.by_free[f].first().map(|w| (f, w)))
+        else {
+            return false;
+        };
         let Some(ctx) = self.walkers[best].free.pop() else {
             return false;
         };
+        self.by_free[f].remove(best);
+        self.by_free[f - 1].insert(best);
         let c = &mut self.ctxs[ctx as usize];
         c.busy = true;
         c.tag = tag;
@@ -479,6 +501,9 @@ impl WalkerPoolModel {
         wk.busy -= 1;
         self.classes.moved(from, wk.class());
         wk.free.push(ctx);
+        let (w, f) = (c.walker as usize, wk.free.len());
+        self.by_free[f - 1].remove(w);
+        self.by_free[f].insert(w);
         self.busy_total -= 1;
         Some(c.tag)
     }
