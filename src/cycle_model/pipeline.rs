@@ -40,7 +40,7 @@ use super::layout::SceneLayout;
 use super::stats::CycleFrame;
 use super::waves::PipelineWaves;
 use crate::fixed_model::plan::{Best, FramePlan, PixelCounters};
-use crate::fixed_model::row_feed::{FeedError, RowFeed};
+use crate::fixed_model::row_feed::RowFeed;
 use crate::fixed_model::trace::PixelWork;
 use crate::fixed_model::trace::{OpRecorder, RowTrace, WalkOp};
 use crate::reference::SphereCount;
@@ -1032,10 +1032,9 @@ fn receive<'r>(
     width: u32,
     rows: &mut Vec<&'r RowTrace>,
 ) -> Result<(), CycleError> {
-    let published = feed.wait_for(row).map_err(|e| match e {
-        FeedError::Closed(_) => CycleError::Internal(e.to_string()),
-        _ => CycleError::Internal(format!("trace feed: {e}")),
-    })?;
+    let published = feed
+        .wait_for(row)
+        .map_err(|e| CycleError::Internal(format!("trace feed: {e}")))?;
     for j in rows.len()..published {
         let t = feed
             .get(j)

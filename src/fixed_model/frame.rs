@@ -101,29 +101,17 @@ pub struct FixedStats {
     pub wall_s: f64,
 }
 
-/// Renders one frame through the fixed-point units into `buffer`.
+/// Renders one frame through the fixed-point units into `buffer`, in parallel over rows.
 pub fn render_frame_fixed(
     input: &FrameInput<'_>,
     buffer: &mut FixedBuffer,
     cfg: &DatapathConfig,
     use_hit_buffer: bool,
 ) -> Result<FixedStats, FixedError> {
-    render_frame_fixed_traced(input, buffer, cfg, use_hit_buffer, None)
-}
-
-/// [`render_frame_fixed`], also recording every row's work for the cycle model into `trace`
-/// (one [`RowTrace`] per row, cleared and refilled).
-pub fn render_frame_fixed_traced(
-    input: &FrameInput<'_>,
-    buffer: &mut FixedBuffer,
-    cfg: &DatapathConfig,
-    use_hit_buffer: bool,
-    trace: Option<&mut Vec<RowTrace>>,
-) -> Result<FixedStats, FixedError> {
     let start = Instant::now();
     let mut host_ov = overflow_table();
     let plan = FramePlan::new(input, buffer, cfg, use_hit_buffer, &mut host_ov)?;
-    let mut st = render_planned(&plan, buffer, trace);
+    let mut st = render_planned(&plan, buffer);
     if let Some(ov) = st.overflows.as_mut() {
         ov.merge(&host_ov);
     }
@@ -185,35 +173,17 @@ fn frame_stats(rows: &[PixelCounters], w: u32, h: u32, start: Instant) -> FixedS
 }
 
 /// Runs a prepared frame (`FramePlan::new` already updated `buffer`'s direction table and
-/// previous state) over every pixel, in parallel over rows, recording the work into `trace`
-/// if given.
-pub fn render_planned(
-    plan: &FramePlan<'_>,
-    buffer: &mut FixedBuffer,
-    trace: Option<&mut Vec<RowTrace>>,
-) -> FixedStats {
+/// previous state) over every pixel, in parallel over rows.
+fn render_planned(plan: &FramePlan<'_>, buffer: &mut FixedBuffer) -> FixedStats {
     let start = Instant::now();
     let (w, h) = (buffer.width, buffer.height);
     let table = &buffer.dir_table;
-    let width = w as usize;
-    let rows: Vec<PixelCounters> = match trace {
-        None => buffer
-            .records
-            .par_chunks_mut(width)
-            .enumerate()
-            .map(|(j, records)| render_row(plan, table, j, records, None))
-            .collect(),
-        Some(traces) => {
-            traces.resize_with(h as usize, RowTrace::default);
-            buffer
-                .records
-                .par_chunks_mut(width)
-                .zip(traces.par_iter_mut())
-                .enumerate()
-                .map(|(j, (records, t))| render_row(plan, table, j, records, Some(t)))
-                .collect()
-        }
-    };
+    let rows: Vec<PixelCounters> = buffer
+        .records
+        .par_chunks_mut(w as usize)
+        .enumerate()
+        .map(|(j, records)| render_row(plan, table, j, records, None))
+        .collect();
     frame_stats(&rows, w, h, start)
 }
 

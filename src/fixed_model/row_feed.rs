@@ -19,7 +19,7 @@ use thiserror::Error;
 /// Why a row cannot be had.
 #[derive(Clone, Copy, Debug, Error, PartialEq, Eq)]
 pub enum FeedError {
-    /// The producer stopped before publishing the row.
+    /// The feed was closed (the producer stopped) before the row was published.
     #[error("the functional model stopped before row {0} was rendered")]
     Closed(usize),
     /// The row is outside the frame.
@@ -66,16 +66,6 @@ impl RowFeed {
         }
     }
 
-    /// A feed whose rows are all there already (no producer).
-    pub fn complete(traces: Vec<RowTrace>) -> Self {
-        let feed = Self::new(traces.len());
-        for (j, t) in traces.into_iter().enumerate() {
-            // In order into an empty feed: cannot be refused.
-            let _ = feed.publish(j, t);
-        }
-        feed
-    }
-
     /// Rows of the frame.
     pub fn len(&self) -> usize {
         self.rows.len()
@@ -94,7 +84,10 @@ impl RowFeed {
     /// Publishes row `row`, which must be the next one.
     pub fn publish(&self, row: usize, trace: RowTrace) -> Result<(), FeedError> {
         let mut p = self.lock();
-        if row != p.published || p.closed {
+        if p.closed {
+            return Err(FeedError::Closed(row));
+        }
+        if row != p.published {
             return Err(FeedError::OutOfOrder {
                 expected: p.published,
                 got: row,
@@ -156,11 +149,6 @@ impl RowFeed {
     pub fn get(&self, row: usize) -> Option<&RowTrace> {
         self.rows.get(row).and_then(OnceLock::get)
     }
-
-    /// The rows, once the producer has finished (all of them published).
-    pub fn into_rows(self) -> Vec<Option<RowTrace>> {
-        self.rows.into_iter().map(OnceLock::into_inner).collect()
-    }
 }
 
 /// Closes the feed when dropped: on the producer's normal return and also when it unwinds
@@ -220,6 +208,9 @@ mod tests {
             Err(FeedError::OutOfRange { row: 3, rows: 3 })
         );
         assert_eq!(feed.get(1), None);
+        feed.close();
+        assert_eq!(feed.publish(1, row(1)), Err(FeedError::Closed(1)));
+        assert_eq!(feed.wait_for(2), Err(FeedError::Closed(2)));
     }
 
     #[test]

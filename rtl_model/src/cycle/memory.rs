@@ -1221,10 +1221,12 @@ impl NodeMemory {
                 }
             }
         }
-        // 2. Requests of this cycle join their queue, in (requester, id) order: all are of
-        //    cycle k (`arrivals` holds those made for `next` = k, the heap any made earlier
-        //    for k) and everything already queued is from an earlier cycle, so appending
-        //    keeps each queue in (cycle, requester, id) service order.
+        // 2. Requests of this cycle are arbitrated in (requester, id) order: all are of cycle k
+        //    (`arrivals` holds those made for `next` = k, the heap any made earlier for k) and
+        //    everything before them is from an earlier cycle, so taking them in this order
+        //    keeps each bank and the cache queue in (cycle, requester, id) service order.
+        //    An on-chip read is given its bank's next free port at once; a cached one joins
+        //    the cache queue.
         while let Some(Reverse(r)) = self.future.peek().copied() {
             if r.cycle > k {
                 break;
@@ -1246,7 +1248,7 @@ impl NodeMemory {
             let r = self.arrivals[i];
             let onchip = r.kind != FetchKind::Attr && self.layout.is_onchip(r.addr);
             if onchip {
-                // 4. On-chip banks: `ports` reads per cycle each, in arrival order.
+                // On-chip banks: `ports` reads per cycle each, in arrival order.
                 let bank = (r.addr % banks) as usize;
                 let slot = &mut self.bank_slots[bank];
                 if slot.cycle < k {
@@ -1295,7 +1297,7 @@ impl NodeMemory {
         }
         // A bank has a request left waiting after this cycle's service.
         let mut port_conflict = self.bank_busy_until > k;
-        // 5. The cache pipeline, in order.
+        // 4. The cache pipeline, in order.
         let mut blocked = false;
         for _ in 0..self.cfg.cache.ports {
             let Some(&r) = self.cache_q.front() else {
