@@ -46,7 +46,7 @@ pub enum AssetError {
         asset: String,
         /// Why.
         #[source]
-        source: crate::assets::vox::VoxError,
+        source: crate::world::assets::vox::VoxError,
     },
     /// `--depth` is outside 1..=20.
     #[error("--depth {0} is out of range (1 to {max})", max = rtl_model::svo::MAX_DEPTH)]

@@ -1,27 +1,29 @@
-//! `svo_sim`: scenes, SVO assets, the f64 reference of the animated-SVO ray tracer of
-//! Espe, Gjermundnes & Hendseth (2019), and the `sim` command line.
+//! `svo_sim`: a cycle-accurate, transaction-level model of the FPGA ray-tracing pipeline for
+//! animated sparse voxel octrees of Espe, Gjermundnes & Hendseth (2019), with the octree walk of
+//! Revelles et al. (2000).
 //!
-//! Data flow of a frame (see `docs/reference.md`): [`scene`] gives the camera and every
-//! instance's pose; [`reference`] generates a ray per pixel, tests it against each instance's
-//! bounding sphere, sorts the candidates front to back, transforms the ray into each
-//! candidate's local frame and walks its octree ([`assets`] built it, in the memory image of
-//! [`rtl_model::svo`]) until the nearest hit is certain; the hit buffer lets unchanged pixels
-//! skip all of that in the next frame. [`output`] turns records into PNGs, dumps and reports.
+//! The crate is four layers over the hardware-visible crate `rtl_model` (memory image,
+//! fixed-point layer, units, cycle parts, vector encoding); `docs/architecture.md` draws them:
+//!
+//! - [`world`] — what is rendered: scenes (RON, validation, keyframes), procedural SDF shapes,
+//!   and asset building (voxeliser, `.vox` loader) into SVO memory images.
+//! - [`models`] — three models of one frame, each checked against the one before it: the f64
+//!   [`models::reference`], the bit-exact fixed-point functional model [`models::fixed`], and
+//!   the cycle model [`models::cycle`] that times the functional model's work clock by clock.
+//! - [`run`] — running a model over an animation: elaboration of the pipeline a scene needs,
+//!   the frame loop, accuracy and the report; [`output`] writes PNGs, dumps and reports.
+//! - [`studies`] — what is run many times: accuracy against cost (`sweep`), error over run time
+//!   (`drift`), stiff and extreme cases (`stress`), and HDL test vectors (`vectors`).
+//!
+//! The command line (`src/bin/sim/`) parses arguments and calls into these layers; no clap type
+//! lives in the library.
 #![forbid(unsafe_code)]
 
-pub mod assets;
-pub mod cycle_model;
-pub mod drift;
-pub mod elaborate;
 pub mod error;
-pub mod fixed_model;
+pub mod models;
 pub mod output;
-pub mod reference;
 pub mod run;
-pub mod scene;
-pub mod sdf;
-pub mod stress;
-pub mod sweep;
-pub mod vectors;
+pub mod studies;
+pub mod world;
 
 pub use error::{AssetError, SceneError};

@@ -1,4 +1,4 @@
-//! Bad inputs to the `sim` binary (and, where simpler, to `svo_sim::scene::Scene::from_ron`).
+//! Bad inputs to the `sim` binary (and, where simpler, to `svo_sim::world::scene::Scene::from_ron`).
 //!
 //! Every test feeds one bad input to the real binary (`CARGO_BIN_EXE_sim`) in a fresh temporary
 //! folder and checks that the program
@@ -28,7 +28,7 @@ use std::time::{Duration, Instant};
 mod common;
 use common::process::run_sim;
 
-use svo_sim::scene::Scene;
+use svo_sim::world::scene::Scene;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers

@@ -1,4 +1,4 @@
-//! Scene-driven elaboration (`src/elaborate/`, docs/elaboration.md):
+//! Scene-driven elaboration (`src/run/elaborate/`, docs/elaboration.md):
 //!
 //! - the decisions on the three documented scenes (one static SVO, the default car, a
 //!   camera moving every frame) and on small hand-made cases (one rotating instance keeps
@@ -20,13 +20,13 @@ use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
 use rtl_model::units::transform::{transform_with_signs, InstanceRaw, TransformSignals};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-use svo_sim::assets::{build_assets, effective_depths, Materialise};
-use svo_sim::cycle_model::runner::CycleRun;
-use svo_sim::cycle_model::CycleOptions;
-use svo_sim::elaborate::plan::Action;
-use svo_sim::elaborate::{elaborate, Elaboration};
-use svo_sim::reference::FrameInput;
-use svo_sim::scene::Scene;
+use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
+use svo_sim::models::cycle::runner::CycleRun;
+use svo_sim::models::cycle::CycleOptions;
+use svo_sim::run::elaborate::plan::Action;
+use svo_sim::run::elaborate::{elaborate, Elaboration};
+use svo_sim::models::reference::FrameInput;
+use svo_sim::world::scene::Scene;
 
 fn scene_path(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -15,9 +15,9 @@ use rtl_model::svo::{LeafSet, SvoImage};
 use rtl_model::units::walker::{
     spatial_error_bound, walk_fixed_visiting, WalkOutcome, WalkerConfig, WalkerInput, WalkerStats,
 };
-use svo_sim::assets::voxelize::voxelize;
-use svo_sim::reference::walk::{walk_visiting, WalkCounters};
-use svo_sim::sdf::{Axis, Sdf, Shape};
+use svo_sim::world::assets::voxelize::voxelize;
+use svo_sim::models::reference::walk::{walk_visiting, WalkCounters};
+use svo_sim::world::sdf::{Axis, Sdf, Shape};
 
 fn seed() -> u64 {
     std::env::var("SVO_TEST_SEED")

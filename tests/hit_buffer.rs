@@ -8,11 +8,11 @@
 //! stale pixels in the occluder scenario, so these tests can tell the two rules apart.
 
 use std::path::Path;
-use svo_sim::assets::{build_assets, effective_depths, Asset, Materialise};
-use svo_sim::reference::{
+use svo_sim::world::assets::{build_assets, effective_depths, Asset, Materialise};
+use svo_sim::models::reference::{
     render_frame, FrameInput, HitBuffer, HitRecord, RenderOptions, SphereCount,
 };
-use svo_sim::scene::Scene;
+use svo_sim::world::scene::Scene;
 
 /// xorshift64*: small, seeded, reproducible.
 struct Rng(u64);

@@ -9,11 +9,11 @@
 mod common;
 use common::process::run_sim;
 use std::time::Duration;
-use svo_sim::fixed_model::explain::{judge, JudgeCtx};
-use svo_sim::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
-use svo_sim::stress::cases::all;
-use svo_sim::stress::cli::run_cases;
-use svo_sim::stress::{CaseResult, Verdict};
+use svo_sim::models::fixed::explain::{judge, JudgeCtx};
+use svo_sim::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
+use svo_sim::studies::stress::cases::all;
+use svo_sim::studies::stress::cli::run_cases;
+use svo_sim::studies::stress::{CaseResult, Verdict};
 
 fn by_name<'a>(r: &'a [CaseResult], name: &str) -> &'a CaseResult {
     r.iter()
@@ -130,7 +130,7 @@ fn the_judge_catches_a_silently_wrong_pixel() {
     bad[k].t += 1e-3;
     assert_eq!(judge(&ctx, &reference.records, &bad).t_beyond_bound, 1);
     let mut bad = reference.records.clone();
-    bad[k] = svo_sim::reference::HitRecord::MISS;
+    bad[k] = svo_sim::models::reference::HitRecord::MISS;
     assert_eq!(
         judge(&ctx, &reference.records, &bad).hit_mismatches_beyond_bound,
         1
@@ -204,9 +204,9 @@ fn coincident_instances_go_to_the_lower_id_in_both_models() {
     let mut reference = HitBuffer::new(w, h);
     render_frame(&frame, &mut reference, RenderOptions::default());
     let cfg = rtl_model::datapath::DatapathConfig::default();
-    let mut fixed = svo_sim::fixed_model::FixedBuffer::new(w, h);
-    svo_sim::fixed_model::render_frame_fixed(&frame, &mut fixed, &cfg, false).unwrap();
-    let fixed = svo_sim::fixed_model::to_hit_records(&fixed, &cfg);
+    let mut fixed = svo_sim::models::fixed::FixedBuffer::new(w, h);
+    svo_sim::models::fixed::render_frame_fixed(&frame, &mut fixed, &cfg, false).unwrap();
+    let fixed = svo_sim::models::fixed::to_hit_records(&fixed, &cfg);
     let hits = reference.records.iter().filter(|r| r.hit).count();
     assert!(hits > 100);
     for (r, f) in reference.records.iter().zip(&fixed) {

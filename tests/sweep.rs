@@ -13,10 +13,10 @@ use common::process::run_sim;
 use common::{shared_vox_dir, test_seed, SplitMix64};
 use std::path::Path;
 use std::time::Duration;
-use svo_sim::scene::Scene;
-use svo_sim::sweep::configs::builtin;
-use svo_sim::sweep::pareto::{distance, error_excess, on_front, Point};
-use svo_sim::sweep::{run_sweep, NamedScene, SweepOptions};
+use svo_sim::world::scene::Scene;
+use svo_sim::studies::sweep::configs::builtin;
+use svo_sim::studies::sweep::pareto::{distance, error_excess, on_front, Point};
+use svo_sim::studies::sweep::{run_sweep, NamedScene, SweepOptions};
 
 /// q dominates p: no worse on both axes, better on one.
 fn dominates(q: Point, p: Point) -> bool {
@@ -165,7 +165,7 @@ fn small_sweep_writes_well_formed_deterministic_files() {
     }
     let csv = std::fs::read_to_string(a.join("sweep.csv")).unwrap();
     let header = csv.lines().next().unwrap();
-    assert_eq!(header, svo_sim::sweep::output::CSV_HEADER);
+    assert_eq!(header, svo_sim::studies::sweep::output::CSV_HEADER);
     let fields = header.split(',').count();
     assert_eq!(csv.lines().count(), 1 + 3);
     for l in csv.lines() {
@@ -209,7 +209,7 @@ fn small_sweep_writes_well_formed_deterministic_files() {
         let png = image::load_from_memory(&x).unwrap();
         assert_eq!(
             (png.width(), png.height()),
-            svo_sim::sweep::plot::PANEL,
+            svo_sim::studies::sweep::plot::PANEL,
             "{name}: one panel per scene"
         );
     }
@@ -330,7 +330,7 @@ fn docs_match_the_built_in_list_and_the_example_file_is_valid() {
         let cell = format!("| `{}` |", c.name);
         assert!(doc.contains(&cell), "docs/accuracy.md lacks {cell}");
     }
-    let example = svo_sim::sweep::configs::load(&root.join("docs/sweep_configs_example.ron"))
+    let example = svo_sim::studies::sweep::configs::load(&root.join("docs/sweep_configs_example.ron"))
         .unwrap_or_else(|e| panic!("{e}"));
     let names: Vec<&str> = example.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(names, ["default", "recip30_tca24"]);

@@ -1,4 +1,4 @@
-//! Property tests of the octree walker (`svo_sim::reference::walk::walk`) against oracle A, an
+//! Property tests of the octree walker (`svo_sim::models::reference::walk::walk`) against oracle A, an
 //! Amanatides–Woo walk over the dense voxel grid (`tests/common/oracle.rs`).
 //!
 //! What is checked: for random and adversarial rays in an instance's local frame (origins
@@ -10,7 +10,7 @@
 //! pin the documented conventions (mirroring for negative directions, +0.0 vs −0.0 on a
 //! plane, the origin inside a solid voxel, voxels behind the origin, edge/corner touches).
 //!
-//! Why the oracle is independent: it shares no code with `src/reference` and never reads the
+//! Why the oracle is independent: it shares no code with `src/models/reference` and never reads the
 //! SVO image; it walks a flat `Vec<bool>` grid made from the leaf coordinates, computes every
 //! crossing time by division from the plane positions, and resolves ties by comparing those
 //! times, where the walker recurses through the octree with midpoint times, reciprocals and a
@@ -31,8 +31,8 @@ use std::cell::Cell;
 use std::collections::HashMap;
 use std::sync::OnceLock;
 use std::time::Instant;
-use svo_sim::reference::walk::{walk, WalkCounters, WalkHit};
-use svo_sim::sdf::{Axis, Shape};
+use svo_sim::models::reference::walk::{walk, WalkCounters, WalkHit};
+use svo_sim::world::sdf::{Axis, Shape};
 
 // ---------------------------------------------------------------------------------------------
 // Test assets

@@ -15,10 +15,10 @@ use rtl_model::datapath::DatapathConfig;
 use std::collections::BTreeSet;
 use std::path::Path;
 use std::time::Duration;
-use svo_sim::assets::{build_assets, effective_depths, Materialise};
-use svo_sim::fixed_model::{render_frame_fixed, FixedBuffer};
-use svo_sim::reference::FrameInput;
-use svo_sim::scene::Scene;
+use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
+use svo_sim::models::fixed::{render_frame_fixed, FixedBuffer};
+use svo_sim::models::reference::FrameInput;
+use svo_sim::world::scene::Scene;
 use vector_files::{field, manifest, rows, value, Tmp, GOLDEN_ARGS};
 
 const TIMEOUT: Duration = Duration::from_secs(300);
@@ -344,7 +344,7 @@ fn capture_reproduces_the_functional_model() {
     let half: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
     for frame in [0, 17] {
         let state = scene.frame_state(frame, &half).expect("state");
-        let cap = svo_sim::vectors::capture::capture_frame(&scene, &assets, &state, &dp)
+        let cap = svo_sim::studies::vectors::capture::capture_frame(&scene, &assets, &state, &dp)
             .expect("capture");
         let input = FrameInput {
             scene: &scene,

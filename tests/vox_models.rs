@@ -1,4 +1,4 @@
-//! Integration tests of the MagicaVoxel loader (`svo_sim::assets::vox`): the sample models in
+//! Integration tests of the MagicaVoxel loader (`svo_sim::world::assets::vox`): the sample models in
 //! `../shared/data/vox` ("Mini Mike's Metro Minis" by Mike Judge, CC BY 4.0; read in place,
 //! never copied into the repository) and tiny `.vox` files written by hand in memory.
 
@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use rtl_model::svo::LeafAttr;
-use svo_sim::assets::vox::{load_vox, load_vox_bytes, VoxAsset, VoxError};
+use svo_sim::world::assets::vox::{load_vox, load_vox_bytes, VoxAsset, VoxError};
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! End-to-end test of the f64 reference frame pipeline (`svo_sim::reference::render_frame`)
+//! End-to-end test of the f64 reference frame pipeline (`svo_sim::models::reference::render_frame`)
 //! against oracle B, a world-space brute force (`tests/common/oracle.rs`).
 //!
 //! What is checked: random scenes (RON text through `Scene::from_ron`; SDF assets at depth
@@ -28,9 +28,9 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
-use svo_sim::assets::{build_assets, effective_depths, Asset, Materialise};
-use svo_sim::reference::{render_frame, FrameInput, HitBuffer, HitRecord, RenderOptions};
-use svo_sim::scene::Scene;
+use svo_sim::world::assets::{build_assets, effective_depths, Asset, Materialise};
+use svo_sim::models::reference::{render_frame, FrameInput, HitBuffer, HitRecord, RenderOptions};
+use svo_sim::world::scene::Scene;
 
 const WIDTH: u32 = 48;
 const HEIGHT: u32 = 32;

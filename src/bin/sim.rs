@@ -10,13 +10,13 @@ use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use svo_sim::assets::Materialise;
-use svo_sim::cycle_model::waves::WaveWindow;
-use svo_sim::cycle_model::CycleFrame;
-use svo_sim::fixed_model::{render_frame_fixed, FixedBuffer};
-use svo_sim::reference::{render_frame, FrameInput, FrameStats, HitBuffer, RenderOptions};
+use svo_sim::world::assets::Materialise;
+use svo_sim::models::cycle::waves::WaveWindow;
+use svo_sim::models::cycle::CycleFrame;
+use svo_sim::models::fixed::{render_frame_fixed, FixedBuffer};
+use svo_sim::models::reference::{render_frame, FrameInput, FrameStats, HitBuffer, RenderOptions};
 use svo_sim::run::{build, run, Model, RunConfig, VcdRequest};
-use svo_sim::scene::Scene;
+use svo_sim::world::scene::Scene;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -49,17 +49,17 @@ enum Command {
     Hardware(HardwareArgs),
     /// Error over animation run time: fixed-point pose paths over a long animation
     /// (docs/drift.md); writes drift.csv, drift.json and drift.png.
-    Drift(svo_sim::drift::cli::DriftArgs),
+    Drift(svo_sim::studies::drift::cli::DriftArgs),
     /// Write HDL test vectors of every stage ($readmemh hex, JSON manifests, SystemVerilog
     /// packages) from adversarial cases, a real frame and seeded random stimulus
     /// (docs/vectors.md).
-    Vectors(svo_sim::vectors::cli::VectorsArgs),
+    Vectors(svo_sim::studies::vectors::cli::VectorsArgs),
     /// Stiff and extreme cases against the f64 reference, with a verdict each
     /// (docs/stability.md).
-    Stress(svo_sim::stress::cli::StressArgs),
+    Stress(svo_sim::studies::stress::cli::StressArgs),
     /// Accuracy against cost over datapath configurations on one or more scenes, with the
     /// Pareto fronts (docs/accuracy.md); writes sweep.csv, sweep.json and two PNG plots.
-    Sweep(svo_sim::sweep::cli::SweepArgs),
+    Sweep(svo_sim::studies::sweep::cli::SweepArgs),
 }
 
 #[derive(Args, Debug)]
@@ -275,8 +275,8 @@ struct BenchArgs {
 }
 
 /// `sim bench --model cycle`.
-fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[svo_sim::assets::Asset]) -> Result<()> {
-    use svo_sim::cycle_model::bench;
+fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[svo_sim::world::assets::Asset]) -> Result<()> {
+    use svo_sim::models::cycle::bench;
     let dp = load_datapath(a.datapath.as_ref())?;
     let hw = load_hw(a.hw.as_ref())?;
     if let Some(dir) = &a.scaling {
@@ -530,7 +530,7 @@ fn cmd_run(a: RunArgs) -> Result<()> {
         elaboration: None,
     };
     if cfg.model == Model::Cycle {
-        let e = svo_sim::elaborate::elaborate(
+        let e = svo_sim::run::elaborate::elaborate(
             &cfg.scene,
             cfg.depth,
             &cfg.hardware,
@@ -909,10 +909,10 @@ fn main() -> ExitCode {
         Some(Command::Bench(b)) => cmd_bench(b),
         Some(Command::Datapath(d)) => cmd_datapath(d),
         Some(Command::Hardware(h)) => cmd_hardware(h),
-        Some(Command::Drift(d)) => svo_sim::drift::cli::run_cli(&d),
-        Some(Command::Vectors(v)) => svo_sim::vectors::cli::run(v),
-        Some(Command::Stress(s)) => svo_sim::stress::cli::run_cli(&s),
-        Some(Command::Sweep(s)) => svo_sim::sweep::cli::run_cli(&s),
+        Some(Command::Drift(d)) => svo_sim::studies::drift::cli::run_cli(&d),
+        Some(Command::Vectors(v)) => svo_sim::studies::vectors::cli::run(v),
+        Some(Command::Stress(s)) => svo_sim::studies::stress::cli::run_cli(&s),
+        Some(Command::Sweep(s)) => svo_sim::studies::sweep::cli::run_cli(&s),
         None => cmd_run(cli.run),
     };
     match r {

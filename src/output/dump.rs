@@ -9,7 +9,7 @@
 //! u8 colour r, g, b, a, u16 pixel x, u16 pixel y (records are 8-byte aligned, t too).
 //! With a `.csv` file name the same fields are written as CSV with a header line instead.
 
-use crate::reference::HitRecord;
+use crate::models::reference::HitRecord;
 use std::io::Write;
 
 /// Bytes of one binary record.

@@ -4,7 +4,7 @@
 //! colour = leaf colour × (ambient + (1 − ambient)·max(0, n·(−L))), n the leaf's normal in
 //! world space, L the light's unit direction; misses get the background.
 
-use crate::reference::HitRecord;
+use crate::models::reference::HitRecord;
 use glam::DVec3;
 use image::RgbImage;
 

@@ -1,8 +1,8 @@
 //! The JSON report (`--report-json`): configuration, assets, per-frame counters, summary.
 //! Field meanings are listed in `docs/report.md`.
 
-use crate::assets::Asset;
-use crate::reference::FrameStats;
+use crate::world::assets::Asset;
+use crate::models::reference::FrameStats;
 use serde::Serialize;
 
 /// One asset's memory image, as reported.
@@ -123,7 +123,7 @@ pub struct Report {
     pub hardware: Option<rtl_model::cycle::hw_config::HwConfig>,
     /// Scene-driven elaboration: facts, decisions, savings (cycle model only).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub elaboration: Option<crate::elaborate::Elaboration>,
+    pub elaboration: Option<crate::run::elaborate::Elaboration>,
 }
 
 /// One frame of the report: the model's counters, and for the fixed-point model its accuracy
@@ -135,7 +135,7 @@ pub struct FrameReport {
     pub stats: FrameStats,
     /// Accuracy against the f64 reference (fixed-point model only).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub accuracy: Option<crate::fixed_model::Accuracy>,
+    pub accuracy: Option<crate::models::fixed::Accuracy>,
     /// Saturations and wraps per signal name, non-zero ones only (fixed-point model only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub overflows: Option<std::collections::BTreeMap<String, u64>>,
@@ -145,7 +145,7 @@ pub struct FrameReport {
     /// The cycle model's report of the frame (`--model cycle`): `cycles`, `fps_at_clock`,
     /// `rays_per_cycle`, `stages`, `memory`, `bound`, … (docs/report.md).
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
-    pub cycle: Option<crate::cycle_model::CycleFrame>,
+    pub cycle: Option<crate::models::cycle::CycleFrame>,
 }
 
 impl FrameReport {
@@ -207,7 +207,7 @@ pub struct CycleSummary {
 impl CycleSummary {
     /// Totals of `frames`.
     pub fn of(
-        frames: &[crate::cycle_model::CycleFrame],
+        frames: &[crate::models::cycle::CycleFrame],
         hw: &rtl_model::cycle::hw_config::HwConfig,
         resources: rtl_model::cycle::hw_config::ResourceReport,
         wall_s: f64,

@@ -14,7 +14,7 @@ pub mod process;
 
 use proptest::test_runner::{Config, RngAlgorithm, TestRng};
 use rtl_model::svo::{LeafAttr, LeafSet, SvoImage};
-use svo_sim::sdf::{Sdf, Shape};
+use svo_sim::world::sdf::{Sdf, Shape};
 
 /// Seed used when `SVO_TEST_SEED` is not set (any fixed value would do).
 pub const DEFAULT_SEED: u64 = 0x5EED_0C7B_EE00_2019;
@@ -213,7 +213,7 @@ pub fn leaf_set_of(depth: u8, coords: &[[u32; 3]]) -> LeafSet {
 /// A procedural shape voxelised by the real asset builder in a cube of half-size `half`.
 pub fn sdf_leaf_set(shape: &Shape, half: f64, depth: u8) -> LeafSet {
     let sdf = Sdf::new(shape, "test shape").expect("valid test shape");
-    let leaves = svo_sim::assets::voxelize::voxelize(&sdf, half, depth);
+    let leaves = svo_sim::world::assets::voxelize::voxelize(&sdf, half, depth);
     LeafSet::from_sorted_codes(depth, leaves).expect("voxeliser output is valid")
 }
 

@@ -2,7 +2,7 @@
 //!
 //! - Oracle A ([`amanatides_woo`]): a 3D-DDA (Amanatides & Woo 1987) over a DENSE voxel
 //!   grid, in an instance's local frame. It never sees the SVO image or any code of
-//!   `svo_sim::reference`; it reads a [`DenseGrid`] (or any `solid` predicate) and derives
+//!   `svo_sim::models::reference`; it reads a [`DenseGrid`] (or any `solid` predicate) and derives
 //!   every time from the grid planes by division. Where the walker is a recursive
 //!   subdivision with midpoint times (t0 + t1)/2 and a mirrored frame, this is a flat walk
 //!   that compares plane-crossing times directly, so the two share neither structure nor

@@ -2,7 +2,7 @@
 //!
 //! Pipeline position: after the transform and reciprocal units, once per (ray, candidate);
 //! it reads the SVO memory image (one descriptor fetch per descent) and returns the nearest
-//! solid leaf. The f64 reference (`svo_sim::reference::walk`) is its oracle.
+//! solid leaf. The f64 reference (`svo_sim::models::reference::walk`) is its oracle.
 //!
 //! Arithmetic:
 //! - Mirroring (§3.4): an axis whose direction is negative (the sign bit from the transform,

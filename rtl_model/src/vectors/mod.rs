@@ -5,7 +5,7 @@
 //!
 //! Pipeline position: beside the units. The stage modules ([`stage`]) call the golden model
 //! (`crate::units`) for every expected output, so the vectors are the model by construction;
-//! the root package (`svo_sim::vectors`) captures transactions from a real frame of a scene
+//! the root package (`svo_sim::studies::vectors`) captures transactions from a real frame of a scene
 //! and writes the files (`sim vectors`).
 //!
 //! Layers: [`word`] (a packed row of any width) → [`layout`] (named fields) → [`table`] (a

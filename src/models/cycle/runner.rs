@@ -1,0 +1,141 @@
+//! Runs frames through the functional model (recording their work) and then the cycle model,
+//! keeping both models' state across frames.
+//!
+//! Pipeline position: what `sim` calls per frame for the cycle model; tests use it directly.
+
+use super::layout::{LayoutBuildError, SceneLayout};
+use super::pipeline::{CycleError, CycleModel, CycleOptions};
+use super::stats::{CycleFrame, OpCounts};
+use crate::world::assets::Asset;
+use crate::models::fixed::plan::FramePlan;
+use crate::models::fixed::row_feed::RowFeed;
+use crate::models::fixed::{render_streamed, FixedBuffer, FixedError, FixedStats};
+use crate::models::reference::FrameInput;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::datapath::{overflow_table, DatapathConfig};
+use std::time::Instant;
+use thiserror::Error;
+
+/// Why a cycle-model frame failed.
+#[derive(Debug, Error)]
+pub enum CycleRunError {
+    /// The functional model refused the frame.
+    #[error(transparent)]
+    Fixed(#[from] FixedError),
+    /// The images cannot be placed in the node memory.
+    #[error(transparent)]
+    Layout(#[from] LayoutBuildError),
+    /// The cycle model failed or disagreed with the functional model.
+    #[error(transparent)]
+    Cycle(#[from] CycleError),
+    /// The hardware does not match the datapath or the frame.
+    #[error("hardware configuration: {0}")]
+    Config(String),
+}
+
+/// Both models' state across the frames of a run.
+pub struct CycleRun {
+    model: CycleModel,
+    buffer: FixedBuffer,
+    instance_asset: Vec<usize>,
+}
+
+/// One frame's results.
+pub struct CycleFrameResult {
+    /// The functional model's counters (its wall time included).
+    pub fixed: FixedStats,
+    /// The cycle report.
+    pub cycles: CycleFrame,
+    /// Wall time of the whole frame (functional and cycle model), seconds.
+    pub wall_s: f64,
+}
+
+impl CycleRun {
+    /// A run over `assets` at `width`×`height`.
+    pub fn new(
+        hw: &HwConfig,
+        dp: &DatapathConfig,
+        assets: &[Asset],
+        instance_asset: &[usize],
+        (width, height): (u32, u32),
+        opts: CycleOptions,
+    ) -> Result<Self, CycleRunError> {
+        hw.validate_for(dp).map_err(CycleRunError::Config)?;
+        if u64::from(width) * u64::from(height) > hw.frame.pixels()
+            || width > hw.frame.width
+            || height > hw.frame.height
+        {
+            return Err(CycleRunError::Config(format!(
+                "frame {width}×{height} is larger than the {}×{} the hit buffer and direction table are built for (hardware frame)",
+                hw.frame.width, hw.frame.height
+            )));
+        }
+        let layout = SceneLayout::new(assets, &hw.node_memory.onchip)?;
+        Ok(Self {
+            model: CycleModel::new(hw, layout, width, height, opts)?,
+            buffer: FixedBuffer::new(width, height),
+            instance_asset: instance_asset.to_vec(),
+        })
+    }
+
+    /// The functional model's buffer after the last frame (equal to the cycle model's).
+    pub fn buffer(&self) -> &FixedBuffer {
+        &self.buffer
+    }
+
+    /// The cycle model.
+    pub fn model(&mut self) -> &mut CycleModel {
+        &mut self.model
+    }
+
+    /// Runs one frame through both models at the same time: the functional model renders
+    /// rows on a second thread and hands each to the cycle model as it completes
+    /// (`models::fixed::row_feed`), so a frame takes about as long as the slower of the two.
+    pub fn frame(
+        &mut self,
+        input: &FrameInput<'_>,
+        dp: &DatapathConfig,
+        use_hit_buffer: bool,
+    ) -> Result<CycleFrameResult, CycleRunError> {
+        let start = Instant::now();
+        let mut host_ov = overflow_table();
+        let plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?;
+        let (w, h) = (self.buffer.width, self.buffer.height);
+        let feed = RowFeed::new(h as usize);
+        let FixedBuffer {
+            records, dir_table, ..
+        } = &mut self.buffer;
+        let dir: &[[i64; 3]] = dir_table;
+        let model = &mut self.model;
+        let instance_asset = &self.instance_asset;
+        let (mut fixed, cycles) = std::thread::scope(|s| {
+            let producer = s.spawn(|| render_streamed(&plan, dir, records, (w, h), &feed));
+            let cycles = model.run_frame(&plan, &feed, dir, instance_asset);
+            if cycles.is_err() {
+                feed.cancel();
+            }
+            match producer.join() {
+                Ok(fixed) => (fixed, cycles),
+                // A panic in the functional model is a bug there: let it surface as one.
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        });
+        if let Some(ov) = fixed.overflows.as_mut() {
+            ov.merge(&host_ov);
+        }
+        let mut cycles = cycles?;
+        let descents = fixed.walker.fetches.saturating_sub(fixed.walks);
+        cycles.ops_per_pixel = OpCounts::per_pixel(
+            fixed.rays,
+            fixed.sphere_tests,
+            fixed.walks,
+            fixed.walker.steps,
+            descents,
+        );
+        Ok(CycleFrameResult {
+            fixed,
+            cycles,
+            wall_s: start.elapsed().as_secs_f64(),
+        })
+    }
+}

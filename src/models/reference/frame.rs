@@ -1,0 +1,260 @@
+//! One frame of the reference: every pixel's ray through sphere tests, sort, hit-buffer
+//! check, transform and walk, with early termination. Rows run in parallel; the result and
+//! the counters do not depend on the thread count.
+
+use super::hit_buffer::{Dirty, HitBuffer};
+use super::octree::Octree;
+use super::ray::{primary_ray, Ray};
+use super::record::{HitRecord, SphereCount};
+use super::sphere::sphere_entry;
+use super::stats::FrameStats;
+use super::walk::{walk, WalkCounters, WalkHit};
+use crate::world::assets::{Asset, AssetTree};
+use crate::world::scene::{FrameState, Pose, Scene};
+use glam::{DMat3, DVec3};
+use rayon::prelude::*;
+use rtl_model::svo::LeafAttr;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// Switches of the reference renderer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderOptions {
+    /// Reuse unchanged pixels through the hit buffer.
+    pub use_hit_buffer: bool,
+    /// Walk candidates front to back and stop once the nearest hit is certain.
+    pub early_termination: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            use_hit_buffer: true,
+            early_termination: true,
+        }
+    }
+}
+
+/// What a frame needs: the scene (resolution, instance → asset), assets and the frame state.
+pub struct FrameInput<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// Built assets, in scene order.
+    pub assets: &'a [Asset],
+    /// Camera and poses of this frame.
+    pub state: &'a FrameState,
+}
+
+/// Per-instance constants of a frame.
+struct Inst<'a> {
+    pose: Pose,
+    radius: f64,
+    tree: &'a AssetTree,
+    /// World-from-local rotation divided by the scale, for shading normals (inverse transpose
+    /// of R·S applied to an asset-space normal).
+    normal_to_world: DMat3,
+}
+
+/// Constants of one frame shared by all rows.
+struct FrameCtx<'a> {
+    insts: Vec<Inst<'a>>,
+    dirty: Dirty,
+    opts: RenderOptions,
+}
+
+/// Per-row scratch and counters (one per worker task, merged at the end).
+#[derive(Default)]
+struct RowState {
+    cands: Vec<(f64, u16)>,
+    st: FrameStats,
+    wc: WalkCounters,
+}
+
+/// Walks either kind of asset tree; returns the hit with its leaf attributes.
+#[inline]
+fn walk_any(
+    tree: &AssetTree,
+    half: DVec3,
+    o: DVec3,
+    d: DVec3,
+    wc: &mut WalkCounters,
+) -> Option<(WalkHit<()>, LeafAttr)> {
+    fn resolve<T: Octree>(t: &T, h: WalkHit<T::Leaf>) -> (WalkHit<()>, LeafAttr) {
+        let attr = t.attr(h.attr);
+        (
+            WalkHit {
+                t: h.t,
+                voxel: h.voxel,
+                level: h.level,
+                attr: (),
+                face_normal: h.face_normal,
+            },
+            attr,
+        )
+    }
+    match tree {
+        AssetTree::Image(img) => walk(img, half, o, d, wc).map(|h| resolve(img, h)),
+        AssetTree::Implicit(sdf) => walk(sdf, half, o, d, wc).map(|h| resolve(sdf, h)),
+    }
+}
+
+/// Traces one ray. `prev` is the pixel's last record; reuse only if allowed.
+fn trace(ray: &Ray, ctx: &FrameCtx<'_>, prev: &HitRecord, row: &mut RowState) -> HitRecord {
+    let FrameCtx { insts, dirty, opts } = ctx;
+    let opts = *opts;
+    let RowState { cands, st, wc } = row;
+    cands.clear();
+    for (i, inst) in insts.iter().enumerate() {
+        if let Some(t) = sphere_entry(ray.origin, ray.dir, inst.pose.centre, inst.radius) {
+            cands.push((t, i as u16));
+        }
+    }
+    st.sphere_tests += insts.len() as u64;
+    st.spheres_culled += (insts.len() - cands.len()) as u64;
+    let spheres = SphereCount::from_count(cands.len());
+    if cands.is_empty() {
+        return HitRecord::MISS;
+    }
+    if opts.use_hit_buffer && !dirty.camera && cands.len() == 1 {
+        let i = cands[0].1;
+        if !dirty.instances[usize::from(i)] && (!prev.hit || prev.instance == i) {
+            st.hit_buffer_reused += 1;
+            st.hits += u64::from(prev.hit);
+            return HitRecord { spheres, ..*prev };
+        }
+    }
+    st.candidates += cands.len() as u64;
+    st.candidates_max = st.candidates_max.max(cands.len() as u32);
+    // Front to back by entry distance; ties by instance index (insertion sort: stable, and
+    // the candidate lists are short).
+    for k in 1..cands.len() {
+        let mut j = k;
+        while j > 0 && cands[j - 1].0 > cands[j].0 {
+            cands.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    let mut best = HitRecord {
+        spheres,
+        ..HitRecord::MISS
+    };
+    for (k, &(t_enter, i)) in cands.iter().enumerate() {
+        if opts.early_termination && best.hit && best.t <= t_enter {
+            st.early_terminations += 1;
+            st.walks_skipped += (cands.len() - k) as u64;
+            break;
+        }
+        let inst = &insts[usize::from(i)];
+        let r = inst.pose.world_from_local;
+        // Eq. 3: d' = Rᵀ d, o' = Rᵀ (o − c); scale stays in the box extents (§3.2).
+        let rel = ray.origin - inst.pose.centre;
+        let o_local = DVec3::new(r.x_axis.dot(rel), r.y_axis.dot(rel), r.z_axis.dot(rel));
+        let d_local = DVec3::new(
+            r.x_axis.dot(ray.dir),
+            r.y_axis.dot(ray.dir),
+            r.z_axis.dot(ray.dir),
+        );
+        st.walks += 1;
+        if let Some((h, attr)) = walk_any(inst.tree, inst.pose.half_extent, o_local, d_local, wc) {
+            if !best.hit || h.t < best.t {
+                let n =
+                    (inst.normal_to_world * DVec3::from_array(attr.normal())).normalize_or_zero();
+                best = HitRecord {
+                    hit: true,
+                    spheres,
+                    instance: i,
+                    t: h.t,
+                    voxel: h.voxel,
+                    face_normal: (r * h.face_normal).as_vec3().to_array(),
+                    shade_normal: n.as_vec3().to_array(),
+                    colour: attr.rgba(),
+                };
+            }
+        }
+    }
+    st.hits += u64::from(best.hit);
+    best
+}
+
+/// Renders one frame into `buffer` (which holds the previous frame's records on entry).
+pub fn render_frame(
+    input: &FrameInput<'_>,
+    buffer: &mut HitBuffer,
+    opts: RenderOptions,
+) -> FrameStats {
+    render_frame_with_progress(input, buffer, opts, &AtomicU64::new(0))
+}
+
+/// [`render_frame`], adding one to `rows_done` as each image row completes (for progress
+/// display from another thread).
+pub fn render_frame_with_progress(
+    input: &FrameInput<'_>,
+    buffer: &mut HitBuffer,
+    opts: RenderOptions,
+    rows_done: &AtomicU64,
+) -> FrameStats {
+    let start = Instant::now();
+    let (w, h) = input.scene.file.resolution;
+    debug_assert_eq!((buffer.width, buffer.height), (w, h));
+    let insts: Vec<Inst<'_>> = input
+        .state
+        .poses
+        .iter()
+        .zip(&input.scene.instance_asset)
+        .map(|(pose, &ai)| {
+            let asset = &input.assets[ai];
+            let scale = pose.half_extent / asset.half_size;
+            Inst {
+                pose: *pose,
+                radius: pose.sphere_radius(),
+                tree: &asset.tree,
+                normal_to_world: pose.world_from_local * DMat3::from_diagonal(scale.recip()),
+            }
+        })
+        .collect();
+    let dirty = if opts.use_hit_buffer {
+        buffer.begin_frame(input.state)
+    } else {
+        buffer.invalidate();
+        Dirty {
+            camera: true,
+            instances: vec![true; insts.len()],
+        }
+    };
+    let cam = input.state.camera;
+    let ctx = FrameCtx { insts, dirty, opts };
+    let rows: Vec<RowState> = buffer
+        .records
+        .par_chunks_mut(w as usize)
+        .enumerate()
+        .map(|(j, records)| {
+            let mut row = RowState {
+                cands: Vec::with_capacity(ctx.insts.len()),
+                ..RowState::default()
+            };
+            for (i, rec) in records.iter_mut().enumerate() {
+                let ray = primary_ray(&cam, w, h, i as u32, j as u32);
+                *rec = trace(&ray, &ctx, rec, &mut row);
+            }
+            row.st.rays = records.len() as u64;
+            rows_done.fetch_add(1, Ordering::Relaxed);
+            row
+        })
+        .collect();
+    let dirty = ctx.dirty;
+    let mut total = FrameStats {
+        frame: input.state.frame,
+        ..FrameStats::default()
+    };
+    for RowState { st, wc, .. } in &rows {
+        total.merge(st);
+        total.walker_steps += wc.steps;
+        total.node_fetches += wc.fetches;
+        total.max_stack = total.max_stack.max(wc.max_stack);
+    }
+    total.camera_dirty = dirty.camera;
+    total.instances_dirty = dirty.instances.iter().filter(|&&d| d).count() as u32;
+    total.wall_s = start.elapsed().as_secs_f64();
+    total.rays_per_s = total.rays as f64 / total.wall_s.max(1e-9);
+    total
+}

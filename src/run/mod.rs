@@ -1,0 +1,12 @@
+//! Running a model over an animation.
+//!
+//! Pipeline position: between the world and the outputs. [`elaborate`] derives from the scene
+//! the pipeline it needs (units kept, left out or resized, with what each saves); [`frames`]
+//! builds the assets and runs every frame through the chosen model — the f64 reference, the
+//! fixed-point functional model, or the cycle model beside it — comparing each frame with the
+//! reference and handing the results to [`crate::output`].
+
+pub mod elaborate;
+pub mod frames;
+
+pub use frames::{build, run, Model, RunConfig, RunOutput, VcdRequest};
