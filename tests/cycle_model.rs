@@ -17,10 +17,10 @@ use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
 use std::fmt::Write as _;
 use std::path::Path;
-use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
 use svo_sim::models::cycle::runner::CycleRun;
 use svo_sim::models::cycle::{CycleFrame, CycleOptions};
 use svo_sim::models::reference::FrameInput;
+use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
 use svo_sim::world::scene::Scene;
 
 fn run_scene(scene: &Scene, depth: Option<u8>, hw: &HwConfig, cross: bool) -> Vec<CycleFrame> {

@@ -117,7 +117,10 @@ fn cli_writes_three_files_deterministically_and_refuses_bad_input() {
         assert!(x == y, "{name} differs between two runs");
     }
     let png = image::open(a.join("drift.png")).unwrap();
-    assert_eq!((png.width(), png.height()), svo_sim::studies::drift::plot::SIZE);
+    assert_eq!(
+        (png.width(), png.height()),
+        svo_sim::studies::drift::plot::SIZE
+    );
     let csv = std::fs::read_to_string(a.join("drift.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 3 * 120);
     // Bad input: a clear message, a non-zero exit, nothing written.

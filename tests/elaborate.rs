@@ -20,12 +20,12 @@ use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
 use rtl_model::units::transform::{transform_with_signs, InstanceRaw, TransformSignals};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
 use svo_sim::models::cycle::runner::CycleRun;
 use svo_sim::models::cycle::CycleOptions;
+use svo_sim::models::reference::FrameInput;
 use svo_sim::run::elaborate::plan::Action;
 use svo_sim::run::elaborate::{elaborate, Elaboration};
-use svo_sim::models::reference::FrameInput;
+use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
 use svo_sim::world::scene::Scene;
 
 fn scene_path(name: &str) -> PathBuf {

@@ -15,8 +15,8 @@ use rtl_model::svo::{LeafSet, SvoImage};
 use rtl_model::units::walker::{
     spatial_error_bound, walk_fixed_visiting, WalkOutcome, WalkerConfig, WalkerInput, WalkerStats,
 };
-use svo_sim::world::assets::voxelize::voxelize;
 use svo_sim::models::reference::walk::{walk_visiting, WalkCounters};
+use svo_sim::world::assets::voxelize::voxelize;
 use svo_sim::world::sdf::{Axis, Sdf, Shape};
 
 fn seed() -> u64 {

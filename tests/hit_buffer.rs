@@ -8,10 +8,10 @@
 //! stale pixels in the occluder scenario, so these tests can tell the two rules apart.
 
 use std::path::Path;
-use svo_sim::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use svo_sim::models::reference::{
     render_frame, FrameInput, HitBuffer, HitRecord, RenderOptions, SphereCount,
 };
+use svo_sim::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use svo_sim::world::scene::Scene;
 
 /// xorshift64*: small, seeded, reproducible.

@@ -12,7 +12,7 @@ use std::time::Duration;
 use svo_sim::models::fixed::explain::{judge, JudgeCtx};
 use svo_sim::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
 use svo_sim::studies::stress::cases::all;
-use svo_sim::studies::stress::cli::run_cases;
+use svo_sim::studies::stress::command::run_cases;
 use svo_sim::studies::stress::{CaseResult, Verdict};
 
 fn by_name<'a>(r: &'a [CaseResult], name: &str) -> &'a CaseResult {

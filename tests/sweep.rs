@@ -13,10 +13,10 @@ use common::process::run_sim;
 use common::{shared_vox_dir, test_seed, SplitMix64};
 use std::path::Path;
 use std::time::Duration;
-use svo_sim::world::scene::Scene;
 use svo_sim::studies::sweep::configs::builtin;
 use svo_sim::studies::sweep::pareto::{distance, error_excess, on_front, Point};
 use svo_sim::studies::sweep::{run_sweep, NamedScene, SweepOptions};
+use svo_sim::world::scene::Scene;
 
 /// q dominates p: no worse on both axes, better on one.
 fn dominates(q: Point, p: Point) -> bool {
@@ -330,8 +330,9 @@ fn docs_match_the_built_in_list_and_the_example_file_is_valid() {
         let cell = format!("| `{}` |", c.name);
         assert!(doc.contains(&cell), "docs/accuracy.md lacks {cell}");
     }
-    let example = svo_sim::studies::sweep::configs::load(&root.join("docs/sweep_configs_example.ron"))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let example =
+        svo_sim::studies::sweep::configs::load(&root.join("docs/sweep_configs_example.ron"))
+            .unwrap_or_else(|e| panic!("{e}"));
     let names: Vec<&str> = example.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(names, ["default", "recip30_tca24"]);
     assert_eq!(example[0].datapath, list[0].datapath);

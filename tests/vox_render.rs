@@ -8,9 +8,9 @@
 use std::path::{Path, PathBuf};
 
 mod common;
-use svo_sim::world::assets::Materialise;
 use svo_sim::models::reference::RenderOptions;
 use svo_sim::run::{run, RunConfig};
+use svo_sim::world::assets::Materialise;
 use svo_sim::world::scene::Scene;
 
 fn config(scene: Scene) -> RunConfig {
@@ -60,7 +60,9 @@ fn every_model_renders() {
         );
         // depth 1 is raised to what the model needs by --depth below; size the cube to 2 m.
         let scene = Scene::from_ron(&ron, "vox test", Path::new("/")).unwrap();
-        let needed = svo_sim::world::assets::vox::load_vox(f, None).unwrap().depth;
+        let needed = svo_sim::world::assets::vox::load_vox(f, None)
+            .unwrap()
+            .depth;
         let mut cfg = config(scene);
         cfg.depth = Some(needed);
         if let svo_sim::world::scene::AssetSource::Vox { voxel_size, .. } =

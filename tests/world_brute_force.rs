@@ -28,8 +28,8 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
-use svo_sim::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use svo_sim::models::reference::{render_frame, FrameInput, HitBuffer, HitRecord, RenderOptions};
+use svo_sim::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use svo_sim::world::scene::Scene;
 
 const WIDTH: u32 = 48;

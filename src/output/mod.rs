@@ -2,7 +2,9 @@
 //! file writing they share (nothing half-written is ever left under the final name).
 
 pub mod atomic;
+pub mod config_text;
 pub mod dump;
 pub mod figure;
 pub mod png;
 pub mod report;
+pub mod text;

@@ -1,8 +1,8 @@
 //! The JSON report (`--report-json`): configuration, assets, per-frame counters, summary.
 //! Field meanings are listed in `docs/report.md`.
 
-use crate::world::assets::Asset;
 use crate::models::reference::FrameStats;
+use crate::world::assets::Asset;
 use serde::Serialize;
 
 /// One asset's memory image, as reported.

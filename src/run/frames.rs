@@ -5,7 +5,6 @@
 //! (when loaded), depths, asset builds, output folders. Each output file is written
 //! atomically.
 
-use crate::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::models::cycle::runner::CycleRun;
 use crate::models::cycle::waves::PipelineWaves;
 use crate::models::cycle::CycleOptions;
@@ -13,15 +12,16 @@ use crate::models::fixed::bound::mismatch_explained;
 use crate::models::fixed::{
     compare, diff_image, render_frame_fixed, to_hit_records, FixedBuffer, FixedStats,
 };
+use crate::models::reference::{
+    render_frame, render_frame_with_progress, FrameInput, FrameStats, HitBuffer, RenderOptions,
+};
 use crate::output::atomic::{write_atomic, AtomicFile};
 use crate::output::report::CycleSummary;
 use crate::output::report::{
     AssetReport, FrameReport, OptionsReport, Report, SceneReport, Summary,
 };
 use crate::output::{dump, png};
-use crate::models::reference::{
-    render_frame, render_frame_with_progress, FrameInput, FrameStats, HitBuffer, RenderOptions,
-};
+use crate::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
 use anyhow::{bail, Context, Result};
 use rtl_model::cycle::hw_config::HwConfig;

@@ -6,6 +6,8 @@
 //! fixed-point functional model, or the cycle model beside it — comparing each frame with the
 //! reference and handing the results to [`crate::output`].
 
+pub mod bench;
+pub mod config_files;
 pub mod elaborate;
 pub mod frames;
 

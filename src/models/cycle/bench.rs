@@ -8,8 +8,8 @@
 
 use super::runner::CycleRun;
 use super::CycleOptions;
-use crate::world::assets::Asset;
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
+use crate::world::assets::Asset;
 use crate::world::scene::Scene;
 use plotters::prelude::*;
 use rtl_model::cycle::hw_config::HwConfig;

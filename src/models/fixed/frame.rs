@@ -235,7 +235,9 @@ pub fn to_hit_records(buffer: &FixedBuffer, cfg: &DatapathConfig) -> Vec<HitReco
             HitRecord {
                 hit: true,
                 spheres: f.kind,
-                instance: f.instance.unwrap_or(crate::models::reference::record::NO_INSTANCE),
+                instance: f
+                    .instance
+                    .unwrap_or(crate::models::reference::record::NO_INSTANCE),
                 t: to_f64(r.t_raw, cfg.walker.t),
                 voxel: r.voxel,
                 face_normal: r.face.map(|v| f32::from(v) / 127.0),

@@ -10,10 +10,10 @@
 
 use super::frame::{FixedBuffer, FixedError, FixedRecord};
 use super::trace::{OpRecorder, PixelWork, RowTrace, WalkWork};
-use crate::world::assets::{Asset, AssetTree};
 use crate::models::reference::hit_buffer::Dirty;
 use crate::models::reference::ray::primary_ray;
 use crate::models::reference::{FrameInput, SphereCount};
+use crate::world::assets::{Asset, AssetTree};
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 use rtl_model::datapath::{overflow_table, signals, DatapathConfig};

@@ -5,8 +5,8 @@
 //! decisions in [`super::plan`] rest on the frames that will run, not on the keyframes'
 //! appearance (a key pair 0° → 360° rotates even though both keys look alike).
 
-use crate::world::assets::effective_depths;
 use crate::error::AssetError;
+use crate::world::assets::effective_depths;
 use crate::world::scene::{Camera, Scene};
 use glam::{DMat3, DVec3};
 use rtl_model::datapath::{overflow_table, signals, DatapathConfig};

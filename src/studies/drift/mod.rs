@@ -10,7 +10,7 @@
 //! [`output`] and [`plot`] write CSV, JSON and PNG. `docs/drift.md` has the bounds, their
 //! derivation and the measured figures.
 
-pub mod cli;
+pub mod command;
 pub mod output;
 pub mod plot;
 pub mod pose;

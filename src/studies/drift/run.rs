@@ -8,11 +8,11 @@
 
 use super::pose::{pose_overflow_table, IncrementalPath, KeyframePath};
 use super::scene::drift_scene;
-use crate::world::assets::{build_assets, Asset, Materialise};
 use crate::error::{AssetError, SceneError};
 use crate::models::fixed::explain::{judge, JudgeCtx};
 use crate::models::fixed::{render_frame_fixed, to_hit_records, FixedBuffer, FixedError};
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
+use crate::world::assets::{build_assets, Asset, Materialise};
 use crate::world::scene::Scene;
 use glam::{DMat3, DVec3};
 use rtl_model::datapath::{signals, DatapathConfig};

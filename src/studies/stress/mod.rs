@@ -6,11 +6,11 @@
 //! Pipeline position: the whole frame pipeline (ray generation to hit record), driven with
 //! exact frame states. [`cases`] lists the cases, [`build`] builds their frames,
 //! [`measure`] renders and judges one, [`report`] writes the table (`docs/stability.md`),
-//! CSV and JSON, and [`cli`] is `sim stress`.
+//! CSV and JSON, and [`command`] is `sim stress`.
 
 pub mod build;
 pub mod cases;
-pub mod cli;
+pub mod command;
 pub mod measure;
 pub mod report;
 

@@ -9,7 +9,7 @@
 //! distance to them, and [`output`] and [`plot`] write CSV, JSON and two PNGs.
 //! `docs/accuracy.md` defines every figure and shows a measured run.
 
-pub mod cli;
+pub mod command;
 pub mod configs;
 pub mod cost;
 pub mod measure;

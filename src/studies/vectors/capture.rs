@@ -9,8 +9,8 @@
 //! cannot drift from the functional model unnoticed.
 
 use super::VectorsError;
-use crate::world::assets::{Asset, AssetTree};
 use crate::models::reference::ray::primary_ray;
+use crate::world::assets::{Asset, AssetTree};
 use crate::world::scene::{FrameState, Scene};
 use glam::{DMat3, DVec3};
 use rtl_model::datapath::DatapathConfig;

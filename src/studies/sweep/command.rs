@@ -1,12 +1,11 @@
-//! The `sim sweep` command line: options, the table on stdout and the default's verdict. The
-//! binary only forwards to [`run_cli`], so `src/bin/sim.rs` stays a thin dispatcher.
+//! The `sim sweep` command line: options, the table on stdout and the default's verdict. Options are
+//! plain data: the command line (`src/bin/sim/sweep.rs`) parses them and calls [`run_command`].
 
 use super::configs::{self, NamedConfig};
 use super::output::write_outputs;
 use super::run::{run_sweep, FrontPlace, NamedScene, SweepOptions, SweepResult, SweepRow};
 use crate::world::scene::Scene;
 use anyhow::{bail, Context, Result};
-use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -18,42 +17,34 @@ pub const CAR: &str = "car";
 pub const DEFAULT_SCENES: [&str; 2] = [CAR, "scenes/vox_traffic.ron"];
 
 /// Options of `sim sweep`.
-#[derive(Args, Debug, Clone)]
-pub struct SweepArgs {
+#[derive(Debug, Clone)]
+pub struct SweepCommand {
     /// Configurations to sweep: a RON list of named datapath configurations,
     /// `[(name: "a", datapath: (...)), ...]`, each datapath naming only what it changes from
     /// the default (format of `sim datapath`). Default: the built-in list of docs/accuracy.md.
-    #[arg(long, value_name = "FILE")]
     pub configs: Option<PathBuf>,
     /// Run only these configurations of the list (comma-separated names).
-    #[arg(long, value_name = "NAMES", value_delimiter = ',')]
     pub only: Vec<String>,
     /// A scene to sweep over (RON file, or `car` for the embedded car); repeatable.
     /// Default: `car` and `scenes/vox_traffic.ron` (run from the repository root).
-    #[arg(long, value_name = "FILE")]
     pub scene: Vec<String>,
     /// Image width in pixels.
-    #[arg(long, default_value_t = 160)]
     pub width: u32,
     /// Image height in pixels.
-    #[arg(long, default_value_t = 96)]
     pub height: u32,
     /// Frames per scene (the first traces every pixel, later ones reuse the hit buffer).
-    #[arg(long, default_value_t = 4)]
     pub frames: u32,
     /// Octree depth of each scene's deepest asset (1-20; the others keep their offset to it,
     /// as `sim --depth`). Default: the scenes' own depths (the car's body is 10). The
     /// fixed-point model needs memory images, so the car stops at 12.
-    #[arg(long)]
     pub depth: Option<u8>,
     /// Folder for sweep.csv, sweep.json, sweep_cycles.png and sweep_dsp.png (created if
     /// missing).
-    #[arg(long, value_name = "DIR", default_value = "sweep_out")]
     pub out: PathBuf,
 }
 
 /// The configurations: the file's or the built-in list, narrowed by `--only`.
-fn select_configs(a: &SweepArgs) -> Result<Vec<NamedConfig>> {
+fn select_configs(a: &SweepCommand) -> Result<Vec<NamedConfig>> {
     let list = match &a.configs {
         Some(p) => configs::load(p)?,
         None => configs::builtin(),
@@ -79,7 +70,7 @@ fn select_configs(a: &SweepArgs) -> Result<Vec<NamedConfig>> {
 }
 
 /// Loads the scenes, naming each `car` or by its file's stem (with `_2`, `_3`… on repeats).
-fn load_scenes(a: &SweepArgs) -> Result<Vec<NamedScene>> {
+fn load_scenes(a: &SweepCommand) -> Result<Vec<NamedScene>> {
     let given: Vec<&str> = if a.scene.is_empty() {
         DEFAULT_SCENES.to_vec()
     } else {
@@ -207,7 +198,7 @@ configuration of no greater cost avoids; docs/accuracy.md)"
 }
 
 /// Runs `sim sweep`.
-pub fn run_cli(a: &SweepArgs) -> Result<()> {
+pub fn run_command(a: &SweepCommand) -> Result<()> {
     let start = Instant::now();
     if a.out.exists() && !a.out.is_dir() {
         bail!("--out {} exists and is not a folder", a.out.display());

@@ -1,35 +1,29 @@
-//! The `sim drift` command line: options, progress and the closing summary. The binary only
-//! forwards to [`run_cli`], so `src/bin/sim.rs` stays a thin dispatcher.
+//! The `sim drift` command line: options, progress and the closing summary. Options are plain
+//! data: the command line (`src/bin/sim/drift.rs`) parses them and calls [`run_command`].
 
 use super::output::write_outputs;
 use super::run::{run_drift, DriftOptions, Mode};
 use anyhow::{bail, Context, Result};
-use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 
 /// Options of `sim drift`.
-#[derive(Args, Debug, Clone)]
-pub struct DriftArgs {
+#[derive(Debug, Clone)]
+pub struct DriftCommand {
     /// Frames of the animation (at least 2).
-    #[arg(long, default_value_t = 10_000)]
     pub frames: u32,
     /// Image width in pixels.
-    #[arg(long, default_value_t = 32)]
     pub width: u32,
     /// Image height in pixels.
-    #[arg(long, default_value_t = 24)]
     pub height: u32,
     /// Octree depth of the spinning part (1-12).
-    #[arg(long, default_value_t = 7)]
     pub depth: u8,
     /// Folder for drift.csv, drift.json and drift.png (created if missing).
-    #[arg(long, default_value = "drift_out")]
     pub out: PathBuf,
 }
 
 /// Runs `sim drift`.
-pub fn run_cli(a: &DriftArgs) -> Result<()> {
+pub fn run_command(a: &DriftCommand) -> Result<()> {
     if !(1..=12).contains(&a.depth) {
         bail!("--depth {} is out of range (1 to 12)", a.depth);
     }

@@ -8,18 +8,15 @@ use super::measure::{measure, CaseResult, Verdict};
 use super::report::{csv, markdown};
 use crate::output::atomic::write_atomic;
 use anyhow::{bail, Context, Result};
-use clap::Args;
 use rtl_model::datapath::DatapathConfig;
 use std::path::PathBuf;
 
 /// Options of `sim stress`.
-#[derive(Args, Debug, Clone)]
-pub struct StressArgs {
+#[derive(Debug, Clone)]
+pub struct StressCommand {
     /// Run only this case (repeatable); default: all. Names as in docs/stability.md.
-    #[arg(long = "case", value_name = "NAME")]
     pub cases: Vec<String>,
     /// Folder for stress.md, stress.csv and stress.json (created if missing).
-    #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
 
@@ -45,7 +42,7 @@ pub fn run_cases(names: &[String]) -> Result<Vec<CaseResult>> {
 }
 
 /// Runs `sim stress`.
-pub fn run_cli(a: &StressArgs) -> Result<()> {
+pub fn run_command(a: &StressCommand) -> Result<()> {
     if let Some(out) = &a.out {
         if out.exists() && !out.is_dir() {
             bail!("--out {} exists and is not a folder", out.display());

@@ -1,44 +1,36 @@
-//! The `sim vectors` subcommand's arguments and driver (the binary only dispatches to it).
+//! The `sim vectors` command: options as plain data (the command line, `src/bin/sim/vectors.rs`,
+//! parses them) and the driver that generates, writes and tabulates the set.
 
-use super::{generate, write_files, VectorsOptions, MAX_COUNT};
+use super::{generate, write_files, VectorsOptions};
 use anyhow::{Context, Result};
-use clap::Args;
 use std::path::PathBuf;
 
 /// Arguments of `sim vectors`.
-#[derive(Args, Debug, Clone)]
-pub struct VectorsArgs {
+#[derive(Debug, Clone)]
+pub struct VectorsCommand {
     /// Folder for the vector files (created if missing; existing files of the same names
     /// are replaced).
-    #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
     /// Scene file (RON) whose frame is captured; default: the embedded animated car.
-    #[arg(long, value_name = "FILE")]
     pub scene: Option<PathBuf>,
     /// Rows per stage besides the adversarial ones: half captured from the frame (or as many
     /// as it offers), the rest random.
-    #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..=MAX_COUNT as u64))]
     pub count: u64,
     /// Seed of the random rows: the same seed and options give byte-identical files.
-    #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Frame of the scene to capture.
-    #[arg(long, default_value_t = 0)]
     pub frame: u32,
     /// Width of the captured frame, pixels (also the end-to-end frame).
-    #[arg(long, default_value_t = 32)]
     pub width: u32,
     /// Height of the captured frame, pixels.
-    #[arg(long, default_value_t = 20)]
     pub height: u32,
     /// Octree depth of the deepest asset (the others keep their offset); default: the
     /// scene's. The memory images are written too, so small depths keep the set small.
-    #[arg(long)]
     pub depth: Option<u8>,
 }
 
 /// Runs `sim vectors`: generates everything, then writes it, then prints a table per stage.
-pub fn run(a: VectorsArgs) -> Result<()> {
+pub fn run_command(a: &VectorsCommand) -> Result<()> {
     let opts = VectorsOptions {
         scene: a.scene.clone(),
         count: usize::try_from(a.count).context("--count does not fit this machine")?,

@@ -1,0 +1,100 @@
+//! `sim`: the command line of the model of an FPGA ray-tracing pipeline for animated sparse
+//! voxel octrees.
+//!
+//! One file per command, each parsing its options (clap) and calling the library; the
+//! library holds no clap type. Without a subcommand, `sim` runs the main job ([`run`]): the
+//! embedded animated car (or `--scene`) through the cycle model of the pipeline elaborated for
+//! the scene. Errors from every command reach [`main`], which prints the chain once and exits
+//! non-zero.
+
+mod args;
+mod bench;
+mod datapath;
+mod drift;
+mod hardware;
+mod run;
+mod stress;
+mod sweep;
+mod vectors;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "sim",
+    version,
+    about = "Model of an FPGA ray-tracing pipeline for animated sparse voxel octrees (Espe et al. 2019)",
+    long_about = "Renders a scene of animated SVOs with the f64 reference of the paper's method \
+(bounding spheres, front-to-back sort with early termination, inverse ray transforms, Revelles \
+octree walk, hit buffer). Without --scene it runs the embedded animated car.\n\n\
+Prints one line per frame and a summary; writes frame_NNNN.png into --out, and optionally a \
+JSON report (--report-json) and every pixel's hit record (--dump-hits). See docs/ for formats."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    run: run::RunArgs,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Measure the reference's speed (rays/s) with and without the hit buffer; asset build
+    /// time is reported separately and excluded.
+    Bench(bench::BenchArgs),
+    /// Print a datapath configuration (RON, the input format of --datapath; the default
+    /// unless --datapath is given), each unit's DSP48E2 count and every named error bound.
+    Datapath(datapath::DatapathArgs),
+    /// Print a hardware configuration of the cycle model (RON, the input format of --hw; the
+    /// default unless --hw is given) and its resource estimate against the part.
+    Hardware(hardware::HardwareArgs),
+    /// Error over animation run time: fixed-point pose paths over a long animation
+    /// (docs/drift.md); writes drift.csv, drift.json and drift.png.
+    Drift(drift::DriftArgs),
+    /// Write HDL test vectors of every stage ($readmemh hex, JSON manifests, SystemVerilog
+    /// packages) from adversarial cases, a real frame and seeded random stimulus
+    /// (docs/vectors.md).
+    Vectors(vectors::VectorsArgs),
+    /// Stiff and extreme cases against the f64 reference, with a verdict each
+    /// (docs/stability.md).
+    Stress(stress::StressArgs),
+    /// Accuracy against cost over datapath configurations on one or more scenes, with the
+    /// Pareto fronts (docs/accuracy.md); writes sweep.csv, sweep.json and two PNG plots.
+    Sweep(sweep::SweepArgs),
+}
+
+/// The error and its causes, each cause only if the text so far does not already say it
+/// (library errors include their source's message in their own).
+fn error_text(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !text.contains(&c) {
+            text.push_str(": ");
+            text.push_str(&c);
+        }
+    }
+    text
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let r = match cli.command {
+        Some(Command::Bench(a)) => bench::run_command(a),
+        Some(Command::Datapath(a)) => datapath::datapath_command(a),
+        Some(Command::Hardware(a)) => hardware::hardware_command(a),
+        Some(Command::Drift(a)) => drift::drift_command(a),
+        Some(Command::Vectors(a)) => vectors::vectors_command(a),
+        Some(Command::Stress(a)) => stress::stress_command(a),
+        Some(Command::Sweep(a)) => sweep::sweep_command(a),
+        None => run::run_command(cli.run),
+    };
+    match r {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", error_text(&e));
+            ExitCode::FAILURE
+        }
+    }
+}

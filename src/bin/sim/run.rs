@@ -1,0 +1,187 @@
+//! `sim` without a subcommand: the main job. Parses the run's options into a
+//! [`RunConfig`], elaborates the pipeline for the scene (cycle model), runs it and prints
+//! the text of `svo_sim::output::text`.
+
+use crate::args::{parse_window, ModelArg, SceneArgs};
+use anyhow::Result;
+use clap::Args;
+use std::path::PathBuf;
+use svo_sim::models::cycle::waves::WaveWindow;
+use svo_sim::models::reference::RenderOptions;
+use svo_sim::output::text;
+use svo_sim::run::config_files::{load_datapath, load_hardware};
+use svo_sim::run::elaborate::elaborate;
+use svo_sim::run::{run, Model, RunConfig, VcdRequest};
+
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Folder for the PNG frames.
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    out: PathBuf,
+    /// Do not write PNGs.
+    #[arg(long)]
+    no_png: bool,
+    /// Write the JSON report here.
+    #[arg(long, value_name = "FILE")]
+    report_json: Option<PathBuf>,
+    /// Trace every pixel of every frame (no reuse across frames).
+    #[arg(long)]
+    no_hit_buffer: bool,
+    /// Walk every candidate instead of stopping at the first certain hit.
+    #[arg(long)]
+    no_early_termination: bool,
+    /// Write every pixel's hit record here (binary, or CSV if the name ends in .csv;
+    /// format in docs/hit-dump.md).
+    #[arg(long, value_name = "FILE")]
+    dump_hits: Option<PathBuf>,
+    /// Print only the summary.
+    #[arg(long, short)]
+    quiet: bool,
+    /// Which model renders the output: the cycle-accurate pipeline (default: cycle report
+    /// per frame), the functional fixed-point datapath, or the f64 reference. The fixed and
+    /// cycle models are compared with the reference every frame (accuracy lines,
+    /// diff_NNNN.png).
+    #[arg(long, value_enum, default_value = "cycle")]
+    model: ModelArg,
+    /// Datapath formats and parameters (RON, as printed by `sim datapath`); default: the
+    /// documented default of docs/number-formats.md.
+    #[arg(long, value_name = "FILE")]
+    datapath: Option<PathBuf>,
+    /// Hardware configuration of the cycle model (RON, as printed by `sim hardware`; a file
+    /// names only what it changes); default: docs/cycle-model.md.
+    #[arg(long, value_name = "FILE")]
+    hw: Option<PathBuf>,
+    /// Cycle model: re-execute every stage's arithmetic (sphere tests, sort, transform,
+    /// reciprocals, walk, record) and stop with an error at the first difference from the
+    /// functional model. Slower; the hit buffer is compared word for word every frame anyway.
+    #[arg(long)]
+    cross_check: bool,
+    /// Cycle model: write waveforms (VCD, for GTKWave) of the window given by --vcd-cycles
+    /// or --vcd-pixels.
+    #[arg(long, value_name = "FILE")]
+    vcd: Option<PathBuf>,
+    /// Cycle window of --vcd, FROM:TO (cycles of the run, the first frame starts at 0).
+    #[arg(
+        long,
+        value_name = "FROM:TO",
+        default_value = "0:20000",
+        conflicts_with = "vcd_pixels"
+    )]
+    vcd_cycles: String,
+    /// Pixel window of --vcd, FROM:TO (raster indices in frame --vcd-frame): from the cycle
+    /// pixel FROM is generated until pixel TO's record is written.
+    #[arg(long, value_name = "FROM:TO")]
+    vcd_pixels: Option<String>,
+    /// Frame of --vcd-pixels.
+    #[arg(long, default_value_t = 0)]
+    vcd_frame: u32,
+    /// Cycle model: write the stage stamps (entry and exit cycle per stage) of the first
+    /// --log-count records as JSON lines, to check an RTL's latency stage by stage.
+    #[arg(long, value_name = "FILE")]
+    transaction_log: Option<PathBuf>,
+    /// Records in --transaction-log.
+    #[arg(long, default_value_t = 1000)]
+    log_count: usize,
+    /// Keep every unit of the pipeline: no scene-driven elaboration (by default the cycle
+    /// model leaves out what the scene cannot use, e.g. the sorter for one instance or the
+    /// hit buffer when the camera moves every frame; images are identical either way;
+    /// docs/elaboration.md).
+    #[arg(long)]
+    no_prune: bool,
+}
+
+impl RunArgs {
+    /// The waveform request, if `--vcd` was given.
+    fn vcd(&self) -> Result<Option<VcdRequest>> {
+        let Some(path) = &self.vcd else {
+            return Ok(None);
+        };
+        let window = match &self.vcd_pixels {
+            Some(t) => {
+                let (from, to) = parse_window("--vcd-pixels", t)?;
+                WaveWindow::Pixels {
+                    frame: self.vcd_frame,
+                    from,
+                    to,
+                }
+            }
+            None => {
+                let (from, to) = parse_window("--vcd-cycles", &self.vcd_cycles)?;
+                WaveWindow::Cycles(from, to)
+            }
+        };
+        Ok(Some(VcdRequest {
+            path: path.clone(),
+            window,
+        }))
+    }
+
+    /// The run's configuration (before elaboration).
+    fn config(&self) -> Result<RunConfig> {
+        Ok(RunConfig {
+            scene: self.scene.load((None, None))?,
+            depth: self.scene.depth,
+            materialise: self.scene.materialise(),
+            options: RenderOptions {
+                use_hit_buffer: !self.no_hit_buffer,
+                early_termination: !self.no_early_termination,
+            },
+            out_dir: (!self.no_png).then(|| self.out.clone()),
+            report_json: self.report_json.clone(),
+            dump_hits: self.dump_hits.clone(),
+            model: match self.model {
+                ModelArg::Reference => Model::Reference,
+                ModelArg::Fixed => Model::Fixed,
+                ModelArg::Cycle => Model::Cycle,
+            },
+            datapath: load_datapath(self.datapath.as_deref())?,
+            hardware: load_hardware(self.hw.as_deref())?,
+            cross_check: self.cross_check,
+            vcd: self.vcd()?,
+            transaction_log: self.transaction_log.clone().map(|p| (p, self.log_count)),
+            progress_every: (!self.quiet).then(|| std::time::Duration::from_secs(2)),
+            elaboration: None,
+        })
+    }
+}
+
+/// Runs the main job.
+pub fn run_command(a: RunArgs) -> Result<()> {
+    a.scene.set_threads()?;
+    let mut cfg = a.config()?;
+    if cfg.model == Model::Cycle {
+        let e = elaborate(
+            &cfg.scene,
+            cfg.depth,
+            &cfg.hardware,
+            &cfg.datapath,
+            cfg.options.use_hit_buffer,
+        )?;
+        let e = if a.no_prune { e.not_applied() } else { e };
+        if !a.quiet {
+            println!("{e}");
+        }
+        e.apply_to(&mut cfg);
+    }
+    println!("{}", text::run_header(&cfg, rayon::current_num_threads()));
+    let clock_mhz = cfg.hardware.clock_mhz;
+    let out = run(&cfg, |f, n| {
+        if !a.quiet {
+            println!("{}", text::frame_lines(f, n, clock_mhz));
+        }
+    })?;
+    if !a.quiet {
+        if let Some(last) = out.report.frames.last().and_then(|f| f.cycle.as_ref()) {
+            println!("{}", text::cycle_tables(last));
+        }
+        println!("{}", text::assets_table(&out.report.assets));
+    }
+    println!("{}", text::summary(&out.report.summary));
+    let written = text::written(&cfg, out.report.summary.frames);
+    if !written.is_empty() {
+        println!("{written}");
+    }
+    Ok(())
+}

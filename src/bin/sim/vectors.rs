@@ -1,0 +1,54 @@
+//! `sim vectors`: parses the options and runs `svo_sim::studies::vectors::command`.
+
+use anyhow::Result;
+use clap::Args;
+use std::path::PathBuf;
+use svo_sim::studies::vectors;
+use svo_sim::studies::vectors::command::VectorsCommand;
+use svo_sim::studies::vectors::MAX_COUNT;
+
+/// Options of `sim vectors`.
+#[derive(Args, Debug, Clone)]
+pub struct VectorsArgs {
+    /// Folder for the vector files (created if missing; existing files of the same names
+    /// are replaced).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Scene file (RON) whose frame is captured; default: the embedded animated car.
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
+    /// Rows per stage besides the adversarial ones: half captured from the frame (or as many
+    /// as it offers), the rest random.
+    #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..=MAX_COUNT as u64))]
+    count: u64,
+    /// Seed of the random rows: the same seed and options give byte-identical files.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Frame of the scene to capture.
+    #[arg(long, default_value_t = 0)]
+    frame: u32,
+    /// Width of the captured frame, pixels (also the end-to-end frame).
+    #[arg(long, default_value_t = 32)]
+    width: u32,
+    /// Height of the captured frame, pixels.
+    #[arg(long, default_value_t = 20)]
+    height: u32,
+    /// Octree depth of the deepest asset (the others keep their offset); default: the
+    /// scene's. The memory images are written too, so small depths keep the set small.
+    #[arg(long)]
+    depth: Option<u8>,
+}
+
+/// Runs `sim vectors`.
+pub fn vectors_command(a: VectorsArgs) -> Result<()> {
+    vectors::command::run_command(&VectorsCommand {
+        out: a.out,
+        scene: a.scene,
+        count: a.count,
+        seed: a.seed,
+        frame: a.frame,
+        width: a.width,
+        height: a.height,
+        depth: a.depth,
+    })
+}

@@ -1,0 +1,234 @@
+//! The console text of a run: the per-frame lines, the last frame's cycle tables, the asset
+//! list and the summary, as `sim` prints them (`docs/report.md` §1 explains every field).
+//!
+//! Pipeline position: after each frame of [`crate::run::run`] (through its progress
+//! callback) and after the run; the JSON report (`output::report`) carries the same numbers.
+//! Each function returns text so that the command line only prints it.
+
+use super::report::{AssetReport, FrameReport, Summary};
+use crate::models::cycle::CycleFrame;
+use crate::models::reference::FrameStats;
+use crate::run::RunConfig;
+use std::fmt::Write;
+
+/// The run's opening line: scene, resolution, frames, instances, threads and options.
+pub fn run_header(cfg: &RunConfig, threads: usize) -> String {
+    let (w, h) = cfg.scene.file.resolution;
+    let on = |b: bool| if b { "on" } else { "off" };
+    format!(
+        "sim: {} — {}x{}, {} frames, {} instances, {} threads, hit buffer {}, early termination {}",
+        cfg.scene.origin,
+        w,
+        h,
+        cfg.scene.file.frames,
+        cfg.scene.file.instances.len(),
+        threads,
+        on(cfg.options.use_hit_buffer),
+        on(cfg.options.early_termination),
+    )
+}
+
+/// A frame's counters: rays, sphere tests, candidates, walks, reuse and wall time.
+pub fn frame_line(st: &FrameStats, frames: u32) -> String {
+    let cand = st.candidates as f64 / (st.rays - st.hit_buffer_reused).max(1) as f64;
+    format!(
+        "frame {:>4}/{frames}  rays {:>8}  sphere tests {:>9}  culled {:>9}  cand/ray {:>5.2}  walks {:>8}  steps {:>10}  early-term {:>7}  reused {:>8} ({:>5.1}%)  {:>8.1} ms  {:>7.2} M rays/s",
+        st.frame,
+        st.rays,
+        st.sphere_tests,
+        st.spheres_culled,
+        cand,
+        st.walks,
+        st.walker_steps,
+        st.early_terminations,
+        st.hit_buffer_reused,
+        100.0 * st.hit_buffer_reused as f64 / st.rays.max(1) as f64,
+        st.wall_s * 1e3,
+        st.rays_per_s / 1e6
+    )
+}
+
+/// A frame's lines: the counters, then the accuracy and cycle lines when the model has them.
+pub fn frame_lines(f: &FrameReport, frames: u32, clock_mhz: u32) -> String {
+    let mut s = frame_line(&f.stats, frames);
+    if let Some(acc) = &f.accuracy {
+        let _ = write!(
+            s,
+            "\n           accuracy: {} px  hit/miss {}  instance {}  voxel {} ({} beyond bound)  t err max {:.3e} m rms {:.3e} m  saturations {}  step limits {}  zero flushes {}  reference {:.1} ms",
+            acc.pixels,
+            acc.hit_mismatches,
+            acc.instance_mismatches,
+            acc.voxel_mismatches,
+            acc.voxel_mismatches_beyond_bound,
+            acc.t_err_max,
+            acc.t_err_rms,
+            acc.saturations,
+            acc.step_limit_hits,
+            acc.zero_flushes,
+            f.reference_wall_s.unwrap_or(0.0) * 1e3
+        );
+    }
+    if let Some(c) = &f.cycle {
+        let _ = write!(
+            s,
+            "\n           cycles {:>9}  {:>8.1} fps @ {} MHz  {:.3} rays/cycle (ideal 1)  walkers {:>3.0}% issuing {:>3.0}% on memory  cache hit {:>5.1}%  DRAM {:>4.1}% of peak  bound: {}",
+            c.cycles,
+            c.fps_at_clock,
+            clock_mhz,
+            c.rays_per_cycle,
+            100.0 * c.walkers.issuing as f64 / walker_cycles(c),
+            100.0 * c.walkers.memory_wait as f64 / walker_cycles(c),
+            100.0 * c.memory.cache_hit_rate,
+            c.memory.dram_bandwidth_pct,
+            c.bound.limit
+        );
+    }
+    s
+}
+
+/// Walker-cycles of a frame (every walker, every cycle), the denominator of the shares.
+fn walker_cycles(c: &CycleFrame) -> f64 {
+    let w = &c.walkers;
+    (w.issuing + w.memory_wait + w.latency_wait + w.backpressured + w.empty).max(1) as f64
+}
+
+/// A frame's stage, FIFO and memory tables (printed for the last frame).
+pub fn cycle_tables(c: &CycleFrame) -> String {
+    let mut s = String::new();
+    let cyc = c.cycles.max(1) as f64;
+    let _ = writeln!(s, "last frame, per stage (% of {} cycles):", c.cycles);
+    let _ = writeln!(
+        s,
+        "  {:<11} {:>7} {:>8} {:>14} {:>6} {:>12}",
+        "stage", "busy", "starved", "backpressured", "idle", "transactions"
+    );
+    for st in &c.stages {
+        let _ = writeln!(
+            s,
+            "  {:<11} {:>6.1}% {:>7.1}% {:>13.1}% {:>5.1}% {:>12}",
+            st.name,
+            100.0 * st.busy as f64 / cyc,
+            100.0 * st.starved as f64 / cyc,
+            100.0 * st.backpressured as f64 / cyc,
+            100.0 * st.idle as f64 / cyc,
+            st.transactions
+        );
+    }
+    let w = &c.walkers;
+    let wc = walker_cycles(c);
+    let _ = writeln!(
+        s,
+        "  walkers: {} walks, {} issue slots; walker-cycles {:.1}% issuing, {:.1}% waiting on memory, {:.1}% on the step pipeline, {:.1}% back-pressured, {:.1}% empty; contexts {:.1}% occupied; {} dispatch stalls",
+        w.walks,
+        w.slots,
+        100.0 * w.issuing as f64 / wc,
+        100.0 * w.memory_wait as f64 / wc,
+        100.0 * w.latency_wait as f64 / wc,
+        100.0 * w.backpressured as f64 / wc,
+        100.0 * w.empty as f64 / wc,
+        100.0 * c.context_occupancy,
+        w.dispatch_stalls
+    );
+    let _ = writeln!(s, "  FIFOs (depth, mean / max occupancy, full cycles):");
+    for f in &c.fifos {
+        let _ = writeln!(
+            s,
+            "    {:<24} {:>4}  {:>6.2} / {:<4} {:>8}",
+            f.name, f.depth, f.mean_occupancy, f.max_occupancy, f.full_cycles
+        );
+    }
+    let m = &c.memory;
+    let _ = writeln!(
+        s,
+        "  node memory: {} node + {} far + {} attr reads, {} bytes; {} on chip; cache hit rate {:.1}%; DRAM {} bytes = {:.1}% of peak; mean latency {:.1} cycles",
+        m.node_fetches,
+        m.far_fetches,
+        m.attr_fetches,
+        m.bytes,
+        m.onchip_reads,
+        100.0 * m.cache_hit_rate,
+        m.dram_bytes,
+        m.dram_bandwidth_pct,
+        m.mean_latency
+    );
+    let o = &c.ops_per_pixel;
+    let _ = writeln!(
+        s,
+        "  per pixel: {:.1} multiplies, {:.1} adds, {:.2} square roots, {:.2} reciprocals",
+        o.multiplies, o.adds, o.square_roots, o.reciprocals
+    );
+    let _ = write!(s, "  bound: {} — {}", c.bound.limit, c.bound.reason);
+    s
+}
+
+/// Each asset's memory image: kind, depth, nodes, leaves, far pointers, size, build time.
+pub fn assets_table(assets: &[AssetReport]) -> String {
+    let mut s = String::from("assets:");
+    for r in assets {
+        let _ = write!(
+            s,
+            "\n  {:<16} {:<3} depth {:>2}  nodes {:>9}  leaves {:>9}  far {:>5}  {:>8.2} MiB  built in {:.2} s",
+            r.name,
+            r.kind,
+            r.depth,
+            r.nodes,
+            r.leaves,
+            r.far_words,
+            (r.node_bytes + r.attr_bytes) as f64 / (1 << 20) as f64,
+            r.build_s
+        );
+    }
+    s
+}
+
+/// The closing summary, and with the cycle model its frame rate and the resource estimate.
+pub fn summary(s: &Summary) -> String {
+    let mut t = format!(
+        "summary: {} frames, {} rays in {:.3} s = {:.2} M rays/s; hit buffer reused {} pixels ({:.1}%); {} walker steps; assets built in {:.2} s",
+        s.frames,
+        s.rays,
+        s.wall_s,
+        s.rays_per_s / 1e6,
+        s.hit_buffer_reused,
+        100.0 * s.reuse_fraction,
+        s.walker_steps,
+        s.build_s
+    );
+    if let Some(c) = &s.cycle {
+        let _ = write!(
+            t,
+            "\ncycle model: {} cycles = {:.1} fps at {} MHz (slowest frame {:.1} fps), {:.3} rays/cycle; bound: {}; simulated {:.2} M rays/s, {:.2} M cycles/s\n{}",
+            c.cycles,
+            c.fps_at_clock,
+            c.clock_mhz,
+            c.fps_at_clock_min,
+            c.rays_per_cycle,
+            c.bound,
+            c.sim_rays_per_s / 1e6,
+            c.sim_cycles_per_s / 1e6,
+            c.resources
+        );
+    }
+    t
+}
+
+/// What the run wrote, one `wrote …` line each.
+pub fn written(cfg: &RunConfig, frames: u32) -> String {
+    let mut lines = Vec::new();
+    if let Some(dir) = &cfg.out_dir {
+        lines.push(format!("wrote {} PNGs to {}", frames, dir.display()));
+    }
+    if let Some(v) = &cfg.vcd {
+        lines.push(format!("wrote waveforms {}", v.path.display()));
+    }
+    if let Some((p, _)) = &cfg.transaction_log {
+        lines.push(format!("wrote transaction log {}", p.display()));
+    }
+    if let Some(p) = &cfg.report_json {
+        lines.push(format!("wrote report {}", p.display()));
+    }
+    if let Some(p) = &cfg.dump_hits {
+        lines.push(format!("wrote hit records {}", p.display()));
+    }
+    lines.join("\n")
+}

@@ -1,0 +1,95 @@
+//! Reading the two configuration files a run takes: the datapath (`--datapath`, the format
+//! `sim datapath` prints) and the hardware (`--hw`, the format `sim hardware` prints). Each
+//! names only what it changes from the default; a malformed file is reported with its line
+//! and column, an invalid one with the rule it breaks.
+//!
+//! Pipeline position: before elaboration and the run; the studies that take these files
+//! (`sim bench`, `sim hardware`) read them here too.
+
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::datapath::DatapathConfig;
+use serde::de::DeserializeOwned;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Why a configuration file could not be used.
+#[derive(Debug, Error)]
+pub enum ConfigFileError {
+    /// The file could not be read.
+    #[error("cannot read {what} file {path}: {source}")]
+    Read {
+        /// "datapath" or "hardware".
+        what: &'static str,
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The file is not valid RON of the configuration's schema.
+    #[error("{path}:{line}:{col}: malformed {what} configuration: {message}")]
+    Malformed {
+        /// "datapath" or "hardware".
+        what: &'static str,
+        /// The file.
+        path: PathBuf,
+        /// Line of the error (1-based).
+        line: usize,
+        /// Column of the error (1-based).
+        col: usize,
+        /// What the parser expected.
+        message: String,
+    },
+    /// The configuration parses but breaks a rule of the model.
+    #[error("{path}: invalid {what} configuration: {message}")]
+    Invalid {
+        /// "datapath" or "hardware".
+        what: &'static str,
+        /// The file.
+        path: PathBuf,
+        /// The rule broken.
+        message: String,
+    },
+}
+
+fn parse<T: DeserializeOwned>(what: &'static str, path: &Path) -> Result<T, ConfigFileError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ConfigFileError::Read {
+        what,
+        path: path.to_path_buf(),
+        source,
+    })?;
+    ron::from_str(&text).map_err(|e| ConfigFileError::Malformed {
+        what,
+        path: path.to_path_buf(),
+        line: e.position.line,
+        col: e.position.col,
+        message: e.code.to_string(),
+    })
+}
+
+/// The datapath configuration in `path`, or the documented default without one.
+pub fn load_datapath(path: Option<&Path>) -> Result<DatapathConfig, ConfigFileError> {
+    let Some(p) = path else {
+        return Ok(DatapathConfig::default());
+    };
+    let cfg: DatapathConfig = parse("datapath", p)?;
+    cfg.validate().map_err(|message| ConfigFileError::Invalid {
+        what: "datapath",
+        path: p.to_path_buf(),
+        message: message.to_string(),
+    })?;
+    Ok(cfg)
+}
+
+/// The hardware configuration in `path`, or the documented default without one.
+pub fn load_hardware(path: Option<&Path>) -> Result<HwConfig, ConfigFileError> {
+    let Some(p) = path else {
+        return Ok(HwConfig::default());
+    };
+    let cfg: HwConfig = parse("hardware", p)?;
+    cfg.validate().map_err(|message| ConfigFileError::Invalid {
+        what: "hardware",
+        path: p.to_path_buf(),
+        message: message.to_string(),
+    })?;
+    Ok(cfg)
+}
