@@ -1,7 +1,7 @@
 //! Rows of a frame's trace handed from the functional model to the cycle model while the
 //! frame is still being rendered, so the two run at the same time on two cores.
 //!
-//! Pipeline position: the functional/timing split (DESIGN.md §6, `trace.rs`). The functional
+//! Pipeline position: the functional/timing split (`docs/architecture.md` §4, `trace.rs`). The functional
 //! model renders rows top to bottom and publishes each [`RowTrace`] when it is complete; the
 //! cycle model's ray generation asks for a row before it generates that row's first pixel,
 //! and waits (in wall time only: no simulated cycle passes) until it is there. Every later
