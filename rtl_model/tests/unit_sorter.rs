@@ -4,8 +4,8 @@
 
 use rtl_model::fixed::Format;
 use rtl_model::units::sorter::{
-    apply_network, comparator_count, depth, network, network_stages, resources, sort_candidates,
-    sort_timing, SortKey, Sorter, SorterConfig, SorterStats,
+    apply_network, comparator_count, depth, network, network_stages, resources, sort_timing,
+    SortKey, Sorter, SorterConfig, SorterStats,
 };
 
 /// SplitMix64: small, seeded, and the same on every platform.
@@ -234,7 +234,7 @@ fn check_case(rng: &mut Rng, shape: Shape, case: usize) {
     let keys = gen_keys(rng, shape, count, f);
     let cfg = SorterConfig { n, key: f };
     let mut st = SorterStats::default();
-    let out = sort_candidates(&keys, &cfg, &mut st);
+    let out = Sorter::new(&cfg).sort(&keys, &mut st);
     let ctx = || {
         format!(
             "case {case} {shape:?} n = {n} count = {count} key {}",
@@ -313,7 +313,7 @@ fn out_of_range_keys_are_clamped_and_counted() {
         let outside = keys.iter().filter(|k| k.0 < 0 || k.0 > 255).count() as u64;
         let clamped: Vec<SortKey> = keys.iter().map(|&(t, i)| (t.clamp(0, 255), i)).collect();
         let mut st = SorterStats::default();
-        let out = sort_candidates(&keys, &cfg, &mut st);
+        let out = Sorter::new(&cfg).sort(&keys, &mut st);
         assert_eq!(out, std_sorted(&clamped));
         assert_eq!(st.keys_clamped, outside);
     }
@@ -325,7 +325,7 @@ fn out_of_range_keys_are_clamped_and_counted() {
     };
     let keys = [(i64::MAX, 1), (i64::MIN, 2), (0, 3), (i64::MIN, 1)];
     assert_eq!(
-        sort_candidates(&keys, &wide, &mut st),
+        Sorter::new(&wide).sort(&keys, &mut st),
         vec![(i64::MIN, 1), (i64::MIN, 2), (0, 3), (i64::MAX, 1)]
     );
     assert_eq!(st.keys_clamped, 0);
@@ -350,21 +350,18 @@ fn invalid_configurations_sort_and_are_counted() {
     ] {
         assert!(cfg.validate().is_err());
         let mut st = SorterStats::default();
-        let out = sort_candidates(&keys, &cfg, &mut st);
+        let out = Sorter::new(&cfg).sort(&keys, &mut st);
         assert_eq!(st.config_errors, 1, "{cfg:?}");
         assert_eq!(out.len(), keys.len());
         assert!(out.windows(2).all(|w| w[0] <= w[1]));
     }
     // n = 0 runs as one lane: nothing but merges.
     let mut st = SorterStats::default();
-    let out = sort_candidates(
-        &keys,
-        &SorterConfig {
-            n: 0,
-            ..SorterConfig::default()
-        },
-        &mut st,
-    );
+    let out = Sorter::new(&SorterConfig {
+        n: 0,
+        ..SorterConfig::default()
+    })
+    .sort(&keys, &mut st);
     // uQ10.22 clamps −7 to 0 (counted), then sorts as usual.
     assert_eq!(out, std_sorted(&keys.map(|(t, i)| (t.max(0), i))));
     assert_eq!(st.keys_clamped, 1);
@@ -380,7 +377,7 @@ fn the_largest_count_is_sorted_in_full() {
         .collect();
     assert_eq!(keys.len(), 65_535);
     let mut st = SorterStats::default();
-    let out = sort_candidates(&keys, &cfg, &mut st);
+    let out = Sorter::new(&cfg).sort(&keys, &mut st);
     assert_eq!(out, std_sorted(&keys));
     assert_eq!(st.networks_run, 8192); // ⌈65535 / 8⌉
     assert_eq!(st.merge_passes, 13);
@@ -423,10 +420,10 @@ fn default_config() {
 }
 
 /// `Sorter::sort_in_place` (the model's fast path) gives the same order and the same
-/// statistics as `sort_candidates`, for counts below, at and above N.
+/// statistics as `Sorter::sort` (the whole unit, any count), for counts below, at and above N.
 #[test]
-fn in_place_sort_matches_sort_candidates() {
-    use rtl_model::units::sorter::{sort_candidates, Sorter, SorterConfig, SorterStats};
+fn in_place_sort_matches_sort() {
+    use rtl_model::units::sorter::{Sorter, SorterConfig, SorterStats};
     let cfg = SorterConfig::default();
     let sorter = Sorter::new(&cfg);
     let mut s = 0x1234_5678_9abc_def1u64;
@@ -446,7 +443,7 @@ fn in_place_sort_matches_sort_candidates() {
             })
             .collect();
         let (mut a, mut b) = (SorterStats::default(), SorterStats::default());
-        let want = sort_candidates(&keys, &cfg, &mut a);
+        let want = sorter.sort(&keys, &mut a);
         let mut got = keys.clone();
         sorter.sort_in_place(&mut got, &mut b);
         assert_eq!(got, want, "case {case}");

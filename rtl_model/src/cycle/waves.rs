@@ -184,11 +184,6 @@ impl Timebase {
             .checked_mul(self.period_ps)
             .ok_or(WavesError::TimeOverflow(cycle))
     }
-
-    /// The cycle a VCD time falls in.
-    pub fn cycle_of(self, time: u64) -> u64 {
-        time / self.period_ps
-    }
 }
 
 /// The inclusive range of cycles `[from, to]` that is written; see the module doc for what

@@ -337,7 +337,7 @@ pub struct SortTiming {
 }
 
 /// The cycle model's parameters for one ray of `count` candidates (documented in
-/// [`SortTiming`]); [`sort_candidates`] counts exactly this.
+/// [`SortTiming`]); [`Sorter::sort`] counts exactly this.
 pub fn sort_timing(count: usize, n: u8) -> SortTiming {
     sort_timing_with_latency(count, n, network_latency(n.max(1)))
 }
@@ -412,8 +412,7 @@ fn merge_two(a: &[SortKey], b: &[SortKey]) -> Vec<SortKey> {
     out
 }
 
-/// A sorter with its network built once, for sorting many rays with one configuration
-/// ([`sort_candidates`] builds the network on every call).
+/// A sorter with its network built once, for sorting many rays with one configuration.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Sorter {
     cfg: SorterConfig,
@@ -437,7 +436,19 @@ impl Sorter {
         &self.cfg
     }
 
-    /// Sorts one ray's candidates; see [`sort_candidates`].
+    /// Sorts one ray's candidates front to back, by (t, id), as the hardware does: chunks of N
+    /// through the network, then two-way merge passes over the sorted runs. Any number of keys
+    /// is handled and returned (none dropped, none duplicated). t codes outside `cfg.key` are
+    /// clamped into it first and counted; the returned keys are the clamped ones.
+    ///
+    /// ```
+    /// use rtl_model::units::sorter::{Sorter, SorterConfig, SorterStats};
+    /// let cfg = SorterConfig::default();
+    /// let mut st = SorterStats::default();
+    /// let out = Sorter::new(&cfg).sort(&[(30, 2), (10, 7), (30, 1)], &mut st);
+    /// assert_eq!(out, vec![(10, 7), (30, 1), (30, 2)]); // equal t: lower id first
+    /// assert_eq!((st.networks_run, st.merge_steps), (1, 0));
+    /// ```
     pub fn sort(&self, keys: &[(i64, u16)], stats: &mut SorterStats) -> Vec<(i64, u16)> {
         let cfg = &self.cfg;
         if cfg.validate().is_err() {
@@ -525,25 +536,4 @@ impl Sorter {
         stats.cycles += t.latency;
         stats.extra_cycles += t.latency - self.latency;
     }
-}
-
-/// Sorts one ray's candidates front to back, by (t, id), as the hardware does: chunks of N
-/// through the network, then two-way merge passes over the sorted runs. Any number of keys
-/// is handled and returned (none dropped, none duplicated). t codes outside `cfg.key` are
-/// clamped into it first and counted; the returned keys are the clamped ones.
-///
-/// ```
-/// use rtl_model::units::sorter::{sort_candidates, SorterConfig, SorterStats};
-/// let cfg = SorterConfig::default();
-/// let mut st = SorterStats::default();
-/// let out = sort_candidates(&[(30, 2), (10, 7), (30, 1)], &cfg, &mut st);
-/// assert_eq!(out, vec![(10, 7), (30, 1), (30, 2)]); // equal t: lower id first
-/// assert_eq!((st.networks_run, st.merge_steps), (1, 0));
-/// ```
-pub fn sort_candidates(
-    keys: &[(i64, u16)],
-    cfg: &SorterConfig,
-    stats: &mut SorterStats,
-) -> Vec<(i64, u16)> {
-    Sorter::new(cfg).sort(keys, stats)
 }

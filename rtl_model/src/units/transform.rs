@@ -114,17 +114,6 @@ fn dot(
     quantize((p[0] + p[1]) + p[2], frac, out, ov, sig)
 }
 
-/// Signs of the exact direction sums d'_k before rounding: the walker mirrors an axis on
-/// this bit (Revelles §3.4), and a component that rounds to the code 0 keeps the side it came
-/// from, which two's complement alone cannot say (there is no −0 code). An exact 0 is +0.
-pub fn direction_signs(d: [i64; 3], inst: &InstanceRaw) -> [bool; 3] {
-    [0, 1, 2].map(|k| {
-        let col = inst.axes[k];
-        let p = [0, 1, 2].map(|j| i128::from(col[j]) * i128::from(d[j]));
-        (p[0] + p[1]) + p[2] < 0
-    })
-}
-
 /// The transaction: world origin `o` and direction `d` (raw codes) into the local frame of
 /// `inst`. Returns (o', d') as raw codes in `local_pos` and `local_dir`.
 pub fn transform(
@@ -139,8 +128,10 @@ pub fn transform(
     (o_local, d_local)
 }
 
-/// [`transform`] plus the signs of the exact direction sums (see [`direction_signs`]), which
-/// the hardware takes from the same adders.
+/// [`transform`] plus the signs of the exact direction sums d'_k before rounding, which the
+/// hardware takes from the same adders: the walker mirrors an axis on this bit (Revelles §3.4),
+/// and a component that rounds to the code 0 keeps the side it came from, which two's
+/// complement alone cannot say (there is no −0 code). An exact 0 is +0.
 pub fn transform_with_signs(
     o: [i64; 3],
     d: [i64; 3],
