@@ -438,3 +438,22 @@ fn switches_that_must_not_change_records() {
         );
     }
 }
+
+/// Output into a closed pipe (`sim hardware | head -1`) ends `sim` quietly with the status a
+/// shell gives a process ended by SIGPIPE, not with a panic and a backtrace.
+#[test]
+fn closed_stdout_ends_quietly() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sim"))
+        .arg("hardware")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start sim");
+    // Close the read end before sim has written anything.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("wait for sim");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(out.status.code(), Some(141), "{stderr}");
+}

@@ -78,7 +78,27 @@ fn error_text(e: &anyhow::Error) -> String {
     text
 }
 
+/// Ends the process quietly when stdout is a closed pipe (`sim hardware | head`): Rust's
+/// `println!` panics there, and a backtrace would bury the output the user asked for. The exit
+/// status is 141, what a shell reports for a process ended by SIGPIPE, as other tools do.
+fn quiet_on_broken_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let text = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if text.contains("failed printing to stdout") && text.contains("Broken pipe") {
+            std::process::exit(141);
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
+    quiet_on_broken_pipe();
     let cli = Cli::parse();
     let r = match cli.command {
         Some(Command::Bench(a)) => bench::run_command(a),
