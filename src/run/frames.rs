@@ -5,6 +5,7 @@
 //! (when loaded), depths, asset builds, output folders. Each output file is written
 //! atomically.
 
+use super::elaborate::Elaboration;
 use crate::models::cycle::runner::CycleRun;
 use crate::models::cycle::waves::PipelineWaves;
 use crate::models::cycle::CycleOptions;
@@ -65,7 +66,23 @@ pub struct RunConfig {
     pub transaction_log: Option<(PathBuf, usize)>,
     /// The scene-driven elaboration behind `datapath`, `hardware` and the hit-buffer switch
     /// (`None`: none was made); its resource adjustments and report section come from here.
-    pub elaboration: Option<crate::run::elaborate::Elaboration>,
+    pub elaboration: Option<Elaboration>,
+}
+
+impl RunConfig {
+    /// This configuration running the pipeline of `e` (when applied; under `--no-prune` only
+    /// reporting it): its hardware, datapath and hit-buffer switch, and the elaboration in the
+    /// report. Elaboration decides from the scene and the configured hardware; the run only
+    /// takes the result, so neither module depends on the other's types.
+    pub fn elaborated(mut self, e: Elaboration) -> Self {
+        if e.applied {
+            self.hardware = e.hardware.clone();
+            self.datapath = e.datapath.clone();
+            self.options.use_hit_buffer = e.use_hit_buffer;
+        }
+        self.elaboration = Some(e);
+        self
+    }
 }
 
 /// The model whose records become the output.

@@ -163,7 +163,7 @@ pub fn run_command(a: RunArgs) -> Result<()> {
         if !a.quiet {
             println!("{e}");
         }
-        e.apply_to(&mut cfg);
+        cfg = cfg.elaborated(e);
     }
     println!("{}", text::run_header(&cfg, rayon::current_num_threads()));
     let clock_mhz = cfg.hardware.clock_mhz;

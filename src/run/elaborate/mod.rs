@@ -4,7 +4,7 @@
 //! Pipeline position: between loading the scene and the run. [`elaborate`] reads the scene's
 //! facts ([`analyse`]), decides unit by unit ([`plan`]), prices each decision
 //! ([`savings`]) and yields the elaborated hardware and datapath configuration that the run
-//! then uses ([`Elaboration::apply_to`]); [`print`] writes the human summary. No decision may
+//! then uses (`RunConfig::elaborated`, in `run::frames`); [`print`] writes the human summary. No decision may
 //! change a hit record: `tests/elaborate.rs` renders pruned and full pipelines and compares
 //! them byte for byte.
 
@@ -14,7 +14,6 @@ pub mod print;
 pub mod savings;
 
 use crate::error::AssetError;
-use crate::run::RunConfig;
 use crate::world::scene::Scene;
 use analyse::SceneFacts;
 use plan::Decision;
@@ -110,15 +109,5 @@ impl Elaboration {
                 )
             })
             .fold(savings::Saving::default(), |a, d| a.plus(d.saved))
-    }
-
-    /// Makes `cfg` run the elaborated pipeline (when applied) and report the elaboration.
-    pub fn apply_to(self, cfg: &mut RunConfig) {
-        if self.applied {
-            cfg.hardware = self.hardware.clone();
-            cfg.datapath = self.datapath.clone();
-            cfg.options.use_hit_buffer = self.use_hit_buffer;
-        }
-        cfg.elaboration = Some(self);
     }
 }
