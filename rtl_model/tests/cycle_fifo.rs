@@ -6,46 +6,27 @@
 //!   in order, occupancy never exceeds depth, every handshake and every counter equals an
 //!   independent reference model (a `VecDeque` with the same rules), and the cycle stamps match
 //!   the cycles the reference saw.
-//! - Evaluation order: the same stimulus with the parts evaluated in opposite orders gives
-//!   identical traces; a one-phase (commit-as-you-go) control shows the check has teeth.
-//! - The documented handshake corners, and misuse that must be refused without panicking.
+//! - Evaluation order: the same chain and stimulus with its parts evaluated in opposite (and
+//!   random) orders gives identical traces.
+//!
+//! The two-phase clock's own evaluation-order tests, the documented handshake corners, misuse
+//! and stamps are in `rtl_model/tests/cycle_clocked.rs`.
 //!
 //! Seeded: the seed is printed; `SVO_TEST_SEED` overrides it to replay a failure.
+
+mod common;
 
 use std::collections::VecDeque;
 use std::time::Instant;
 
-use rtl_model::cycle::clocked::{
-    Clock, ClockError, Clocked, Commit, EdgeError, Registered, StageId, StampError, Stamped,
-};
-use rtl_model::cycle::fifo::{forward, Fifo, FifoError, FifoStats, Refusal, MAX_DEPTH};
+use common::Rng;
+use rtl_model::cycle::clocked::{Clock, StageId, Stamped};
+use rtl_model::cycle::fifo::{forward, Fifo, FifoStats, Refusal};
 
 const MILLION: u64 = 1_000_000;
 
-/// SplitMix64: small, seeded, and the same on every platform.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// True with probability `p_percent` / 100.
-    fn chance(&mut self, p_percent: u64) -> bool {
-        self.next() % 100 < p_percent
-    }
-}
-
 fn seed(test: &str) -> u64 {
-    let s = std::env::var("SVO_TEST_SEED")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0xF1F0_0000_0000_0001);
-    println!("{test}: SVO_TEST_SEED={s}");
-    s
+    common::printed_seed(test, 0xF1F0_0000_0000_0001)
 }
 
 /// Rates of one stimulus phase: producer valid %, consumer ready %, sticky valid (once
@@ -91,8 +72,8 @@ impl Stimulus {
         }
         self.left_in_phase -= 1;
         let (pv, pr, sticky) = self.phase;
-        let valid = (sticky && self.refused) || self.rng.chance(pv);
-        let ready = self.rng.chance(pr);
+        let valid = (sticky && self.refused) || self.rng.chance_percent(pv);
+        let ready = self.rng.chance_percent(pr);
         (valid, ready)
     }
 }
@@ -450,346 +431,4 @@ fn chain_results_do_not_depend_on_evaluation_order() {
     let c = run_chain(seed, depths, 50_000, Order::Random, true);
     assert_eq!(a, b);
     assert_eq!(a, c);
-}
-
-/// Cross-coupled kernel for the order test: each cycle it mixes the other's registered value
-/// into its own.
-struct Mix(u64);
-
-impl Clocked for Mix {
-    type In = u64;
-    type Out = u64;
-    type Regs = u64;
-    fn step(&self, other: u64, regs: &u64) -> (u64, u64) {
-        let next = regs
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(other ^ self.0);
-        (*regs, next)
-    }
-}
-
-/// Runs two cross-coupled kernels for `cycles`; `b_first` swaps their evaluation order;
-/// `one_phase` commits each right after its evaluation (the discipline broken on purpose).
-fn run_mix(cycles: u64, b_first: bool, one_phase: bool) -> Vec<(u64, u64)> {
-    let mut clock = Clock::new();
-    let mut a = Registered::new(Mix(1), 11);
-    let mut b = Registered::new(Mix(2), 22);
-    let mut trace = Vec::new();
-    for _ in 0..cycles {
-        let step = |x: &mut Registered<Mix>, y: &Registered<Mix>| {
-            let input = *y.regs();
-            x.eval(input).expect("once per cycle");
-            if one_phase {
-                x.commit();
-            }
-        };
-        if b_first {
-            step(&mut b, &a);
-            step(&mut a, &b);
-        } else {
-            step(&mut a, &b);
-            step(&mut b, &a);
-        }
-        if !one_phase {
-            clock.edge(&mut [&mut a, &mut b]).expect("edge");
-        }
-        trace.push((*a.regs(), *b.regs()));
-    }
-    trace
-}
-
-#[test]
-fn registered_kernels_do_not_depend_on_evaluation_order() {
-    let two_phase = run_mix(1000, false, false);
-    assert_eq!(two_phase, run_mix(1000, true, false));
-    // The control: committing as each is evaluated makes the order visible, so the equality
-    // above is a real check of the two-phase commit and not a property of the kernel.
-    assert_ne!(run_mix(1000, false, true), run_mix(1000, true, true));
-}
-
-/// Producer stage: offers its sequence number when its LFSR says valid; advances when the
-/// FIFO (registered `ready`, its input) takes the item.
-struct Producer;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct ProducerRegs {
-    seq: u64,
-    lfsr: u64,
-}
-
-impl ProducerRegs {
-    fn valid(&self) -> bool {
-        self.lfsr % 3 != 0
-    }
-}
-
-impl Clocked for Producer {
-    type In = bool; // the FIFO's ready
-    type Out = Option<u64>; // the item offered this cycle
-    type Regs = ProducerRegs;
-    fn step(&self, ready: bool, r: &ProducerRegs) -> (Option<u64>, ProducerRegs) {
-        let offer = r.valid().then_some(r.seq);
-        let lfsr = Rng(r.lfsr).next();
-        let seq = r.seq + u64::from(offer.is_some() && ready);
-        (offer, ProducerRegs { seq, lfsr })
-    }
-}
-
-/// Consumer stage: ready when idle and its LFSR agrees; an item keeps it busy for a few
-/// cycles and is summed.
-struct Consumer;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct ConsumerRegs {
-    busy: u64,
-    count: u64,
-    sum: u64,
-    lfsr: u64,
-}
-
-impl ConsumerRegs {
-    fn ready(&self) -> bool {
-        self.busy == 0 && self.lfsr % 4 != 0
-    }
-}
-
-impl Clocked for Consumer {
-    type In = Option<Stamped<u64>>; // the item popped this cycle
-    type Out = ();
-    type Regs = ConsumerRegs;
-    fn step(&self, item: Option<Stamped<u64>>, r: &ConsumerRegs) -> ((), ConsumerRegs) {
-        let lfsr = Rng(r.lfsr).next();
-        let next = match item {
-            Some(it) => ConsumerRegs {
-                busy: it.payload % 3,
-                count: r.count + 1,
-                sum: r.sum.wrapping_mul(31).wrapping_add(it.payload),
-                lfsr,
-            },
-            None => ConsumerRegs {
-                busy: r.busy.saturating_sub(1),
-                lfsr,
-                ..*r
-            },
-        };
-        ((), next)
-    }
-}
-
-type StageTrace = (Vec<(ProducerRegs, ConsumerRegs, usize)>, FifoStats);
-
-/// Producer → FIFO → consumer for `cycles`; `consumer_first` swaps which stage is evaluated
-/// first in every cycle.
-fn run_stages(seed: u64, cycles: u64, consumer_first: bool) -> StageTrace {
-    let mut clock = Clock::new();
-    let mut fifo: Fifo<u64> = Fifo::new(StageId(1), 3).expect("depth is valid");
-    let mut prod = Registered::new(Producer, ProducerRegs { seq: 0, lfsr: seed });
-    let mut cons = Registered::new(
-        Consumer,
-        ConsumerRegs {
-            busy: 0,
-            count: 0,
-            sum: 0,
-            lfsr: seed ^ 1,
-        },
-    );
-    let mut trace = Vec::new();
-    for _ in 0..cycles {
-        let eval_prod = |prod: &mut Registered<Producer>, fifo: &mut Fifo<u64>| {
-            let ready = fifo.ready();
-            if let Some(seq) = prod.eval(ready).expect("once per cycle") {
-                let taken = fifo.try_push(Stamped::new(seq)).is_ok();
-                assert_eq!(taken, ready, "the kernel's view of the handshake");
-            }
-        };
-        let eval_cons = |cons: &mut Registered<Consumer>, fifo: &mut Fifo<u64>| {
-            let item = if cons.regs().ready() {
-                fifo.try_pop().expect("one pop per cycle")
-            } else {
-                None
-            };
-            cons.eval(item).expect("once per cycle");
-        };
-        if consumer_first {
-            eval_cons(&mut cons, &mut fifo);
-            eval_prod(&mut prod, &mut fifo);
-        } else {
-            eval_prod(&mut prod, &mut fifo);
-            eval_cons(&mut cons, &mut fifo);
-        }
-        clock
-            .edge(&mut [&mut prod, &mut fifo, &mut cons])
-            .expect("edge");
-        trace.push((*prod.regs(), *cons.regs(), fifo.occupancy()));
-    }
-    (trace, fifo.stats().clone())
-}
-
-#[test]
-fn stages_around_a_fifo_do_not_depend_on_evaluation_order() {
-    let seed = seed("stages_around_a_fifo_do_not_depend_on_evaluation_order");
-    let a = run_stages(seed, 100_000, false);
-    let b = run_stages(seed, 100_000, true);
-    assert!(a.1.pops > 10_000, "enough traffic: {:?}", a.1);
-    assert!(a.1.full_cycles > 0 && a.1.starved_cycles > 0);
-    assert_eq!(a, b);
-}
-
-/// Runs `cycles` with the producer always valid and the consumer always ready.
-fn saturated_throughput(depth: usize, cycles: u64) -> u64 {
-    let mut clock = Clock::new();
-    let mut fifo = Fifo::new(StageId(0), depth).expect("depth is valid");
-    let mut seq = 0u64;
-    for _ in 0..cycles {
-        if fifo.try_push(Stamped::new(seq)).is_ok() {
-            seq += 1;
-        }
-        let _ = fifo.try_pop().expect("one pop per cycle");
-        clock.edge(&mut [&mut fifo]).expect("edge");
-    }
-    fifo.stats().pops
-}
-
-#[test]
-fn handshake_corners_as_documented() {
-    // Depth 1 alternates (full blocks the push even while popping); depth 2 streams.
-    assert_eq!(saturated_throughput(1, 1000), 500);
-    assert_eq!(saturated_throughput(2, 1000), 999);
-
-    // Full, with a pop in the same cycle: the push is still refused.
-    let mut clock = Clock::new();
-    let mut fifo = Fifo::new(StageId(0), 1).expect("depth is valid");
-    assert!(fifo.try_push(Stamped::new(1u8)).is_ok());
-    clock.edge(&mut [&mut fifo]).expect("edge");
-    let got = fifo.try_pop().expect("pop");
-    assert_eq!(got.as_ref().map(|i| i.payload), Some(1));
-    assert!(fifo.peek().is_none(), "the head has been handed over");
-    assert!(
-        fifo.valid() && !fifo.ready(),
-        "registered flags hold until the edge"
-    );
-    let r = fifo
-        .try_push(Stamped::new(2))
-        .expect_err("full at start of cycle");
-    assert_eq!((r.reason, r.item.payload), (Refusal::Full, 2));
-    clock.edge(&mut [&mut fifo]).expect("edge");
-    assert_eq!(fifo.occupancy(), 0);
-    assert_eq!(fifo.stats().full_cycles, 1);
-
-    // Empty, with a push in the same cycle: nothing falls through.
-    assert!(fifo.try_push(Stamped::new(3)).is_ok());
-    assert!(fifo.try_pop().expect("pop").is_none());
-    assert_eq!(fifo.stats().starved_cycles, 1);
-    clock.edge(&mut [&mut fifo]).expect("edge");
-    assert_eq!(fifo.peek().map(|i| i.payload), Some(3));
-    assert_eq!(fifo.stats().max_occupancy, 1);
-    // Occupancy 0, 1, 0 in cycles 0, 1, 2.
-    assert_eq!(fifo.stats().occupancy_histogram, vec![2, 1]);
-}
-
-#[test]
-fn misuse_is_refused_without_panicking() {
-    assert_eq!(
-        Fifo::<u8>::new(StageId(0), 0).err(),
-        Some(FifoError::ZeroDepth)
-    );
-    assert_eq!(
-        Fifo::<u8>::new(StageId(0), MAX_DEPTH + 1).err(),
-        Some(FifoError::TooDeep(MAX_DEPTH + 1))
-    );
-
-    let mut clock = Clock::new();
-    let mut f: Fifo<u8> = Fifo::new(StageId(0), 4).expect("depth is valid");
-    let mut g: Fifo<u8> = Fifo::new(StageId(1), 4).expect("depth is valid");
-    // Two pushes in one cycle: the second comes back, unstamped.
-    assert!(f.try_push(Stamped::new(1)).is_ok());
-    let r = f.try_push(Stamped::new(2)).expect_err("second push");
-    assert_eq!(r.reason, Refusal::AlreadyDriven);
-    assert!(r.item.stamps().is_empty());
-    // Two pops in one cycle.
-    assert!(f.try_pop().expect("first pop").is_none());
-    assert_eq!(
-        f.try_pop().err(),
-        Some(FifoError::PopSideDriven { cycle: 0 })
-    );
-    // A link onto a side already driven moves nothing.
-    assert_eq!(
-        forward(&mut f, &mut g).err(),
-        Some(FifoError::PopSideDriven { cycle: 0 })
-    );
-    assert_eq!(f.stats().misuse, 3);
-    clock.edge(&mut [&mut f, &mut g]).expect("edge");
-    assert_eq!(forward(&mut f, &mut g), Ok(true));
-    assert!(g.try_push(Stamped::new(9)).is_err());
-    assert_eq!(g.stats().misuse, 1);
-
-    // A part committed outside the edge: the edge is refused and nothing commits.
-    g.commit();
-    let before = (f.cycle(), f.stats().clone());
-    assert_eq!(
-        clock.edge(&mut [&mut f, &mut g]),
-        Err(EdgeError {
-            part: 1,
-            cause: ClockError::OutOfStep { part: 2, clock: 1 }
-        })
-    );
-    assert_eq!((f.cycle(), f.stats().clone()), before);
-    assert_eq!(clock.now(), 1);
-    assert_eq!(
-        forward(&mut f, &mut g),
-        Err(FifoError::OutOfStep { from: 1, to: 2 })
-    );
-
-    // Registered: evaluated twice, or not at all.
-    let mut k = Registered::new(Mix(0), 0);
-    let mut clock = Clock::new();
-    assert_eq!(
-        clock.edge(&mut [&mut k]),
-        Err(EdgeError {
-            part: 0,
-            cause: ClockError::NotEvaluated { cycle: 0 }
-        })
-    );
-    assert!(k.eval(1).is_ok());
-    assert_eq!(k.eval(2), Err(ClockError::AlreadyEvaluated { cycle: 0 }));
-    assert_eq!(clock.edge(&mut [&mut k]), Ok(1));
-    assert_eq!(*k.regs(), 1);
-}
-
-#[test]
-fn stamps_record_one_visit_at_a_time() {
-    let (a, b) = (StageId(1), StageId(2));
-    let mut t = Stamped::new("ray");
-    assert_eq!(t.leave(a, 0), Err(StampError::NotInside(a)));
-    t.enter(a, 3);
-    assert_eq!(t.inside(), Some(a));
-    assert_eq!(
-        t.leave(a, 2),
-        Err(StampError::LeftBeforeEntered {
-            stage: a,
-            entered: 3,
-            left: 2
-        })
-    );
-    assert_eq!(t.leave(b, 5), Err(StampError::NotInside(b)));
-    assert_eq!(t.leave(a, 5), Ok(2));
-    assert_eq!(t.leave(a, 6), Err(StampError::NotInside(a)), "left already");
-    t.enter(b, 5);
-    assert_eq!(t.check(), Ok(()));
-    let t = t.map(str::len);
-    assert_eq!(t.payload, 3);
-    assert_eq!(t.latency_in(a), Some(2));
-    assert_eq!(t.latency_in(b), None);
-
-    // Entering a stage while still inside another is recorded, and `check` reports it.
-    let mut u = Stamped::new(0u8);
-    u.enter(a, 1);
-    u.enter(b, 2);
-    assert_eq!(
-        u.check(),
-        Err(StampError::Overlap {
-            stage: b,
-            entered: 2
-        })
-    );
 }

@@ -9,8 +9,11 @@
 // are expected in each one.
 #![allow(dead_code)]
 
+pub mod bad_input;
 pub mod oracle;
 pub mod process;
+pub mod traversal;
+pub mod vox;
 
 use proptest::test_runner::{Config, RngAlgorithm, TestRng};
 use rtl_model::svo::{LeafAttr, LeafSet, SvoImage};

@@ -4,12 +4,21 @@
 // Each test binary uses a different subset.
 #![allow(dead_code)]
 
+pub mod fixed_oracle;
+
 /// `SVO_TEST_SEED` if set, else the test's own default.
 pub fn seed(default: u64) -> u64 {
     std::env::var("SVO_TEST_SEED")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(default)
+}
+
+/// [`seed`] for the test `test`, printed so that a failing run can be replayed.
+pub fn printed_seed(test: &str, default: u64) -> u64 {
+    let s = seed(default);
+    println!("{test}: SVO_TEST_SEED={s}");
+    s
 }
 
 /// splitmix64: small, fast, and every seed (0 included) gives a full-period stream.
@@ -28,6 +37,26 @@ impl Rng {
     /// Uniform in 0..n (n > 0; the modulo bias is irrelevant for tests).
     pub fn below(&mut self, n: u64) -> u64 {
         self.next() % n
+    }
+
+    /// Uniform in lo..=hi_incl.
+    pub fn range(&mut self, lo: i64, hi_incl: i64) -> i64 {
+        lo + self.below((hi_incl - lo + 1) as u64) as i64
+    }
+
+    /// 128 random bits: two draws, the first in the high half.
+    pub fn i128(&mut self) -> i128 {
+        ((u128::from(self.next()) << 64) | u128::from(self.next())) as i128
+    }
+
+    /// A uniformly chosen element.
+    pub fn pick<T: Copy>(&mut self, xs: &[T]) -> T {
+        xs[self.below(xs.len() as u64) as usize]
+    }
+
+    /// True with probability `p_percent` / 100.
+    pub fn chance_percent(&mut self, p_percent: u64) -> bool {
+        self.next() % 100 < p_percent
     }
 
     /// Uniform in [lo, hi).
