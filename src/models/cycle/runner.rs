@@ -4,13 +4,13 @@
 //! Pipeline position: what `sim` calls per frame for the cycle model; tests use it directly.
 
 use super::layout::{LayoutBuildError, SceneLayout};
-use super::pipeline::{CycleError, CycleModel, CycleOptions};
+use super::model::{CycleError, CycleModel, CycleOptions};
 use super::stats::{CycleFrame, OpCounts};
-use crate::world::assets::Asset;
 use crate::models::fixed::plan::FramePlan;
 use crate::models::fixed::row_feed::RowFeed;
 use crate::models::fixed::{render_streamed, FixedBuffer, FixedError, FixedStats};
 use crate::models::reference::FrameInput;
+use crate::world::assets::Asset;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::{overflow_table, DatapathConfig};
 use std::time::Instant;
