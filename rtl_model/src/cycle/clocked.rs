@@ -1,66 +1,65 @@
-//! Two-phase clocking for the cycle model: stages as pure step functions, one commit point per
-//! clock edge, and cycle stamps on transactions.
+//! The clock of the cycle model: one commit point per clock edge, and cycle stamps on
+//! transactions.
 //!
-//! Where it sits: under everything in [`crate::cycle`]. Every stage of the pipeline (ray
-//! generation, transform, sphere tests, sorter, walkers, hit buffer) and every FIFO between
-//! them ([`super::fifo`]) is a part that the [`Clock`] commits once per cycle. The transactions
-//! that flow through them (rays, candidates, node requests) are wrapped in [`Stamped`] so that
-//! the report can say how long each spent in each stage.
+//! Where it sits: under everything in [`crate::cycle`]. The FIFOs between the pipeline's
+//! stages ([`super::fifo`]) and the block RAMs ([`super::bram`]) are parts that the [`Clock`]
+//! commits once per cycle; the transactions that flow through them (rays, walks, records) are
+//! wrapped in [`Stamped`] so that the report can say how long each spent in each stage.
 //!
-//! # The discipline (DESIGN §6, STYLE "rhdl")
+//! # The discipline
 //!
-//! A cycle has two phases:
+//! The frame pipeline (`svo_sim::models::cycle::pipeline`; docs/cycle-model.md §2.1, and
+//! docs/architecture.md, "The cycle model's clocking discipline") runs a cycle in two phases:
 //!
-//! 1. **Evaluate.** Every part computes its outputs and its *next* registers from its inputs
-//!    and its *current* registers. Nothing visible changes: a part that reads a neighbour's
-//!    registers during this phase sees the value they had at the start of the cycle, whether
-//!    the neighbour has already been evaluated or not.
-//! 2. **Commit** (the clock edge). [`Clock::edge`] first checks that every part is ready for
-//!    the edge and then commits all of them in one place; the cycle counter advances.
+//! 1. **Evaluate.** Every stage runs once, consumers first (the write port first, ray
+//!    generation last). A stage's own registers — the transactions in its fixed-latency unit
+//!    ([`super::unit_pipe`]), its counters — change in place as it runs. What it hands its
+//!    neighbours goes through the FIFOs and memories, which hold this cycle's pushes, pops and
+//!    writes aside: their `ready`, `valid` and occupancy, and a block RAM's contents, keep
+//!    their start-of-cycle values until the edge (Moore outputs, as in a synchronous FIFO).
+//! 2. **Commit** (the clock edge). [`Clock::edge`] first checks that every part is on the
+//!    clock's cycle and then commits all of them in one place; the cycle counter advances.
 //!
-//! Because evaluation only ever reads current registers, the order in which parts are
-//! evaluated cannot change any result. That holds as long as signals that cross from one part
-//! to another within a cycle come from the source's *registers* (a Moore output such as a
-//! FIFO's `ready` and `valid`), never from its freshly computed outputs. A path from one
-//! part's inputs to another part's inputs in the same cycle would be a combinational path
-//! between stages, which is what the FIFOs between stages exist to cut; the model keeps the
-//! same rule so that its cycle counts are the ones the hardware would have.
+//! Because stages see each other through registered signals only, a stage cannot tell whether
+//! its neighbour on the other side of a FIFO has been evaluated yet: a path from one stage's
+//! inputs to another's in the same cycle would be a combinational path between stages, which
+//! is what the FIFOs exist to cut, and the model keeps the same rule so that its cycle counts
+//! are the ones the hardware would have. The few signals that do cross within a cycle are
+//! arbitration inside one block of hardware, and the fixed evaluation order states them: the
+//! record stage's claim of the write FIFO's port, which the check stage evaluated after it
+//! must respect, and a ray slot the record stage frees, which the transform may take in the
+//! same cycle.
 //!
-//! Memories (FIFO storage, block RAMs) are parts too, but not through [`Clocked`]: cloning a
-//! whole RAM as its "next registers" every cycle would cost far more than the hardware
-//! behaviour needs. They record this cycle's writes and apply them in [`Commit::commit`],
-//! which is the same edge with a cheaper representation of "next state".
+//! Stages are not pure `(inputs, registers) → (outputs, next registers)` kernels with a
+//! second copy of their registers: copying a unit's in-flight transactions or a walker's
+//! contexts every cycle would cost more than the behaviour needs, and updating them in place
+//! gives the same cycles as long as no other stage reads them during the evaluate phase,
+//! which the rule above guarantees. Memories take the same route with their storage: they
+//! record the cycle's writes and apply them in [`Commit::commit`].
 //!
 //! # Example
 //!
 //! ```
-//! use rtl_model::cycle::clocked::{Clock, Clocked, Commit, Registered};
-//!
-//! /// A counter that adds its input each cycle and shows its current value.
-//! struct Accumulate;
-//!
-//! impl Clocked for Accumulate {
-//!     type In = u32;
-//!     type Out = u32;
-//!     type Regs = u32;
-//!     fn step(&self, add: u32, sum: &u32) -> (u32, u32) {
-//!         (*sum, sum.wrapping_add(add))
-//!     }
-//! }
+//! use rtl_model::cycle::clocked::{Clock, StageId, Stamped};
+//! use rtl_model::cycle::fifo::Fifo;
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! // Producer → FIFO → consumer, the consumer evaluated first.
 //! let mut clock = Clock::new();
-//! let mut a = Registered::new(Accumulate, 0);
-//! let mut b = Registered::new(Accumulate, 100);
+//! let mut fifo = Fifo::new(StageId(1), 2)?;
+//! let (mut sent, mut got) = (0u32, Vec::new());
 //! for _ in 0..4 {
-//!     // Each reads the other's *current* register, so the order of these two lines is free.
-//!     let from_b = *b.regs();
-//!     let from_a = *a.regs();
-//!     a.eval(from_b % 7)?;
-//!     b.eval(from_a % 5)?;
-//!     clock.edge(&mut [&mut a, &mut b])?;
+//!     // Consumer: sees the FIFO as it was at the start of the cycle.
+//!     if let Some(item) = fifo.try_pop()? {
+//!         got.push(item.payload);
+//!     }
+//!     // Producer: its push is held until the edge, whatever the consumer did.
+//!     if fifo.ready() && fifo.try_push(Stamped::new(sent)).is_ok() {
+//!         sent += 1;
+//!     }
+//!     clock.edge(&mut [&mut fifo])?;
 //! }
-//! assert_eq!(clock.now(), 4);
+//! assert_eq!((clock.now(), got), (4, vec![0, 1, 2]));
 //! # Ok(())
 //! # }
 //! ```
@@ -68,37 +67,14 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-/// A clocked component as a pure kernel: (inputs, current registers) → (outputs, next
-/// registers).
-///
-/// `step` must not depend on anything but its arguments and `self` (which holds fixed
-/// parameters: latencies, depths, tables), so that the same stimulus gives the same cycles on
-/// every run and the [`Registered`] holder can apply the result at the edge.
-///
-/// Inputs are taken by value so that a transaction handed over this cycle (say, popped from a
-/// FIFO) moves into the next registers without a copy; the current registers are only
-/// borrowed, because other parts may still read them during the same evaluate phase.
-pub trait Clocked {
-    /// This cycle's inputs: handshake signals and data from neighbours.
-    type In;
-    /// This cycle's outputs. A neighbour that needs a signal in the *same* cycle must read it
-    /// from [`Registered::regs`] instead, or evaluation order would matter.
-    type Out;
-    /// The register state; `Regs` returned by `step` become current at the next edge.
-    type Regs;
-    /// One clock cycle of the component.
-    fn step(&self, inputs: Self::In, regs: &Self::Regs) -> (Self::Out, Self::Regs);
-}
-
-/// A part that the clock edge commits: a [`Registered`] kernel, a FIFO, a block RAM.
+/// A part that the clock edge commits: a FIFO, a block RAM, a register bank.
 ///
 /// The edge is split into a check and a commit so that [`Clock::edge`] can refuse a
 /// misconfigured cycle before *any* part has changed, keeping every part on the same cycle.
 pub trait Commit {
     /// The cycle this part is evaluating (the number of edges it has seen).
     fn cycle(&self) -> u64;
-    /// Whether the part can take the edge that ends cycle `now`: its own cycle is `now` and
-    /// it has been evaluated as its contract requires.
+    /// Whether the part can take the edge that ends cycle `now`: its own cycle is `now`.
     fn check(&self, now: u64) -> Result<(), ClockError>;
     /// Applies this cycle's next state and advances the part's cycle. Called by
     /// [`Clock::edge`] after every part has passed [`Commit::check`]; calling it directly
@@ -106,23 +82,9 @@ pub trait Commit {
     fn commit(&mut self);
 }
 
-/// Why a part cannot be evaluated or take the edge.
+/// Why a part cannot take the edge.
 #[derive(Clone, Copy, Debug, Error, PartialEq, Eq)]
 pub enum ClockError {
-    /// A [`Registered`] kernel was evaluated twice in one cycle: a stage steps once per clock.
-    #[error("evaluated twice in cycle {cycle}")]
-    AlreadyEvaluated {
-        /// The cycle of the second evaluation.
-        cycle: u64,
-    },
-    /// A [`Registered`] kernel reached the edge without being evaluated. A stage that should
-    /// hold its registers models that with a clock-enable input, so a missing evaluation is a
-    /// wiring mistake, not a stall.
-    #[error("not evaluated in cycle {cycle}")]
-    NotEvaluated {
-        /// The cycle that ended without an evaluation.
-        cycle: u64,
-    },
     /// The part is on a different cycle than the clock (committed outside [`Clock::edge`], or
     /// created after the clock had started).
     #[error("part is at cycle {part}, clock at cycle {clock}")]
@@ -176,89 +138,6 @@ impl Clock {
         // stuck clock is easier to notice than stamps that jump back to 0.
         self.now = self.now.saturating_add(1);
         Ok(self.now)
-    }
-}
-
-/// A [`Clocked`] kernel with its registers: the current ones, visible all cycle, and the next
-/// ones, held until the edge.
-#[derive(Clone, Debug)]
-pub struct Registered<C: Clocked> {
-    kernel: C,
-    regs: C::Regs,
-    next: Option<C::Regs>,
-    now: u64,
-}
-
-impl<C: Clocked> Registered<C> {
-    /// A kernel at cycle 0 with its reset registers.
-    pub fn new(kernel: C, reset: C::Regs) -> Self {
-        Self {
-            kernel,
-            regs: reset,
-            next: None,
-            now: 0,
-        }
-    }
-
-    /// The kernel (its fixed parameters).
-    pub fn kernel(&self) -> &C {
-        &self.kernel
-    }
-
-    /// The current registers: the start-of-cycle values, unchanged by [`Registered::eval`]
-    /// until the edge. This is what neighbours read during the evaluate phase.
-    pub fn regs(&self) -> &C::Regs {
-        &self.regs
-    }
-
-    /// The cycle being evaluated.
-    pub fn now(&self) -> u64 {
-        self.now
-    }
-
-    /// Whether [`Registered::eval`] has run this cycle.
-    pub fn evaluated(&self) -> bool {
-        self.next.is_some()
-    }
-
-    /// Steps the kernel from the current registers and holds the next registers for the edge.
-    /// A second call in the same cycle is refused (the first result stands), since a stage
-    /// that stepped twice per clock would be a different piece of hardware.
-    pub fn eval(&mut self, inputs: C::In) -> Result<C::Out, ClockError> {
-        if self.next.is_some() {
-            return Err(ClockError::AlreadyEvaluated { cycle: self.now });
-        }
-        let (out, next) = self.kernel.step(inputs, &self.regs);
-        self.next = Some(next);
-        Ok(out)
-    }
-}
-
-impl<C: Clocked> Commit for Registered<C> {
-    fn cycle(&self) -> u64 {
-        self.now
-    }
-
-    fn check(&self, now: u64) -> Result<(), ClockError> {
-        if self.now != now {
-            return Err(ClockError::OutOfStep {
-                part: self.now,
-                clock: now,
-            });
-        }
-        if self.next.is_none() {
-            return Err(ClockError::NotEvaluated { cycle: self.now });
-        }
-        Ok(())
-    }
-
-    fn commit(&mut self) {
-        // Without an evaluation (only reachable by calling commit directly) the registers
-        // hold, which is what a flip-flop with its enable low does.
-        if let Some(next) = self.next.take() {
-            self.regs = next;
-        }
-        self.now = self.now.saturating_add(1);
     }
 }
 

@@ -1,6 +1,8 @@
-//! The cycle-accurate model: clocked stages as pure step functions with two-phase register
-//! commit, bounded valid/ready FIFOs, the hardware configuration, the node-memory model and
-//! waveform recording. The stages and walker pool that use them build on these pieces.
+//! The cycle-accurate model's parts: the clock with one commit point per edge and cycle stamps,
+//! bounded valid/ready FIFOs, fixed-latency unit pipes, block RAM, the walker pool, the
+//! node-memory model, the hardware configuration and waveform recording. The frame pipeline
+//! (`svo_sim::models::cycle`) evaluates its stages over these pieces and commits them at the
+//! edge.
 pub mod bram;
 pub mod clocked;
 pub mod completion_wheel;

@@ -4,7 +4,7 @@
 //! Pipeline position: what `sim` calls per frame for the cycle model; tests use it directly.
 
 use super::layout::{LayoutBuildError, SceneLayout};
-use super::pipeline::{CycleError, CycleModel, CycleOptions};
+use super::model::{CycleError, CycleModel, CycleOptions};
 use super::stats::{CycleFrame, OpCounts};
 use crate::models::fixed::plan::FramePlan;
 use crate::models::fixed::row_feed::RowFeed;

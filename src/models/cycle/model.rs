@@ -1,0 +1,190 @@
+//! The cycle model of a run: the parts that keep their state from frame to frame (node memory,
+//! walker pool, hit-buffer BRAM, the clock) and [`CycleModel::run_frame`], which builds a
+//! frame's [`Pipeline`], clocks it until every pixel is written, checks the hit buffer against
+//! the functional model and reports.
+//!
+//! Pipeline position: what `runner::CycleRun` calls per frame, beside the functional model on
+//! its second thread (docs/cycle-model.md §2, §2.4).
+
+use super::layout::SceneLayout;
+use super::pipeline::Pipeline;
+use super::stages::{FrameInputs, FrameSetup};
+use super::stats::CycleFrame;
+use super::waves::PipelineWaves;
+use crate::models::fixed::plan::FramePlan;
+use crate::models::fixed::row_feed::RowFeed;
+use rtl_model::cycle::bram::Bram;
+use rtl_model::cycle::clocked::{Clock, StageStamp};
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::cycle::memory::NodeMemory;
+use rtl_model::cycle::walker_pool::{PoolError, WalkerPoolModel};
+use std::time::Instant;
+use thiserror::Error;
+
+/// Why the cycle model stopped.
+#[derive(Debug, Error)]
+pub enum CycleError {
+    /// The hardware configuration is invalid.
+    #[error("hardware configuration: {0}")]
+    Config(String),
+    /// The cycle model and the functional model disagree (a bug in one of them).
+    #[error("cross-check failed at frame {frame}, pixel ({i}, {j}): {what}")]
+    Mismatch {
+        /// Frame.
+        frame: u32,
+        /// Column.
+        i: u32,
+        /// Row.
+        j: u32,
+        /// What differs.
+        what: String,
+    },
+    /// The walker pool or node memory refused something.
+    #[error(transparent)]
+    Pool(#[from] PoolError),
+    /// The pipeline made no progress for far longer than any latency (a model bug).
+    #[error("frame {frame}: no progress for {cycles} cycles at cycle {at} ({written} of {pixels} pixels written)")]
+    Stuck {
+        /// Frame.
+        frame: u32,
+        /// Cycles without progress.
+        cycles: u64,
+        /// Cycle.
+        at: u64,
+        /// Pixels written.
+        written: u64,
+        /// Pixels.
+        pixels: u64,
+    },
+    /// A FIFO or BRAM was misused (a model bug).
+    #[error("pipeline: {0}")]
+    Internal(String),
+}
+
+/// Options of a cycle-model run.
+#[derive(Default)]
+pub struct CycleOptions {
+    /// Re-execute every stage's arithmetic and compare with the functional model.
+    pub cross_check: bool,
+    /// Record waveforms.
+    pub waves: Option<PipelineWaves>,
+    /// Keep the stage stamps of this many records (in write order) per run.
+    pub log_limit: usize,
+}
+
+/// The parts of the machine that keep their state across frames (cache lines, hit-buffer
+/// words, the cycle count); a frame's [`Pipeline`] borrows them.
+pub struct Machine {
+    /// The node memory.
+    pub mem: NodeMemory,
+    /// The walker pool.
+    pub pool: WalkerPoolModel,
+    /// The hit buffer.
+    pub bram: Bram<u128>,
+    /// The clock: the run's cycle counter and the one place the parts commit.
+    pub clock: Clock,
+    /// The waveform recorder, if any.
+    pub waves: Option<PipelineWaves>,
+}
+
+/// Per-run state of the cycle model: the memories and the pool keep their contents across
+/// frames (cache lines, hit-buffer words), the pipeline drains between frames.
+pub struct CycleModel {
+    hw: HwConfig,
+    layout: SceneLayout,
+    width: u32,
+    height: u32,
+    cross_check: bool,
+    frame: u32,
+    machine: Machine,
+    /// Stamps of the first transactions, for transaction logs (pixel, stamps).
+    pub log: Vec<(u32, Vec<StageStamp>)>,
+    log_limit: usize,
+}
+
+impl CycleModel {
+    /// A model for frames of `width`×`height` over the placed images.
+    pub fn new(
+        hw: &HwConfig,
+        layout: SceneLayout,
+        width: u32,
+        height: u32,
+        opts: CycleOptions,
+    ) -> Result<Self, CycleError> {
+        hw.validate()
+            .map_err(|e| CycleError::Config(e.to_string()))?;
+        let pixels = width as usize * height as usize;
+        let mem = NodeMemory::new(hw.node_memory.clone(), layout.layout.clone())
+            .map_err(|e| CycleError::Config(e.to_string()))?;
+        let pool = WalkerPoolModel::new(&hw.walker_pool)?;
+        let ports = hw.hit_buffer.read_ports + hw.hit_buffer.write_ports;
+        let bram = Bram::new(pixels.max(1), ports, 0u128)
+            .map_err(|e| CycleError::Config(e.to_string()))?;
+        Ok(Self {
+            hw: hw.clone(),
+            layout,
+            width,
+            height,
+            cross_check: opts.cross_check,
+            frame: 0,
+            machine: Machine {
+                mem,
+                pool,
+                bram,
+                clock: Clock::new(),
+                waves: opts.waves,
+            },
+            log: Vec::new(),
+            log_limit: opts.log_limit,
+        })
+    }
+
+    /// The hardware configuration.
+    pub fn config(&self) -> &HwConfig {
+        &self.hw
+    }
+
+    /// The hit-buffer word of pixel `p` (after the last frame).
+    pub fn word(&self, p: usize) -> Option<u128> {
+        self.machine.bram.peek(p).copied()
+    }
+
+    /// Takes the waveform recorder (to write it).
+    pub fn take_waves(&mut self) -> Option<PipelineWaves> {
+        self.machine.waves.take()
+    }
+
+    /// Runs one frame. `plan` is the frame's prepared datapath, `feed` the functional
+    /// model's work per row (rows may still be arriving: ray generation waits for each row
+    /// before its first pixel), `dir` the frame's direction table.
+    pub fn run_frame(
+        &mut self,
+        plan: &FramePlan<'_>,
+        feed: &RowFeed,
+        dir: &[[i64; 3]],
+        instance_asset: &[usize],
+    ) -> Result<CycleFrame, CycleError> {
+        let wall = Instant::now();
+        let setup = FrameSetup {
+            frame: self.frame,
+            width: self.width,
+            height: self.height,
+            cross_check: self.cross_check,
+        };
+        let inputs = FrameInputs::new(setup, plan, feed, dir, instance_asset, &self.layout)?;
+        let mut pipeline = Pipeline::new(
+            &self.hw,
+            inputs,
+            &mut self.machine,
+            &mut self.log,
+            self.log_limit,
+        )?;
+        while !pipeline.done() {
+            pipeline.step()?;
+        }
+        // Bit-exact: the hit buffer equals the functional model's, word for word.
+        pipeline.check_hit_buffer()?;
+        self.frame += 1;
+        Ok(pipeline.report(wall.elapsed().as_secs_f64()))
+    }
+}

@@ -1,0 +1,112 @@
+//! The hit-buffer check: the pixel's previous word read at entry, the reuse rule applied at
+//! exit.
+//!
+//! Pipeline position: `sorter_to_check` → `check_to_transform` (rays to walk) or
+//! `record_to_write` (reused pixels and rays without candidates) (docs/cycle-model.md §2.1).
+//! The read goes to this model's own hit-buffer BRAM (READ_FIRST, written by its own write
+//! stage in the previous frame); the decision is this model's own and is checked against the
+//! functional model's (§2.4). The record stage has priority on the write FIFO.
+
+use super::{id, internal, FrameCounts, FrameInputs, Ray, Rec};
+use crate::models::cycle::model::CycleError;
+use crate::models::reference::SphereCount;
+use rtl_model::cycle::bram::Bram;
+use rtl_model::cycle::clocked::Stamped;
+use rtl_model::cycle::fifo::Fifo;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::cycle::stage_stats::StageState;
+use rtl_model::cycle::unit_pipe::UnitPipe;
+
+/// The check stage: rays with the word their read returned.
+pub struct Check {
+    pipe: UnitPipe<(Stamped<Ray>, u128)>,
+}
+
+impl Check {
+    /// The stage of `hw`: the hit buffer's read latency (0 without one) and the unpacking.
+    pub fn new(hw: &HwConfig) -> Self {
+        let latency = hw.hit_buffer_read_cycles() + hw.units.hit_unpack.latency_cycles;
+        Self {
+            pipe: UnitPipe::new(latency, 1),
+        }
+    }
+
+    /// One cycle: the ready ray is decided and leaves into `to_walk` or `to_write` (unless
+    /// the record stage `took_write_port` this cycle); the next ray enters from `input` and
+    /// reads `bram`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn eval(
+        &mut self,
+        input: &mut Fifo<Ray>,
+        to_walk: &mut Fifo<Ray>,
+        to_write: &mut Fifo<Rec>,
+        took_write_port: bool,
+        bram: &mut Bram<u128>,
+        frame: &mut FrameInputs<'_>,
+        counts: &mut FrameCounts,
+        now: u64,
+    ) -> Result<StageState, CycleError> {
+        let mut blocked = false;
+        if let Some(&(ref ray, prev)) = self.pipe.ready(now) {
+            let pixel = ray.payload.pixel;
+            let (tr, pw, _) = frame.trace_at(pixel)?;
+            let cands = tr.candidates_of(pw);
+            let plan = frame.plan;
+            let reuse = plan.reuse(prev, cands, &mut frame.xc_counters);
+            if reuse.is_some() != pw.reused {
+                return Err(frame.mismatch(
+                    pixel,
+                    format!(
+                        "hit-buffer reuse {} here, {} in the functional model",
+                        reuse.is_some(),
+                        pw.reused
+                    ),
+                ));
+            }
+            let direct = reuse.or_else(|| {
+                cands.is_empty().then(|| {
+                    plan.finish(None, SphereCount::None, &mut frame.xc_counters)
+                        .word
+                })
+            });
+            if let Some(word) = direct {
+                // Reused word, or a ray with no candidate: straight to the write port.
+                if !took_write_port && to_write.ready() {
+                    if let Some((mut ray, _)) = self.pipe.pop(now) {
+                        let _ = ray.leave(id::CHECK, now);
+                        counts.reused += u64::from(reuse.is_some());
+                        to_write
+                            .try_push(ray.map(|r| Rec {
+                                pixel: r.pixel,
+                                word,
+                            }))
+                            .map_err(internal)?;
+                        counts.passed[3] += 1;
+                    }
+                } else {
+                    blocked = true;
+                }
+            } else if to_walk.ready() {
+                if let Some((mut ray, _)) = self.pipe.pop(now) {
+                    let _ = ray.leave(id::CHECK, now);
+                    to_walk.try_push(ray).map_err(internal)?;
+                    counts.walks_entered += 1;
+                    counts.passed[3] += 1;
+                }
+            } else {
+                blocked = true;
+            }
+        }
+        if input.valid() && self.pipe.can_accept(now) {
+            if let Some(mut ray) = input.try_pop().map_err(internal)? {
+                ray.enter(id::CHECK, now);
+                let word = bram.read(ray.payload.pixel as usize).map_err(internal)?;
+                self.pipe.accept(now, (ray, word), 1, 0);
+            }
+        }
+        Ok(self
+            .pipe
+            .state(now, blocked, counts.passed[2] < counts.pixels))
+    }
+}

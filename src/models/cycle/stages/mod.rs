@@ -1,0 +1,401 @@
+//! The stages of the cycle pipeline, one file each, and what they hand each other.
+//!
+//! Pipeline position: the parts [`super::pipeline::Pipeline`] evaluates once per clock,
+//! consumers first (docs/cycle-model.md §2.1). A stage is a struct holding its registers — a
+//! fixed-latency [`UnitPipe`] for the units, the pixel counter for ray generation — with one
+//! `eval` that runs one cycle of it: it reads the registered `ready`/`valid` of the FIFOs
+//! around it, hands on the result at its head, takes the next transaction, and returns its
+//! state for the cycle's accounting. Pushes, pops and hit-buffer writes land at the clock edge
+//! the pipeline takes after every stage has been evaluated (`rtl_model::cycle::clocked`).
+//!
+//! Interface rule: a stage takes the FIFOs, slot indices and plain data it touches as
+//! arguments — no trait objects, no allocation per transaction beyond its stamps — so that the
+//! loop's data layout can change under the stages without changing what they decide.
+//!
+//! This file holds what several stages share: the transactions, the ray slots of the walk
+//! section, the frame's inputs (the functional model's trace, read as rows arrive) and the
+//! frame's counters.
+
+pub mod check;
+pub mod passthrough;
+pub mod raygen;
+pub mod record;
+pub mod sorter;
+pub mod sphere;
+pub mod transform;
+pub mod walkers;
+pub mod write;
+
+use super::layout::SceneLayout;
+use super::model::CycleError;
+use crate::models::fixed::plan::{Best, FramePlan, PixelCounters};
+use crate::models::fixed::row_feed::RowFeed;
+use crate::models::fixed::trace::{PixelWork, RowTrace};
+use rtl_model::cycle::clocked::{StageId, Stamped};
+use rtl_model::cycle::fifo::Fifo;
+use rtl_model::cycle::unit_pipe::UnitPipe;
+
+/// Stage ids for stamps and the transaction log, in pipeline order, FIFOs included.
+pub mod id {
+    use rtl_model::cycle::clocked::StageId;
+
+    /// Ray generation.
+    pub const RAYGEN: StageId = StageId(0);
+    /// FIFO raygen → sphere.
+    pub const F_RG_SP: StageId = StageId(1);
+    /// Sphere lanes.
+    pub const SPHERE: StageId = StageId(2);
+    /// FIFO sphere → sorter.
+    pub const F_SP_SO: StageId = StageId(3);
+    /// Sorter.
+    pub const SORTER: StageId = StageId(4);
+    /// FIFO sorter → check.
+    pub const F_SO_CK: StageId = StageId(5);
+    /// Hit-buffer check.
+    pub const CHECK: StageId = StageId(6);
+    /// FIFO check → transform.
+    pub const F_CK_TR: StageId = StageId(7);
+    /// Loop-back FIFO record → transform.
+    pub const F_LOOP: StageId = StageId(8);
+    /// Transform.
+    pub const TRANSFORM: StageId = StageId(9);
+    /// FIFO transform → reciprocal.
+    pub const F_TR_RC: StageId = StageId(10);
+    /// Reciprocal units.
+    pub const RECIP: StageId = StageId(11);
+    /// FIFO reciprocal → root.
+    pub const F_RC_RT: StageId = StageId(12);
+    /// Walker-root units.
+    pub const ROOT: StageId = StageId(13);
+    /// FIFO root → dispatcher.
+    pub const F_RT_DP: StageId = StageId(14);
+    /// Walker pool.
+    pub const WALKER: StageId = StageId(15);
+    /// FIFO walkers → record.
+    pub const F_WK_RC: StageId = StageId(16);
+    /// Record.
+    pub const RECORD: StageId = StageId(17);
+    /// FIFO record → write.
+    pub const F_RC_WR: StageId = StageId(18);
+    /// Hit-buffer write port.
+    pub const WRITE: StageId = StageId(19);
+}
+
+/// Names of the stage ids in [`id`], for transaction logs.
+pub const STAGE_NAMES: [&str; 20] = [
+    "raygen",
+    "raygen_to_sphere",
+    "sphere",
+    "sphere_to_sorter",
+    "sorter",
+    "sorter_to_check",
+    "check",
+    "check_to_transform",
+    "loop_back",
+    "transform",
+    "transform_to_reciprocal",
+    "reciprocal",
+    "reciprocal_to_root",
+    "root",
+    "root_to_dispatch",
+    "walker",
+    "walker_to_record",
+    "record",
+    "record_to_write",
+    "write",
+];
+
+/// A ray between ray generation and the check stage.
+#[derive(Clone, Copy, Debug)]
+pub struct Ray {
+    /// Pixel index in raster order.
+    pub pixel: u32,
+}
+
+/// One walk of a ray: its slot and candidate index.
+#[derive(Clone, Copy, Debug)]
+pub struct Walk {
+    /// Ray slot (index into [`RaySlots`]).
+    pub slot: u32,
+    /// Candidate index in the ray's sorted list.
+    pub cand: u16,
+}
+
+/// A record on its way to the write port.
+#[derive(Clone, Copy, Debug)]
+pub struct Rec {
+    /// Pixel index.
+    pub pixel: u32,
+    /// Packed hit-buffer word.
+    pub word: u128,
+}
+
+/// A misused FIFO or BRAM: a model bug, reported with the part's own message.
+pub fn internal(e: impl std::fmt::Display) -> CycleError {
+    CycleError::Internal(e.to_string())
+}
+
+/// The output half of a fixed unit between FIFOs: the ready head leaves into `out` when `out`
+/// is ready (registered). Returns whether it left.
+#[inline]
+pub fn hand_on<T>(
+    pipe: &mut UnitPipe<Stamped<T>>,
+    stage: StageId,
+    out: &mut Fifo<T>,
+    now: u64,
+) -> Result<bool, CycleError> {
+    if pipe.ready(now).is_some() && out.ready() {
+        if let Some(mut w) = pipe.pop(now) {
+            let _ = w.leave(stage, now);
+            out.try_push(w).map_err(internal)?;
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// `n` units of initiation interval `ii` act as one unit of II ii/n.
+pub fn units_ii(ii: u32, n: u32) -> u32 {
+    ii.div_ceil(n.max(1)).max(1)
+}
+
+/// A ray in the walk section.
+#[derive(Clone, Debug, Default)]
+pub struct Slot {
+    /// Pixel index.
+    pub pixel: u32,
+    /// Sorted candidates (from the trace, or this model's own sort under cross-check).
+    pub cands: Vec<(i64, u16)>,
+    /// Best hit so far: walker t (raw) and candidate index.
+    pub best: Option<(i64, u16)>,
+    /// Under cross-check, the walker's own best result.
+    pub best_full: Option<Best>,
+    /// Walks done.
+    pub walks: u16,
+    /// The ray's stamps up to the check stage, taken back by its record.
+    pub stamps: Option<Stamped<Ray>>,
+}
+
+/// The ray slots of the walk section: a ray takes one as its first walk enters the transform
+/// and frees it when its record leaves (docs/cycle-model.md §2.1).
+pub struct RaySlots {
+    slots: Vec<Slot>,
+    free: Vec<u32>,
+}
+
+impl RaySlots {
+    /// `n` free slots; the lowest index is taken first.
+    pub fn new(n: u32) -> Self {
+        Self {
+            slots: (0..n).map(|_| Slot::default()).collect(),
+            free: (0..n).rev().collect(),
+        }
+    }
+
+    /// Whether a slot is free.
+    #[inline]
+    pub fn has_free(&self) -> bool {
+        !self.free.is_empty()
+    }
+
+    /// Takes a free slot for the ray `stamps` of `pixel` with its sorted candidates `cands`,
+    /// initialising it afresh.
+    pub fn take(
+        &mut self,
+        pixel: u32,
+        cands: &[(i64, u16)],
+        stamps: Stamped<Ray>,
+    ) -> Result<u32, CycleError> {
+        let Some(slot) = self.free.pop() else {
+            return Err(CycleError::Internal("no ray slot".into()));
+        };
+        let s = self.get_mut(slot)?;
+        s.pixel = pixel;
+        s.cands.clear();
+        s.cands.extend_from_slice(cands);
+        s.best = None;
+        s.best_full = None;
+        s.walks = 0;
+        s.stamps = Some(stamps);
+        Ok(slot)
+    }
+
+    /// Slot `slot`.
+    #[inline]
+    pub fn get_mut(&mut self, slot: u32) -> Result<&mut Slot, CycleError> {
+        self.slots
+            .get_mut(slot as usize)
+            .ok_or_else(|| CycleError::Internal(format!("no ray slot {slot}")))
+    }
+
+    /// Frees slot `slot` (its contents stay until it is taken again).
+    #[inline]
+    pub fn release(&mut self, slot: u32) {
+        self.free.push(slot);
+    }
+}
+
+/// Where a frame sits in the run and how it is checked.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameSetup {
+    /// Frame number in the run.
+    pub frame: u32,
+    /// Frame width in pixels.
+    pub width: u32,
+    /// Frame height in pixels.
+    pub height: u32,
+    /// Re-execute every stage's arithmetic and compare (docs/cycle-model.md §2.4).
+    pub cross_check: bool,
+}
+
+/// The frame's inputs as the stages read them: the prepared datapath, the direction table,
+/// the scene's placement in node memory, and the functional model's trace, taken row by row
+/// as it arrives. Also the scratch of the cross-check.
+pub struct FrameInputs<'f> {
+    /// Where the frame sits and how it is checked.
+    pub setup: FrameSetup,
+    /// The frame's prepared datapath.
+    pub plan: &'f FramePlan<'f>,
+    feed: &'f RowFeed,
+    /// The rows of the trace received so far.
+    rows: Vec<&'f RowTrace>,
+    /// The frame's direction table.
+    pub dir: &'f [[i64; 3]],
+    /// Asset of each instance.
+    pub instance_asset: &'f [usize],
+    /// Where each asset's image is in node memory.
+    pub layout: &'f SceneLayout,
+    /// Cross-check scratch: this model's own candidates of a ray.
+    pub xc_cands: Vec<(i64, u16)>,
+    /// Counters the plan's unit functions update (not reported by the cycle model).
+    pub xc_counters: PixelCounters,
+}
+
+impl<'f> FrameInputs<'f> {
+    /// The inputs of a frame; the trace feed must have one row per frame row and the direction
+    /// table one entry per pixel.
+    pub fn new(
+        setup: FrameSetup,
+        plan: &'f FramePlan<'f>,
+        feed: &'f RowFeed,
+        dir: &'f [[i64; 3]],
+        instance_asset: &'f [usize],
+        layout: &'f SceneLayout,
+    ) -> Result<Self, CycleError> {
+        let pixels = u64::from(setup.width) * u64::from(setup.height);
+        if feed.len() != setup.height as usize || dir.len() as u64 != pixels {
+            return Err(CycleError::Internal(
+                "trace or direction table does not match the frame size".into(),
+            ));
+        }
+        Ok(Self {
+            setup,
+            plan,
+            feed,
+            rows: Vec::with_capacity(setup.height as usize),
+            dir,
+            instance_asset,
+            layout,
+            xc_cands: Vec::new(),
+            xc_counters: PixelCounters::default(),
+        })
+    }
+
+    /// Pixels in the frame.
+    pub fn pixels(&self) -> u64 {
+        u64::from(self.setup.width) * u64::from(self.setup.height)
+    }
+
+    /// A disagreement with the functional model at `pixel`.
+    pub fn mismatch(&self, pixel: u32, what: String) -> CycleError {
+        let w = self.setup.width.max(1);
+        CycleError::Mismatch {
+            frame: self.setup.frame,
+            i: pixel % w,
+            j: pixel / w,
+            what,
+        }
+    }
+
+    /// The trace of pixel `p` (its row, its work and its column) from the rows received.
+    #[inline]
+    pub fn trace_at(&self, p: u32) -> Result<(&'f RowTrace, &'f PixelWork, usize), CycleError> {
+        let width = self.setup.width;
+        let (i, j) = ((p % width) as usize, (p / width) as usize);
+        let row = self.rows.get(j).copied().ok_or_else(|| {
+            CycleError::Internal(format!("pixel {p} used before its row {j} was received"))
+        })?;
+        let work = row.pixels.get(i).ok_or_else(|| {
+            CycleError::Internal(format!("row {j} of the trace has no pixel {i}"))
+        })?;
+        Ok((row, work, i))
+    }
+
+    /// Rows received so far.
+    pub fn rows(&self) -> &[&'f RowTrace] {
+        &self.rows
+    }
+
+    /// Makes sure row `row` has been received: waits for it (wall time only) and takes every
+    /// row published up to it, checking each is a whole row.
+    pub fn need_row(&mut self, row: usize) -> Result<(), CycleError> {
+        if row < self.rows.len() {
+            return Ok(());
+        }
+        let width = self.setup.width;
+        let published = self
+            .feed
+            .wait_for(row)
+            .map_err(|e| CycleError::Internal(format!("trace feed: {e}")))?;
+        for j in self.rows.len()..published {
+            let t = self
+                .feed
+                .get(j)
+                .ok_or_else(|| CycleError::Internal(format!("row {j} announced but absent")))?;
+            if t.pixels.len() != width as usize || t.words.len() != width as usize {
+                return Err(CycleError::Internal(format!(
+                    "row {j} of the trace has {} pixels and {} words, the frame is {width} wide",
+                    t.pixels.len(),
+                    t.words.len()
+                )));
+            }
+            self.rows.push(t);
+        }
+        Ok(())
+    }
+}
+
+/// What has passed each point of the pipeline this frame: what the stages' states and the
+/// stuck check read, and the report's counts.
+#[derive(Clone, Debug, Default)]
+pub struct FrameCounts {
+    /// Pixels in the frame.
+    pub pixels: u64,
+    /// Rays that left raygen, sphere, sorter and check.
+    pub passed: [u64; 4],
+    /// Records written to the hit buffer.
+    pub written: u64,
+    /// Rays that entered the walk section (the report's `traced`).
+    pub walks_entered: u64,
+    /// Rays that stopped with candidates left.
+    pub early: u64,
+    /// Pixels reused from the hit buffer.
+    pub reused: u64,
+}
+
+impl FrameCounts {
+    /// Counts of a frame of `pixels` pixels, all zero.
+    pub fn new(pixels: u64) -> Self {
+        Self {
+            pixels,
+            ..Self::default()
+        }
+    }
+
+    /// Whether walks are in the walk section or may still come: a ray has entered it, or the
+    /// check stage still has rays to pass.
+    #[inline]
+    pub fn more_walks(&self) -> bool {
+        self.walks_entered > 0 || self.passed[3] < self.pixels
+    }
+}

@@ -1,0 +1,72 @@
+//! The fixed units between the transform and the walker pool — the three reciprocals and the
+//! walker root — as plain pipes between FIFOs.
+//!
+//! Pipeline position: `transform_to_reciprocal` → reciprocal → `reciprocal_to_root` → root →
+//! `root_to_dispatch` (docs/cycle-model.md §2.1). Their arithmetic is the functional model's
+//! (under cross-check the walker stage re-executes it with the walk, §2.4); here they only
+//! take time: a latency, and an initiation interval shared by their units.
+
+use super::{hand_on, id, internal, units_ii, Walk};
+use crate::models::cycle::model::CycleError;
+use rtl_model::cycle::clocked::{StageId, Stamped};
+use rtl_model::cycle::fifo::Fifo;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::cycle::stage_stats::StageState;
+use rtl_model::cycle::unit_pipe::UnitPipe;
+
+/// A fixed unit that passes walks through unchanged.
+pub struct PassThrough {
+    pipe: UnitPipe<Stamped<Walk>>,
+    stage: StageId,
+    /// Initiation intervals a walk occupies the unit for.
+    passes: u64,
+}
+
+impl PassThrough {
+    /// The reciprocal stage of `hw`: three units per walk (one per axis); with fewer than three
+    /// units a walk takes several passes.
+    pub fn reciprocal(hw: &HwConfig) -> Self {
+        let u = &hw.units.reciprocal;
+        let walks = (hw.reciprocal_units / 3).max(1);
+        let passes = if hw.reciprocal_units < 3 {
+            u64::from(3u32.div_ceil(hw.reciprocal_units.max(1)))
+        } else {
+            1
+        };
+        Self {
+            pipe: UnitPipe::new(u.latency_cycles, units_ii(u.ii, walks)),
+            stage: id::RECIP,
+            passes,
+        }
+    }
+
+    /// The walker-root stage of `hw`.
+    pub fn root(hw: &HwConfig) -> Self {
+        let u = &hw.units.walker_root;
+        Self {
+            pipe: UnitPipe::new(u.latency_cycles, units_ii(u.ii, hw.walker_root_units)),
+            stage: id::ROOT,
+            passes: 1,
+        }
+    }
+
+    /// One cycle: the ready walk leaves into `out`, the next one enters from `input`.
+    /// `more_walks`: whether walks may still come (for the starved/idle accounting).
+    #[inline]
+    pub fn eval(
+        &mut self,
+        input: &mut Fifo<Walk>,
+        out: &mut Fifo<Walk>,
+        more_walks: bool,
+        now: u64,
+    ) -> Result<StageState, CycleError> {
+        let pushed = hand_on(&mut self.pipe, self.stage, out, now)?;
+        if input.valid() && self.pipe.can_accept(now) {
+            if let Some(mut w) = input.try_pop().map_err(internal)? {
+                w.enter(self.stage, now);
+                self.pipe.accept(now, w, self.passes, 0);
+            }
+        }
+        Ok(self.pipe.state(now, !pushed, more_walks))
+    }
+}

@@ -1,0 +1,152 @@
+//! The record stage: early termination, the best hit, and packing the hit-buffer word.
+//!
+//! Pipeline position: `walker_to_record` → `loop_back` (the ray's next walk) or, through the
+//! packing unit, `record_to_write` (docs/cycle-model.md §2.1). After each walk it decides
+//! whether the next candidate is needed (paper §4.2, `FramePlan::stops`: the best hit so far
+//! is in front of the next candidate's entry); if not, the ray's record is packed and its slot
+//! freed. The number of walks and, at the end of the frame, the words are checked against the
+//! functional model (§2.4); under cross-check the word is packed from this model's own best
+//! walk instead of taken from the trace.
+
+use super::{id, internal, FrameCounts, FrameInputs, Ray, RaySlots, Rec, Walk};
+use crate::models::cycle::model::CycleError;
+use crate::models::reference::SphereCount;
+use rtl_model::cycle::clocked::Stamped;
+use rtl_model::cycle::fifo::Fifo;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::cycle::stage_stats::StageState;
+use rtl_model::cycle::unit_pipe::UnitPipe;
+
+/// The record stage: the packing unit and the decision in front of it.
+pub struct Record {
+    pack: UnitPipe<Stamped<Rec>>,
+}
+
+impl Record {
+    /// The stage of `hw`.
+    pub fn new(hw: &HwConfig) -> Self {
+        let u = &hw.units.hit_pack;
+        Self {
+            pack: UnitPipe::new(u.latency_cycles, u.ii),
+        }
+    }
+
+    /// One cycle: the packed record leaves into `out` (the write FIFO's port is the record
+    /// stage's first), then one walk result from `input` is decided. Returns the stage's
+    /// state and whether it took the write FIFO's port this cycle (the check stage may not).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn eval(
+        &mut self,
+        input: &mut Fifo<Walk>,
+        loop_back: &mut Fifo<Walk>,
+        out: &mut Fifo<Rec>,
+        slots: &mut RaySlots,
+        frame: &mut FrameInputs<'_>,
+        counts: &mut FrameCounts,
+        now: u64,
+    ) -> Result<(StageState, bool), CycleError> {
+        let mut pushed = false;
+        if self.pack.ready(now).is_some() && out.ready() {
+            if let Some(mut r) = self.pack.pop(now) {
+                let _ = r.leave(id::RECORD, now);
+                out.try_push(r).map_err(internal)?;
+                pushed = true;
+            }
+        }
+        let mut state = self.pack.state(now, !pushed, counts.walks_entered > 0);
+        if input.valid() && self.pack.can_accept(now) {
+            if let Some(wk) = input.try_pop().map_err(internal)? {
+                self.decide(wk, loop_back, slots, frame, counts, now)?;
+                state = StageState::Busy;
+            }
+        }
+        Ok((state, pushed))
+    }
+
+    /// The decision on walk result `wk`: loop back for the next candidate, or pack the record
+    /// and free the slot.
+    fn decide(
+        &mut self,
+        wk: Stamped<Walk>,
+        loop_back: &mut Fifo<Walk>,
+        slots: &mut RaySlots,
+        frame: &mut FrameInputs<'_>,
+        counts: &mut FrameCounts,
+        now: u64,
+    ) -> Result<(), CycleError> {
+        let Walk { slot, cand } = wk.payload;
+        let s = slots.get_mut(slot)?;
+        let (tr, pw, i) = frame.trace_at(s.pixel)?;
+        let twalks = tr.walks_of(pw);
+        let Some(tw) = twalks.get(usize::from(cand)) else {
+            return Err(frame.mismatch(
+                s.pixel,
+                format!(
+                    "walk {cand} done here, the functional model did {}",
+                    twalks.len()
+                ),
+            ));
+        };
+        if let Some(t) = tw.hit_t {
+            if s.best.is_none_or(|(bt, _)| t < bt) {
+                s.best = Some((t, cand));
+            }
+        }
+        s.walks += 1;
+        let next = usize::from(cand) + 1;
+        let more = next < s.cands.len()
+            && !s
+                .best
+                .is_some_and(|(bt, _)| frame.plan.stops(bt, s.cands[next].0));
+        if more {
+            let mut w2 = wk.map(|_| Walk {
+                slot,
+                cand: next as u16,
+            });
+            w2.enter(id::RECORD, now);
+            let _ = w2.leave(id::RECORD, now);
+            loop_back
+                .try_push(w2)
+                .map_err(|e| CycleError::Internal(format!("loop-back: {e}")))?;
+            return Ok(());
+        }
+        if next < s.cands.len() {
+            counts.early += 1;
+        }
+        if s.walks != pw.walk_len {
+            return Err(frame.mismatch(
+                s.pixel,
+                format!(
+                    "{} walks here, {} in the functional model (early termination differs)",
+                    s.walks, pw.walk_len
+                ),
+            ));
+        }
+        let word = if frame.setup.cross_check {
+            let spheres = SphereCount::from_count(s.cands.len());
+            frame
+                .plan
+                .finish(s.best_full, spheres, &mut frame.xc_counters)
+                .word
+        } else {
+            tr.words
+                .get(i)
+                .copied()
+                .ok_or_else(|| CycleError::Internal(format!("no word for pixel {}", s.pixel)))?
+        };
+        let mut ray = s
+            .stamps
+            .take()
+            .unwrap_or_else(|| Stamped::new(Ray { pixel: s.pixel }));
+        ray.enter(id::RECORD, now);
+        let rec = ray.map(|r| Rec {
+            pixel: r.pixel,
+            word,
+        });
+        self.pack.accept(now, rec, 1, 0);
+        // The slot is initialised afresh when the transform takes it again.
+        slots.release(slot);
+        Ok(())
+    }
+}

@@ -1,0 +1,102 @@
+//! The sorter: a ray's candidates ordered front to back by the sorting network, with merge
+//! passes when a ray has more candidates than the network has lanes.
+//!
+//! Pipeline position: `sphere_to_sorter` → `sorter_to_check` (docs/cycle-model.md §2.1). A ray
+//! occupies the network for the passes `units::sorter::sort_timing` gives its candidate count
+//! (from the trace) and leaves after the network's latency plus the merges. Under cross-check
+//! this stage re-runs the sphere tests and the sort from the ray's direction and compares the
+//! list with the trace (§2.4).
+
+use super::{hand_on, id, internal, FrameCounts, FrameInputs, Ray};
+use crate::models::cycle::model::CycleError;
+use rtl_model::cycle::clocked::Stamped;
+use rtl_model::cycle::fifo::Fifo;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::cycle::stage_stats::StageState;
+use rtl_model::cycle::unit_pipe::UnitPipe;
+use rtl_model::units::sorter::sort_timing;
+
+/// Candidate counts whose sort cost is tabulated up front; beyond it, computed per ray.
+const SORT_COST_TABLE: usize = 4096;
+
+/// The sorter stage.
+pub struct Sorter {
+    pipe: UnitPipe<Stamped<Ray>>,
+    /// Passes and extra latency by candidate count (the network's timing is a pure function
+    /// of the count; computing it per ray would rebuild the network).
+    sort_cost: Vec<(u64, u64)>,
+    lanes: u8,
+    network_latency: u32,
+}
+
+/// Passes (initiation intervals) a ray of `n` candidates occupies the sorter for, and its
+/// latency beyond the network's.
+fn sort_cost_of(n: usize, lanes: u8, network_latency: u32) -> (u64, u64) {
+    let t = sort_timing(n, lanes);
+    (
+        t.network_busy.max(t.merger_busy).max(1),
+        t.latency.saturating_sub(u64::from(network_latency)),
+    )
+}
+
+impl Sorter {
+    /// The stage of `hw` for a frame of `instances` instances.
+    pub fn new(hw: &HwConfig, instances: usize) -> Self {
+        let u = &hw.units.sorter;
+        Self {
+            pipe: UnitPipe::new(u.latency_cycles, u.ii),
+            sort_cost: (0..=instances.min(SORT_COST_TABLE))
+                .map(|n| sort_cost_of(n, hw.sorter_lanes, u.latency_cycles))
+                .collect(),
+            lanes: hw.sorter_lanes,
+            network_latency: u.latency_cycles,
+        }
+    }
+
+    /// One cycle: the ready ray leaves into `out`, the next one enters from `input`.
+    #[inline]
+    pub fn eval(
+        &mut self,
+        input: &mut Fifo<Ray>,
+        out: &mut Fifo<Ray>,
+        frame: &mut FrameInputs<'_>,
+        counts: &mut FrameCounts,
+        now: u64,
+    ) -> Result<StageState, CycleError> {
+        let pushed = hand_on(&mut self.pipe, id::SORTER, out, now)?;
+        counts.passed[2] += u64::from(pushed);
+        if input.valid() && self.pipe.can_accept(now) {
+            if let Some(mut ray) = input.try_pop().map_err(internal)? {
+                ray.enter(id::SORTER, now);
+                let pixel = ray.payload.pixel;
+                let (tr, pw, _) = frame.trace_at(pixel)?;
+                if frame.setup.cross_check {
+                    let d = frame.dir[pixel as usize];
+                    frame
+                        .plan
+                        .candidates(d, &mut frame.xc_cands, &mut frame.xc_counters);
+                    frame.plan.sort(&mut frame.xc_cands, &mut frame.xc_counters);
+                    if frame.xc_cands.as_slice() != tr.candidates_of(pw) {
+                        return Err(frame.mismatch(
+                            pixel,
+                            format!(
+                                "sorted candidates {:?} here, {:?} in the functional model",
+                                frame.xc_cands,
+                                tr.candidates_of(pw)
+                            ),
+                        ));
+                    }
+                }
+                let n = usize::from(pw.cand_len);
+                let (passes, extra) = match self.sort_cost.get(n) {
+                    Some(&c) => c,
+                    None => sort_cost_of(n, self.lanes, self.network_latency),
+                };
+                self.pipe.accept(now, ray, passes, extra);
+            }
+        }
+        Ok(self
+            .pipe
+            .state(now, !pushed, counts.passed[1] < counts.pixels))
+    }
+}

@@ -1,0 +1,60 @@
+//! The sphere lanes: every instance's bounding-sphere test of a ray, `sphere_units` lanes each
+//! with its square root, so a ray takes ⌈instances / lanes⌉ passes.
+//!
+//! Pipeline position: `raygen_to_sphere` → `sphere_to_sorter` (docs/cycle-model.md §2.1). The
+//! candidates themselves come from the functional model's trace; under cross-check the sorter
+//! stage re-runs the tests and the sort from the direction (§2.4).
+
+use super::{hand_on, id, internal, FrameCounts, Ray};
+use crate::models::cycle::model::CycleError;
+use rtl_model::cycle::clocked::Stamped;
+use rtl_model::cycle::fifo::Fifo;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::cycle::stage_stats::StageState;
+use rtl_model::cycle::unit_pipe::UnitPipe;
+
+/// The sphere stage.
+pub struct Sphere {
+    pipe: UnitPipe<Stamped<Ray>>,
+    /// Initiation intervals a ray occupies the lanes for.
+    passes: u64,
+}
+
+impl Sphere {
+    /// The stage of `hw` for a frame of `instances` instances.
+    pub fn new(hw: &HwConfig, instances: usize) -> Self {
+        let u = &hw.units;
+        let passes = (instances as u64)
+            .div_ceil(u64::from(hw.sphere_units.max(1)))
+            .max(1);
+        Self {
+            pipe: UnitPipe::new(
+                u.sphere.latency_cycles + u.sqrt.latency_cycles,
+                u.sphere.ii.max(u.sqrt.ii),
+            ),
+            passes,
+        }
+    }
+
+    /// One cycle: the ready ray leaves into `out`, the next one enters from `input`.
+    #[inline]
+    pub fn eval(
+        &mut self,
+        input: &mut Fifo<Ray>,
+        out: &mut Fifo<Ray>,
+        counts: &mut FrameCounts,
+        now: u64,
+    ) -> Result<StageState, CycleError> {
+        let pushed = hand_on(&mut self.pipe, id::SPHERE, out, now)?;
+        counts.passed[1] += u64::from(pushed);
+        if input.valid() && self.pipe.can_accept(now) {
+            if let Some(mut ray) = input.try_pop().map_err(internal)? {
+                ray.enter(id::SPHERE, now);
+                self.pipe.accept(now, ray, self.passes, 0);
+            }
+        }
+        Ok(self
+            .pipe
+            .state(now, !pushed, counts.passed[0] < counts.pixels))
+    }
+}

@@ -1,0 +1,66 @@
+//! The transform: a walk's ray into its instance's frame, and the entry to the walk section.
+//!
+//! Pipeline position: `loop_back` (first) or `check_to_transform` → `transform_to_reciprocal`
+//! (docs/cycle-model.md §2.1). A ray's candidates are walked one after the other; the record
+//! stage sends the next walk of a ray back through `loop_back`, which has priority over new
+//! rays so that rays in the walk section finish first. A new ray takes one of the ray slots as
+//! its first walk enters here and keeps it until its record leaves; `loop_back` has one entry
+//! per slot, so it can always take a returning walk and the loop cannot deadlock.
+
+use super::{hand_on, id, internal, units_ii, FrameInputs, Ray, RaySlots, Walk};
+use crate::models::cycle::model::CycleError;
+use rtl_model::cycle::clocked::Stamped;
+use rtl_model::cycle::fifo::Fifo;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::cycle::stage_stats::StageState;
+use rtl_model::cycle::unit_pipe::UnitPipe;
+
+/// The transform stage.
+pub struct Transform {
+    pipe: UnitPipe<Stamped<Walk>>,
+}
+
+impl Transform {
+    /// The stage of `hw` (`transform_units` units act as one of a shorter II).
+    pub fn new(hw: &HwConfig) -> Self {
+        let u = &hw.units.transform;
+        Self {
+            pipe: UnitPipe::new(u.latency_cycles, units_ii(u.ii, hw.transform_units)),
+        }
+    }
+
+    /// One cycle: the ready walk leaves into `out`; then a returning walk from `loop_back`
+    /// enters, or else the first walk of a new ray from `new_rays` if a slot is free.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn eval(
+        &mut self,
+        loop_back: &mut Fifo<Walk>,
+        new_rays: &mut Fifo<Ray>,
+        out: &mut Fifo<Walk>,
+        slots: &mut RaySlots,
+        frame: &FrameInputs<'_>,
+        more_walks: bool,
+        now: u64,
+    ) -> Result<StageState, CycleError> {
+        let pushed = hand_on(&mut self.pipe, id::TRANSFORM, out, now)?;
+        if self.pipe.can_accept(now) {
+            if loop_back.valid() {
+                if let Some(mut w) = loop_back.try_pop().map_err(internal)? {
+                    w.enter(id::TRANSFORM, now);
+                    self.pipe.accept(now, w, 1, 0);
+                }
+            } else if new_rays.valid() && slots.has_free() {
+                if let Some(ray) = new_rays.try_pop().map_err(internal)? {
+                    let pixel = ray.payload.pixel;
+                    let (tr, pw, _) = frame.trace_at(pixel)?;
+                    let slot = slots.take(pixel, tr.candidates_of(pw), ray)?;
+                    let mut w = Stamped::new(Walk { slot, cand: 0 });
+                    w.enter(id::TRANSFORM, now);
+                    self.pipe.accept(now, w, 1, 0);
+                }
+            }
+        }
+        Ok(self.pipe.state(now, !pushed, more_walks))
+    }
+}

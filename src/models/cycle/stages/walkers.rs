@@ -1,0 +1,162 @@
+//! The walker pool as a stage: wake, retire, dispatch, issue.
+//!
+//! Pipeline position: `root_to_dispatch` → `walker_to_record` (docs/cycle-model.md §2.1, the
+//! pool itself §2.3). Per cycle: contexts whose read completed or whose step latency ended
+//! move on; the oldest finished walk leaves; one walk is dispatched with its recorded ops,
+//! their node and attribute addresses relocated to its asset's place in node memory; every
+//! walker issues. Under cross-check the dispatcher re-executes the transform, reciprocals and
+//! the whole walk from the ray's direction and compares every op and the hit with the trace
+//! (§2.4).
+
+use super::{id, internal, FrameInputs, RaySlots, Walk};
+use crate::models::cycle::model::CycleError;
+use crate::models::fixed::trace::{OpRecorder, WalkOp};
+use rtl_model::cycle::clocked::Stamped;
+use rtl_model::cycle::fifo::Fifo;
+use rtl_model::cycle::memory::{FetchKind, NodeMemory};
+use rtl_model::cycle::stage_stats::StageState;
+use rtl_model::cycle::walker_pool::WalkerPoolModel;
+use rtl_model::units::walker::WalkOutcome;
+
+/// The walker stage. Its registers are the pool's contexts, which live across frames in the
+/// model ([`WalkerPoolModel`]); the stage is how the pipeline drives them.
+pub struct Walkers;
+
+/// The pool's tag of walk `w`: slot in the high bits, candidate in the low 16.
+#[inline]
+fn tag_of(w: Walk) -> u64 {
+    (u64::from(w.slot) << 16) | u64::from(w.cand)
+}
+
+/// The walk a pool tag names.
+#[inline]
+fn walk_of(tag: u64) -> Walk {
+    Walk {
+        slot: (tag >> 16) as u32,
+        cand: tag as u16,
+    }
+}
+
+impl Walkers {
+    /// One cycle of the pool. `more_walks`: whether walks may still come (for the
+    /// starved/idle accounting). The stage is busy when any walker issued.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn eval(
+        &mut self,
+        input: &mut Fifo<Walk>,
+        out: &mut Fifo<Walk>,
+        pool: &mut WalkerPoolModel,
+        mem: &mut NodeMemory,
+        slots: &mut RaySlots,
+        frame: &mut FrameInputs<'_>,
+        more_walks: bool,
+        now: u64,
+    ) -> Result<StageState, CycleError> {
+        pool.wake(now, mem)?;
+        if pool.finished_head().is_some() && out.ready() {
+            if let Some(tag) = pool.retire() {
+                let mut wk = Stamped::new(walk_of(tag));
+                wk.enter(id::WALKER, now);
+                let _ = wk.leave(id::WALKER, now);
+                out.try_push(wk).map_err(internal)?;
+            }
+        }
+        if input.valid() {
+            if pool.has_free() {
+                if let Some(wk) = input.try_pop().map_err(internal)? {
+                    Self::dispatch(wk.payload, pool, slots, frame)?;
+                }
+            } else {
+                pool.note_dispatch_stall();
+            }
+        }
+        pool.issue();
+        Ok(if pool.issued_count() > 0 {
+            StageState::Busy
+        } else if pool.busy_contexts() > 0 {
+            if out.ready() {
+                StageState::Idle
+            } else {
+                StageState::Backpressured
+            }
+        } else if more_walks {
+            StageState::Starved
+        } else {
+            StageState::Idle
+        })
+    }
+
+    /// Hands walk `w` to a free context with its recorded ops, relocated to its asset.
+    fn dispatch(
+        w: Walk,
+        pool: &mut WalkerPoolModel,
+        slots: &mut RaySlots,
+        frame: &mut FrameInputs<'_>,
+    ) -> Result<(), CycleError> {
+        let Walk { slot, cand } = w;
+        let s = slots.get_mut(slot)?;
+        let (tr, pw, _) = frame.trace_at(s.pixel)?;
+        let Some(&(_, k)) = s.cands.get(usize::from(cand)) else {
+            return Err(CycleError::Internal(format!(
+                "walk {cand} of a ray with {} candidates",
+                s.cands.len()
+            )));
+        };
+        let Some(tw) = tr.walks_of(pw).get(usize::from(cand)) else {
+            return Err(frame.mismatch(
+                s.pixel,
+                format!(
+                    "walk {cand} wanted here, the functional model did {}",
+                    pw.walk_len
+                ),
+            ));
+        };
+        let asset = frame
+            .instance_asset
+            .get(usize::from(k))
+            .copied()
+            .unwrap_or(0);
+        let nb = frame.layout.node_base.get(asset).copied().unwrap_or(0);
+        let ab = frame.layout.attr_base.get(asset).copied().unwrap_or(0);
+        let ops = tr.ops_of(tw);
+        if frame.setup.cross_check {
+            // Re-execute the walk from this stage's own inputs.
+            let mut mine: Vec<u64> = Vec::with_capacity(ops.len());
+            let mut rec = OpRecorder::new(&mut mine);
+            let d = frame.dir[s.pixel as usize];
+            let (out, signs) = frame.plan.walk(d, k, &mut frame.xc_counters, &mut rec);
+            rec.finish();
+            let hit_t = match out {
+                WalkOutcome::Hit(h) => Some(h.t),
+                _ => None,
+            };
+            if mine != ops || hit_t != tw.hit_t {
+                return Err(frame.mismatch(
+                    s.pixel,
+                    format!(
+                        "walk {cand} (instance {k}) differs: {} ops / t {:?} here, {} ops / t {:?} in the functional model",
+                        mine.len(),
+                        hit_t,
+                        ops.len(),
+                        tw.hit_t
+                    ),
+                ));
+            }
+            if let WalkOutcome::Hit(h) = out {
+                if s.best_full.is_none_or(|(bt, _, _, _)| h.t < bt) {
+                    s.best_full = Some((h.t, k, h, signs));
+                }
+            }
+        }
+        // Node and attribute addresses are per asset: relocate them to the asset's place in
+        // the node memory as the context takes them.
+        let relocate = |o: &u64| match WalkOp::unpack(*o) {
+            WalkOp::Read(FetchKind::Attr, a) => WalkOp::Read(FetchKind::Attr, a + ab).pack(),
+            WalkOp::Read(kind, a) => WalkOp::Read(kind, a + nb).pack(),
+            op => op.pack(),
+        };
+        pool.dispatch_with(tag_of(w), |v| v.extend(ops.iter().map(relocate)));
+        Ok(())
+    }
+}
