@@ -4,8 +4,6 @@
 // Each test binary uses a different subset.
 #![allow(dead_code)]
 
-pub mod fixed_oracle;
-
 /// `SVO_TEST_SEED` if set, else the test's own default.
 pub fn seed(default: u64) -> u64 {
     std::env::var("SVO_TEST_SEED")

@@ -1,7 +1,7 @@
-//! The oracle and checking harness of the fixed-point tests (`rtl_model/tests/fixed_exhaustive.rs`
-//! and `rtl_model/tests/fixed_f64.rs`): plain integer maths that computes, from each operation's
-//! definition, the code and the overflow count `rtl_model::fixed` must give; and a [`Checker`]
-//! that runs cases against it and reports the first disagreements.
+//! The oracle and checking harness of the fixed-point tests (`main.rs` and `conversions.rs` of
+//! this folder): plain integer maths that computes, from each operation's definition, the code
+//! and the overflow count `rtl_model::fixed` must give; and a [`Checker`] that runs cases
+//! against it and reports the first disagreements.
 //!
 //! Why the oracle is independent of `ops.rs`: it shares no code with it and uses a different
 //! method. Values are exact rationals n / 2^k (i128 n); rounding takes `div_euclid` /
@@ -10,7 +10,7 @@
 //! away from zero / even). Where an i128 rational would overflow (large shifts, random
 //! doubles) a second oracle reads the dropped bits by position (bit s−1 = "half", any lower
 //! bit = "more than half") on the infinite two's-complement extension; that oracle is itself
-//! checked against the division oracle below. Overflow is an explicit range comparison against
+//! checked against the division oracle (`oracle_bit_positions_match_division` in `main.rs`). Overflow is an explicit range comparison against
 //! ranges built from powers of two, and wrap is `rem_euclid(2^W)` then sign adjustment (beyond
 //! i128, from the exact low 64 bits). Doubles are decomposed from their bit pattern into
 //! mantissa · 2^exponent, so the oracle sees their exact value, never a scaled double.
@@ -45,7 +45,7 @@ pub const ALL_FRACS_6: std::ops::RangeInclusive<i32> = -58..=62;
 
 /// The run's seed: `SVO_TEST_SEED` or this suite's default.
 pub fn seed() -> u64 {
-    super::seed(0x5eed_f1ed_2024)
+    super::common::seed(0x5eed_f1ed_2024)
 }
 
 /// A format from its fields (`frac` as an i32, checked to fit).

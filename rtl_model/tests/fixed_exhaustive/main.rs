@@ -14,24 +14,28 @@
 //! - Edges: `Format::is_valid` boundaries, `min_raw` / `max_raw` at widths 1, 2, 63, 64, and
 //!   results within [min_raw, max_raw] at every width 1..=64.
 //!
-//! `from_f64` and `to_f64` are tested the same way in `rtl_model/tests/fixed_f64.rs`.
+//! `from_f64` and `to_f64` are tested the same way in `conversions.rs` of this folder (one test
+//! binary, so that its tests share the two cores with the long exhaustive ones).
 //!
 //! Every check compares the result code AND whether the signal's overflow counter went up by
 //! exactly one (saturation or wrap) or not at all (in range), with no other signal touched.
 //! Failures list the first disagreeing cases; the `minimal case` tests pin each bug found.
-//! The oracle (`rtl_model/tests/common/fixed_oracle.rs`, whose module documentation says why
-//! it is independent of `ops.rs`) is itself checked here against hand-worked cases, and its
+//! The oracle (`oracle.rs` of this folder, whose module documentation says why it is
+//! independent of `ops.rs`) is itself checked here against hand-worked cases, and its
 //! bit-position rounding against its division rounding.
 //!
 //! Runs with `cargo test -p rtl_model --test fixed_exhaustive` (add `-- --nocapture` to see
 //! the case counts, times and seed). `SVO_TEST_SEED` overrides the default seed.
 
+#[path = "../common/mod.rs"]
 mod common;
+mod conversions;
+mod oracle;
 
 use std::time::Instant;
 
-use common::fixed_oracle::*;
 use common::Rng;
+use oracle::*;
 use rtl_model::fixed::{add, mul, quantize, sub, OverflowMode, Overflows, Quant, SignalId};
 
 // ---------------------------------------------------------------------------------------------

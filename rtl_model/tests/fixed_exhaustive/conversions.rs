@@ -1,6 +1,6 @@
 //! Exhaustive and seeded tests of the fixed-point layer's conversions from and to doubles
-//! (`rtl_model::fixed::{from_f64, to_f64}`) against the integer oracle of
-//! `rtl_model/tests/common/fixed_oracle.rs`:
+//! (`rtl_model::fixed::{from_f64, to_f64}`) against the integer oracle in `oracle.rs` beside
+//! this file:
 //!
 //! - `from_f64`: every 6-bit format (all valid fraction counts −58..=62) and mode for every
 //!   x = k/2^j (k in −300..300, j in 0..=9, exact binary fractions including exact ties), plus
@@ -10,18 +10,13 @@
 //! Doubles are decomposed from their bit pattern into mantissa · 2^exponent, so the oracle sees
 //! their exact value, never a scaled double. Every check compares the result code AND whether
 //! the signal's overflow counter went up by exactly one or not at all; the `minimal case`
-//! tests pin each bug found. The arithmetic and `quantize` are tested in
-//! `rtl_model/tests/fixed_exhaustive.rs`.
-//!
-//! Runs with `cargo test -p rtl_model --test fixed_f64` (add `-- --nocapture` to see the case
-//! counts, times and seed). `SVO_TEST_SEED` overrides the default seed.
-
-mod common;
+//! tests pin each bug found. The arithmetic and `quantize` are tested in `main.rs`, whose test
+//! binary (`cargo test -p rtl_model --test fixed_exhaustive`) this module is part of.
 
 use std::time::Instant;
 
-use common::fixed_oracle::*;
-use common::Rng;
+use super::common::Rng;
+use super::oracle::*;
 use rtl_model::fixed::{from_f64, quantize, to_f64, OverflowMode, Overflows, Quant, SignalId};
 
 // ---------------------------------------------------------------------------------------------
