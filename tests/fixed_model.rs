@@ -8,10 +8,10 @@
 
 use rtl_model::datapath::DatapathConfig;
 use std::path::Path;
-use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
 use svo_sim::models::fixed::bound::mismatch_explained;
 use svo_sim::models::fixed::{compare, render_frame_fixed, to_hit_records, FixedBuffer};
 use svo_sim::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
+use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
 use svo_sim::world::scene::Scene;
 
 #[test]

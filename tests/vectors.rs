@@ -15,9 +15,9 @@ use rtl_model::datapath::DatapathConfig;
 use std::collections::BTreeSet;
 use std::path::Path;
 use std::time::Duration;
-use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
 use svo_sim::models::fixed::{render_frame_fixed, FixedBuffer};
 use svo_sim::models::reference::FrameInput;
+use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
 use svo_sim::world::scene::Scene;
 use vector_files::{field, manifest, rows, value, Tmp, GOLDEN_ARGS};
 
@@ -362,7 +362,7 @@ fn capture_reproduces_the_functional_model() {
             );
             assert_eq!(
                 (p.hit, p.t, p.voxel),
-                (rec.hit, rec.t_raw, rec.voxel),
+                (rec.hit, rec.t, rec.voxel),
                 "pixel {k}"
             );
             hits += usize::from(p.hit);

@@ -11,9 +11,9 @@
 pub mod capture;
 pub mod cli;
 
-use crate::world::assets::{build_assets, effective_depths, Materialise};
 use crate::error::{AssetError, SceneError};
 use crate::output::atomic::write_atomic;
+use crate::world::assets::{build_assets, effective_depths, Materialise};
 use crate::world::scene::Scene;
 use rtl_model::cycle::hw_config::UnitTimings;
 use rtl_model::datapath::DatapathConfig;
