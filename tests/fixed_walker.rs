@@ -13,7 +13,8 @@ use glam::DVec3;
 use rtl_model::fixed::{from_f64, Format, Overflows, Quant, SignalId};
 use rtl_model::svo::{LeafSet, SvoImage};
 use rtl_model::units::walker::{
-    spatial_error_bound, walk_fixed_visiting, WalkOutcome, WalkerConfig, WalkerInput, WalkerStats,
+    spatial_error_bound, walk_fixed_visiting, WalkOutcome, WalkerConfig, WalkerInput, WalkerInv,
+    WalkerPos, WalkerStats,
 };
 use svo_sim::models::reference::walk::{walk_visiting, WalkCounters};
 use svo_sim::world::assets::voxelize::voxelize;
@@ -198,17 +199,17 @@ fn fixed_walker_follows_the_reference_within_its_bound() {
 
         let zero = [0, 1, 2].map(|k| d[k].abs() < ZERO_BELOW);
         let inp = WalkerInput {
-            origin: [0, 1, 2].map(|k| from_f64(o[k], cfg.pos, &mut ov, sin)),
-            inv: [0, 1, 2].map(|k| {
-                if zero[k] {
+            origin: WalkerPos::of([0, 1, 2].map(|k| from_f64(o[k], cfg.pos, &mut ov, sin))),
+            inv: [0, 1, 2].map(|k| WalkerInv {
+                raw: if zero[k] {
                     0
                 } else {
                     from_f64(1.0 / d[k].abs(), cfg.inv, &mut ov, sin)
-                }
+                },
             }),
             zero,
             negative: [0, 1, 2].map(|k| d[k].is_sign_negative()),
-            half: [0, 1, 2].map(|k| from_f64(a.half[k], cfg.pos, &mut ov, sin)),
+            half: WalkerPos::of([0, 1, 2].map(|k| from_f64(a.half[k], cfg.pos, &mut ov, sin))),
         };
         let mut fx_nodes = Vec::new();
         let mut st = WalkerStats::default();
@@ -278,11 +279,17 @@ fn step_limit_is_reported() {
     };
     let mut ov = Overflows::new(&["t"]);
     let inp = WalkerInput {
-        origin: [from_f64(-2.5, cfg.pos, &mut ov, SignalId(0)), 0, 0],
-        inv: [1i64 << cfg.inv.frac, 0, 0],
+        origin: WalkerPos::of([from_f64(-2.5, cfg.pos, &mut ov, SignalId(0)), 0, 0]),
+        inv: [
+            WalkerInv {
+                raw: 1i64 << cfg.inv.frac,
+            },
+            WalkerInv::default(),
+            WalkerInv::default(),
+        ],
         zero: [false, true, true],
         negative: [false; 3],
-        half: [1i64 << cfg.pos.frac; 3],
+        half: WalkerPos::of([1i64 << cfg.pos.frac; 3]),
     };
     let mut st = WalkerStats::default();
     let out =

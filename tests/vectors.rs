@@ -362,7 +362,7 @@ fn capture_reproduces_the_functional_model() {
             );
             assert_eq!(
                 (p.hit, p.t, p.voxel),
-                (rec.hit, rec.t_raw, rec.voxel),
+                (rec.hit, rec.t, rec.voxel),
                 "pixel {k}"
             );
             hits += usize::from(p.hit);

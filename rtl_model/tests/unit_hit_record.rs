@@ -3,12 +3,12 @@
 //! quantised first, field boundaries, counted saturation, and the quantisers' error bounds.
 //! Set `HIT_RECORD_SEED` to replay a failing run; the seed is printed.
 
-use rtl_model::fixed::{to_f64, Format, OverflowMode, Overflows, Quant, SignalId};
+use rtl_model::fixed::{Format, OverflowMode, Overflows, Quant, SignalId};
 use rtl_model::units::hit_record::{
     bram36_count, channel_from_u8, channel_to_u8, decode_normal, encode_normal,
     normal_error_bound_rad, normal_from_snorm16, pack, quantise, t_error_bound, unpack,
-    uram288_count, ColourFormat, HitRecordConfig, HitRecordF64, HitRecordFields, SphereCount,
-    BRAM36_SHAPES,
+    uram288_count, ColourFormat, HitRecordConfig, HitRecordF64, HitRecordFields, RecordT,
+    SphereCount, BRAM36_SHAPES,
 };
 
 /// SplitMix64: small, seeded, and the same on every platform.
@@ -102,7 +102,9 @@ fn random_fields(rng: &mut Rng, cfg: &HitRecordConfig) -> HitRecordFields {
         } else {
             Some(rng.edgy(0, i64::from(none) - 1) as u16)
         },
-        t: rng.edgy(cfg.t.min_raw(), cfg.t.max_raw()),
+        t: RecordT {
+            raw: rng.edgy(cfg.t.min_raw(), cfg.t.max_raw()),
+        },
         normal: [0, 1].map(|_| rng.edgy(-nmax - 1, nmax) as i32),
         colour: [0, 1, 2].map(|i| rng.edgy(0, (1 << ch[i]) - 1) as u8),
         voxel: if cfg.include_voxel {
@@ -361,7 +363,7 @@ fn quantised_f64_records_round_trip_and_count_once() {
         let t_in = rounded_code(f.t, cfg.t)
             .is_some_and(|q| q >= i128::from(cfg.t.min_raw()) && q <= i128::from(cfg.t.max_raw()));
         if f.instance.is_some() && t_in {
-            let back = to_f64(q.t, cfg.t);
+            let back = q.t.to_f64(&cfg);
             assert!(
                 (back - f.t).abs() <= t_error_bound(&cfg),
                 "case {case}: t {} → {back}",
@@ -372,7 +374,7 @@ fn quantised_f64_records_round_trip_and_count_once() {
             }
         }
         if f.instance.is_none() {
-            assert_eq!(q.t, cfg.t.max_raw(), "a miss stores the far code");
+            assert_eq!(q.t, RecordT::far(&cfg), "a miss stores the far code");
         }
         let bad_t = f.instance.is_some() && !t_in;
         let bad_inst = matches!(f.instance, Some(i) if i >= cfg.instance_none());
@@ -425,7 +427,7 @@ fn each_field_all_ones_sits_at_its_offset_alone() {
                 "kind" => expect.kind = SphereCount::Several, // reserved code 3
                 "instance" => expect.instance = None,
                 "t" => {
-                    expect.t = if cfg.t.signed {
+                    expect.t.raw = if cfg.t.signed {
                         -1
                     } else {
                         ones(f.width) as i64
@@ -461,22 +463,31 @@ fn out_of_range_fields_saturate_and_count() {
     let ok = HitRecordFields {
         kind: SphereCount::One,
         instance: Some(1),
-        t: 100,
+        t: RecordT { raw: 100 },
         normal: [3, -3],
         colour: [1, 2, 3],
         voxel: [4, 5, 6],
     };
     let cases: [(HitRecordFields, HitRecordFields); 7] = [
         (
-            HitRecordFields { t: 1 << 30, ..ok },
             HitRecordFields {
-                t: cfg.t.max_raw(),
+                t: RecordT { raw: 1 << 30 },
+                ..ok
+            },
+            HitRecordFields {
+                t: RecordT::far(&cfg),
                 ..ok
             },
         ),
         (
-            HitRecordFields { t: -5, ..ok },
-            HitRecordFields { t: 0, ..ok },
+            HitRecordFields {
+                t: RecordT { raw: -5 },
+                ..ok
+            },
+            HitRecordFields {
+                t: RecordT { raw: 0 },
+                ..ok
+            },
         ),
         (
             HitRecordFields {

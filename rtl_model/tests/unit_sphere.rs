@@ -6,7 +6,9 @@
 mod common;
 use common::Rng;
 use rtl_model::fixed::{from_f64, to_f64, Overflows, SignalId};
-use rtl_model::units::sphere::{sphere_test, SphereConfig, SphereRaw, SphereSignals};
+use rtl_model::units::sphere::{
+    sphere_radicand, sphere_test, SphereConfig, SphereRaw, SphereSignals,
+};
 
 /// A random unit vector.
 fn unit(rng: &mut Rng) -> [f64; 3] {
@@ -117,7 +119,8 @@ fn conservative_and_within_bound() {
 /// √3·reach away along a diagonal passed the guard unflagged and could be rejected although
 /// the exact test accepts it. Every grazing ray here is 205 m from the sphere along the
 /// diagonal (each component of l about 118 m, below the 128 m reach): the unit must keep the
-/// sphere or count it on the reach signal, never reject it silently.
+/// sphere or count it on the reach signal, never reject it silently. Where it counts, it takes
+/// no square root ([`sphere_radicand`], which the vectors capture the root's inputs with).
 #[test]
 fn beyond_reach_along_a_diagonal_is_never_silently_rejected() {
     let seed: u64 = std::env::var("SVO_TEST_SEED")
@@ -166,8 +169,16 @@ fn beyond_reach_along_a_diagonal_is_never_silently_rejected() {
             q(c, cfg.pos, &mut ov),
         );
         let before = ov.count(sig.reach);
-        let got = sphere_test(oq, dq, &SphereRaw::new(cq, r, &cfg), &cfg, &mut ov, sig);
+        let sphere = SphereRaw::new(cq, r, &cfg);
+        let got = sphere_test(oq, dq, &sphere, &cfg, &mut ov, sig);
         let flagged = ov.count(sig.reach) > before;
+        if flagged {
+            assert_eq!(
+                sphere_radicand(oq, dq, &sphere, &cfg, &mut ov, sig),
+                None,
+                "seed {seed} case {case}: a root beyond the reach"
+            );
+        }
         if exact(o, d, c, r).is_some() {
             assert!(
                 got.is_some() || flagged,

@@ -22,8 +22,11 @@
 //! payload widths; the optional voxel fields come last so switching them off moves nothing.
 //! Out-of-range inputs saturate and are counted on the record's signal; nothing panics.
 
-use crate::fixed::{from_f64, Format, Overflows, Quant, SignalId};
+use crate::fixed::{from_f64, to_f64, Format, Overflows, Quant, SignalId};
 use serde::{Deserialize, Serialize};
+
+mod bram;
+pub use bram::{bram36_count, uram288_count, BRAM36_SHAPES};
 
 /// How many bounding spheres the pixel's ray pierced in the frame that wrote the record (the
 /// paper's "nature of the hit"). A miss is told by the instance field, not by this.
@@ -269,6 +272,30 @@ impl HitRecordConfig {
     }
 }
 
+/// The record's t, a depth value in metres: a raw code of [`HitRecordConfig::t`] (default
+/// uQ8.14). The walker's own, wider t reaches it through the host's f64 path (`quantise`),
+/// never by a shift between the two formats.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(transparent)]
+pub struct RecordT {
+    /// The code.
+    pub raw: i64,
+}
+
+impl RecordT {
+    /// The far code a miss stores: the format's largest.
+    pub fn far(cfg: &HitRecordConfig) -> Self {
+        Self {
+            raw: cfg.t.max_raw(),
+        }
+    }
+
+    /// Metres.
+    pub fn to_f64(self, cfg: &HitRecordConfig) -> f64 {
+        to_f64(self.raw, cfg.t)
+    }
+}
+
 /// One record's fields as raw codes: what [`unpack`] returns.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct HitRecordFields {
@@ -276,8 +303,8 @@ pub struct HitRecordFields {
     pub kind: SphereCount,
     /// Instance hit; `None` on a miss (stored as the all-ones code).
     pub instance: Option<u16>,
-    /// t as a raw code of [`HitRecordConfig::t`].
-    pub t: i64,
+    /// t.
+    pub t: RecordT,
     /// Octahedral normal (u, v) as signed `normal_bits`-bit codes, value = code / (2^(N−1) − 1)
     /// (the most negative code also reads as −1).
     pub normal: [i32; 2],
@@ -363,7 +390,7 @@ fn sat(v: i64, lo: i64, hi: i64, ov: &mut Overflows, sig: SignalId) -> i64 {
 /// use rtl_model::units::hit_record::*;
 /// let cfg = HitRecordConfig::default();
 /// let mut ov = Overflows::new(&["hit_record"]);
-/// let r = HitRecordFields { kind: SphereCount::One, instance: Some(3), t: 5 << 14,
+/// let r = HitRecordFields { kind: SphereCount::One, instance: Some(3), t: RecordT { raw: 5 << 14 },
 ///     normal: [0, 127], colour: [200, 34, 42], voxel: [0; 3] };
 /// let w = pack(&r, &cfg, &mut ov, SignalId(0));
 /// assert!(w < 1 << 72);
@@ -396,9 +423,9 @@ pub fn pack(r: &HitRecordFields, cfg: &HitRecordConfig, ov: &mut Overflows, sig:
     field(l.instance, u128::from(inst), &mut w);
 
     let t = if cfg.t.is_valid() {
-        sat(r.t, cfg.t.min_raw(), cfg.t.max_raw(), ov, sig)
+        sat(r.t.raw, cfg.t.min_raw(), cfg.t.max_raw(), ov, sig)
     } else {
-        r.t
+        r.t.raw
     };
     field(l.t, t as u128, &mut w); // two's complement, cut to the field width
 
@@ -437,10 +464,12 @@ pub fn unpack(word: u128, cfg: &HitRecordConfig) -> HitRecordFields {
     let inst = next(l.instance) as u16;
     let instance = (inst != mask(l.instance) as u16).then_some(inst);
     let traw = next(l.t);
-    let t = if cfg.t.signed {
-        sext(traw, l.t)
-    } else {
-        traw as i64 // a 64-bit unsigned code above i64::MAX cannot be packed (max_raw)
+    let t = RecordT {
+        raw: if cfg.t.signed {
+            sext(traw, l.t)
+        } else {
+            traw as i64 // a 64-bit unsigned code above i64::MAX cannot be packed (max_raw)
+        },
     };
     let u = sext(next(l.normal), l.normal) as i32;
     let v = sext(next(l.normal), l.normal) as i32;
@@ -589,11 +618,13 @@ pub fn quantise(
     };
     let t = if !cfg.t.is_valid() {
         ov.hit(sig);
-        0
+        RecordT::default()
     } else if r.instance.is_none() && r.t == f64::INFINITY {
-        cfg.t.max_raw()
+        RecordT::far(cfg)
     } else {
-        from_f64(r.t, cfg.t, ov, sig)
+        RecordT {
+            raw: from_f64(r.t, cfg.t, ov, sig),
+        }
     };
     let colour = [0, 1, 2].map(|i| channel_from_u8(r.colour[i], l.colour[i]));
     let voxel = if l.voxel > 0 {
@@ -616,44 +647,4 @@ pub fn quantise(
         colour,
         voxel,
     }
-}
-
-/// Block RAM aspect ratios of a RAMB36E2 in simple dual-port mode: (data bits incl. parity,
-/// depth). One read port (reuse check) and one write port (write-back) are all the hit
-/// buffer needs, so the 72-bit SDP width is available.
-pub const BRAM36_SHAPES: [(u32, u64); 7] = [
-    (72, 512),
-    (36, 1024),
-    (18, 2048),
-    (9, 4096),
-    (4, 8192),
-    (2, 16384),
-    (1, 32768),
-];
-
-/// Fewest BRAM36 blocks holding `depth` words of `word_bits` bits: the word is split into
-/// slices, each slice built from blocks of one aspect ratio side by side and stacked
-/// ⌈depth / block depth⌉ deep; the cheapest mix of slices is found exactly (a small
-/// covering knapsack over the bits). 1280×768 at 72 bits: 1920 blocks.
-pub fn bram36_count(word_bits: u32, depth: u64) -> u64 {
-    if depth == 0 || word_bits == 0 {
-        return 0;
-    }
-    let w = word_bits as usize;
-    let mut cost = vec![u64::MAX; w + 1];
-    cost[0] = 0;
-    for b in 1..=w {
-        for &(sw, sd) in &BRAM36_SHAPES {
-            let prev = cost[b.saturating_sub(sw as usize)];
-            let c = prev.saturating_add(depth.div_ceil(sd));
-            cost[b] = cost[b].min(c);
-        }
-    }
-    cost[w]
-}
-
-/// UltraRAM (URAM288, 4096 × 72, one width only) blocks for the same buffer, for parts whose
-/// BRAM cannot hold it: ⌈bits / 72⌉ · ⌈depth / 4096⌉. 1280×768 at 72 bits: 240.
-pub fn uram288_count(word_bits: u32, depth: u64) -> u64 {
-    u64::from(word_bits.div_ceil(72)) * depth.div_ceil(4096)
 }

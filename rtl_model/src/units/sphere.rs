@@ -218,22 +218,43 @@ impl SphereRaw {
     }
 }
 
-/// The transaction: ray (o, d) against a sphere. `None` culls the instance.
-pub fn sphere_test(
+/// What the unit has computed when it reaches its square root (the front half of
+/// [`sphere_test`]).
+enum Front {
+    /// |c − o| beyond the reach: kept with entry 0, flagged on `reach`; no root.
+    Reach,
+    /// p² > T: culled before the root.
+    Culled,
+    /// The root's radicand and what the entry distance needs besides.
+    Root {
+        /// T − p² in `sq`, rounded down (the square root's input).
+        radicand: u64,
+        /// t_ca in `tca`.
+        tca: i64,
+        /// l·l at the aligned fraction count.
+        l2: i128,
+        /// Left shift from `sq` to that fraction count.
+        up_sq: i32,
+    },
+}
+
+/// The unit up to its square root: the reach guards, t_ca, p² and the cull against T.
+#[inline(always)]
+fn front(
     o: [i64; 3],
     d: [i64; 3],
     sphere: &SphereRaw,
     cfg: &SphereConfig,
     ov: &mut Overflows,
     sig: SphereSignals,
-) -> Option<SphereHit> {
-    let (c, threshold, inside) = (sphere.centre, sphere.threshold, sphere.inside);
+) -> Front {
+    let (c, threshold) = (sphere.centre, sphere.threshold);
     let l = [0, 1, 2].map(|k| i128::from(c[k]) - i128::from(o[k]));
     let pf = i32::from(cfg.pos.frac);
     let reach = i128::from(sphere.reach);
     if l.iter().any(|v| v.abs() > reach) {
         ov.hit(sig.reach);
-        return Some(SphereHit { t_enter: 0 });
+        return Front::Reach;
     }
     // Within the reach |l_k| fits 64 bits (reach < 2^63 codes), so every product below is a
     // single 64×64 → 128-bit multiply.
@@ -243,7 +264,7 @@ pub fn sphere_test(
     let l2_exact = (l[0] * l[0] + l[1] * l[1]) + l[2] * l[2];
     if l2_exact > reach * reach {
         ov.hit(sig.reach);
-        return Some(SphereHit { t_enter: 0 });
+        return Front::Reach;
     }
     // Model speed-up, not hardware: most spheres are far from most rays. An f64 estimate of
     // p² from the same codes rejects those whose p² exceeds the threshold by more than a
@@ -255,7 +276,7 @@ pub fn sphere_test(
             (lf[0] * d[0] as f64 + lf[1] * d[1] as f64 + lf[2] * d[2] as f64) * sphere.dir_scale;
         let l2_f = lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2];
         if l2_f - tca_f * tca_f > sphere.reject_above + 1e-12 * l2_f {
-            return None;
+            return Front::Culled;
         }
     }
     // t_ca = l·d, exact then rounded toward −∞ into `tca`.
@@ -275,16 +296,61 @@ pub fn sphere_test(
     let l2: i128 = l2_exact << (f2 - lf);
     let tca2 = (i128::from(tca) * i128::from(tca)) << (f2 - tf);
     let p2 = l2 - tca2;
-    let sqf = i32::from(cfg.sq.frac);
-    let up_sq = f2 - sqf;
+    let up_sq = f2 - i32::from(cfg.sq.frac);
     if p2 > i128::from(threshold) << up_sq {
-        return None;
+        return Front::Culled;
     }
-    // √ of (T − p²) in `sq` (rounded down), which has sqf/2 fraction bits.
-    let root_arg = (((i128::from(threshold) << up_sq) - p2.max(0)) >> up_sq)
+    // T − p² in `sq` (rounded down): the square root's input.
+    let radicand = (((i128::from(threshold) << up_sq) - p2.max(0)) >> up_sq)
         .clamp(0, i128::from(u64::MAX)) as u64;
-    let root = i128::from(isqrt(root_arg));
-    let rf = sqf / 2;
+    Front::Root {
+        radicand,
+        tca,
+        l2,
+        up_sq,
+    }
+}
+
+/// The radicand the unit hands its square root for ray (o, d) against `sphere` (T − p² in
+/// `sq`, rounded down), or `None` where it takes no root: |c − o| beyond the reach (kept,
+/// entry 0) or p² > T (culled). The same computation as [`sphere_test`], pre-checks
+/// included; the vectors capture the square root's real transactions with it.
+pub fn sphere_radicand(
+    o: [i64; 3],
+    d: [i64; 3],
+    sphere: &SphereRaw,
+    cfg: &SphereConfig,
+    ov: &mut Overflows,
+    sig: SphereSignals,
+) -> Option<u64> {
+    match front(o, d, sphere, cfg, ov, sig) {
+        Front::Root { radicand, .. } => Some(radicand),
+        Front::Reach | Front::Culled => None,
+    }
+}
+
+/// The transaction: ray (o, d) against a sphere. `None` culls the instance.
+pub fn sphere_test(
+    o: [i64; 3],
+    d: [i64; 3],
+    sphere: &SphereRaw,
+    cfg: &SphereConfig,
+    ov: &mut Overflows,
+    sig: SphereSignals,
+) -> Option<SphereHit> {
+    let (radicand, tca, l2, up_sq) = match front(o, d, sphere, cfg, ov, sig) {
+        Front::Reach => return Some(SphereHit { t_enter: 0 }),
+        Front::Culled => return None,
+        Front::Root {
+            radicand,
+            tca,
+            l2,
+            up_sq,
+        } => (radicand, tca, l2, up_sq),
+    };
+    // √(T − p²) has half of `sq`'s fraction bits.
+    let root = i128::from(isqrt(radicand));
+    let rf = i32::from(cfg.sq.frac) / 2;
     let dt = i128::from(sphere.delta_t);
     // Bring t_ca, Δt and the root to a common fraction count (the larger) and combine.
     let f = i32::from(cfg.tca.frac).max(rf);
@@ -295,7 +361,7 @@ pub fn sphere_test(
     if tca_f + dt_f + root_f < 0 {
         return None; // the whole sphere is behind the origin, even allowing for errors
     }
-    if l2 <= i128::from(inside) << up_sq {
+    if l2 <= i128::from(sphere.inside) << up_sq {
         return Some(SphereHit { t_enter: 0 });
     }
     let t = (tca_f - dt_f - root_f).max(0);

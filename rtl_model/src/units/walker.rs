@@ -10,8 +10,9 @@
 //! - Root slabs: t0 = (−e − o)·(1/|d|), t1 = (e − o)·(1/|d|): an exact subtraction and an
 //!   exact product, rounded once into the `t` format. Zero axes (flagged by the reciprocal
 //!   unit, |d| below what 1/d can hold) get t0 = −∞, t1 = +∞ if −e ≤ o < e, else the ray
-//!   misses (§3.3). ±∞ are the sentinels `i64::MIN` / `i64::MAX`, outside every t format, so
-//!   no computed t can be mistaken for them.
+//!   misses (§3.3). ±∞ are the sentinels [`WalkerT::NEG_INF`] / [`WalkerT::POS_INF`]
+//!   (`i64::MIN` / `i64::MAX`), outside every t format, so no computed t can be mistaken for
+//!   them.
 //! - Midpoints: tm = ⌊(t0 + t1)/2⌋ — one adder and a shift per axis and level. Fixed point
 //!   keeps absolute precision, so the f64 reference's problem with huge t-values does not
 //!   arise; the floor loses at most half an LSB per level. Zero axes take ±∞ from the origin's
@@ -21,16 +22,86 @@
 //!   intervals that end after t = 0), on integer codes.
 //! - A step limit stops a walk that runs too long (it cannot happen with a well-formed image,
 //!   but the hardware needs the guard); it is reported, never silent.
+//!
+//! Values carry their role: [`WalkerPos`] (a code of `pos`), [`WalkerInv`] (of `inv`) and
+//! [`WalkerT`] (of `t`). The formats are run-time configurable ([`WalkerConfig`]), so the
+//! types name the role and the configuration holds the format; the one change of format in
+//! the walker, position × reciprocal into t, is [`WalkerConfig::slab_t`].
 
 use crate::cycle::memory::FetchKind;
-use crate::fixed::{quantize, Format, Overflows, SignalId};
+use crate::fixed::{quantize, to_f64, Format, Overflows, SignalId};
 use crate::svo::{ChildDescriptor, ChildRef, SvoImage, MAX_DEPTH};
+use crate::units::reciprocal::Reciprocal;
 use serde::{Deserialize, Serialize};
 
-/// −∞ and +∞ of the walker's t-values.
-pub const T_NEG_INF: i64 = i64::MIN;
-/// +∞ (see [`T_NEG_INF`]).
-pub const T_POS_INF: i64 = i64::MAX;
+/// A t-value of the walker (metres along the unit direction): a raw code of
+/// [`WalkerConfig::t`] (default sQ31.31), or one of the ±∞ sentinels.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(transparent)]
+pub struct WalkerT {
+    /// The code.
+    pub raw: i64,
+}
+
+impl WalkerT {
+    /// −∞: below every code of any t format (at most 62 bits, [`WalkerConfig::validate`]).
+    pub const NEG_INF: Self = Self { raw: i64::MIN };
+    /// +∞ (see [`WalkerT::NEG_INF`]).
+    pub const POS_INF: Self = Self { raw: i64::MAX };
+    /// t = 0.
+    pub const ZERO: Self = Self { raw: 0 };
+
+    /// ⌊(a + b)/2⌋ of two t codes (a zero axis never reaches here): the halves plus the
+    /// carry of the two low bits, so no wider adder is needed.
+    #[inline]
+    fn midpoint(self, other: Self) -> Self {
+        let (a, b) = (self.raw, other.raw);
+        Self {
+            raw: (a >> 1) + (b >> 1) + (a & b & 1),
+        }
+    }
+
+    /// Metres, for `cfg`'s t format.
+    pub fn to_f64(self, cfg: &WalkerConfig) -> f64 {
+        to_f64(self.raw, cfg.t)
+    }
+
+    /// Whether this t (a code of `t_fmt`) is at most `other`, a code of `other_fmt` (the
+    /// sorter's entry key, say): both are aligned exactly, by left shifts, to the larger
+    /// fraction count, as a comparator on the two buses would after wiring them to a common
+    /// binary point.
+    #[inline]
+    pub fn at_most(self, t_fmt: Format, other: i64, other_fmt: Format) -> bool {
+        let (t, o) = (t_fmt.frac, other_fmt.frac);
+        let f = t.max(o);
+        (i128::from(self.raw) << (f - t)) <= (i128::from(other) << (f - o))
+    }
+}
+
+/// A local position or a box half extent: a raw code of [`WalkerConfig::pos`] (default
+/// sQ8.32, the transform's local position format).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(transparent)]
+pub struct WalkerPos {
+    /// The code.
+    pub raw: i64,
+}
+
+impl WalkerPos {
+    /// Three codes as positions.
+    pub fn of(raw: [i64; 3]) -> [Self; 3] {
+        raw.map(|raw| Self { raw })
+    }
+}
+
+/// A reciprocal magnitude 1/|d|: a raw code of [`WalkerConfig::inv`] (default sQ22.26, the
+/// reciprocal unit's output), non-negative.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(transparent)]
+pub struct WalkerInv {
+    /// The code.
+    pub raw: i64,
+}
 
 /// Formats and limits of the walker.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -75,27 +146,65 @@ impl WalkerConfig {
         }
         Ok(())
     }
+
+    /// A root slab time (b − o)·(1/|d|): the signed distance `dist` from the origin to a slab
+    /// plane (a `pos` code, up to one bit wider: ±e − o) times the reciprocal `inv`, an exact
+    /// 64×64 → 128-bit product with `pos.frac + inv.frac` fraction bits, rounded once into
+    /// `t`.
+    #[inline]
+    pub fn slab_t(
+        &self,
+        dist: WalkerPos,
+        inv: WalkerInv,
+        ov: &mut Overflows,
+        sig: SignalId,
+    ) -> WalkerT {
+        let prod_frac = i32::from(self.pos.frac) + i32::from(self.inv.frac);
+        WalkerT {
+            raw: quantize(
+                i128::from(dist.raw) * i128::from(inv.raw),
+                prod_frac,
+                self.t,
+                ov,
+                sig,
+            ),
+        }
+    }
 }
 
-/// One walk's inputs, as raw codes.
+/// One walk's inputs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct WalkerInput {
-    /// Local origin (`pos`).
-    pub origin: [i64; 3],
-    /// 1/|d| per axis (`inv`, non-negative); ignored on zero axes.
-    pub inv: [i64; 3],
+    /// Local origin.
+    pub origin: [WalkerPos; 3],
+    /// 1/|d| per axis; ignored on zero axes.
+    pub inv: [WalkerInv; 3],
     /// Axis direction too small for 1/d: treated as zero (§3.3).
     pub zero: [bool; 3],
     /// Axis direction negative (sign bit, so −0 is negative): mirrored (§3.4).
     pub negative: [bool; 3],
-    /// Half extents of the octree's box (`pos`).
-    pub half: [i64; 3],
+    /// Half extents of the octree's box.
+    pub half: [WalkerPos; 3],
+}
+
+impl WalkerInput {
+    /// Sets axis `k`'s direction from the reciprocal unit's result: 1/|d| (the magnitude of
+    /// its signed output), the zero flag and the sign.
+    #[inline]
+    pub fn set_axis(&mut self, k: usize, r: &Reciprocal) {
+        self.inv[k] = WalkerInv {
+            raw: r.raw.saturating_abs(),
+        };
+        self.zero[k] = r.zero;
+        self.negative[k] = r.negative;
+    }
 }
 
 /// The nearest solid leaf.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WalkerHit {
-    /// max(entry, 0) in the `t` format.
+    /// max(entry, 0): a raw code of the `t` format ([`WalkerHit::walker_t`] as a
+    /// [`WalkerT`]). A bare code because the cycle model compares it with its trace's.
     pub t: i64,
     /// Leaf coordinates (real, unmirrored) at `level`.
     pub voxel: [u32; 3],
@@ -105,6 +214,14 @@ pub struct WalkerHit {
     pub attr: u32,
     /// Entry axis (0 = x, 1 = y, 2 = z): largest t0, ties x then y.
     pub entry_axis: u8,
+}
+
+impl WalkerHit {
+    /// The hit's t as a [`WalkerT`].
+    #[inline]
+    pub fn walker_t(&self) -> WalkerT {
+        WalkerT { raw: self.t }
+    }
 }
 
 /// How a walk ended.
@@ -131,11 +248,13 @@ pub struct WalkerStats {
     pub step_limit_hits: u64,
 }
 
+/// One stack frame: a node's slab times (entry, exit, midpoint per axis), where it lives in
+/// memory, the next child to examine, and its level and coordinates.
 #[derive(Clone, Copy, Default)]
 struct Frame {
-    t0: [i64; 3],
-    t1: [i64; 3],
-    tm: [i64; 3],
+    t0: [WalkerT; 3],
+    t1: [WalkerT; 3],
+    tm: [WalkerT; 3],
     addr: u32,
     desc: u32,
     next: u8,
@@ -144,35 +263,30 @@ struct Frame {
 }
 
 #[inline]
-fn max3(v: [i64; 3]) -> i64 {
+fn max3(v: [WalkerT; 3]) -> WalkerT {
     v[0].max(v[1]).max(v[2])
 }
 
 #[inline]
-fn min3(v: [i64; 3]) -> i64 {
+fn min3(v: [WalkerT; 3]) -> WalkerT {
     v[0].min(v[1]).min(v[2])
 }
 
-/// ⌊(a + b)/2⌋ of two t codes; a zero axis never reaches here.
-#[inline]
-fn midpoint(a: i64, b: i64) -> i64 {
-    // ⌊(a + b)/2⌋ without a wider adder: the halves plus the carry of the two low bits.
-    (a >> 1) + (b >> 1) + (a & b & 1)
-}
-
+/// The walk's per-axis constants: the mirrored origin, the zero flags, the mirror mask `a`
+/// (bit 2 − k set when axis k is mirrored) and the box's half extents.
 struct Axes {
-    o: [i64; 3],
+    o: [WalkerPos; 3],
     zero: [bool; 3],
     a: u8,
-    half: [i64; 3],
+    half: [WalkerPos; 3],
 }
 
 impl Axes {
     /// Midpoint of axis k for the node at `level` with real coordinate `c`.
     #[inline]
-    fn mid(&self, k: usize, t0: i64, t1: i64, level: u8, c: u32) -> i64 {
+    fn mid(&self, k: usize, t0: WalkerT, t1: WalkerT, level: u8, c: u32) -> WalkerT {
         if !self.zero[k] {
-            return midpoint(t0, t1);
+            return t0.midpoint(t1);
         }
         let n = 1u64 << level;
         let m = if self.a & (4 >> k) != 0 {
@@ -180,13 +294,14 @@ impl Axes {
         } else {
             u64::from(c)
         };
-        // Centre plane −e + (2m + 1)·2e / 2^(level+1), exact in i128 before the floor shift.
-        let two_e = 2 * i128::from(self.half[k]);
-        let centre = -i128::from(self.half[k]) + ((i128::from(2 * m + 1) * two_e) >> (level + 1));
-        if i128::from(self.o[k]) < centre {
-            T_POS_INF
+        // Centre plane −e + (2m + 1)·2e / 2^(level+1) (a `pos` code), exact in i128 before
+        // the floor shift.
+        let e = i128::from(self.half[k].raw);
+        let centre = -e + ((i128::from(2 * m + 1) * (2 * e)) >> (level + 1));
+        if i128::from(self.o[k].raw) < centre {
+            WalkerT::POS_INF
         } else {
-            T_NEG_INF
+            WalkerT::NEG_INF
         }
     }
 }
@@ -263,39 +378,38 @@ pub fn walk_fixed_observed<O: WalkObserver>(
     obs: &mut O,
 ) -> WalkOutcome {
     let mut ax = Axes {
-        o: [0; 3],
+        o: [WalkerPos::default(); 3],
         zero: inp.zero,
         a: 0,
         half: inp.half,
     };
-    let mut t0 = [0i64; 3];
-    let mut t1 = [0i64; 3];
-    let prod_frac = i32::from(cfg.pos.frac) + i32::from(cfg.inv.frac);
+    let mut t0 = [WalkerT::ZERO; 3];
+    let mut t1 = [WalkerT::ZERO; 3];
     for k in 0..3 {
-        let mut o = i128::from(inp.origin[k]);
+        let mut o = i128::from(inp.origin[k].raw);
         if inp.negative[k] {
             o = -o;
             ax.a |= 4 >> k;
         }
         // The mirrored origin is within one bit of `pos`; keep it exact.
-        ax.o[k] = o.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64;
-        let e = i128::from(inp.half[k]);
+        ax.o[k] = WalkerPos {
+            raw: o.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64,
+        };
+        let e = i128::from(inp.half[k].raw);
         if inp.zero[k] {
             if !(-e <= o && o < e) {
                 return WalkOutcome::Miss;
             }
-            t0[k] = T_NEG_INF;
-            t1[k] = T_POS_INF;
+            t0[k] = WalkerT::NEG_INF;
+            t1[k] = WalkerT::POS_INF;
         } else {
-            let inv = i128::from(inp.inv[k]);
-            // `validate` keeps `pos` within 61 bits, so ±e − o fits 64 and each product is a
-            // single 64×64 → 128-bit multiply.
+            // `validate` keeps `pos` within 61 bits, so ±e − o fits 64 bits.
             let (lo, hi) = ((-e - o) as i64, (e - o) as i64);
-            t0[k] = quantize(i128::from(lo) * inv, prod_frac, cfg.t, ov, sig);
-            t1[k] = quantize(i128::from(hi) * inv, prod_frac, cfg.t, ov, sig);
+            t0[k] = cfg.slab_t(WalkerPos { raw: lo }, inp.inv[k], ov, sig);
+            t1[k] = cfg.slab_t(WalkerPos { raw: hi }, inp.inv[k], ov, sig);
         }
     }
-    if !(max3(t0) < min3(t1) && min3(t1) > 0) {
+    if !(max3(t0) < min3(t1) && min3(t1) > WalkerT::ZERO) {
         return WalkOutcome::Miss;
     }
     st.fetches += 1;
@@ -352,8 +466,8 @@ fn walk_loop<O: WalkObserver>(
             st.step_limit_hits += 1;
             return WalkOutcome::StepLimit;
         }
-        let mut ct0 = [0i64; 3];
-        let mut ct1 = [0i64; 3];
+        let mut ct0 = [WalkerT::ZERO; 3];
+        let mut ct1 = [WalkerT::ZERO; 3];
         for k in 0..3 {
             if c & (4 >> k) != 0 {
                 ct0[k] = top.tm[k];
@@ -366,7 +480,7 @@ fn walk_loop<O: WalkObserver>(
         top.next = next_child(c, ct1);
         let enter = max3(ct0);
         let exit = min3(ct1);
-        if !(enter < exit && exit > 0) {
+        if !(enter < exit && exit > WalkerT::ZERO) {
             continue;
         }
         let real = c ^ ax.a;
@@ -403,7 +517,7 @@ fn walk_loop<O: WalkObserver>(
                 };
                 obs.read(FetchKind::Attr, attr);
                 return WalkOutcome::Hit(WalkerHit {
-                    t: enter.max(0),
+                    t: enter.max(WalkerT::ZERO).raw,
                     voxel: coords,
                     level,
                     attr,
@@ -415,7 +529,7 @@ fn walk_loop<O: WalkObserver>(
                 let mut child = Frame {
                     t0: ct0,
                     t1: ct1,
-                    tm: [0; 3],
+                    tm: [WalkerT::ZERO; 3],
                     addr,
                     desc: img.nodes()[addr as usize],
                     next: 0,
@@ -434,14 +548,14 @@ fn walk_loop<O: WalkObserver>(
 /// Revelles tables 1 and 2: the first child, from the entry plane (largest t0) and the
 /// midpoints crossed before it.
 #[inline]
-fn first_child(t0: [i64; 3], tm: [i64; 3]) -> u8 {
+fn first_child(t0: [WalkerT; 3], tm: [WalkerT; 3]) -> u8 {
     let enter = max3(t0);
     (u8::from(tm[0] < enter) << 2) | (u8::from(tm[1] < enter) << 1) | u8::from(tm[2] < enter)
 }
 
 /// Revelles table 3: the next child from the exit plane (smallest t1; ties x, y, z); 8 ends.
 #[inline]
-fn next_child(c: u8, t1: [i64; 3]) -> u8 {
+fn next_child(c: u8, t1: [WalkerT; 3]) -> u8 {
     let bit = if t1[0] <= t1[1] && t1[0] <= t1[2] {
         4
     } else if t1[1] <= t1[2] {

@@ -12,6 +12,7 @@ use super::table::{Origin, VectorTable};
 use crate::datapath::DatapathConfig;
 use crate::fixed::Format;
 use crate::units::transform::InstanceRaw;
+use crate::units::walker::{WalkerPos, WalkerT};
 
 /// One instance as the host programs it for the frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,8 +27,8 @@ pub struct FrameInstance {
     pub delta_t: i64,
     /// Reach (`pos`).
     pub reach: i64,
-    /// Half extents of the octree box (walker `pos`).
-    pub half: [i64; 3],
+    /// Half extents of the octree box.
+    pub half: [WalkerPos; 3],
     /// Memory image index (the walker table's `images`).
     pub image: usize,
 }
@@ -45,8 +46,8 @@ pub struct FramePixel {
     pub walks: u32,
     /// A leaf was hit.
     pub hit: bool,
-    /// The walker's t of the nearest hit (walker `t`), 0 on a miss.
-    pub t: i64,
+    /// The walker's t of the nearest hit, 0 on a miss.
+    pub t: WalkerT,
     /// Its leaf coordinates.
     pub voxel: [u32; 3],
     /// The packed hit-buffer word.
@@ -147,7 +148,7 @@ pub fn frame_tables(
             }
             v.extend(i.raw.centre.map(s));
             v.extend([s(i.threshold), s(i.inside), s(i.delta_t), s(i.reach)]);
-            v.extend(i.half.map(s));
+            v.extend(i.half.map(|h| s(h.raw)));
             v.push(u(i.image as u64));
             il.pack(&v)
         })
@@ -202,7 +203,7 @@ pub fn frame_tables(
                 u(u64::from(p.candidates)),
                 u(u64::from(p.walks)),
                 b(p.hit),
-                s(p.t),
+                s(p.t.raw),
             ]);
             v.extend(p.voxel.map(|c| u(u64::from(c))));
             v.push(p.word);

@@ -1,16 +1,20 @@
-//! One frame of the functional fixed-point model.
+//! One frame of the functional fixed-point model: a prepared [`FramePlan`] run over every
+//! pixel, in parallel over rows (or row after row, streaming each row's trace to a cycle model
+//! running beside it), and the buffer of packed records it leaves.
+//!
+//! Pipeline position: `sim --model fixed`, and the functional half of `sim --model cycle`.
 
 use super::plan::{FramePlan, PixelCounters};
 use super::row_feed::{FeedGuard, RowFeed};
-use super::trace::RowTrace;
+use super::trace::{NoPixelObserver, PixelObserver, RowRecorder, RowTrace};
 use crate::models::reference::{FrameInput, HitRecord};
 use crate::world::scene::FrameState;
 use rayon::prelude::*;
 use rtl_model::datapath::{overflow_table, DatapathConfig};
-use rtl_model::fixed::{to_f64, Overflows};
+use rtl_model::fixed::Overflows;
 use rtl_model::units::hit_record::unpack;
 use rtl_model::units::sorter::SorterStats;
-use rtl_model::units::walker::WalkerStats;
+use rtl_model::units::walker::{WalkerStats, WalkerT};
 use std::time::Instant;
 use thiserror::Error;
 
@@ -33,8 +37,8 @@ pub struct FixedRecord {
     pub word: u128,
     /// Hit.
     pub hit: bool,
-    /// Walker t (raw, walker t format) of the hit.
-    pub t_raw: i64,
+    /// Walker t of the hit.
+    pub t: WalkerT,
     /// Leaf coordinates of the hit.
     pub voxel: [u32; 3],
     /// Entry face in world space, rounded to axes ×127 (for dumps).
@@ -120,31 +124,21 @@ pub fn render_frame_fixed(
 }
 
 /// One row of a prepared frame: every pixel of row `j` through the datapath into `records`
-/// (that row's entries), its work recorded into `trace` if given.
-fn render_row(
+/// (that row's entries), each reported to `obs`.
+fn render_row<P: PixelObserver>(
     plan: &FramePlan<'_>,
     table: &[[i64; 3]],
     j: usize,
     records: &mut [FixedRecord],
-    mut trace: Option<&mut RowTrace>,
+    obs: &mut P,
 ) -> PixelCounters {
     let width = records.len();
     let mut c = PixelCounters::default();
     let mut cands: Vec<(i64, u16)> = Vec::with_capacity(plan.instances());
-    if let Some(t) = trace.as_deref_mut() {
-        t.pixels.clear();
-        t.candidates.clear();
-        t.walks.clear();
-        t.ops.clear();
-        t.words.clear();
-    }
     for (i, rec) in records.iter_mut().enumerate() {
         // Ray generation: the pixel's direction table entry.
         let d = table[j * width + i];
-        plan.pixel(d, rec, &mut c, &mut cands, trace.as_deref_mut());
-        if let Some(t) = trace.as_deref_mut() {
-            t.words.push(rec.word);
-        }
+        plan.pixel(d, rec, &mut c, &mut cands, obs);
     }
     c
 }
@@ -182,7 +176,7 @@ fn render_planned(plan: &FramePlan<'_>, buffer: &mut FixedBuffer) -> FixedStats 
         .records
         .par_chunks_mut(w as usize)
         .enumerate()
-        .map(|(j, records)| render_row(plan, table, j, records, None))
+        .map(|(j, records)| render_row(plan, table, j, records, &mut NoPixelObserver))
         .collect();
     frame_stats(&rows, w, h, start)
 }
@@ -207,7 +201,13 @@ pub fn render_streamed(
             break;
         }
         let mut t = RowTrace::default();
-        rows.push(render_row(plan, table, j, row, Some(&mut t)));
+        rows.push(render_row(
+            plan,
+            table,
+            j,
+            row,
+            &mut RowRecorder::new(&mut t),
+        ));
         if feed.publish(j, t).is_err() {
             break;
         }
@@ -238,7 +238,7 @@ pub fn to_hit_records(buffer: &FixedBuffer, cfg: &DatapathConfig) -> Vec<HitReco
                 instance: f
                     .instance
                     .unwrap_or(crate::models::reference::record::NO_INSTANCE),
-                t: to_f64(r.t_raw, cfg.walker.t),
+                t: r.t.to_f64(&cfg.walker),
                 voxel: r.voxel,
                 face_normal: r.face.map(|v| f32::from(v) / 127.0),
                 shade_normal: n.map(|v| v as f32),

@@ -3,13 +3,15 @@
 //! early termination, record), as functions both models call.
 //!
 //! Pipeline position: the functional model (`frame.rs`) runs a pixel's steps back to back in
-//! program order; the cycle model (`crate::models::cycle`) runs the same steps in its stages, in
-//! cycle order with many rays in flight, under `cross_check`. One implementation of each step
-//! means the cross-check tests the cycle model's ordering, state and decisions, not a second
-//! copy of the arithmetic (which the unit tests and the f64 oracle check).
+//! program order ([`FramePlan::pixel`]); the cycle model (`crate::models::cycle`) runs the same
+//! steps in its stages, in cycle order with many rays in flight, under `cross_check`. One
+//! implementation of each step means the cross-check tests the cycle model's ordering, state
+//! and decisions, not a second copy of the arithmetic (which the unit tests and the f64 oracle
+//! check). Whoever needs to see inside a pixel — the trace for the cycle model, the HDL-vector
+//! capture — passes a [`PixelObserver`] to `pixel` rather than repeating its flow.
 
 use super::frame::{FixedBuffer, FixedError, FixedRecord};
-use super::trace::{OpRecorder, PixelWork, RowTrace, WalkWork};
+use super::trace::{NoPixelObserver, PixelObserver};
 use crate::models::reference::hit_buffer::Dirty;
 use crate::models::reference::ray::primary_ray;
 use crate::models::reference::{FrameInput, SphereCount};
@@ -19,20 +21,30 @@ use rayon::prelude::*;
 use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
 use rtl_model::fixed::{from_f64, to_f64, Format, Overflows};
 use rtl_model::svo::SvoImage;
-use rtl_model::units::hit_record::{pack, quantise, unpack, HitRecordF64};
+use rtl_model::units::hit_record::{pack, quantise, unpack, HitRecordF64, HitRecordFields};
 use rtl_model::units::raygen::direction_entry;
 use rtl_model::units::reciprocal::ReciprocalUnit;
 use rtl_model::units::sorter::{Sorter, SorterStats};
 use rtl_model::units::sphere::{sphere_test, SphereRaw, SphereSignals};
 use rtl_model::units::transform::{transform_with_signs, InstanceRaw, TransformSignals};
 use rtl_model::units::walker::{
-    walk_fixed_observed, NoObserver, WalkObserver, WalkOutcome, WalkerHit, WalkerInput, WalkerStats,
+    walk_fixed_observed, WalkObserver, WalkOutcome, WalkerHit, WalkerInput, WalkerPos, WalkerStats,
+    WalkerT,
 };
 
+/// What the host programs per instance and frame, as the datapath's units read it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HostInstance {
+    /// Rotation columns and centre (transform unit).
+    pub raw: InstanceRaw,
+    /// Bounding sphere (sphere unit).
+    pub sphere: SphereRaw,
+    /// Half extents of the octree's box (walker).
+    pub half: [WalkerPos; 3],
+}
+
 struct Inst<'a> {
-    raw: InstanceRaw,
-    sphere: SphereRaw,
-    half: [i64; 3],
+    host: HostInstance,
     image: &'a SvoImage,
     world_from_local: DMat3,
     normal_to_world: DMat3,
@@ -118,7 +130,8 @@ pub struct FramePlan<'a> {
     pub origin: [i64; 3],
     sorter: Sorter,
     recip: ReciprocalUnit,
-    miss_words: [u128; 3],
+    /// A miss's record fields and word per sphere count (they depend on nothing else).
+    miss: [(HitRecordFields, u128); 3],
     t_fmt: Format,
     key_fmt: Format,
 }
@@ -165,18 +178,20 @@ impl<'a> FramePlan<'a> {
                 let centre = q(pose.centre, rg.pos, host_ov, signals::RAYGEN_POS);
                 let scale = pose.half_extent / asset.half_size;
                 Ok(Inst {
-                    raw: InstanceRaw {
-                        axes: [r.x_axis, r.y_axis, r.z_axis]
-                            .map(|c| q(c, rg.mat, host_ov, signals::RAYGEN_MAT)),
-                        centre,
+                    host: HostInstance {
+                        raw: InstanceRaw {
+                            axes: [r.x_axis, r.y_axis, r.z_axis]
+                                .map(|c| q(c, rg.mat, host_ov, signals::RAYGEN_MAT)),
+                            centre,
+                        },
+                        sphere: SphereRaw::new(centre, pose.sphere_radius(), &cfg.sphere),
+                        half: WalkerPos::of(q(
+                            pose.half_extent,
+                            cfg.walker.pos,
+                            host_ov,
+                            signals::RAYGEN_POS,
+                        )),
                     },
-                    sphere: SphereRaw::new(centre, pose.sphere_radius(), &cfg.sphere),
-                    half: q(
-                        pose.half_extent,
-                        cfg.walker.pos,
-                        host_ov,
-                        signals::RAYGEN_POS,
-                    ),
                     image,
                     world_from_local: r,
                     normal_to_world: r * DMat3::from_diagonal(scale.recip()),
@@ -198,7 +213,7 @@ impl<'a> FramePlan<'a> {
             .to_array()
             .map(|x| from_f64(x, rg.pos, host_ov, signals::RAYGEN_POS));
         // A miss's record depends only on the sphere count: pack the three words once.
-        let miss_words = [SphereCount::None, SphereCount::One, SphereCount::Several].map(|kind| {
+        let miss = [SphereCount::None, SphereCount::One, SphereCount::Several].map(|kind| {
             let f = quantise(
                 &HitRecordF64 {
                     kind,
@@ -212,7 +227,7 @@ impl<'a> FramePlan<'a> {
                 host_ov,
                 signals::HIT_RECORD,
             );
-            pack(&f, &cfg.hit_record, host_ov, signals::HIT_RECORD)
+            (f, pack(&f, &cfg.hit_record, host_ov, signals::HIT_RECORD))
         });
         if buffer.table_camera != Some(cam) || buffer.dir_table.len() != buffer.records.len() {
             // The host writes the direction table: f64 rays quantised into `raygen.dir`.
@@ -244,7 +259,7 @@ impl<'a> FramePlan<'a> {
             origin,
             sorter: Sorter::new(&cfg.sorter),
             recip: ReciprocalUnit::new(&cfg.reciprocal),
-            miss_words,
+            miss,
             t_fmt: cfg.walker.t,
             key_fmt: cfg.sorter.key,
         })
@@ -260,6 +275,11 @@ impl<'a> FramePlan<'a> {
         self.insts.get(usize::from(k)).map(|i| i.image)
     }
 
+    /// What the host programmed for instance `k`.
+    pub fn host_instance(&self, k: u16) -> Option<&HostInstance> {
+        self.insts.get(usize::from(k)).map(|i| &i.host)
+    }
+
     /// The datapath configuration.
     pub fn config(&self) -> &DatapathConfig {
         self.cfg
@@ -268,16 +288,30 @@ impl<'a> FramePlan<'a> {
     /// Sphere tests of direction `d` against every instance: the candidates (entry key,
     /// instance) in instance order, unsorted.
     pub fn candidates(&self, d: [i64; 3], out: &mut Vec<(i64, u16)>, c: &mut PixelCounters) {
+        self.candidates_observed(d, out, c, &mut NoPixelObserver);
+    }
+
+    /// [`FramePlan::candidates`], reporting each test to `obs`.
+    fn candidates_observed<P: PixelObserver>(
+        &self,
+        d: [i64; 3],
+        out: &mut Vec<(i64, u16)>,
+        c: &mut PixelCounters,
+        obs: &mut P,
+    ) {
         out.clear();
         for (k, inst) in self.insts.iter().enumerate() {
-            if let Some(s) = sphere_test(
+            let sphere = &inst.host.sphere;
+            let hit = sphere_test(
                 self.origin,
                 d,
-                &inst.sphere,
+                sphere,
                 &self.cfg.sphere,
                 &mut c.ov,
                 SPHERE_SIG,
-            ) {
+            );
+            obs.on_sphere(k as u16, self.origin, d, sphere, hit);
+            if let Some(s) = hit {
                 out.push((s.t_enter, k as u16));
             }
         }
@@ -317,10 +351,7 @@ impl<'a> FramePlan<'a> {
     /// Early termination: whether the best hit so far (walker t) is no farther than the next
     /// candidate's entry key.
     pub fn stops(&self, best_t: i64, key: i64) -> bool {
-        let (k, t) = (self.key_fmt.frac, self.t_fmt.frac);
-        let lhs = i128::from(best_t) << (k.max(t) - t);
-        let rhs = i128::from(key) << (k.max(t) - k);
-        lhs <= rhs
+        WalkerT { raw: best_t }.at_most(self.t_fmt, key, self.key_fmt)
     }
 
     /// Transform, reciprocals and walk of direction `d` in instance `k`, reporting the walk to
@@ -335,32 +366,59 @@ impl<'a> FramePlan<'a> {
         let Some(inst) = self.insts.get(usize::from(k)) else {
             return (WalkOutcome::Miss, [false; 3]);
         };
+        let (inp, signs) = self.walk_input(d, k, inst, c, &mut NoPixelObserver);
+        (self.run_walk(inst, &inp, c, obs), signs)
+    }
+
+    /// The transform and the three reciprocals of direction `d` for instance `k` (`inst`),
+    /// reported to `obs`: the walker's inputs and the local direction's signs.
+    #[inline]
+    fn walk_input<P: PixelObserver>(
+        &self,
+        d: [i64; 3],
+        k: u16,
+        inst: &Inst<'_>,
+        c: &mut PixelCounters,
+        obs: &mut P,
+    ) -> (WalkerInput, [bool; 3]) {
+        obs.on_transform(k, self.origin, d, &inst.host.raw);
         let (o_local, d_local, signs) = transform_with_signs(
             self.origin,
             d,
-            &inst.raw,
+            &inst.host.raw,
             &self.cfg.transform,
             &mut c.ov,
             TR_SIG,
         );
         let mut inp = WalkerInput {
-            origin: o_local,
-            half: inst.half,
+            origin: WalkerPos::of(o_local),
+            half: inst.host.half,
             ..WalkerInput::default()
         };
         for a in 0..3 {
+            obs.on_reciprocal(d_local[a], signs[a]);
             let r = self
                 .recip
                 .eval(d_local[a], signs[a], &mut c.ov, signals::RECIPROCAL);
-            inp.inv[a] = r.raw.saturating_abs();
+            inp.set_axis(a, &r);
             c.flushes += u64::from(r.flushed);
-            inp.zero[a] = r.zero;
-            inp.negative[a] = r.negative;
         }
+        (inp, signs)
+    }
+
+    /// The walker on `inst`'s image with inputs `inp`, reporting to `obs`.
+    #[inline]
+    fn run_walk<O: WalkObserver>(
+        &self,
+        inst: &Inst<'_>,
+        inp: &WalkerInput,
+        c: &mut PixelCounters,
+        obs: &mut O,
+    ) -> WalkOutcome {
         c.walks += 1;
         let out = walk_fixed_observed(
             inst.image,
-            &inp,
+            inp,
             &self.cfg.walker,
             &mut c.ov,
             signals::WALKER_T,
@@ -370,7 +428,7 @@ impl<'a> FramePlan<'a> {
         if out == WalkOutcome::StepLimit {
             c.ov.hit(signals::WALKER_STEP_LIMIT);
         }
-        (out, signs)
+        out
     }
 
     /// The record of a traced ray: its best hit, or the miss word for its sphere count.
@@ -380,9 +438,22 @@ impl<'a> FramePlan<'a> {
         spheres: SphereCount,
         c: &mut PixelCounters,
     ) -> FixedRecord {
+        self.finish_observed(best, spheres, c, &mut NoPixelObserver)
+    }
+
+    /// [`FramePlan::finish`], reporting the record's fields and word to `obs`.
+    fn finish_observed<P: PixelObserver>(
+        &self,
+        best: Option<Best>,
+        spheres: SphereCount,
+        c: &mut PixelCounters,
+        obs: &mut P,
+    ) -> FixedRecord {
         let Some((t, k, hit, signs)) = best else {
+            let (fields, word) = &self.miss[usize::from(spheres.code())];
+            obs.on_record(fields, *word);
             return FixedRecord {
-                word: self.miss_words[usize::from(spheres.code())],
+                word: *word,
                 ..FixedRecord::default()
             };
         };
@@ -395,7 +466,7 @@ impl<'a> FramePlan<'a> {
             &HitRecordF64 {
                 kind: spheres,
                 instance: Some(k),
-                t: to_f64(t, self.t_fmt),
+                t: to_f64(t, self.t_fmt), // the host's f64 path, as the reference's
                 normal: n.to_array(),
                 colour: [r, g, b],
                 voxel: hit.voxel,
@@ -410,43 +481,38 @@ impl<'a> FramePlan<'a> {
         let face = (inst.world_from_local * DVec3::from_array(local))
             .to_array()
             .map(|v| (v * 127.0).round() as i8);
+        let word = pack(&f, &self.cfg.hit_record, &mut c.ov, signals::HIT_RECORD);
+        obs.on_record(&f, word);
         FixedRecord {
-            word: pack(&f, &self.cfg.hit_record, &mut c.ov, signals::HIT_RECORD),
+            word,
             hit: true,
-            t_raw: t,
+            t: hit.walker_t(),
             voxel: hit.voxel,
             face,
         }
     }
 
     /// One pixel in program order: the functional model's whole pipeline for direction `d`,
-    /// updating `rec` (the buffer's entry) and, if given, recording the work in `trace`.
-    pub fn pixel(
+    /// updating `rec` (the buffer's entry), every step reported to `obs`.
+    pub fn pixel<P: PixelObserver>(
         &self,
         d: [i64; 3],
         rec: &mut FixedRecord,
         c: &mut PixelCounters,
         cands: &mut Vec<(i64, u16)>,
-        mut trace: Option<&mut RowTrace>,
+        obs: &mut P,
     ) {
-        self.candidates(d, cands, c);
+        self.candidates_observed(d, cands, c, obs);
         let spheres = SphereCount::from_count(cands.len());
+        obs.on_candidates(cands);
         self.sort(cands, c);
-        let mut work = PixelWork::default();
-        if let Some(t) = trace.as_deref_mut() {
-            work.cand_start = t.candidates.len() as u32;
-            work.cand_len = cands.len().min(usize::from(u16::MAX)) as u16;
-            work.walk_start = t.walks.len() as u32;
-            t.candidates.extend_from_slice(cands);
-        }
+        obs.on_sorted(cands);
         if let Some(word) = self.reuse(rec.word, cands, c) {
             rec.word = word;
             c.reused += 1;
             c.hits += u64::from(rec.hit);
-            if let Some(t) = trace {
-                work.reused = true;
-                t.pixels.push(work);
-            }
+            obs.on_reuse(word);
+            obs.on_pixel_end(rec);
             return;
         }
         c.candidates += cands.len() as u64;
@@ -458,36 +524,20 @@ impl<'a> FramePlan<'a> {
                     break;
                 }
             }
-            let (out, signs) = match trace.as_deref_mut() {
-                None => self.walk(d, k, c, &mut NoObserver),
-                Some(t) => {
-                    let op_start = t.ops.len() as u32;
-                    let mut rec_ops = OpRecorder::new(&mut t.ops);
-                    let r = self.walk(d, k, c, &mut rec_ops);
-                    rec_ops.finish();
-                    let hit_t = match r.0 {
-                        WalkOutcome::Hit(h) => Some(h.t),
-                        _ => None,
-                    };
-                    let op_len = t.ops.len() as u32 - op_start;
-                    t.walks.push(WalkWork {
-                        hit_t,
-                        op_start,
-                        op_len,
-                    });
-                    work.walk_len += 1;
-                    r
-                }
-            };
+            // Candidates come from this plan's instances, so `k` is one of them.
+            let inst = &self.insts[usize::from(k)];
+            let (inp, signs) = self.walk_input(d, k, inst, c, obs);
+            let mut w = obs.begin_walk(k, &inp);
+            let out = self.run_walk(inst, &inp, c, &mut w);
+            P::end_walk(w);
+            obs.on_walk(k, &out);
             if let WalkOutcome::Hit(hit) = out {
                 if best.is_none_or(|(bt, _, _, _)| hit.t < bt) {
                     best = Some((hit.t, k, hit, signs));
                 }
             }
         }
-        *rec = self.finish(best, spheres, c);
-        if let Some(t) = trace {
-            t.pixels.push(work);
-        }
+        *rec = self.finish_observed(best, spheres, c, obs);
+        obs.on_pixel_end(rec);
     }
 }

@@ -1,28 +1,26 @@
-//! Captures one real frame's transactions, stage by stage, for the vectors: the frame is run
-//! through the fixed-point units in the order `models::fixed::frame` runs them (frame 0 of a
-//! run: every pixel traced, no hit-buffer reuse), one pixel at a time, recording each unit's
-//! inputs and each pixel's end result.
+//! Captures one real frame's transactions, stage by stage, for the vectors: the frame is
+//! prepared as the functional fixed-point model prepares it (`FramePlan::new`, frame 0 of a
+//! run: no hit buffer, so every pixel is traced) and every pixel runs through
+//! `FramePlan::pixel` with an observer that records each unit's inputs and each pixel's end
+//! result. The capture repeats none of the per-pixel flow: it watches the model's.
 //!
 //! Pipeline position: the root package's side of `sim vectors`; `rtl_model::vectors` turns
 //! the recorded inputs into rows with the golden model's outputs. The per-pixel words this
-//! produces are checked against `render_frame_fixed` in `tests/vectors.rs`, so this replay
-//! cannot drift from the functional model unnoticed.
+//! produces are checked against `render_frame_fixed` in `tests/vectors.rs`.
 
 use super::VectorsError;
+use crate::models::fixed::frame::{FixedBuffer, FixedError, FixedRecord};
+use crate::models::fixed::plan::{FramePlan, PixelCounters};
+use crate::models::fixed::trace::PixelObserver;
 use crate::models::reference::ray::primary_ray;
-use crate::world::assets::{Asset, AssetTree};
+use crate::models::reference::FrameInput;
+use crate::world::assets::Asset;
 use crate::world::scene::{FrameState, Scene};
-use glam::{DMat3, DVec3};
-use rtl_model::datapath::DatapathConfig;
-use rtl_model::fixed::{from_f64, to_f64, Overflows, SignalId};
-use rtl_model::svo::SvoImage;
-use rtl_model::units::hit_record::{pack, quantise, HitRecordF64, SphereCount};
-use rtl_model::units::raygen::direction_entry;
-use rtl_model::units::reciprocal::ReciprocalUnit;
-use rtl_model::units::sorter::{Sorter, SorterStats};
-use rtl_model::units::sphere::{sphere_test, SphereRaw, SphereSignals};
-use rtl_model::units::transform::{transform_with_signs, InstanceRaw, TransformSignals};
-use rtl_model::units::walker::{walk_fixed, WalkOutcome, WalkerHit, WalkerInput, WalkerStats};
+use rtl_model::datapath::{overflow_table, DatapathConfig};
+use rtl_model::units::hit_record::HitRecordFields;
+use rtl_model::units::sphere::{SphereHit, SphereRaw};
+use rtl_model::units::transform::InstanceRaw;
+use rtl_model::units::walker::{NoObserver, WalkerInput};
 use rtl_model::vectors::frame::{FrameInstance, FramePixel};
 use rtl_model::vectors::stage::raygen::RaygenTxn;
 use rtl_model::vectors::stage::sphere::{SphereStage, SphereTxn};
@@ -42,204 +40,158 @@ pub struct FrameCapture {
     pub pixels: Vec<FramePixel>,
 }
 
-struct Inst<'a> {
-    raw: InstanceRaw,
-    sphere: SphereRaw,
-    half: [i64; 3],
-    asset: usize,
-    image: &'a SvoImage,
-    normal_to_world: DMat3,
+/// The observer: appends each unit's inputs to `cap` and each finished pixel to `pixels`.
+struct Recorder<'s> {
+    cap: Captured,
+    pixels: Vec<FramePixel>,
+    /// The sphere stage, for the square root's radicands.
+    sphere_stage: SphereStage,
+    /// Sorter lanes: the candidates go to the sorter in issues of this many.
+    lanes: usize,
+    /// Asset (memory image) of each instance.
+    instance_asset: &'s [usize],
+    /// The pixel being run: column and row, direction-table entry, candidates, walks.
+    xy: [u16; 2],
+    dir: [i64; 3],
+    candidates: u32,
+    walks: u32,
 }
 
-/// Overflows are not what the capture is for (the rows carry their own flags); one
-/// throw-away table serves every call.
-fn scratch() -> Overflows {
-    Overflows::new(&rtl_model::datapath::SIGNAL_NAMES)
+impl PixelObserver for Recorder<'_> {
+    type Walk<'w>
+        = NoObserver
+    where
+        Self: 'w;
+
+    fn on_sphere(
+        &mut self,
+        _k: u16,
+        o: [i64; 3],
+        d: [i64; 3],
+        sphere: &SphereRaw,
+        _hit: Option<SphereHit>,
+    ) {
+        let txn = SphereTxn::of(o, d, sphere);
+        self.cap.sphere.push(txn);
+        if let Some(x) = self.sphere_stage.radicand(&txn) {
+            self.cap.sqrt.push(x);
+        }
+    }
+
+    fn on_candidates(&mut self, unsorted: &[(i64, u16)]) {
+        self.candidates = unsorted.len() as u32;
+        self.cap
+            .sorter
+            .extend(unsorted.chunks(self.lanes).map(<[_]>::to_vec));
+    }
+
+    fn on_transform(&mut self, _k: u16, o: [i64; 3], d: [i64; 3], inst: &InstanceRaw) {
+        self.cap.transform.push(TransformTxn { o, d, inst: *inst });
+    }
+
+    fn on_reciprocal(&mut self, d_local: i64, negative: bool) {
+        self.cap.reciprocal.push((d_local, negative));
+    }
+
+    fn begin_walk(&mut self, k: u16, input: &WalkerInput) -> NoObserver {
+        self.walks += 1;
+        self.cap.walker.push(WalkTxn {
+            image: self.instance_asset[usize::from(k)],
+            input: *input,
+        });
+        NoObserver
+    }
+
+    fn on_record(&mut self, fields: &HitRecordFields, _word: u128) {
+        self.cap.hit_record.push(*fields);
+    }
+
+    fn on_pixel_end(&mut self, rec: &FixedRecord) {
+        self.pixels.push(FramePixel {
+            xy: self.xy,
+            dir: self.dir,
+            candidates: self.candidates,
+            walks: self.walks,
+            hit: rec.hit,
+            t: rec.t,
+            voxel: rec.voxel,
+            word: rec.word,
+        });
+    }
 }
 
-/// Runs `state` (a frame of `scene` at its resolution) through the units and records it.
+/// Runs `state` (a frame of `scene` at its resolution) through the functional model's
+/// per-pixel flow and records it.
 pub fn capture_frame(
     scene: &Scene,
     assets: &[Asset],
     state: &FrameState,
     dp: &DatapathConfig,
 ) -> Result<FrameCapture, VectorsError> {
-    dp.validate().map_err(VectorsError::Datapath)?;
     let (w, h) = scene.file.resolution;
-    let mut ov = scratch();
-    let sig = SignalId(0);
-    let rg = dp.raygen;
-    let q = |v: DVec3, f, ov: &mut Overflows| v.to_array().map(|x| from_f64(x, f, ov, sig));
-    let mut insts = Vec::with_capacity(state.poses.len());
-    for (pose, &ai) in state.poses.iter().zip(&scene.instance_asset) {
-        let asset = &assets[ai];
-        let AssetTree::Image(image) = &asset.tree else {
-            return Err(VectorsError::Implicit(asset.name.clone()));
-        };
-        let r = pose.world_from_local;
-        let centre = q(pose.centre, rg.pos, &mut ov);
-        let scale = pose.half_extent / asset.half_size;
-        insts.push(Inst {
-            raw: InstanceRaw {
-                axes: [r.x_axis, r.y_axis, r.z_axis].map(|c| q(c, rg.mat, &mut ov)),
-                centre,
-            },
-            sphere: SphereRaw::new(centre, pose.sphere_radius(), &dp.sphere),
-            half: q(pose.half_extent, dp.walker.pos, &mut ov),
-            asset: ai,
-            image,
-            normal_to_world: r * DMat3::from_diagonal(scale.recip()),
-        });
-    }
+    let input = FrameInput {
+        scene,
+        assets,
+        state,
+    };
+    // Frame 0 of a run: an empty buffer and no hit buffer, so no pixel is reused.
+    let mut buffer = FixedBuffer::new(w, h);
+    let plan = FramePlan::new(&input, &mut buffer, dp, false, &mut overflow_table()).map_err(
+        |e| match e {
+            FixedError::Config(m) => VectorsError::Datapath(m),
+            FixedError::Implicit(name) => VectorsError::Implicit(name),
+        },
+    )?;
+    let mut rec = Recorder {
+        cap: Captured::default(),
+        pixels: Vec::with_capacity(w as usize * h as usize),
+        sphere_stage: SphereStage::new(dp),
+        lanes: usize::from(dp.sorter.n.max(1)),
+        instance_asset: &scene.instance_asset,
+        xy: [0; 2],
+        dir: [0; 3],
+        candidates: 0,
+        walks: 0,
+    };
+    // Counters and overflows are not what the capture is for (the rows carry their own
+    // flags).
+    let mut c = PixelCounters::default();
+    let mut cands: Vec<(i64, u16)> = Vec::with_capacity(plan.instances());
     let cam = state.camera;
-    let origin = q(cam.position, rg.pos, &mut ov);
-    let sphere_sig = SphereSignals {
-        tca: sig,
-        sq: sig,
-        t_enter: sig,
-        reach: sig,
-    };
-    let tr_sig = TransformSignals {
-        origin: sig,
-        dir: sig,
-    };
-    let sphere_stage = SphereStage::new(dp);
-    let sorter = Sorter::new(&dp.sorter);
-    let lanes = usize::from(dp.sorter.n.max(1));
-    let recip = ReciprocalUnit::new(&dp.reciprocal);
-    let (key_fmt, t_fmt) = (dp.sorter.key, dp.walker.t);
-    let mut cap = Captured::default();
-    let mut pixels = Vec::with_capacity(w as usize * h as usize);
     for j in 0..h {
         for i in 0..w {
+            // The host's ray generation: the f64 ray the direction table entry quantises.
             let ray = primary_ray(&cam, w, h, i, j);
-            cap.raygen.push(RaygenTxn {
+            rec.cap.raygen.push(RaygenTxn {
                 pixel: [i as u16, j as u16],
                 dir: ray.dir.to_array(),
                 origin: cam.position.to_array(),
             });
-            let d = direction_entry(ray.dir.to_array(), &rg, &mut ov, sig);
-            let mut cands: Vec<(i64, u16)> = Vec::with_capacity(insts.len());
-            for (k, inst) in insts.iter().enumerate() {
-                let txn = SphereTxn::of(origin, d, &inst.sphere);
-                cap.sphere.push(txn);
-                if let Some(x) = sphere_stage.radicand(&txn) {
-                    cap.sqrt.push(x);
-                }
-                if let Some(s) =
-                    sphere_test(origin, d, &inst.sphere, &dp.sphere, &mut ov, sphere_sig)
-                {
-                    cands.push((s.t_enter, k as u16));
-                }
-            }
-            let spheres = SphereCount::from_count(cands.len());
-            cap.sorter.extend(cands.chunks(lanes).map(<[_]>::to_vec));
-            let candidates = cands.len() as u32;
-            sorter.sort_in_place(&mut cands, &mut SorterStats::default());
-            let mut best: Option<(i64, u16, WalkerHit)> = None;
-            let mut walks = 0u32;
-            for &(key, k) in &cands {
-                if let Some((bt, _, _)) = best {
-                    // Early termination, as the functional model decides it.
-                    let f = key_fmt.frac.max(t_fmt.frac);
-                    if i128::from(bt) << (f - t_fmt.frac) <= i128::from(key) << (f - key_fmt.frac) {
-                        break;
-                    }
-                }
-                let inst = &insts[usize::from(k)];
-                cap.transform.push(TransformTxn {
-                    o: origin,
-                    d,
-                    inst: inst.raw,
-                });
-                let (o_local, d_local, signs) =
-                    transform_with_signs(origin, d, &inst.raw, &dp.transform, &mut ov, tr_sig);
-                let mut inp = WalkerInput {
-                    origin: o_local,
-                    half: inst.half,
-                    ..WalkerInput::default()
-                };
-                for a in 0..3 {
-                    cap.reciprocal.push((d_local[a], signs[a]));
-                    let r = recip.eval(d_local[a], signs[a], &mut ov, sig);
-                    inp.inv[a] = r.raw.saturating_abs();
-                    inp.zero[a] = r.zero;
-                    inp.negative[a] = r.negative;
-                }
-                cap.walker.push(WalkTxn {
-                    image: inst.asset,
-                    input: inp,
-                });
-                walks += 1;
-                let out = walk_fixed(
-                    inst.image,
-                    &inp,
-                    &dp.walker,
-                    &mut ov,
-                    sig,
-                    &mut WalkerStats::default(),
-                );
-                if let WalkOutcome::Hit(hit) = out {
-                    if best.is_none_or(|(bt, _, _)| hit.t < bt) {
-                        best = Some((hit.t, k, hit));
-                    }
-                }
-            }
-            let f64_record = match best {
-                None => HitRecordF64 {
-                    kind: spheres,
-                    instance: None,
-                    t: f64::INFINITY,
-                    normal: [0.0; 3],
-                    colour: [0; 3],
-                    voxel: [0; 3],
-                },
-                Some((t, k, hit)) => {
-                    let inst = &insts[usize::from(k)];
-                    let attr = inst.image.attrs()[hit.attr as usize];
-                    let n = (inst.normal_to_world * DVec3::from_array(attr.normal()))
-                        .normalize_or_zero();
-                    let [r, g, b, _] = attr.rgba();
-                    HitRecordF64 {
-                        kind: spheres,
-                        instance: Some(k),
-                        t: to_f64(t, t_fmt),
-                        normal: n.to_array(),
-                        colour: [r, g, b],
-                        voxel: hit.voxel,
-                    }
-                }
-            };
-            let fields = quantise(&f64_record, &dp.hit_record, &mut ov, sig);
-            cap.hit_record.push(fields);
-            pixels.push(FramePixel {
-                xy: [i as u16, j as u16],
-                dir: d,
-                candidates,
-                walks,
-                hit: best.is_some(),
-                t: best.map_or(0, |b| b.0),
-                voxel: best.map_or([0; 3], |b| b.2.voxel),
-                word: pack(&fields, &dp.hit_record, &mut ov, sig),
-            });
+            rec.xy = [i as u16, j as u16];
+            rec.dir = buffer.dir_table[j as usize * w as usize + i as usize];
+            rec.walks = 0;
+            let mut entry = FixedRecord::default();
+            plan.pixel(rec.dir, &mut entry, &mut c, &mut cands, &mut rec);
         }
     }
-    let instances = insts
-        .iter()
-        .map(|i| FrameInstance {
-            raw: i.raw,
-            threshold: i.sphere.threshold,
-            inside: i.sphere.inside,
-            delta_t: i.sphere.delta_t,
-            reach: i.sphere.reach,
-            half: i.half,
-            image: i.asset,
+    let instances = (0..plan.instances())
+        .filter_map(|k| {
+            let host = plan.host_instance(k as u16)?;
+            Some(FrameInstance {
+                raw: host.raw,
+                threshold: host.sphere.threshold,
+                inside: host.sphere.inside,
+                delta_t: host.sphere.delta_t,
+                reach: host.sphere.reach,
+                half: host.half,
+                image: scene.instance_asset[k],
+            })
         })
         .collect();
     Ok(FrameCapture {
-        captured: cap,
-        origin,
+        captured: rec.cap,
+        origin: plan.origin,
         instances,
-        pixels,
+        pixels: rec.pixels,
     })
 }

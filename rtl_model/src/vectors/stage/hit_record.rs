@@ -9,7 +9,7 @@
 use super::{dedup, Stage};
 use crate::datapath::DatapathConfig;
 use crate::fixed::{Overflows, SignalId};
-use crate::units::hit_record::{pack, HitRecordConfig, HitRecordFields, SphereCount};
+use crate::units::hit_record::{pack, HitRecordConfig, HitRecordFields, RecordT, SphereCount};
 use crate::vectors::layout::{b, s, u, Direction::*, Layout};
 use crate::vectors::rng::Rng;
 use crate::vectors::table::{Timing, VectorTable};
@@ -38,7 +38,7 @@ impl HitRecordStage {
         HitRecordFields {
             kind: SphereCount::from_code(kind),
             instance,
-            t,
+            t: RecordT { raw: t },
             normal,
             colour,
             voxel: [0; 3],
@@ -185,7 +185,7 @@ impl Stage for HitRecordStage {
             u(u64::from(r.kind.code())),
             b(r.instance.is_some()),
             u(u64::from(r.instance.unwrap_or(0))),
-            s(r.t),
+            s(r.t.raw),
             s(i64::from(r.normal[0])),
             s(i64::from(r.normal[1])),
         ];
@@ -235,7 +235,10 @@ mod tests {
             assert_eq!(back.kind, r.kind);
             assert_eq!(back.colour, r.colour);
             // Independent check of the t field: bits 10..32, clamped into uQ8.14.
-            assert_eq!((word >> 10) & 0x3f_ffff, r.t.clamp(0, 0x3f_ffff) as u128);
+            assert_eq!(
+                (word >> 10) & 0x3f_ffff,
+                r.t.raw.clamp(0, 0x3f_ffff) as u128
+            );
             flagged += usize::from(l.read(&w, "ov") == Some(1));
         }
         assert!(flagged > 10);

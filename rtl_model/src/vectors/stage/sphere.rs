@@ -12,7 +12,7 @@ use super::{dedup, Stage};
 use crate::cycle::hw_config::{sphere_latency_cycles, sqrt_config_for};
 use crate::datapath::DatapathConfig;
 use crate::fixed::{from_f64, Format, Overflows, Quant, SignalId};
-use crate::units::sphere::{sphere_test, SphereConfig, SphereRaw, SphereSignals};
+use crate::units::sphere::{sphere_radicand, sphere_test, SphereConfig, SphereRaw, SphereSignals};
 use crate::units::sqrt;
 use crate::vectors::layout::{b, s, Direction::*, Layout};
 use crate::vectors::rng::Rng;
@@ -101,36 +101,27 @@ impl SphereStage {
         SphereRaw::new(centre, r, &self.cfg)
     }
 
-    /// The radicand the sphere unit hands its square root for `t` (T − p² in `sq`, as
-    /// `sphere_test` forms it), or `None` where the unit takes no root (beyond the reach, or
-    /// culled by p² > T). Used to capture the square root's real-frame transactions; the
-    /// stage test checks it against `sphere_test`'s entry distance.
+    /// The radicand the sphere unit hands its square root for `t`
+    /// (`units::sphere::sphere_radicand`: T − p² in `sq`, the unit's pre-checks included), or
+    /// `None` where the unit takes no root (beyond the reach, or culled by p² > T). Used to
+    /// capture the square root's real-frame transactions; the stage test checks it against
+    /// `sphere_test`'s entry distance.
     pub fn radicand(&self, t: &SphereTxn) -> Option<i64> {
-        let cfg = &self.cfg;
-        let l = [0, 1, 2].map(|k| i128::from(t.centre[k]) - i128::from(t.o[k]));
-        if l.iter().any(|v| v.abs() > i128::from(t.reach)) {
-            return None;
-        }
-        let pf = i32::from(cfg.pos.frac);
-        let dot: i128 = (0..3).map(|k| l[k] * i128::from(t.d[k])).sum();
-        let mut ov = Overflows::new(&["x"]);
-        let tca = crate::fixed::quantize(
-            dot,
-            pf + i32::from(cfg.dir.frac),
-            cfg.tca.with_quant(Quant::Trn),
-            &mut ov,
-            SignalId(0),
-        );
-        let (lf, tf) = (2 * pf, 2 * i32::from(cfg.tca.frac));
-        let f2 = lf.max(tf);
-        let l2: i128 = l.iter().map(|v| v * v).sum::<i128>() << (f2 - lf);
-        let p2 = l2 - ((i128::from(tca) * i128::from(tca)) << (f2 - tf));
-        let up = f2 - i32::from(cfg.sq.frac);
-        let thr = i128::from(t.threshold) << up;
-        if p2 > thr {
-            return None;
-        }
-        Some(((thr - p2.max(0)) >> up).clamp(0, i128::from(i64::MAX)) as i64)
+        let x = sphere_radicand(
+            t.o,
+            t.d,
+            &t.raw(&self.cfg),
+            &self.cfg,
+            &mut Overflows::new(&["x"]),
+            SphereSignals {
+                tca: SignalId(0),
+                sq: SignalId(0),
+                t_enter: SignalId(0),
+                reach: SignalId(0),
+            },
+        )?;
+        // T − p² ≤ T, a code of `sq`, so it fits an i64.
+        Some(i64::try_from(x).unwrap_or(i64::MAX))
     }
 }
 

@@ -19,7 +19,7 @@ use crate::fixed::{from_f64, Format, Overflows, SignalId};
 use crate::svo::{LeafAttr, LeafSet, SvoImage};
 use crate::units::reciprocal::ReciprocalUnit;
 use crate::units::walker::{
-    walk_fixed_visiting, WalkOutcome, WalkerConfig, WalkerInput, WalkerStats,
+    walk_fixed_visiting, WalkOutcome, WalkerConfig, WalkerInput, WalkerPos, WalkerStats,
 };
 use crate::vectors::layout::{b, s, u, Direction::*, Layout};
 use crate::vectors::rng::Rng;
@@ -137,7 +137,9 @@ impl WalkerStage {
     /// through the reciprocal unit (the f64 sign bit as the sign, so −0 is negative).
     pub fn input_for(&self, origin: [f64; 3], dir: [f64; 3], half: [f64; 3]) -> WalkerInput {
         let mut ov = Overflows::new(&["host"]);
-        let p = |x: f64, ov: &mut Overflows| from_f64(x, self.cfg.pos, ov, SignalId(0));
+        let p = |x: f64, ov: &mut Overflows| WalkerPos {
+            raw: from_f64(x, self.cfg.pos, ov, SignalId(0)),
+        };
         let mut inp = WalkerInput {
             origin: origin.map(|x| p(x, &mut ov)),
             half: half.map(|x| p(x, &mut ov)),
@@ -148,9 +150,7 @@ impl WalkerStage {
             let r = self
                 .recip
                 .eval(code, x.is_sign_negative(), &mut ov, SignalId(0));
-            inp.inv[k] = r.raw.saturating_abs();
-            inp.zero[k] = r.zero;
-            inp.negative[k] = r.negative;
+            inp.set_axis(k, &r);
         }
         inp
     }
@@ -415,11 +415,11 @@ impl WalkerStage {
                 }
                 let inp = &t.input;
                 let mut v = vec![u(t.image as u64)];
-                v.extend(inp.origin.map(s));
-                v.extend(inp.inv.map(s));
+                v.extend(inp.origin.map(|p| s(p.raw)));
+                v.extend(inp.inv.map(|i| s(i.raw)));
                 v.extend(inp.zero.map(b));
                 v.extend(inp.negative.map(b));
-                v.extend(inp.half.map(s));
+                v.extend(inp.half.map(|p| s(p.raw)));
                 let (outcome, hit) = match out {
                     WalkOutcome::Miss => (0, None),
                     WalkOutcome::Hit(h) => (1, Some(h)),
