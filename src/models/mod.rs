@@ -1,6 +1,6 @@
 //! The three models of a frame, each a check on the next.
 //!
-//! - [`reference`]: the paper's method in f64, the oracle for accuracy.
+//! - [`reference`](mod@reference): the paper's method in f64, the oracle for accuracy.
 //! - [`fixed`]: the functional fixed-point model, every unit of `rtl_model::units` bit-exact
 //!   with the RTL, compared with the reference every frame. It also records each pixel's work
 //!   (candidates, walks, node reads) for the cycle model.

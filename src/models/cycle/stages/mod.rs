@@ -81,7 +81,7 @@ pub mod id {
     pub const WRITE: StageId = StageId(19);
 }
 
-/// Names of the stage ids in [`id`], for transaction logs.
+/// Names of the stage ids (`id`), in pipeline order, for transaction logs.
 pub const STAGE_NAMES: [&str; 20] = [
     "raygen",
     "raygen_to_sphere",
