@@ -22,8 +22,8 @@
 //! - A step limit stops a walk that runs too long (it cannot happen with a well-formed image,
 //!   but the hardware needs the guard); it is reported, never silent.
 
-use crate::cycle::memory::FetchKind;
 use crate::fixed::{quantize, Format, Overflows, SignalId};
+use crate::svo::FetchKind;
 use crate::svo::{ChildDescriptor, ChildRef, SvoImage, MAX_DEPTH};
 use serde::{Deserialize, Serialize};
 
