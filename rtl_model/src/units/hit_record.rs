@@ -657,3 +657,11 @@ pub fn bram36_count(word_bits: u32, depth: u64) -> u64 {
 pub fn uram288_count(word_bits: u32, depth: u64) -> u64 {
     u64::from(word_bits.div_ceil(72)) * depth.div_ceil(4096)
 }
+
+/// Latency in cycles of packing a record into its word: one register (concatenation, t
+/// saturation).
+pub const PACK_LATENCY_CYCLES: u32 = 1;
+
+/// Latency in cycles of unpacking a word read from the hit buffer: one register (wiring and
+/// the none-code compare).
+pub const UNPACK_LATENCY_CYCLES: u32 = 1;

@@ -4,7 +4,7 @@
 //! Pipeline position: between loading the scene and the run. [`elaborate`] reads the scene's
 //! facts ([`analyse`]), decides unit by unit ([`plan`]), prices each decision
 //! ([`savings`]) and yields the elaborated hardware and datapath configuration that the run
-//! then uses ([`Elaboration::apply_to`]); [`print`] writes the human summary. No decision may
+//! then uses ([`Elaboration::apply_to`]); [`print`](mod@print) writes the human summary. No decision may
 //! change a hit record: `tests/elaborate.rs` renders pruned and full pipelines and compares
 //! them byte for byte.
 
