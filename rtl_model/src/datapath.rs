@@ -69,7 +69,7 @@ impl Default for WalkerConfig {
     }
 }
 
-/// Names of the overflow signals, in [`Signals`] order.
+/// Names of the overflow signals, in the order of [`signals`].
 pub const SIGNAL_NAMES: [&str; 13] = [
     "raygen/dir",
     "raygen/pos",

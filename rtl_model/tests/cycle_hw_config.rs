@@ -1,17 +1,15 @@
-//! Tests of the cycle model's hardware configuration (`rtl_model::cycle::hw_config`): the
-//! default validates and fits its part, the unit latencies are the units' own stage counts,
-//! the resource estimate of the default is what `docs/cycle-model.md` states, serde rejects
-//! unknown fields and fills missing ones, and invalid configurations are rejected with the
-//! field named. Deterministic: no randomness is needed.
+//! Tests of the cycle model's hardware configuration (`rtl_model::cycle::hw_config`) and what
+//! it costs (`rtl_model::cost`): the default validates and fits its part, the unit latencies
+//! are the units' own stage counts, the resource estimate of the default is what
+//! `docs/cycle-model.md` states, serde rejects unknown fields and fills missing ones, and
+//! invalid configurations are rejected with the field named. Deterministic: no randomness is needed.
 
 use rtl_model::cycle::hw_config::{
-    sphere_dsp48e2, sphere_latency_cycles, sqrt_config_for, transform_latency_cycles,
-    walker_root_dsp48e2, walker_root_latency_cycles, HwConfig, Part, Placement, ResourceReport,
-    StackStorage, UnitTimings, WalkerPool, TRANSFORM_LATENCY_WITHOUT_PRODUCTS,
+    HwConfig, Part, Placement, ResourceReport, StackStorage, UnitTimings, WalkerPool,
 };
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::units::sqrt::SqrtConfig;
-use rtl_model::units::{reciprocal, sorter, sqrt, transform};
+use rtl_model::units::{reciprocal, sorter, sphere, sqrt, transform, walker};
 use serde::de::value::{Error as ValueError, MapDeserializer};
 use serde::Deserialize;
 
@@ -93,7 +91,7 @@ fn unit_latencies_equal_the_unit_functions() {
     let dp = DatapathConfig::default();
     let u = HwConfig::default().units;
     // Units that expose their latency: the default must be exactly theirs.
-    assert_eq!(sqrt_config_for(&dp.sphere), SqrtConfig::default());
+    assert_eq!(sphere::sqrt_config(&dp.sphere), SqrtConfig::default());
     assert_eq!(
         u.sqrt.latency_cycles,
         sqrt::latency_cycles(&SqrtConfig::default())
@@ -110,17 +108,17 @@ fn unit_latencies_equal_the_unit_functions() {
         reciprocal::latency_cycles(&dp.reciprocal)
     );
     assert_eq!(u.reciprocal.latency_cycles, 23);
-    // Units whose stage count lives in hw_config.
-    assert_eq!(u.sphere.latency_cycles, sphere_latency_cycles(&dp.sphere));
+    // Units whose stage count is built from their products (`fixed::Products`).
+    assert_eq!(u.sphere.latency_cycles, sphere::latency_cycles(&dp.sphere));
     assert_eq!(u.sphere.latency_cycles, 15);
     assert_eq!(
         u.transform.latency_cycles,
-        transform_latency_cycles(&dp.transform)
+        transform::latency_cycles(&dp.transform)
     );
     assert_eq!(u.transform.latency_cycles, 8);
     assert_eq!(
         u.walker_root.latency_cycles,
-        walker_root_latency_cycles(&dp.walker)
+        walker::root_latency_cycles(&dp.walker)
     );
     assert_eq!(u.walker_root.latency_cycles, 8);
     assert_eq!(
@@ -139,11 +137,11 @@ fn unit_latencies_equal_the_unit_functions() {
 #[test]
 fn dsp_counts_are_those_sim_datapath_prints() {
     let dp = DatapathConfig::default();
-    assert_eq!(sphere_dsp48e2(&dp.sphere), 36);
+    assert_eq!(sphere::dsp48e2_count(&dp.sphere), 36);
     assert_eq!(transform::dsp48e2_count(&dp.transform), 72);
     assert_eq!(reciprocal::dsp48e2_count(&dp.reciprocal), 12);
-    assert_eq!(walker_root_dsp48e2(&dp.walker), 36);
-    assert_eq!(sqrt::dsp48e2_count(&sqrt_config_for(&dp.sphere)), 0);
+    assert_eq!(walker::root_dsp48e2_count(&dp.walker), 36);
+    assert_eq!(sqrt::dsp48e2_count(&sphere::sqrt_config(&dp.sphere)), 0);
 }
 
 #[test]
@@ -414,9 +412,11 @@ fn ron_round_trip() {
 fn transform_without_products_and_absent_hit_buffer() {
     let dp = DatapathConfig::default();
     let full = default_report();
-    let mut cfg = HwConfig::default();
-    cfg.transform_products = false;
-    cfg.units.transform.latency_cycles = TRANSFORM_LATENCY_WITHOUT_PRODUCTS;
+    let mut cfg = HwConfig {
+        transform_products: false,
+        ..HwConfig::default()
+    };
+    cfg.units.transform.latency_cycles = transform::LATENCY_WITHOUT_PRODUCTS;
     cfg.validate_for(&dp)
         .expect("2 stages suffice without products");
     let r = cfg.resources(&dp).unwrap();
@@ -426,11 +426,11 @@ fn transform_without_products_and_absent_hit_buffer() {
         item(&full, "transform").1
     );
     assert_eq!(item(&full, "transform").1, 72);
-    cfg.units.transform.latency_cycles = TRANSFORM_LATENCY_WITHOUT_PRODUCTS - 1;
+    cfg.units.transform.latency_cycles = transform::LATENCY_WITHOUT_PRODUCTS - 1;
     let e = cfg.validate_for(&dp).unwrap_err();
     assert!(e.contains("units.transform.latency_cycles"), "{e}");
     cfg.transform_products = true;
-    cfg.units.transform.latency_cycles = TRANSFORM_LATENCY_WITHOUT_PRODUCTS;
+    cfg.units.transform.latency_cycles = transform::LATENCY_WITHOUT_PRODUCTS;
     assert!(cfg.validate_for(&dp).is_err(), "products need their stages");
 
     let mut cfg = HwConfig::default();

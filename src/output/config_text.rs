@@ -3,12 +3,13 @@
 //! `//` comments so that the whole output is still a valid configuration file.
 //!
 //! Pipeline position: beside the run; the figures come from the units' own cost and bound
-//! functions (`rtl_model::units`) and the hardware's resource estimate.
+//! functions (`rtl_model::units`), the bounds that span units (`rtl_model::cost::bounds`) and
+//! the hardware's resource estimate (`rtl_model::cost::estimate`); nothing is recomputed here.
 
+use rtl_model::cost::direction_error_bound;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
-use rtl_model::fixed::{dsp48e2_per_product, Format};
-use rtl_model::units::{hit_record, reciprocal, sqrt, transform, walker};
+use rtl_model::units::{hit_record, reciprocal, sphere, sqrt, transform, walker};
 use std::fmt::Write;
 
 fn pretty() -> ron::ser::PrettyConfig {
@@ -23,15 +24,9 @@ pub fn datapath_text(cfg: &DatapathConfig) -> Result<String, ron::Error> {
         "// Datapath configuration (docs/number-formats.md). Edit and pass with --datapath."
     );
     let _ = writeln!(s, "{}", ron::ser::to_string_pretty(cfg, pretty())?);
-    let wider = |f: Format| Format {
-        width: f.width + 1,
-        ..f
-    };
     let sph = &cfg.sphere;
-    let sphere_dsp = 3 * dsp48e2_per_product(wider(sph.pos), sph.dir)
-        + 3 * dsp48e2_per_product(wider(sph.pos), wider(sph.pos))
-        + dsp48e2_per_product(sph.tca, sph.tca);
-    let walker_dsp = 6 * dsp48e2_per_product(wider(cfg.walker.pos), cfg.walker.inv);
+    let sphere_dsp = sphere::dsp48e2_count(sph);
+    let walker_dsp = walker::root_dsp48e2_count(&cfg.walker);
     let _ = writeln!(
         s,
         "// DSP48E2 slices per unit (27x18 products, sub-word decomposition):"
@@ -102,13 +97,10 @@ pub fn datapath_text(cfg: &DatapathConfig) -> Result<String, ron::Error> {
         "//   square root (default unit config)   : {:.3e}",
         sqrt::error_bound(&sq)
     );
-    let dir_err = transform::dir_error_bound(&cfg.transform)
-        + rb.rel
-        + reciprocal::zero_threshold(&cfg.reciprocal);
     let spatial = walker::spatial_error_bound(
         &cfg.walker,
         transform::origin_error_bound(&cfg.transform, 20.0),
-        dir_err,
+        direction_error_bound(cfg),
         25.0,
         11,
     );

@@ -1,7 +1,7 @@
 //! The node memory's queue of reads that have been served and wait for their data cycle.
 //!
 //! Pipeline position: inside [`super::memory::NodeMemory`], between the arbitration of a read
-//! (it knows when the data will be valid) and [`super::memory::NodeMemory::tick`] (which hands
+//! (it knows when the data will be valid) and [`super::memory::NodeMemory::tick_into`] (which hands
 //! the completions of a cycle to the walker pool).
 //!
 //! # Why a timing wheel

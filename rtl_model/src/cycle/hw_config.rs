@@ -1,13 +1,16 @@
 //! The hardware configuration of the cycle model: the target part and its resource budget, the
 //! clock, the latency and initiation interval of every fixed unit, how many of each unit there
 //! are, the walker pool, the FIFO depths between stages, the node memory (on-chip part, cache,
-//! external DRAM) and the hit buffer — plus an estimate of the DSP48E2, BRAM36 and URAM288 a
-//! configuration needs against the part's budget.
+//! external DRAM) and the hit buffer: the schema (serde types and their defaults) and its
+//! validation.
 //!
 //! Pipeline position: read once per run, like the datapath configuration; every stage, the
-//! walker pool and the memory model take their part of it, and the report prints the
-//! [`ResourceReport`]. The defaults, and the reason for each number, are documented field by
-//! field here and in `docs/cycle-model.md` ("Hardware configuration").
+//! walker pool and the memory model take their part of it. What a configuration costs lives
+//! in `cost`: the unit timings a datapath needs ([`UnitTimings::for_datapath`],
+//! `cost::latency`) and the estimate of the DSP48E2, BRAM36 and URAM288 it needs against the
+//! part's budget ([`HwConfig::resources`], `cost::estimate`), which the report prints. The
+//! defaults, and the reason for each number, are documented field by field here and in
+//! `docs/cycle-model.md` ("Hardware configuration").
 //!
 //! Conventions: latencies are cycles from a transaction entering a unit to its result leaving
 //! it; an initiation interval (II) is the number of cycles between two transactions a unit
@@ -17,34 +20,16 @@
 use super::fifo;
 use super::memory::NodeMemoryConfig;
 use crate::datapath::DatapathConfig;
-use crate::fixed::{dsp48e2_per_product, Format, Quant};
 use crate::svo::MAX_DEPTH;
-use crate::units::hit_record::{bram36_count, uram288_count};
-use crate::units::sphere::SphereConfig;
-use crate::units::sqrt::SqrtConfig;
-use crate::units::transform::TransformConfig;
-use crate::units::walker::WalkerConfig;
-use crate::units::{reciprocal, sorter, sqrt, transform};
+use crate::units::transform;
 use serde::{Deserialize, Serialize};
-use std::fmt;
 
-/// Cycles of one multiply in a DSP48E2 with its input, multiplier and product registers; a
-/// product spanning several slices takes one more cycle to add its partial products. The same
-/// rule as the reciprocal unit's `latency_cycles`, so all units count alike.
-const DSP_PIPELINE_CYCLES: u32 = 3;
-
-/// Bits of a node-memory word address: the walker's node addresses are `u32` word indices
-/// (`svo::SvoImage::nodes`), and a descriptor is one 32-bit word.
-const NODE_ADDRESS_BITS: u32 = 32;
-/// Bits of a child descriptor (`docs/svo-format.md` §3).
-const DESCRIPTOR_BITS: u32 = 32;
-/// Bits of the walker's "next child" state: labels 0..=7 and 8 = done.
-const NEXT_CHILD_BITS: u32 = 4;
-/// Bytes of one node word.
-const NODE_WORD_BYTES: u64 = 4;
+/// The resource estimate's types, where the users of [`HwConfig::resources`] look for them
+/// (the estimate itself is `cost::estimate`).
+pub use crate::cost::report::{ResourceItem, ResourceReport, Resources};
 
 /// Upper limits `validate` enforces: far above any sensible design, low enough that every
-/// product of them in [`HwConfig::resources`] stays within `u64`.
+/// product of them in [`HwConfig::resources`] (`cost::estimate`) stays within `u64`.
 const MAX_CLOCK_MHZ: u32 = 1000;
 const MAX_LATENCY: u32 = 100_000;
 const MAX_UNITS: u32 = 4096;
@@ -132,30 +117,32 @@ impl UnitTiming {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct UnitTimings {
-    /// Ray generation: one direction-table entry and the camera position per ray. Default 4:
-    /// the table's URAM read as the hit buffer's (`HitBuffer::read_latency_cycles`).
+    /// Ray generation: one direction-table entry and the camera position per ray. Default 4
+    /// (`units::raygen::LATENCY_CYCLES`): the table's URAM read as the hit buffer's
+    /// (`HitBuffer::read_latency_cycles`).
     pub raygen: UnitTiming,
     /// Sphere test up to the square root's radicand, and the entry subtraction after it
-    /// ([`sphere_latency_cycles`], 15 by default); the square root itself is `sqrt`.
+    /// (`units::sphere::latency_cycles`, 15 by default); the square root itself is `sqrt`.
     pub sphere: UnitTiming,
     /// Square root of the sphere unit (digit recurrence, one stage per root digit):
-    /// `units::sqrt::latency_cycles` of [`sqrt_config_for`] the sphere formats, 32.
+    /// `units::sqrt::latency_cycles` of `units::sphere::sqrt_config` of the sphere formats, 32.
     pub sqrt: UnitTiming,
     /// Sorting network: `units::sorter::network_latency(n)` layers (6 for 8 lanes), II
     /// `network_ii` = 1. Rays with more candidates than lanes take the extra chunks and merge
     /// passes of `units::sorter::sort_timing` on top.
     pub sorter: UnitTiming,
-    /// Transform into an instance's frame ([`transform_latency_cycles`], 8 by default).
+    /// Transform into an instance's frame (`units::transform::latency_cycles`, 8 by default).
     pub transform: UnitTiming,
     /// One reciprocal 1/d: `units::reciprocal::latency_cycles`, 23 by default.
     pub reciprocal: UnitTiming,
     /// Root slabs of a walk, t = (±e − o)·(1/|d|) on three axes and the entry test
-    /// ([`walker_root_latency_cycles`], 8 by default).
+    /// (`units::walker::root_latency_cycles`, 8 by default).
     pub walker_root: UnitTiming,
-    /// Packing a hit record into its word: one register (concatenation, t saturation).
+    /// Packing a hit record into its word: one register (concatenation, t saturation;
+    /// `units::hit_record::PACK_LATENCY_CYCLES`).
     pub hit_pack: UnitTiming,
     /// Unpacking a word read from the hit buffer: one register (wiring and the none-code
-    /// compare).
+    /// compare; `units::hit_record::UNPACK_LATENCY_CYCLES`).
     pub hit_unpack: UnitTiming,
 }
 
@@ -166,25 +153,6 @@ impl Default for UnitTimings {
 }
 
 impl UnitTimings {
-    /// The timings the stage counts of `dp`'s units give (the minimum latencies, II = 1).
-    pub fn for_datapath(dp: &DatapathConfig) -> Self {
-        let sqrt_lat = sqrt::latency_cycles(&sqrt_config_for(&dp.sphere));
-        Self {
-            raygen: UnitTiming::pipelined(4),
-            sphere: UnitTiming::pipelined(sphere_latency_cycles(&dp.sphere)),
-            sqrt: UnitTiming::pipelined(sqrt_lat),
-            sorter: UnitTiming {
-                latency_cycles: sat_u32(sorter::network_latency(dp.sorter.n.max(1))),
-                ii: sat_u32(sorter::network_ii(dp.sorter.n.max(1))),
-            },
-            transform: UnitTiming::pipelined(transform_latency_cycles(&dp.transform)),
-            reciprocal: UnitTiming::pipelined(reciprocal::latency_cycles(&dp.reciprocal)),
-            walker_root: UnitTiming::pipelined(walker_root_latency_cycles(&dp.walker)),
-            hit_pack: UnitTiming::pipelined(1),
-            hit_unpack: UnitTiming::pipelined(1),
-        }
-    }
-
     /// The units by name, in pipeline order (the names `validate` uses).
     pub fn named(&self) -> [(&'static str, UnitTiming); 9] {
         [
@@ -428,7 +396,7 @@ pub struct HwConfig {
     /// Whether the transform units have their 18 products. Default true; false only when no
     /// instance ever rotates (scene-driven elaboration, `docs/elaboration.md`): R = I makes
     /// the unit o − c and its rounding, exactly, with no DSP48E2 and
-    /// [`TRANSFORM_LATENCY_WITHOUT_PRODUCTS`] stages.
+    /// `units::transform::LATENCY_WITHOUT_PRODUCTS` stages.
     pub transform_products: bool,
     /// Reciprocal units, one axis each. Default 3: one walk's three axes per cycle.
     pub reciprocal_units: u32,
@@ -458,151 +426,6 @@ pub struct HwConfig {
 impl Default for HwConfig {
     fn default() -> Self {
         Self::for_datapath(&DatapathConfig::default())
-    }
-}
-
-/// Resources in the three counted kinds.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Resources {
-    /// DSP48E2 slices.
-    pub dsp48e2: u64,
-    /// BRAM36 blocks.
-    pub bram36: u64,
-    /// URAM288 blocks.
-    pub uram288: u64,
-}
-
-impl Resources {
-    fn add(self, o: Self) -> Self {
-        Self {
-            dsp48e2: self.dsp48e2.saturating_add(o.dsp48e2),
-            bram36: self.bram36.saturating_add(o.bram36),
-            uram288: self.uram288.saturating_add(o.uram288),
-        }
-    }
-}
-
-/// One line of the estimate: a component, how many instances, and what they take in all.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct ResourceItem {
-    /// Component name (`sphere`, `walker_stacks`, `hit_buffer`, …).
-    pub name: String,
-    /// Instances (lanes, units, walkers, banks; 1 for a single memory).
-    pub instances: u64,
-    /// Resources of all instances together.
-    pub used: Resources,
-    /// How the number was obtained.
-    pub note: String,
-}
-
-/// Estimated use of a configuration against its part's budget.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct ResourceReport {
-    /// Part name.
-    pub part: String,
-    /// The estimate component by component.
-    pub items: Vec<ResourceItem>,
-    /// Sum of the items.
-    pub used: Resources,
-    /// The part's budget.
-    pub available: Resources,
-}
-
-impl ResourceReport {
-    /// Whether every kind fits the part.
-    pub fn fits(&self) -> bool {
-        self.over_budget().is_empty()
-    }
-
-    /// A message per kind that exceeds the part ("URAM288: 1200 used, 960 available").
-    pub fn over_budget(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        for (kind, used, avail) in self.kinds() {
-            if used > avail {
-                out.push(format!(
-                    "{kind}: {used} used, {avail} available on {}",
-                    self.part
-                ));
-            }
-        }
-        out
-    }
-
-    /// Percent of the part used per kind (DSP48E2, BRAM36, URAM288); 0 % of nothing is 0,
-    /// any use of nothing is +∞.
-    pub fn percent(&self) -> [f64; 3] {
-        self.kinds().map(|(_, u, a)| percent(u, a))
-    }
-
-    fn kinds(&self) -> [(&'static str, u64, u64); 3] {
-        [
-            ("DSP48E2", self.used.dsp48e2, self.available.dsp48e2),
-            ("BRAM36", self.used.bram36, self.available.bram36),
-            ("URAM288", self.used.uram288, self.available.uram288),
-        ]
-    }
-}
-
-fn percent(used: u64, avail: u64) -> f64 {
-    if avail == 0 {
-        if used == 0 {
-            0.0
-        } else {
-            f64::INFINITY
-        }
-    } else {
-        100.0 * used as f64 / avail as f64
-    }
-}
-
-impl fmt::Display for ResourceReport {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "resources on {} (estimate):", self.part)?;
-        writeln!(
-            f,
-            "  {:<16} {:>5} {:>8} {:>8} {:>8}  note",
-            "component", "n", "DSP48E2", "BRAM36", "URAM288"
-        )?;
-        for it in &self.items {
-            writeln!(
-                f,
-                "  {:<16} {:>5} {:>8} {:>8} {:>8}  {}",
-                it.name, it.instances, it.used.dsp48e2, it.used.bram36, it.used.uram288, it.note
-            )?;
-        }
-        let p = self.percent();
-        writeln!(
-            f,
-            "  {:<16} {:>5} {:>8} {:>8} {:>8}",
-            "used", "", self.used.dsp48e2, self.used.bram36, self.used.uram288
-        )?;
-        writeln!(
-            f,
-            "  {:<16} {:>5} {:>8} {:>8} {:>8}",
-            "available", "", self.available.dsp48e2, self.available.bram36, self.available.uram288
-        )?;
-        // A kind the part lacks shows as "none" rather than an infinite percentage.
-        let pct = |x: f64| {
-            if x.is_finite() {
-                format!("{x:.1}%")
-            } else {
-                "none".to_string()
-            }
-        };
-        write!(
-            f,
-            "  {:<16} {:>5} {:>8} {:>8} {:>8}  {}",
-            "utilisation",
-            "",
-            pct(p[0]),
-            pct(p[1]),
-            pct(p[2]),
-            if self.fits() {
-                "fits".to_string()
-            } else {
-                format!("DOES NOT FIT: {}", self.over_budget().join("; "))
-            }
-        )
     }
 }
 
@@ -742,7 +565,7 @@ impl HwConfig {
         }
         let mut need = UnitTimings::for_datapath(dp);
         if !self.transform_products {
-            need.transform.latency_cycles = TRANSFORM_LATENCY_WITHOUT_PRODUCTS;
+            need.transform.latency_cycles = transform::LATENCY_WITHOUT_PRODUCTS;
         }
         for ((name, have), (_, min)) in self.units.named().into_iter().zip(need.named()) {
             if have.latency_cycles < min.latency_cycles {
@@ -755,264 +578,6 @@ impl HwConfig {
         }
         Ok(())
     }
-
-    /// Cycles the hit-buffer check waits for its read, before the unpack register: the
-    /// buffer's read latency on chip, the DRAM's latency when external, none when absent.
-    pub fn hit_buffer_read_cycles(&self) -> u32 {
-        match self.hit_buffer.placement {
-            _ if !self.hit_buffer.present => 0,
-            Placement::External => self.node_memory.dram.latency,
-            _ => self.hit_buffer.read_latency_cycles,
-        }
-    }
-
-    /// Estimated DSP48E2, BRAM36 and URAM288 of this configuration with datapath `dp`,
-    /// against the part's budget; [`ResourceReport::fits`] says whether it fits. An error
-    /// when either configuration is invalid (the counts are only defined for valid ones).
-    ///
-    /// What is counted (assumptions, `docs/cycle-model.md` has the reasons):
-    /// - DSP48E2: per unit the products of its formats split into 27×18 tiles
-    ///   (`fixed::dsp48e2_per_product`, as `sim datapath` prints), times the instances:
-    ///   sphere lanes, transform, reciprocal (per axis) and walker-root units. The square
-    ///   root, sorter, walkers' steps and hit record use none.
-    /// - Block RAM: the hit buffer and direction table when on chip
-    ///   (`units::hit_record::bram36_count` / `uram288_count` of the frame's pixels); one
-    ///   stack RAM per walker (contexts × stack depth frames) in BRAM; the node memory by the
-    ///   memory model's rule (`NodeMemoryConfig::resources`), the on-chip store at its
-    ///   capacity `max_bytes`.
-    /// - Not counted: LUTs and flip-flops (pipeline registers, sorter comparators, walker
-    ///   context registers, miss-status registers), FIFOs (LUTRAM), the reciprocal's
-    ///   256-entry seed ROM (LUTs), and the memory controller and host interface.
-    pub fn resources(&self, dp: &DatapathConfig) -> Result<ResourceReport, String> {
-        self.validate()?;
-        dp.validate().map_err(|m| format!("datapath: {m}"))?;
-        let mut items = Vec::new();
-        let dsp_item = |name: &str, n: u32, per: u32, note: String| ResourceItem {
-            name: name.into(),
-            instances: u64::from(n),
-            used: Resources {
-                dsp48e2: u64::from(n) * u64::from(per),
-                ..Resources::default()
-            },
-            note,
-        };
-        let sphere = sphere_dsp48e2(&dp.sphere);
-        items.push(dsp_item(
-            "sphere",
-            self.sphere_units,
-            sphere,
-            format!("{sphere} DSP per lane: l·d 3, l·l 3, t_ca² 1 products"),
-        ));
-        let sq = sqrt::dsp48e2_count(&sqrt_config_for(&dp.sphere));
-        items.push(dsp_item(
-            "sqrt",
-            self.sphere_units,
-            sq,
-            "one per sphere lane; digit recurrence, subtractors only".into(),
-        ));
-        let sorter_res = sorter::resources(&dp.sorter, dp.hit_record.instance_bits);
-        items.push(ResourceItem {
-            name: "sorter".into(),
-            instances: 1,
-            used: Resources::default(),
-            note: format!(
-                "{} comparators of {} bits (LUTs)",
-                sorter_res.comparators, sorter_res.compare_bits
-            ),
-        });
-        items.push(if self.transform_products {
-            let tr = transform::dsp48e2_count(&dp.transform);
-            dsp_item(
-                "transform",
-                self.transform_units,
-                tr,
-                format!("{tr} DSP per unit: 9 origin + 9 direction products"),
-            )
-        } else {
-            dsp_item(
-                "transform",
-                self.transform_units,
-                0,
-                "no products (no instance rotates): o − c and rounding only".into(),
-            )
-        });
-        let rc = reciprocal::dsp48e2_count(&dp.reciprocal);
-        items.push(dsp_item(
-            "reciprocal",
-            self.reciprocal_units,
-            rc,
-            format!("{rc} DSP per axis unit (Newton-Raphson)"),
-        ));
-        let wr = walker_root_dsp48e2(&dp.walker);
-        items.push(dsp_item(
-            "walker_root",
-            self.walker_root_units,
-            wr,
-            format!("{wr} DSP per unit: 6 slab products"),
-        ));
-        items.push(self.stack_item(dp));
-        items.push(self.hit_buffer_item(dp));
-        items.push(self.direction_table_item(dp));
-        items.extend(self.node_memory_items());
-        let used = items
-            .iter()
-            .fold(Resources::default(), |a, it| a.add(it.used));
-        Ok(ResourceReport {
-            part: self.part.name.clone(),
-            items,
-            used,
-            available: Resources {
-                dsp48e2: u64::from(self.part.dsp48e2),
-                bram36: u64::from(self.part.bram36),
-                uram288: u64::from(self.part.uram288),
-            },
-        })
-    }
-
-    /// Bits of one walker stack frame: node address, its descriptor (kept so a pop needs no
-    /// refetch) and the next-child state, plus the t-interval (full) or the three dropped
-    /// midpoint bits (exact pop). The midpoints are recomputed by one adder per axis, the
-    /// level is the frame's position, and the leaf coordinates are not stacked.
-    pub fn stack_frame_bits(&self, dp: &DatapathConfig) -> u32 {
-        let t = match self.walker_pool.stack {
-            StackStorage::FullT => 6 * u32::from(dp.walker.t.width),
-            StackStorage::ExactPop => 3,
-        };
-        t + NODE_ADDRESS_BITS + DESCRIPTOR_BITS + NEXT_CHILD_BITS
-    }
-
-    fn stack_item(&self, dp: &DatapathConfig) -> ResourceItem {
-        let w = &self.walker_pool;
-        let bits = self.stack_frame_bits(dp);
-        let frames = u64::from(w.contexts_per_walker) * u64::from(w.stack_depth);
-        let per = bram36_count(bits, frames);
-        ResourceItem {
-            name: "walker_stacks".into(),
-            instances: u64::from(w.walkers),
-            used: Resources {
-                bram36: per.saturating_mul(u64::from(w.walkers)),
-                ..Resources::default()
-            },
-            note: format!(
-                "{per} BRAM36 per walker: {} contexts × {} frames × {bits} bits",
-                w.contexts_per_walker, w.stack_depth
-            ),
-        }
-    }
-
-    fn hit_buffer_item(&self, dp: &DatapathConfig) -> ResourceItem {
-        if !self.hit_buffer.present {
-            return ResourceItem {
-                name: "hit_buffer".into(),
-                instances: 0,
-                used: Resources::default(),
-                note: "absent: no pixel can be reused".into(),
-            };
-        }
-        let bits = dp.hit_record.word_bits();
-        let (used, where_) = per_pixel_table(self.hit_buffer.placement, bits, self.frame.pixels());
-        ResourceItem {
-            name: "hit_buffer".into(),
-            instances: 1,
-            used,
-            note: format!(
-                "{}×{} × {bits}-bit records, {where_}",
-                self.frame.width, self.frame.height
-            ),
-        }
-    }
-
-    fn direction_table_item(&self, dp: &DatapathConfig) -> ResourceItem {
-        let bits = 3 * u32::from(dp.raygen.dir.width);
-        let (used, where_) = per_pixel_table(self.direction_table, bits, self.frame.pixels());
-        ResourceItem {
-            name: "direction_table".into(),
-            instances: 1,
-            used,
-            note: format!(
-                "{}×{} × {bits}-bit directions, {where_}",
-                self.frame.width, self.frame.height
-            ),
-        }
-    }
-
-    /// Words of on-chip node store the hardware is built with: its capacity cap (the RAM is
-    /// sized for the largest scene it accepts, not for one scene's top levels), none when
-    /// no level is on chip.
-    pub fn onchip_node_words(&self) -> u64 {
-        let oc = &self.node_memory.onchip;
-        if oc.levels == 0 {
-            0
-        } else {
-            oc.max_bytes / NODE_WORD_BYTES
-        }
-    }
-
-    fn node_memory_items(&self) -> [ResourceItem; 3] {
-        let nm = &self.node_memory;
-        let m = nm.resources(self.onchip_node_words());
-        let (oc, c) = (&nm.onchip, &nm.cache);
-        [
-            ResourceItem {
-                name: "node_onchip".into(),
-                instances: u64::from(oc.banks),
-                used: Resources {
-                    bram36: m.onchip_bram36,
-                    ..Resources::default()
-                },
-                note: format!(
-                    "top {} levels, capacity {} bytes in {} banks of 1024 × 32-bit BRAM36",
-                    oc.levels, oc.max_bytes, oc.banks
-                ),
-            },
-            ResourceItem {
-                name: "cache_data".into(),
-                instances: u64::from(c.ports),
-                used: Resources {
-                    uram288: m.cache_uram,
-                    ..Resources::default()
-                },
-                note: format!(
-                    "{} bytes, {} ways, {}-byte lines; one URAM copy per lookup port",
-                    c.size_bytes, c.ways, c.line_bytes
-                ),
-            },
-            ResourceItem {
-                name: "cache_tags".into(),
-                instances: u64::from(c.ports),
-                used: Resources {
-                    bram36: m.cache_tag_bram36,
-                    ..Resources::default()
-                },
-                note: format!(
-                    "{} sets × {} ways, one BRAM36 copy per lookup port",
-                    nm.cache_sets(),
-                    c.ways
-                ),
-            },
-        ]
-    }
-}
-
-/// Block RAM for a per-pixel table of `bits`-bit words.
-fn per_pixel_table(placement: Placement, bits: u32, pixels: u64) -> (Resources, &'static str) {
-    match placement {
-        Placement::Bram => (
-            Resources {
-                bram36: bram36_count(bits, pixels),
-                ..Resources::default()
-            },
-            "BRAM36",
-        ),
-        Placement::Uram => (
-            Resources {
-                uram288: uram288_count(bits, pixels),
-                ..Resources::default()
-            },
-            "URAM288 (4K×72)",
-        ),
-        Placement::External => (Resources::default(), "external DRAM"),
-    }
 }
 
 fn in_range(field: &str, v: u32, lo: u32, hi: u32) -> Result<(), String> {
@@ -1023,91 +588,4 @@ fn in_range(field: &str, v: u32, lo: u32, hi: u32) -> Result<(), String> {
     } else {
         Ok(())
     }
-}
-
-fn sat_u32(x: u64) -> u32 {
-    u32::try_from(x).unwrap_or(u32::MAX)
-}
-
-/// A format one bit wider: the exact difference of two values of `f` (c − o, ±e − o).
-fn wider(f: Format) -> Format {
-    Format {
-        width: f.width.saturating_add(1),
-        ..f
-    }
-}
-
-/// `fixed::dsp48e2_per_product`, also for formats no valid configuration has: it counts
-/// magnitude bits as width − sign, so a format narrower than its sign bit is taken as one
-/// magnitude bit wide instead of underflowing.
-fn dsp(a: Format, b: Format) -> u32 {
-    let fix = |f: Format| {
-        let least = u8::from(f.signed) + 1;
-        Format {
-            width: f.width.max(least),
-            ..f
-        }
-    };
-    dsp48e2_per_product(fix(a), fix(b))
-}
-
-/// Cycles of one product of `a` × `b` in DSP48E2s: 3, plus 1 when it spans several slices.
-fn product_cycles(a: Format, b: Format) -> u32 {
-    DSP_PIPELINE_CYCLES + u32::from(dsp(a, b) > 1)
-}
-
-/// The square-root unit the sphere test uses: its radicand is the sphere's `sq` format and
-/// its root has half the integer and fraction bits, truncated (the sphere unit floors it).
-/// Equal to `SqrtConfig::default()` for the default sphere formats (uQ16.48 → uQ8.24).
-pub fn sqrt_config_for(sphere: &SphereConfig) -> SqrtConfig {
-    let sq = sphere.sq;
-    let int_bits = i32::from(sq.width) - i32::from(sq.frac);
-    let out_int = (int_bits.max(0) as u32).div_ceil(2).min(32) as u8;
-    let out_frac = (i32::from(sq.frac).max(0) / 2).min(31) as u8;
-    SqrtConfig {
-        input: sq,
-        output: Format::uq(out_int, out_frac).with_quant(Quant::Trn),
-    }
-}
-
-/// DSP48E2 of one sphere lane: l·d (3 of (pos+1)×dir), l·l (3 of (pos+1)×(pos+1)), t_ca²
-/// (1 of tca×tca) — the count `sim datapath` prints (36 by default).
-pub fn sphere_dsp48e2(s: &SphereConfig) -> u32 {
-    let l = wider(s.pos);
-    3 * dsp(l, s.dir) + 3 * dsp(l, l) + dsp(s.tca, s.tca)
-}
-
-/// DSP48E2 of one walker-root unit: 6 slab products (±e − o)×(1/|d|) (36 by default).
-pub fn walker_root_dsp48e2(w: &WalkerConfig) -> u32 {
-    6 * dsp(wider(w.pos), w.inv)
-}
-
-/// Latency of the sphere lane apart from its square root, as stages: l = c − o (1); l·d and
-/// l·l in parallel (one product); the two dot sums (p_x + p_y) + p_z (2); rounding t_ca (1);
-/// t_ca² (one product); p² = l·l − t_ca² and T − p² (1); then after the root, t_ca − Δt − √
-/// and the clamp at 0 (2). 15 for the default (products of 4 cycles).
-pub fn sphere_latency_cycles(s: &SphereConfig) -> u32 {
-    let l = wider(s.pos);
-    let dots = product_cycles(l, s.dir).max(product_cycles(l, l));
-    1 + dots + 2 + 1 + product_cycles(s.tca, s.tca) + 1 + 2
-}
-
-/// Latency of the transform unit, as stages: o − c (1); the 18 products in parallel (one
-/// product); the dot sum (p_x + p_y) + p_z (2); rounding and saturation (1). 8 for the
-/// default.
-pub fn transform_latency_cycles(t: &TransformConfig) -> u32 {
-    let rel = wider(t.pos);
-    let prod = product_cycles(t.mat, rel).max(product_cycles(t.mat, t.dir));
-    1 + prod + 2 + 1
-}
-
-/// Latency of a transform unit without products (`transform_products: false`): o − c (1) and
-/// rounding and saturation (1).
-pub const TRANSFORM_LATENCY_WITHOUT_PRODUCTS: u32 = 2;
-
-/// Latency of the walker-root unit, as stages: ±e − o with the mirroring negation (1); the
-/// six products in parallel (one product); rounding into `t` (1); max of t0 and min of t1
-/// over the axes (2). 8 for the default.
-pub fn walker_root_latency_cycles(w: &WalkerConfig) -> u32 {
-    1 + product_cycles(wider(w.pos), w.inv) + 1 + 2
 }

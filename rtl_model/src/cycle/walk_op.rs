@@ -6,7 +6,7 @@
 //! Pipeline position: produced by the functional model (or by the cycle model's own walk
 //! under cross-check), consumed by the walker pool (`walker_pool.rs`).
 
-use super::memory::FetchKind;
+use crate::svo::FetchKind;
 use crate::units::walker::WalkObserver;
 
 /// A walk op: `n` issue slots of the walker's datapath (steps and pops), or one memory read.

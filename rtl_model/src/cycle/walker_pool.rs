@@ -6,7 +6,7 @@
 //! (children examined, stack pops) and the reads it waits for. Per cycle:
 //!
 //! 1. **Wake-up.** Contexts whose step latency has passed, and those whose read completed in
-//!    this cycle ([`NodeMemory::tick`]), move on to their next op: an issue run makes them
+//!    this cycle ([`NodeMemory::tick_into`]), move on to their next op: an issue run makes them
 //!    ready; a read is requested from the node memory in this cycle and the context waits.
 //! 2. **Dispatch** (at most one walk per cycle): to the walker with the most free contexts
 //!    (the lowest index on ties); the context starts in the next cycle with the walk's first
@@ -19,7 +19,7 @@
 //!    record stage's FIFO is ready; the context is free from the next cycle.
 //!
 //! Memory contention is the node memory's: bank ports, cache lookup ports, MSHRs and the
-//! DRAM bus (`memory.rs`); outstanding misses are limited by its MSHRs. Every walker-cycle is
+//! DRAM bus (`memory/`); outstanding misses are limited by its MSHRs. Every walker-cycle is
 //! classified as issuing (busy), waiting on memory, waiting on its own step latency, holding a
 //! finished walk the record stage cannot take (back-pressured), or empty (starved).
 
@@ -438,7 +438,7 @@ impl WalkerPoolModel {
     /// Phase 3: every walker issues one ready context (if its II allows), and every walker's
     /// cycle is classified (the last phase: retire and dispatch of this cycle come first).
     /// Only walkers with a ready context are visited, in ascending order; the others'
-    /// classes come from the running [`ClassCounts`], minus the walkers that issued.
+    /// classes come from the running class counts, minus the walkers that issued.
     pub fn issue(&mut self) {
         let now = self.now;
         let lat = u64::from(self.cfg.step_latency_cycles.max(1));

@@ -136,6 +136,18 @@ impl Format {
         }
     }
 
+    /// The format of the exact difference of two values of this one (c − o, ±e − o): one bit
+    /// wider, same fraction bits. Every unit that subtracts before it multiplies (sphere,
+    /// transform, walker root) sizes its product from this, so the DSP48E2 counts and latencies
+    /// of `units` and `cost` agree on it. The width saturates at 255 (only an invalid format
+    /// gets there).
+    pub const fn exact_difference(self) -> Self {
+        Self {
+            width: self.width.saturating_add(1),
+            ..self
+        }
+    }
+
     /// Value of one LSB: 2^−F.
     pub fn lsb(&self) -> f64 {
         2f64.powi(-i32::from(self.frac))

@@ -17,7 +17,7 @@ mod format;
 mod ops;
 mod overflow;
 
-pub use dsp::dsp48e2_per_product;
+pub use dsp::{dsp48e2_per_product, product_latency_cycles, Products, DSP_PIPELINE_CYCLES};
 pub use format::{Format, OverflowMode, Quant};
 pub use ops::{add, from_f64, mul, quantize, shift_right, sub, to_f64};
 pub use overflow::{Overflows, SignalId};

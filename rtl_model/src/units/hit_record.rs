@@ -648,3 +648,11 @@ pub fn quantise(
         voxel,
     }
 }
+
+/// Latency in cycles of packing a record into its word: one register (concatenation, t
+/// saturation).
+pub const PACK_LATENCY_CYCLES: u32 = 1;
+
+/// Latency in cycles of unpacking a word read from the hit buffer: one register (wiring and
+/// the none-code compare).
+pub const UNPACK_LATENCY_CYCLES: u32 = 1;

@@ -30,7 +30,16 @@ pub fn error_bound(cfg: &RaygenConfig) -> f64 {
     }
 }
 
+/// Bits of one direction-table entry: three components of `dir`.
+pub fn entry_bits(cfg: &RaygenConfig) -> u32 {
+    3 * u32::from(cfg.dir.width)
+}
+
 /// Bits of the direction table for a `width`×`height` image (three components per pixel).
 pub fn table_bits(cfg: &RaygenConfig, width: u32, height: u32) -> u64 {
-    3 * u64::from(cfg.dir.width) * u64::from(width) * u64::from(height)
+    u64::from(entry_bits(cfg)) * u64::from(width) * u64::from(height)
 }
+
+/// Latency of ray generation in cycles: one direction-table entry and the camera position per
+/// ray. 4: the table's URAM read, as the hit buffer's (`HitBuffer::read_latency_cycles`).
+pub const LATENCY_CYCLES: u32 = 4;

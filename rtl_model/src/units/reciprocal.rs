@@ -27,7 +27,9 @@
 //! 6. Denormalise and round: 1/|d| = y·2^(F_in − e); the signed value ±y is shifted to the
 //!    output's fraction bits and rounded and saturated by the output format (counted).
 
-use crate::fixed::{dsp48e2_per_product, quantize, Format, Overflows, Quant, SignalId};
+use crate::fixed::{
+    dsp48e2_per_product, product_latency_cycles, quantize, Format, Overflows, Quant, SignalId,
+};
 use serde::{Deserialize, Serialize};
 
 /// Largest seed table: 2^16 entries (beyond this a ROM costs more than an iteration).
@@ -40,8 +42,6 @@ const GUARD_BITS: i32 = 2;
 /// Limits of G: products of two (G+1)-bit operands must fit 127 bits.
 const MIN_MANTISSA_FRAC: i32 = 2;
 const MAX_MANTISSA_FRAC: i32 = 62;
-/// Cycles of one multiply in a DSP48E2: input, multiplier and product registers.
-const DSP_PIPELINE_CYCLES: u32 = 3;
 
 /// Formats and parameters of the reciprocal unit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -472,9 +472,20 @@ fn multiplies(p: &Plan) -> Vec<(u32, u32)> {
         .collect()
 }
 
+/// Operand widths (unsigned bits) of every multiply of the unit, two per iteration in
+/// order: m·y and y·q, the first iteration's y the seed (t + 2 bits). `sim sweep` prints the
+/// widest.
+pub fn multiplier_widths(cfg: &ReciprocalConfig) -> Vec<(u32, u32)> {
+    multiplies(&plan(cfg))
+}
+
+/// An unsigned operand of `bits` bits (the mantissas are unsigned).
+fn mantissa(bits: u32) -> Format {
+    Format::uq(bits.min(64) as u8, 0)
+}
+
 fn dsp_for(a_bits: u32, b_bits: u32) -> u32 {
-    let fmt = |bits: u32| Format::uq(bits.min(64) as u8, 0);
-    dsp48e2_per_product(fmt(a_bits), fmt(b_bits))
+    dsp48e2_per_product(mantissa(a_bits), mantissa(b_bits))
 }
 
 /// DSP48E2 slices of one reciprocal unit: the sum over every multiply of its 27×18 tiles
@@ -496,7 +507,7 @@ pub fn latency_cycles(cfg: &ReciprocalConfig) -> u32 {
     let p = plan(cfg);
     let muls: u32 = multiplies(&p)
         .iter()
-        .map(|&(a, b)| DSP_PIPELINE_CYCLES + u32::from(dsp_for(a, b) > 1))
+        .map(|&(a, b)| product_latency_cycles(mantissa(a), mantissa(b)))
         .sum();
     3 + muls + p.iters + 2
 }

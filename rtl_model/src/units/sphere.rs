@@ -369,3 +369,46 @@ pub fn sphere_test(
         t_enter: quantize(t, f, cfg.t_enter.with_quant(Quant::Trn), ov, sig.t_enter),
     })
 }
+
+/// The products of one sphere lane, by stage: l·d (3 of (pos+1)×dir) and l·l (3 of
+/// (pos+1)×(pos+1)) side by side, then t_ca² (1 of tca×tca). l = c − o is the exact
+/// difference ([`Format::exact_difference`]).
+pub fn products(s: &SphereConfig) -> [crate::fixed::Products; 3] {
+    use crate::fixed::Products;
+    let l = s.pos.exact_difference();
+    [
+        Products::new(3, l, s.dir),
+        Products::new(3, l, l),
+        Products::new(1, s.tca, s.tca),
+    ]
+}
+
+/// DSP48E2 of one sphere lane: the tiles of its [`products`] (36 by default). The square
+/// root ([`sqrt_config`]) uses none.
+pub fn dsp48e2_count(s: &SphereConfig) -> u32 {
+    products(s).iter().map(|p| p.dsp48e2()).sum()
+}
+
+/// Latency of the sphere lane apart from its square root, as stages: l = c − o (1); l·d and
+/// l·l in parallel (one product); the two dot sums (p_x + p_y) + p_z (2); rounding t_ca (1);
+/// t_ca² (one product); p² = l·l − t_ca² and T − p² (1); then after the root, t_ca − Δt − √
+/// and the clamp at 0 (2). 15 for the default (products of 4 cycles).
+pub fn latency_cycles(s: &SphereConfig) -> u32 {
+    let [ld, ll, tca2] = products(s);
+    let dots = ld.latency_cycles().max(ll.latency_cycles());
+    1 + dots + 2 + 1 + tca2.latency_cycles() + 1 + 2
+}
+
+/// The square-root unit the sphere test uses: its radicand is the sphere's `sq` format and
+/// its root has half the integer and fraction bits, truncated (the sphere unit floors it).
+/// Equal to `SqrtConfig::default()` for the default sphere formats (uQ16.48 → uQ8.24).
+pub fn sqrt_config(s: &SphereConfig) -> crate::units::sqrt::SqrtConfig {
+    let sq = s.sq;
+    let int_bits = i32::from(sq.width) - i32::from(sq.frac);
+    let out_int = (int_bits.max(0) as u32).div_ceil(2).min(32) as u8;
+    let out_frac = (i32::from(sq.frac).max(0) / 2).min(31) as u8;
+    crate::units::sqrt::SqrtConfig {
+        input: sq,
+        output: Format::uq(out_int, out_frac).with_quant(Quant::Trn),
+    }
+}

@@ -12,7 +12,7 @@
 //! reference — and rounded once into the output format. So the only errors are the inputs'
 //! quantisation and that one rounding; see [`origin_error_bound`] and [`dir_error_bound`].
 
-use crate::fixed::{dsp48e2_per_product, quantize, Format, Overflows, Quant, SignalId};
+use crate::fixed::{quantize, Format, Overflows, Products, Quant, SignalId};
 use serde::{Deserialize, Serialize};
 
 /// Formats of the transform unit.
@@ -187,12 +187,28 @@ pub fn dir_error_bound(cfg: &TransformConfig) -> f64 {
     3.0 * (em + (1.0 + em) * ed) + conversion_error(cfg.local_dir)
 }
 
-/// DSP48E2 slices of one transform unit: 9 products for the origin, 9 for the direction.
-pub fn dsp48e2_count(cfg: &TransformConfig) -> u32 {
-    // o − c is one bit wider than `pos`.
-    let rel = Format {
-        width: cfg.pos.width + 1,
-        ..cfg.pos
-    };
-    9 * dsp48e2_per_product(cfg.mat, rel) + 9 * dsp48e2_per_product(cfg.mat, cfg.dir)
+/// The products of one transform unit, side by side: R·(o − c) (9 of mat × (pos+1), o − c
+/// the exact difference) and R·d (9 of mat × dir).
+pub fn products(cfg: &TransformConfig) -> [Products; 2] {
+    [
+        Products::new(9, cfg.mat, cfg.pos.exact_difference()),
+        Products::new(9, cfg.mat, cfg.dir),
+    ]
 }
+
+/// DSP48E2 slices of one transform unit: the tiles of its [`products`] (72 by default).
+pub fn dsp48e2_count(cfg: &TransformConfig) -> u32 {
+    products(cfg).iter().map(Products::dsp48e2).sum()
+}
+
+/// Latency of the transform unit, as stages: o − c (1); the 18 products in parallel (one
+/// product); the dot sum (p_x + p_y) + p_z (2); rounding and saturation (1). 8 for the
+/// default.
+pub fn latency_cycles(cfg: &TransformConfig) -> u32 {
+    let [rel, dir] = products(cfg);
+    1 + rel.latency_cycles().max(dir.latency_cycles()) + 2 + 1
+}
+
+/// Latency of a transform unit without products (no instance rotates, the hardware's
+/// `transform_products: false`): o − c (1) and rounding and saturation (1).
+pub const LATENCY_WITHOUT_PRODUCTS: u32 = 2;

@@ -28,8 +28,8 @@
 //! types name the role and the configuration holds the format; the one change of format in
 //! the walker, position × reciprocal into t, is [`WalkerConfig::slab_t`].
 
-use crate::cycle::memory::FetchKind;
 use crate::fixed::{quantize, to_f64, Format, Overflows, SignalId};
+use crate::svo::FetchKind;
 use crate::svo::{ChildDescriptor, ChildRef, SvoImage, MAX_DEPTH};
 use crate::units::reciprocal::Reciprocal;
 use serde::{Deserialize, Serialize};
@@ -604,4 +604,23 @@ pub fn t_error_bound(
     depth: u8,
 ) -> f64 {
     origin_err * inv_max + reach * inv_err + cfg.t.lsb() * (1.0 + f64::from(depth))
+}
+
+/// The products of the walker-root unit: the 6 slab products (±e − o)·(1/|d|) side by side,
+/// ±e − o the exact difference ([`Format::exact_difference`]) of `pos`.
+pub fn root_products(w: &WalkerConfig) -> crate::fixed::Products {
+    crate::fixed::Products::new(6, w.pos.exact_difference(), w.inv)
+}
+
+/// DSP48E2 of one walker-root unit: the tiles of its [`root_products`] (36 by default). The
+/// walker's steps use none (midpoints are adders).
+pub fn root_dsp48e2_count(w: &WalkerConfig) -> u32 {
+    root_products(w).dsp48e2()
+}
+
+/// Latency of the walker-root unit, as stages: ±e − o with the mirroring negation (1); the
+/// six products in parallel (one product); rounding into `t` (1); max of t0 and min of t1
+/// over the axes (2). 8 for the default.
+pub fn root_latency_cycles(w: &WalkerConfig) -> u32 {
+    1 + root_products(w).latency_cycles() + 1 + 2
 }

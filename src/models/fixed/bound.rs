@@ -6,9 +6,9 @@
 use crate::models::reference::ray::primary_ray;
 use crate::world::scene::{Camera, Pose};
 use glam::DVec3;
+use rtl_model::cost::direction_error_bound;
 use rtl_model::datapath::DatapathConfig;
-use rtl_model::units::reciprocal::{error_bound as reciprocal_bound, zero_threshold};
-use rtl_model::units::transform::{dir_error_bound, origin_error_bound};
+use rtl_model::units::transform::origin_error_bound;
 use rtl_model::units::walker::spatial_error_bound;
 
 /// The spatial bound (metres) for a ray whose local origin is `o_local` in an octree of
@@ -17,12 +17,15 @@ pub fn spatial_bound(cfg: &DatapathConfig, o_local: DVec3, half: DVec3, depth: u
     let rel = o_local.abs().max_element();
     let reach = rel + 2.0 * half.max_element();
     let origin_err = origin_error_bound(&cfg.transform, rel);
-    // A direction error and the reciprocal's relative error (times |d| ≤ 1) both tilt the ray.
-    // A component flushed to zero (|d| ≤ the reciprocal's threshold) tilts it by at most that.
-    let dir_err = dir_error_bound(&cfg.transform)
-        + reciprocal_bound(&cfg.reciprocal).rel
-        + zero_threshold(&cfg.reciprocal);
-    spatial_error_bound(&cfg.walker, origin_err, dir_err, reach, depth)
+    // The transform's direction error, the reciprocal's relative error and its zero threshold
+    // all tilt the ray (`rtl_model::cost::bounds`).
+    spatial_error_bound(
+        &cfg.walker,
+        origin_err,
+        direction_error_bound(cfg),
+        reach,
+        depth,
+    )
 }
 
 /// Whether the exact ray of pixel (i, j) passes within the bound of leaf `voxel` (at `depth`)

@@ -14,9 +14,9 @@ use super::bound::spatial_bound;
 use crate::models::reference::ray::primary_ray;
 use crate::world::scene::{Camera, Pose};
 use glam::DVec3;
+use rtl_model::cost::DirectionErrorBound;
 use rtl_model::datapath::DatapathConfig;
-use rtl_model::units::reciprocal::{error_bound as reciprocal_bound, zero_threshold};
-use rtl_model::units::transform::{dir_error_bound, origin_error_bound};
+use rtl_model::units::transform::origin_error_bound;
 use rtl_model::units::walker::spatial_error_bound;
 
 /// The exact (f64) ray of pixel (i, j), carried into the instance's frame: (origin, dir).
@@ -58,11 +58,11 @@ pub struct DirectionError {
 impl DirectionError {
     /// The terms of a datapath.
     pub fn of(cfg: &DatapathConfig) -> Self {
-        let transform = dir_error_bound(&cfg.transform);
+        let b = DirectionErrorBound::of(cfg);
         Self {
-            base: transform + reciprocal_bound(&cfg.reciprocal).rel,
-            transform,
-            threshold: zero_threshold(&cfg.reciprocal),
+            base: b.without_zero_threshold(),
+            transform: b.transform,
+            threshold: b.zero_threshold,
         }
     }
 

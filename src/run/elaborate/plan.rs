@@ -8,9 +8,10 @@
 
 use super::analyse::SceneFacts;
 use super::savings::Saving;
-use rtl_model::cycle::hw_config::{HwConfig, TRANSFORM_LATENCY_WITHOUT_PRODUCTS};
+use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::fixed::Format;
+use rtl_model::units::transform;
 use serde::Serialize;
 
 /// What the elaboration does with a unit.
@@ -160,7 +161,7 @@ pub fn plan(facts: &SceneFacts, hw: &HwConfig, dp: &DatapathConfig, use_hit_buff
             .units
             .transform
             .latency_cycles
-            .min(TRANSFORM_LATENCY_WITHOUT_PRODUCTS);
+            .min(transform::LATENCY_WITHOUT_PRODUCTS);
         decision(
             "transform_products",
             Action::LeftOut,

@@ -2,13 +2,15 @@
 //! they hold), sorter comparators and cycles of latency per ray.
 //!
 //! Pipeline position: after [`super::plan`], before the run. The counts come from the
-//! hardware model's own estimate (`HwConfig::resources`) of the full and the elaborated
-//! configuration, so a saving is exactly the difference of two estimates `sim hardware`
-//! would print; the two units the configuration cannot drop (hit buffer, transform products)
-//! are taken out of the elaborated estimate by [`adjust_resources`].
+//! hardware model's own estimate (`HwConfig::resources`, `rtl_model::cost::estimate`) of the
+//! full and the elaborated configuration, and the RAM bits from the same module
+//! (`HwConfig::stack_bits`, `HwConfig::hit_buffer_bits`), so a saving is exactly the
+//! difference of two estimates `sim hardware` would print (a hit buffer left out or a
+//! transform without products is a switch of the hardware configuration, `hit_buffer.present`
+//! and `transform_products`, which the estimate prices itself).
 
 use super::plan::{narrowed_positions, position_int_bits, Plan};
-use rtl_model::cycle::hw_config::{HwConfig, ResourceItem, ResourceReport, Resources};
+use rtl_model::cycle::hw_config::{HwConfig, ResourceReport, Resources};
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::units::sorter;
 use serde::Serialize;
@@ -44,19 +46,14 @@ impl Saving {
     }
 }
 
-fn item<'a>(r: &'a ResourceReport, name: &str) -> Resources {
-    r.items
-        .iter()
-        .find(|i: &&'a ResourceItem| i.name == name)
-        .map(|i| i.used)
-        .unwrap_or_default()
-}
-
+/// The saving of an estimate `kept` against `full` (DSP48E2 and blocks; the bit, comparator
+/// and latency fields are the caller's).
 fn less(full: Resources, kept: Resources) -> Saving {
+    let d = full.saturating_sub(kept);
     Saving {
-        dsp48e2: full.dsp48e2.saturating_sub(kept.dsp48e2),
-        bram36: full.bram36.saturating_sub(kept.bram36),
-        uram288: full.uram288.saturating_sub(kept.uram288),
+        dsp48e2: d.dsp48e2,
+        bram36: d.bram36,
+        uram288: d.uram288,
         ..Saving::default()
     }
 }
@@ -73,19 +70,7 @@ pub fn fill(
 ) {
     let (ehw, edp) = (plan.hardware.clone(), plan.datapath.clone());
     for d in &mut plan.decisions {
-        let diff = |names: &[&str]| {
-            let sum = |r: &ResourceReport| {
-                names.iter().fold(Resources::default(), |a, n| {
-                    let u = item(r, n);
-                    Resources {
-                        dsp48e2: a.dsp48e2 + u.dsp48e2,
-                        bram36: a.bram36 + u.bram36,
-                        uram288: a.uram288 + u.uram288,
-                    }
-                })
-            };
-            less(sum(full), sum(elaborated))
-        };
+        let diff = |names: &[&str]| less(full.sum_of(names), elaborated.sum_of(names));
         d.saved = match d.unit.as_str() {
             "sphere_lanes" => diff(&["sphere", "sqrt"]),
             "sorter" => Saving {
@@ -109,7 +94,7 @@ pub fn fill(
                 ..diff(&["transform"])
             },
             "hit_buffer" if d.applied => Saving {
-                ram_bits: hw.frame.pixels() * u64::from(dp.hit_record.word_bits()),
+                ram_bits: hw.hit_buffer_bits(dp),
                 latency_cycles: u64::from(
                     hw.hit_buffer_read_cycles()
                         .saturating_sub(ehw.hit_buffer_read_cycles()),
@@ -118,12 +103,9 @@ pub fn fill(
             },
             "walker_stacks" => {
                 let w = &hw.walker_pool;
-                let frames = u64::from(w.stack_depth.saturating_sub(ehw.walker_pool.stack_depth));
+                let frames = w.stack_depth.saturating_sub(ehw.walker_pool.stack_depth);
                 Saving {
-                    ram_bits: u64::from(w.walkers)
-                        * u64::from(w.contexts_per_walker)
-                        * frames
-                        * u64::from(hw.stack_frame_bits(dp)),
+                    ram_bits: hw.stack_bits(dp, frames),
                     ..diff(&["walker_stacks"])
                 }
             }

@@ -8,7 +8,7 @@
 //! raygen → transform; t is the walker's; the sphere's t_ca = l·d is its own (it is not in the
 //! position family: narrowing it with positions would force the squared distances, and with
 //! them the square root, narrower too); the square root's digits follow the sphere's squared
-//! distances (`hw_config::sqrt_config_for`); the reciprocal's iterations, seed table and output
+//! distances (`units::sphere::sqrt_config`); the reciprocal's iterations, seed table and output
 //! (with the walker's matching input) are its own.
 
 use rtl_model::datapath::DatapathConfig;
@@ -207,7 +207,7 @@ pub fn set_t_frac(dp: &mut DatapathConfig, frac: u8) {
 }
 
 /// Squared distances of the sphere test sized so that its square root
-/// (`hw_config::sqrt_config_for`) computes `digits` (≥ 8) root digits: the radicand keeps the
+/// (`units::sphere::sqrt_config`) computes `digits` (≥ 8) root digits: the radicand keeps the
 /// default's 16 integer bits and gets 2·`digits` − 16 fraction bits, so it is 2·`digits` bits
 /// wide and needs no alignment shift.
 pub fn set_sqrt_digits(dp: &mut DatapathConfig, digits: u8) {
@@ -278,8 +278,9 @@ pub fn builtin() -> Vec<NamedConfig> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rtl_model::cycle::hw_config::{sqrt_config_for, HwConfig};
+    use rtl_model::cycle::hw_config::HwConfig;
     use rtl_model::fixed::Quant;
+    use rtl_model::units::sphere::sqrt_config;
     use rtl_model::units::sqrt;
 
     #[test]
@@ -307,7 +308,7 @@ mod tests {
             (16, "sqrt_digits16"),
         ] {
             let c = builtin().into_iter().find(|c| c.name == name).unwrap();
-            let cfg = sqrt_config_for(&c.datapath.sphere);
+            let cfg = sqrt_config(&c.datapath.sphere);
             assert_eq!(sqrt::radicand_bits(&cfg) / 2, digits, "{name}");
         }
     }

@@ -9,10 +9,11 @@
 //! the reach and one code beyond, saturating t_ca, thresholds 0 and maximal.
 
 use super::{dedup, Stage};
-use crate::cycle::hw_config::{sphere_latency_cycles, sqrt_config_for};
 use crate::datapath::DatapathConfig;
 use crate::fixed::{from_f64, Format, Overflows, Quant, SignalId};
-use crate::units::sphere::{sphere_radicand, sphere_test, SphereConfig, SphereRaw, SphereSignals};
+use crate::units::sphere::{
+    self, sphere_radicand, sphere_test, SphereConfig, SphereRaw, SphereSignals,
+};
 use crate::units::sqrt;
 use crate::vectors::layout::{b, s, Direction::*, Layout};
 use crate::vectors::rng::Rng;
@@ -82,8 +83,8 @@ fn code(x: f64, f: Format) -> i64 {
 impl SphereStage {
     /// The sphere unit of `dp`; its latency is the sphere lane's plus its square root's.
     pub fn new(dp: &DatapathConfig) -> Self {
-        let lat =
-            sphere_latency_cycles(&dp.sphere) + sqrt::latency_cycles(&sqrt_config_for(&dp.sphere));
+        let lat = sphere::latency_cycles(&dp.sphere)
+            + sqrt::latency_cycles(&sphere::sqrt_config(&dp.sphere));
         Self {
             cfg: dp.sphere,
             timing: Timing {
@@ -344,12 +345,12 @@ impl Stage for SphereStage {
 
     fn parameters(&self, t: &mut VectorTable) {
         t.param("config", self.cfg);
-        t.param("sqrt_config", sqrt_config_for(&self.cfg));
+        t.param("sqrt_config", sphere::sqrt_config(&self.cfg));
         t.param(
             "latency_split",
             serde_json::json!({
-                "sphere_lane_cycles": sphere_latency_cycles(&self.cfg),
-                "sqrt_cycles": sqrt::latency_cycles(&sqrt_config_for(&self.cfg)),
+                "sphere_lane_cycles": sphere::latency_cycles(&self.cfg),
+                "sqrt_cycles": sqrt::latency_cycles(&sphere::sqrt_config(&self.cfg)),
             }),
         );
     }

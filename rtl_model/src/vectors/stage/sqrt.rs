@@ -23,7 +23,7 @@ pub struct SqrtStage {
 impl SqrtStage {
     /// The sphere unit's square root of `dp`, with the model's latency.
     pub fn new(dp: &DatapathConfig) -> Self {
-        let cfg = crate::cycle::hw_config::sqrt_config_for(&dp.sphere);
+        let cfg = crate::units::sphere::sqrt_config(&dp.sphere);
         Self {
             cfg,
             timing: Timing {

@@ -41,7 +41,7 @@ impl TransformStage {
     pub fn new(dp: &DatapathConfig) -> Self {
         Self {
             cfg: dp.transform,
-            latency: crate::cycle::hw_config::transform_latency_cycles(&dp.transform),
+            latency: crate::units::transform::latency_cycles(&dp.transform),
         }
     }
 

@@ -1,0 +1,264 @@
+//! The resource estimate of a hardware configuration with its datapath: DSP48E2, BRAM36 and
+//! URAM288 per component, added up against the part's budget ([`HwConfig::resources`]), and
+//! the RAM bits the datapath's formats size (walker stacks, hit buffer, direction table).
+//!
+//! Pipeline position: read once per run, beside the configurations; the report's resource
+//! table, `sim hardware`, `sim sweep` (`cost::pricing`) and the elaboration's savings all
+//! come from here. Each unit counts its own DSP48E2 (`units::sphere::dsp48e2_count`,
+//! `units::transform::dsp48e2_count`, `units::reciprocal::dsp48e2_count`,
+//! `units::walker::root_dsp48e2_count`, `units::sqrt::dsp48e2_count`); this module multiplies
+//! them by the instances the hardware has and adds the memories.
+
+use super::report::{ResourceItem, ResourceReport, Resources};
+use crate::cycle::hw_config::{HwConfig, Placement, StackStorage};
+use crate::datapath::DatapathConfig;
+use crate::units::hit_record::{bram36_count, uram288_count};
+use crate::units::{raygen, reciprocal, sorter, sphere, sqrt, transform, walker};
+
+/// Bits of a node-memory word address: the walker's node addresses are `u32` word indices
+/// (`svo::SvoImage::nodes`), and a descriptor is one 32-bit word.
+const NODE_ADDRESS_BITS: u32 = 32;
+/// Bits of a child descriptor (`docs/svo-format.md` §3).
+const DESCRIPTOR_BITS: u32 = 32;
+/// Bits of the walker's "next child" state: labels 0..=7 and 8 = done.
+const NEXT_CHILD_BITS: u32 = 4;
+/// Bytes of one node word.
+const NODE_WORD_BYTES: u64 = 4;
+
+impl HwConfig {
+    /// Estimated DSP48E2, BRAM36 and URAM288 of this configuration with datapath `dp`,
+    /// against the part's budget; [`ResourceReport::fits`] says whether it fits. An error
+    /// when either configuration is invalid (the counts are only defined for valid ones).
+    ///
+    /// What is counted (assumptions, `docs/cycle-model.md` has the reasons):
+    /// - DSP48E2: per unit the products of its formats split into 27×18 tiles
+    ///   (`fixed::dsp48e2_per_product`, as `sim datapath` prints), times the instances:
+    ///   sphere lanes, transform, reciprocal (per axis) and walker-root units. The square
+    ///   root, sorter, walkers' steps and hit record use none.
+    /// - Block RAM: the hit buffer and direction table when on chip
+    ///   (`units::hit_record::bram36_count` / `uram288_count` of the frame's pixels); one
+    ///   stack RAM per walker (contexts × stack depth frames) in BRAM; the node memory by the
+    ///   memory model's rule (`NodeMemoryConfig::resources`), the on-chip store at its
+    ///   capacity `max_bytes`.
+    /// - Not counted: LUTs and flip-flops (pipeline registers, sorter comparators, walker
+    ///   context registers, miss-status registers), FIFOs (LUTRAM), the reciprocal's
+    ///   256-entry seed ROM (LUTs), and the memory controller and host interface.
+    pub fn resources(&self, dp: &DatapathConfig) -> Result<ResourceReport, String> {
+        self.validate()?;
+        dp.validate().map_err(|m| format!("datapath: {m}"))?;
+        // Units with products: instances × the unit's own DSP48E2 count.
+        let dsp_item = |name: &str, n: u32, per: u32, note: String| {
+            let used = Resources::dsp48e2(u64::from(n) * u64::from(per));
+            ResourceItem::new(name, u64::from(n), used, note)
+        };
+        let sphere = sphere::dsp48e2_count(&dp.sphere);
+        let sq = sqrt::dsp48e2_count(&sphere::sqrt_config(&dp.sphere));
+        let sorter_res = sorter::resources(&dp.sorter, dp.hit_record.instance_bits);
+        let transform = match self.transform_products {
+            true => transform::dsp48e2_count(&dp.transform),
+            false => 0,
+        };
+        let rc = reciprocal::dsp48e2_count(&dp.reciprocal);
+        let wr = walker::root_dsp48e2_count(&dp.walker);
+        let mut items = vec![
+            dsp_item(
+                "sphere",
+                self.sphere_units,
+                sphere,
+                format!("{sphere} DSP per lane: l·d 3, l·l 3, t_ca² 1 products"),
+            ),
+            dsp_item(
+                "sqrt",
+                self.sphere_units,
+                sq,
+                "one per sphere lane; digit recurrence, subtractors only".into(),
+            ),
+            ResourceItem::new(
+                "sorter",
+                1,
+                Resources::default(),
+                format!(
+                    "{} comparators of {} bits (LUTs)",
+                    sorter_res.comparators, sorter_res.compare_bits
+                ),
+            ),
+            dsp_item(
+                "transform",
+                self.transform_units,
+                transform,
+                match self.transform_products {
+                    true => format!("{transform} DSP per unit: 9 origin + 9 direction products"),
+                    false => "no products (no instance rotates): o − c and rounding only".into(),
+                },
+            ),
+            dsp_item(
+                "reciprocal",
+                self.reciprocal_units,
+                rc,
+                format!("{rc} DSP per axis unit (Newton-Raphson)"),
+            ),
+            dsp_item(
+                "walker_root",
+                self.walker_root_units,
+                wr,
+                format!("{wr} DSP per unit: 6 slab products"),
+            ),
+        ];
+        items.push(self.stack_item(dp));
+        items.push(self.hit_buffer_item(dp));
+        items.push(self.direction_table_item(dp));
+        items.extend(self.node_memory_items());
+        let used = items
+            .iter()
+            .fold(Resources::default(), |a, it| a.saturating_add(it.used));
+        Ok(ResourceReport {
+            part: self.part.name.clone(),
+            items,
+            used,
+            available: Resources {
+                dsp48e2: u64::from(self.part.dsp48e2),
+                bram36: u64::from(self.part.bram36),
+                uram288: u64::from(self.part.uram288),
+            },
+        })
+    }
+
+    /// Bits of one walker stack frame: node address, its descriptor (kept so a pop needs no
+    /// refetch) and the next-child state, plus the t-interval (full) or the three dropped
+    /// midpoint bits (exact pop). The midpoints are recomputed by one adder per axis, the
+    /// level is the frame's position, and the leaf coordinates are not stacked.
+    pub fn stack_frame_bits(&self, dp: &DatapathConfig) -> u32 {
+        let t = match self.walker_pool.stack {
+            StackStorage::FullT => 6 * u32::from(dp.walker.t.width),
+            StackStorage::ExactPop => 3,
+        };
+        t + NODE_ADDRESS_BITS + DESCRIPTOR_BITS + NEXT_CHILD_BITS
+    }
+
+    /// Bits of all walker stacks holding `frames` frames per context: walkers × contexts ×
+    /// `frames` × [`stack_frame_bits`](Self::stack_frame_bits), before block rounding. With
+    /// `walker_pool.stack_depth` it is the whole stack store (`sim sweep`'s `stack_bits`).
+    pub fn stack_bits(&self, dp: &DatapathConfig, frames: u8) -> u64 {
+        let w = &self.walker_pool;
+        u64::from(w.walkers)
+            * u64::from(w.contexts_per_walker)
+            * u64::from(frames)
+            * u64::from(self.stack_frame_bits(dp))
+    }
+
+    /// Bits of the hit buffer, before block rounding: one record word per pixel of the frame
+    /// it is built for, wherever it is placed.
+    pub fn hit_buffer_bits(&self, dp: &DatapathConfig) -> u64 {
+        self.frame.pixels() * u64::from(dp.hit_record.word_bits())
+    }
+
+    /// Bits of the direction table, before block rounding (`units::raygen::table_bits` of the
+    /// frame), wherever it is placed.
+    pub fn direction_table_bits(&self, dp: &DatapathConfig) -> u64 {
+        raygen::table_bits(&dp.raygen, self.frame.width, self.frame.height)
+    }
+
+    fn stack_item(&self, dp: &DatapathConfig) -> ResourceItem {
+        let w = &self.walker_pool;
+        let bits = self.stack_frame_bits(dp);
+        let frames = u64::from(w.contexts_per_walker) * u64::from(w.stack_depth);
+        let per = bram36_count(bits, frames);
+        ResourceItem::new(
+            "walker_stacks",
+            u64::from(w.walkers),
+            Resources::bram36(per.saturating_mul(u64::from(w.walkers))),
+            format!(
+                "{per} BRAM36 per walker: {} contexts × {} frames × {bits} bits",
+                w.contexts_per_walker, w.stack_depth
+            ),
+        )
+    }
+
+    fn hit_buffer_item(&self, dp: &DatapathConfig) -> ResourceItem {
+        if !self.hit_buffer.present {
+            let note = "absent: no pixel can be reused".into();
+            return ResourceItem::new("hit_buffer", 0, Resources::default(), note);
+        }
+        let bits = dp.hit_record.word_bits();
+        self.per_pixel_item("hit_buffer", self.hit_buffer.placement, bits, "records")
+    }
+
+    fn direction_table_item(&self, dp: &DatapathConfig) -> ResourceItem {
+        let bits = raygen::entry_bits(&dp.raygen);
+        self.per_pixel_item("direction_table", self.direction_table, bits, "directions")
+    }
+
+    /// A per-pixel table of `bits`-bit `what` over the frame, where `placement` puts it.
+    fn per_pixel_item(
+        &self,
+        name: &str,
+        placement: Placement,
+        bits: u32,
+        what: &str,
+    ) -> ResourceItem {
+        let pixels = self.frame.pixels();
+        let (used, where_) = match placement {
+            Placement::Bram => (Resources::bram36(bram36_count(bits, pixels)), "BRAM36"),
+            Placement::Uram => (
+                Resources::uram288(uram288_count(bits, pixels)),
+                "URAM288 (4K×72)",
+            ),
+            Placement::External => (Resources::default(), "external DRAM"),
+        };
+        let (w, h) = (self.frame.width, self.frame.height);
+        ResourceItem::new(
+            name,
+            1,
+            used,
+            format!("{w}×{h} × {bits}-bit {what}, {where_}"),
+        )
+    }
+
+    /// Words of on-chip node store the hardware is built with: its capacity cap (the RAM is
+    /// sized for the largest scene it accepts, not for one scene's top levels), none when
+    /// no level is on chip.
+    pub fn onchip_node_words(&self) -> u64 {
+        let oc = &self.node_memory.onchip;
+        if oc.levels == 0 {
+            0
+        } else {
+            oc.max_bytes / NODE_WORD_BYTES
+        }
+    }
+
+    fn node_memory_items(&self) -> [ResourceItem; 3] {
+        let nm = &self.node_memory;
+        let m = nm.resources(self.onchip_node_words());
+        let (oc, c) = (&nm.onchip, &nm.cache);
+        [
+            ResourceItem::new(
+                "node_onchip",
+                u64::from(oc.banks),
+                Resources::bram36(m.onchip_bram36),
+                format!(
+                    "top {} levels, capacity {} bytes in {} banks of 1024 × 32-bit BRAM36",
+                    oc.levels, oc.max_bytes, oc.banks
+                ),
+            ),
+            ResourceItem::new(
+                "cache_data",
+                u64::from(c.ports),
+                Resources::uram288(m.cache_uram),
+                format!(
+                    "{} bytes, {} ways, {}-byte lines; one URAM copy per lookup port",
+                    c.size_bytes, c.ways, c.line_bytes
+                ),
+            ),
+            ResourceItem::new(
+                "cache_tags",
+                u64::from(c.ports),
+                Resources::bram36(m.cache_tag_bram36),
+                format!(
+                    "{} sets × {} ways, one BRAM36 copy per lookup port",
+                    nm.cache_sets(),
+                    c.ways
+                ),
+            ),
+        ]
+    }
+}

@@ -1,0 +1,28 @@
+//! One home for what the hardware costs and how accurate it is: unit timing, resources and
+//! the bounds that span units.
+//!
+//! Pipeline position: beside the run, read once per configuration. The layers:
+//! - each unit owns its figures, next to its arithmetic: DSP48E2 (`units::sphere::dsp48e2_count`,
+//!   `units::transform::dsp48e2_count`, `units::reciprocal::dsp48e2_count`,
+//!   `units::walker::root_dsp48e2_count`, `units::sqrt::dsp48e2_count`), latency
+//!   (`units::*::latency_cycles`, `units::walker::root_latency_cycles`) and error bound
+//!   (`units::*::error_bound` and siblings), all built on `fixed::Products`,
+//!   `fixed::dsp48e2_per_product`, `fixed::product_latency_cycles` and
+//!   `fixed::Format::exact_difference`;
+//! - [`latency`] collects the unit latencies into the hardware's `UnitTimings`;
+//! - [`estimate`] multiplies the units' DSP48E2 by their instances and adds the memories into
+//!   the [`ResourceReport`] of `HwConfig::resources` ([`report`] holds its types);
+//! - [`pricing`] is what `sim sweep` prices per configuration;
+//! - [`bounds`] names the error bounds that add up several units' terms (the direction error
+//!   of a walk).
+//!
+//! The hardware configuration's schema and validation stay in `cycle::hw_config`.
+
+pub mod bounds;
+pub mod estimate;
+pub mod latency;
+pub mod pricing;
+pub mod report;
+
+pub use bounds::{direction_error_bound, DirectionErrorBound};
+pub use report::{ResourceItem, ResourceReport, Resources};

@@ -1,0 +1,278 @@
+//! The node memory's configuration: on-chip store, cache and external DRAM, with their
+//! defaults and the reason for each, the checks a configuration must pass, and the memory
+//! blocks it needs for the resource report.
+//!
+//! Pipeline position: part of the hardware configuration (`HwConfig::node_memory`), read once
+//! per run; [`super::NodeMemory::new`] is built only from a configuration that passes
+//! [`NodeMemoryConfig::validate`].
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Largest cache accepted by [`NodeMemoryConfig::validate`] (64 MiB): far above the on-chip
+/// memory of any part, and small enough that the tag array the model allocates (8 bytes per
+/// line) stays reasonable.
+pub const MAX_CACHE_BYTES: u64 = 1 << 26;
+
+/// Largest latency accepted (cycles); anything larger is a typo in a configuration.
+pub const MAX_LATENCY: u32 = 1 << 20;
+
+/// Largest number of banks, ports or MSHRs accepted.
+pub const MAX_PARALLEL: u32 = 4096;
+
+/// On-chip node store: the top levels of the tree in block RAM.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OnChipConfig {
+    /// Tree levels held on chip, counting the root as level 0: descriptors of nodes at levels
+    /// `0 .. levels` (and their far words) are on chip. 0 disables the on-chip store.
+    ///
+    /// Default 6: levels 0..5 hold at most 1 + 8 + … + 8^5 = 37 449 descriptors (146 KiB, a
+    /// completely dense tree) and typically a few thousand for surface voxels, and they are
+    /// the reads every ray makes; level 6 could be 8× more for a dense tree.
+    pub levels: u8,
+    /// Capacity cap in bytes: whole levels are kept while their words fit. Default 256 KiB
+    /// (64 BRAM36 of 1024 × 32-bit words), enough for the default six levels of any tree.
+    pub max_bytes: u64,
+    /// Read latency in cycles (≥ 1). Default 3: an address register, the block RAM with its
+    /// output register (needed to reach 300 MHz) and one mux stage across the cascaded
+    /// BRAM36 blocks.
+    pub latency: u32,
+    /// Word-interleaved banks (bank = word address mod banks). Default 4: the walkers' reads
+    /// of one group's consecutive slots land in different banks, so 4 × 2 ports serve eight
+    /// top-level reads per cycle, about what a pool of 16–32 walkers asks for near the root.
+    pub banks: u32,
+    /// Ports per bank per cycle (2 = true dual port, the BRAM36 maximum). Reads beyond this in
+    /// a cycle wait. Default 2.
+    pub ports_per_bank: u32,
+}
+
+impl Default for OnChipConfig {
+    fn default() -> Self {
+        Self {
+            levels: 6,
+            max_bytes: 256 * 1024,
+            latency: 3,
+            banks: 4,
+            ports_per_bank: 2,
+        }
+    }
+}
+
+/// The set-associative LRU cache in front of DRAM (node image and attribute array).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CacheConfig {
+    /// Capacity in bytes; 0 disables the cache (every off-chip read goes to DRAM, merging
+    /// still applies). Default 256 KiB: 8 UltraRAMs (32 KiB of 64-bit words each) per copy of
+    /// the data array, large against the working set of a frame's upper-middle levels.
+    pub size_bytes: u64,
+    /// Associativity (≥ 1). Default 4: the depth-first layout maps sibling subtrees to
+    /// addresses a power of two apart often enough that a direct-mapped cache thrashes; four
+    /// tag compares still fit one 300 MHz cycle.
+    pub ways: u32,
+    /// Line size in bytes (a power of two, 8 ..= 4096); also the size of every DRAM fill.
+    /// Default 64: one DDR4 burst (BL8 × 64-bit bus) and 16 node words, i.e. one or two
+    /// sibling groups, so a descent's next reads are often already in the line.
+    pub line_bytes: u32,
+    /// Hit latency in cycles (≥ 1). Default 4: UltraRAM read with its output and cascade
+    /// registers (3 at 300 MHz) plus the way select after the tag compare.
+    pub hit_latency: u32,
+    /// Lookups per cycle (≥ 1). Default 2: one per read port of a true dual-port array.
+    pub ports: u32,
+    /// Whether attribute records go through the cache (true) or straight to DRAM (false;
+    /// each then still moves a whole line, the DRAM burst). Default true: rays that hit
+    /// neighbouring voxels read neighbouring records (the array is in Morton order), eight to a
+    /// 64-byte line.
+    pub attr_cached: bool,
+}
+
+impl Default for CacheConfig {
+    fn default() -> Self {
+        Self {
+            size_bytes: 256 * 1024,
+            ways: 4,
+            line_bytes: 64,
+            hit_latency: 4,
+            ports: 2,
+            attr_cached: true,
+        }
+    }
+}
+
+/// External DRAM behind the cache.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DramConfig {
+    /// Cycles from a fill's issue to its first data (≥ 1). Default 60 at 300 MHz: DDR4's
+    /// ~100 ns loaded access (30 cycles) plus about as much again for the memory controller,
+    /// the AXI interconnect and clock-domain crossings.
+    pub latency: u32,
+    /// Peak bytes per cycle on the data bus (≥ 1). Default 64: one DDR4-2400 channel, 64 bits
+    /// wide, gives 19.2 GB/s, which is 64 B per cycle at 300 MHz.
+    pub bytes_per_cycle: u32,
+    /// Outstanding line fills (MSHRs, ≥ 1). Default 32, a miss table a 300 MHz design can
+    /// search in one cycle. By Little's law 32 fills of 64 B per (60 + 1) cycles cap miss
+    /// bandwidth at about 33.6 B/cycle (52 % of peak): the walkers' scattered reads are bound
+    /// by latency long before bandwidth, and the scaling benchmark sweeps this.
+    pub mshrs: u32,
+}
+
+impl Default for DramConfig {
+    fn default() -> Self {
+        Self {
+            latency: 60,
+            bytes_per_cycle: 64,
+            mshrs: 32,
+        }
+    }
+}
+
+/// The node-memory configuration: on-chip store, cache and external DRAM. Latencies are in
+/// cycles of the pipeline clock; the defaults assume 300 MHz on an UltraScale+ part with one
+/// DDR4 channel.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NodeMemoryConfig {
+    /// The on-chip part.
+    pub onchip: OnChipConfig,
+    /// The cache.
+    pub cache: CacheConfig,
+    /// External DRAM.
+    pub dram: DramConfig,
+}
+
+/// Why a configuration is not usable.
+#[derive(Debug, Error, Clone, PartialEq, Eq)]
+pub enum ConfigError {
+    /// A latency is 0 or above [`MAX_LATENCY`].
+    #[error("{field} = {value} cycles is out of range (1 to {MAX_LATENCY})")]
+    Latency {
+        /// The field.
+        field: &'static str,
+        /// Its value.
+        value: u32,
+    },
+    /// A count of banks, ports, ways or MSHRs is 0 or above [`MAX_PARALLEL`].
+    #[error("{field} = {value} is out of range (1 to {MAX_PARALLEL})")]
+    Count {
+        /// The field.
+        field: &'static str,
+        /// Its value.
+        value: u32,
+    },
+    /// The line size is not a power of two in 8 ..= 4096.
+    #[error("cache.line_bytes = {0} must be a power of two from 8 to 4096")]
+    LineBytes(u32),
+    /// The cache size is above [`MAX_CACHE_BYTES`].
+    #[error("cache.size_bytes = {0} is larger than {MAX_CACHE_BYTES}")]
+    CacheTooLarge(u64),
+    /// The cache size is not a power-of-two number of sets of `ways` lines.
+    #[error("cache.size_bytes = {size} is not a power-of-two number of sets of {ways} ways × {line} bytes")]
+    CacheGeometry {
+        /// Size in bytes.
+        size: u64,
+        /// Ways.
+        ways: u32,
+        /// Line bytes.
+        line: u32,
+    },
+    /// More on-chip levels than an image can have.
+    #[error("onchip.levels = {0} is more than the deepest tree has (21)")]
+    Levels(u8),
+}
+
+impl NodeMemoryConfig {
+    /// Checks every field; the model is only built from a configuration that passes.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let lat = |field, value: u32| {
+            if (1..=MAX_LATENCY).contains(&value) {
+                Ok(())
+            } else {
+                Err(ConfigError::Latency { field, value })
+            }
+        };
+        let count = |field, value: u32| {
+            if (1..=MAX_PARALLEL).contains(&value) {
+                Ok(())
+            } else {
+                Err(ConfigError::Count { field, value })
+            }
+        };
+        let o = &self.onchip;
+        if o.levels > crate::svo::MAX_DEPTH + 1 {
+            return Err(ConfigError::Levels(o.levels));
+        }
+        lat("onchip.latency", o.latency)?;
+        count("onchip.banks", o.banks)?;
+        count("onchip.ports_per_bank", o.ports_per_bank)?;
+        let c = &self.cache;
+        if !c.line_bytes.is_power_of_two() || !(8..=4096).contains(&c.line_bytes) {
+            return Err(ConfigError::LineBytes(c.line_bytes));
+        }
+        lat("cache.hit_latency", c.hit_latency)?;
+        count("cache.ports", c.ports)?;
+        count("cache.ways", c.ways)?;
+        if c.size_bytes > MAX_CACHE_BYTES {
+            return Err(ConfigError::CacheTooLarge(c.size_bytes));
+        }
+        if c.size_bytes > 0 {
+            let set_bytes = u64::from(c.ways) * u64::from(c.line_bytes);
+            let sets = c.size_bytes / set_bytes;
+            if c.size_bytes % set_bytes != 0 || !sets.is_power_of_two() {
+                return Err(ConfigError::CacheGeometry {
+                    size: c.size_bytes,
+                    ways: c.ways,
+                    line: c.line_bytes,
+                });
+            }
+        }
+        let d = &self.dram;
+        lat("dram.latency", d.latency)?;
+        count("dram.bytes_per_cycle", d.bytes_per_cycle)?;
+        count("dram.mshrs", d.mshrs)?;
+        Ok(())
+    }
+
+    /// Cache sets (0 when the cache is disabled). Meaningful for a validated configuration.
+    pub fn cache_sets(&self) -> u64 {
+        let set_bytes = u64::from(self.cache.ways) * u64::from(self.cache.line_bytes);
+        self.cache.size_bytes.checked_div(set_bytes).unwrap_or(0)
+    }
+
+    /// Memory blocks this configuration needs, for the resource report. `onchip_words` is
+    /// the on-chip store's size ([`MemoryLayout::onchip_words`](super::MemoryLayout::onchip_words)).
+    ///
+    /// Counting rules: an on-chip bank is BRAM36 blocks of 1024 × 32-bit words; the cache data
+    /// array is one UltraRAM copy (32 KiB as 4096 × 64 bits) per lookup port, each copy with
+    /// one read port for lookups and one write port for refills; the tag array (tag, valid,
+    /// LRU state, under 36 bits per way) is BRAM36 per lookup port, 1024 entries each.
+    pub fn resources(&self, onchip_words: u64) -> MemoryResources {
+        let banks = u64::from(self.onchip.banks.max(1));
+        let onchip_bram36 = if onchip_words == 0 {
+            0
+        } else {
+            banks * onchip_words.div_ceil(banks).div_ceil(1024)
+        };
+        let ports = u64::from(self.cache.ports);
+        let cache_uram = ports * self.cache.size_bytes.div_ceil(32 * 1024);
+        let tag_entries = self.cache_sets() * u64::from(self.cache.ways);
+        let cache_tag_bram36 = ports * tag_entries.div_ceil(1024);
+        MemoryResources {
+            onchip_bram36,
+            cache_uram,
+            cache_tag_bram36,
+        }
+    }
+}
+
+/// Memory blocks of a node-memory configuration ([`NodeMemoryConfig::resources`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MemoryResources {
+    /// BRAM36 blocks of the on-chip node store.
+    pub onchip_bram36: u64,
+    /// UltraRAM blocks of the cache data array (all copies).
+    pub cache_uram: u64,
+    /// BRAM36 blocks of the cache tag array (all copies).
+    pub cache_tag_bram36: u64,
+}

@@ -1,0 +1,510 @@
+//! Node memory: the cycle-level model of where the octree walkers' reads go and when they
+//! come back.
+//!
+//! # Where it sits
+//!
+//! Between the walker pool and the memories of the part. Every walker context reads the SVO
+//! image of `docs/svo-format.md` (§12 lists the traffic): one 32-bit word per child descriptor
+//! (the root's included), one more word when a descriptor uses the far escape, one word per
+//! leaf slot, and one 8-byte record (two words) from the separate attribute array for the leaf
+//! a ray hits. The walker pool calls [`NodeMemory::request`] for each of those reads and
+//! [`NodeMemory::tick_into`] once per cycle to collect the reads that have completed. The model
+//! does not hold the data; the walkers read the words from the [`SvoImage`](crate::svo::SvoImage) themselves (the
+//! functional result cannot depend on timing) and use this model only for *when*.
+//!
+//! # The three places a read can be served
+//!
+//! 1. **On-chip node store** (block RAM): the top [`OnChipConfig::levels`] levels of the tree.
+//!    Fixed latency, `banks` word-interleaved banks of `ports_per_bank` ports each.
+//! 2. **Cache** (set-associative, LRU, UltraRAM-sized) in front of external DRAM, shared by the
+//!    rest of the node image and the attribute array.
+//! 3. **External DRAM**: a fixed latency, a peak byte rate per cycle, and a limited number of
+//!    outstanding line fills (MSHRs). A miss fills a whole cache line.
+//!
+//! # Why the on-chip part is "the top levels", not "the first bytes"
+//!
+//! The image is laid out depth first (`svo/build.rs`): word 0 is the root, then the root's
+//! group, then the *whole* subtree of its first child, and so on. A prefix of the image is
+//! therefore the root plus the leftmost corner of the tree down to the leaves, which helps
+//! only the rays that look at that corner. The part every ray touches is the top of the tree:
+//! each walk starts at the root and descends through levels 1, 2, …, so those few words are
+//! read by every ray, and there are at most 8^l of them at level l (about 4^l for the surface
+//! voxels the builders make). The on-chip region is therefore an address whitelist built from
+//! the image's top levels ([`MemoryLayout::from_image`]): the root word and the groups (slots
+//! and far words) of every internal node above level `levels − 1`, i.e. every descriptor of a
+//! node at a level below `levels`, the far word needed to descend from it, and any leaf slot
+//! at those levels. The whitelist is scattered through the image, but that costs the hardware
+//! nothing: a walker knows the level of the node it is about to read (its stack depth), so the
+//! on-chip test in RTL is `level < levels`, not an address compare; the builder copies those
+//! groups to the block RAM and the model only needs their number (capacity) and timing. Whole
+//! levels are kept, up to [`OnChipConfig::max_bytes`], because a partial level would need an
+//! address compare after all. To size the store by bytes instead, set `levels` to its
+//! maximum (21) and `max_bytes` to the budget: it then holds as many whole top levels as fit.
+//!
+//! # Use
+//!
+//! ```text
+//! let layout = MemoryLayout::from_image(&image, &cfg.onchip)?;
+//! let mut mem = NodeMemory::new(cfg, layout)?;
+//! let mut done = Vec::new();
+//! for cycle in 0.. {
+//!     done.clear();
+//!     mem.tick_into(cycle, &mut done);
+//!     for c in &done { /* c.id's data is valid now: wake its walker context */ }
+//!     /* evaluate the walkers; each read: */ mem.request(cycle, addr, FetchKind::Node, ctx)?;
+//! }
+//! let frame = mem.reset_stats(); // per-frame window: hit rate, DRAM % of peak, stalls
+//! ```
+//!
+//! # Timing semantics
+//!
+//! * **Calling convention.** `tick_into(c, ..)` is called at the *start* of cycle `c`: it finishes the
+//!   arbitration of every cycle before `c` and returns the reads whose data is valid in cycle
+//!   `c` (`cycle_done ≤ c`). Requests made during cycle `c` (after that call) are arbitrated
+//!   as cycle-`c` requests in the next one. This is the two-phase discipline of
+//!   [`super::clocked`]: what a walker sees in cycle `c` depends only on requests made in
+//!   earlier cycles. Skipping cycles is safe: `tick_into(c, ..)` processes every cycle before
+//!   `c`.
+//! * **Order.** In each cycle the requests waiting for a resource are served in the order
+//!   (request cycle, requester id, request id): older first, then the lower requester, then the
+//!   earlier call. Nothing depends on hash order or wall time, so the same request sequence
+//!   gives the same completions and statistics on every run.
+//! * **Latency.** A request made in cycle `c` and served (given a port) in cycle `s ≥ c`
+//!   completes at
+//!   - on chip: `s + onchip.latency`;
+//!   - cache hit: `s + cache.hit_latency`;
+//!   - miss: when its line fill completes; an isolated miss completes at
+//!     `s + dram.latency + ⌈line_bytes / bytes_per_cycle⌉` (the fill data is forwarded to the
+//!     waiting reads as it is written, so no hit latency is added);
+//!   - miss to a line already being filled (merged): with that fill.
+//! * **Ports.** Each on-chip bank serves at most `ports_per_bank` reads per cycle; the cache
+//!   pipeline looks up at most `cache.ports` reads per cycle. The rest wait to the next cycle
+//!   (counted as port-wait request-cycles).
+//! * **MSHRs.** A miss needs a free MSHR unless its line is already in flight (then it merges;
+//!   an MSHR takes any number of merged reads). When none is free the in-order lookup pipeline
+//!   stalls until a fill completes, as a non-blocking cache does when its miss table is full:
+//!   reads behind the stalled one wait too (counted as MSHR-wait request-cycles, and the cycle
+//!   as an MSHR-full cycle). An MSHR is freed, and the line installed as most recently used,
+//!   in the cycle its fill completes; a lookup in that same cycle hits.
+//! * **Bandwidth.** Fills share one data bus of `bytes_per_cycle` bytes per cycle, in the
+//!   order they were issued. A fill issued in cycle `s` may start to transfer at cycle
+//!   `s + latency` (latency overlaps with other fills' transfers) and occupies `line_bytes` of
+//!   the bus's byte budget; a cycle never moves more than `bytes_per_cycle` bytes, also when
+//!   the line is not a multiple of it (two fills then share a cycle).
+//!
+//! Simplifications (stated so reports can be read correctly): DRAM refresh, bank and row
+//! effects are folded into the fixed latency; refills write the cache through their own port
+//! (the data array is built from 1R1W copies, see [`NodeMemoryConfig::resources`]); the
+//! on-chip store is read only during a frame (it is loaded between frames), so it has no
+//! read-during-write case.
+//!
+//! # Files
+//!
+//! [`config`] (the configuration and its block count), [`layout`] (the address map and the
+//! on-chip whitelist), [`request`] (requests, completions, refusals), [`stats`] (the
+//! counters), and the three places a read is served: `onchip.rs` (bank ports), `cache.rs`
+//! (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus). This file holds the model
+//! that arbitrates them cycle by cycle ([`NodeMemory`]).
+
+mod cache;
+pub mod config;
+mod dram;
+pub mod layout;
+mod onchip;
+pub mod request;
+pub mod stats;
+
+/// What a read fetches: the request API takes it (its home is the image's side, `svo`).
+pub use crate::svo::FetchKind;
+pub use cache::ATTR_REGION_BASE;
+pub use config::{
+    CacheConfig, ConfigError, DramConfig, MemoryResources, NodeMemoryConfig, OnChipConfig,
+    MAX_CACHE_BYTES, MAX_LATENCY, MAX_PARALLEL,
+};
+pub use layout::{LayoutError, MemoryLayout, MAX_ONCHIP_BITMAP_WORDS};
+pub use request::{Completion, RequestError, RequestId, Source, MAX_CYCLE};
+pub use stats::{KindCounts, NodeMemoryStats};
+
+use super::completion_wheel::CompletionWheel;
+use cache::{line_of, Tags};
+use dram::Dram;
+use onchip::Banks;
+use request::Req;
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, VecDeque};
+
+/// The node-memory model. See the module documentation for the semantics.
+///
+/// ```
+/// use rtl_model::cycle::memory::{FetchKind, MemoryLayout, NodeMemory, NodeMemoryConfig, Source};
+/// let cfg = NodeMemoryConfig::default();
+/// let layout = MemoryLayout::with_onchip_ranges(1 << 20, 1 << 16, vec![(0, 64)]).unwrap();
+/// let mut mem = NodeMemory::new(cfg, layout).unwrap();
+/// let a = mem.request(10, 5, FetchKind::Node, 0).unwrap(); // on chip
+/// let b = mem.request(10, 5000, FetchKind::Node, 1).unwrap(); // cold miss
+/// let done = mem.drain();
+/// assert_eq!((done[0].id, done[0].cycle_done), (a, 13)); // 3-cycle block RAM
+/// assert_eq!((done[1].id, done[1].source), (b, Source::Miss));
+/// assert_eq!(done[1].cycle_done, 10 + 60 + 1); // latency + one 64-byte beat
+/// ```
+#[derive(Clone, Debug)]
+pub struct NodeMemory {
+    cfg: NodeMemoryConfig,
+    layout: MemoryLayout,
+    /// First cycle not yet simulated.
+    next: u64,
+    next_id: u64,
+    /// Requests made for a later cycle than `next`.
+    future: BinaryHeap<Reverse<Req>>,
+    /// Requests made for cycle `next` (the usual case: a walker asks in the cycle it is
+    /// evaluated); sorted into service order when that cycle is simulated.
+    arrivals: Vec<Req>,
+    /// The on-chip banks' ports. An on-chip read's service cycle is known when it arrives,
+    /// so it goes straight to `pending` instead of waiting in a queue of its own.
+    banks: Banks,
+    /// Requests waiting for a cache lookup port, in service order.
+    cache_q: VecDeque<Req>,
+    /// Requests in `cache_q`.
+    waiting: usize,
+    tags: Tags,
+    /// Bytes of a cache line (the divisor of [`line_of`]).
+    line_bytes: u64,
+    dram: Dram,
+    pending: CompletionWheel,
+    stats: NodeMemoryStats,
+}
+
+impl NodeMemory {
+    /// A model with empty caches at cycle 0.
+    pub fn new(cfg: NodeMemoryConfig, layout: MemoryLayout) -> Result<Self, ConfigError> {
+        cfg.validate()?;
+        let tags = Tags::new(cfg.cache_sets(), cfg.cache.ways);
+        let stats = NodeMemoryStats {
+            dram_peak_bytes_per_cycle: u64::from(cfg.dram.bytes_per_cycle),
+            ..Default::default()
+        };
+        Ok(Self {
+            banks: Banks::new(&cfg.onchip),
+            line_bytes: u64::from(cfg.cache.line_bytes),
+            dram: Dram::new(&cfg),
+            cfg,
+            layout,
+            next: 0,
+            next_id: 0,
+            future: BinaryHeap::new(),
+            arrivals: Vec::new(),
+            cache_q: VecDeque::new(),
+            waiting: 0,
+            tags,
+            pending: CompletionWheel::default(),
+            stats,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &NodeMemoryConfig {
+        &self.cfg
+    }
+
+    /// The address map.
+    pub fn layout(&self) -> &MemoryLayout {
+        &self.layout
+    }
+
+    /// First cycle not yet simulated: requests must be for this cycle or later.
+    pub fn now(&self) -> u64 {
+        self.next
+    }
+
+    /// Requests made and not yet returned by [`tick_into`](Self::tick_into) or
+    /// [`drain`](Self::drain).
+    pub fn outstanding(&self) -> usize {
+        self.future.len() + self.arrivals.len() + self.waiting + self.pending.len()
+    }
+
+    /// Whether every request has been returned.
+    pub fn is_idle(&self) -> bool {
+        self.outstanding() == 0
+    }
+
+    /// Requests a read in `cycle` (this cycle or a later one) by `requester`. For
+    /// [`FetchKind::Attr`], `addr` is the attribute index; otherwise a node word address.
+    /// The read is arbitrated when the simulation reaches `cycle`, so requests of one cycle
+    /// may be made in any order.
+    pub fn request(
+        &mut self,
+        cycle: u64,
+        addr: u32,
+        kind: FetchKind,
+        requester: u32,
+    ) -> Result<RequestId, RequestError> {
+        if cycle > MAX_CYCLE {
+            return Err(RequestError::CycleTooLarge(cycle));
+        }
+        if cycle < self.next {
+            return Err(RequestError::InPast {
+                cycle,
+                now: self.next,
+            });
+        }
+        let limit = match kind {
+            FetchKind::Node | FetchKind::Far => self.layout.node_words(),
+            FetchKind::Attr => self.layout.attr_records(),
+        };
+        if u64::from(addr) >= limit {
+            self.stats.out_of_range += 1;
+            return Err(RequestError::OutOfRange { kind, addr, limit });
+        }
+        let id = self.next_id;
+        self.next_id += 1;
+        self.stats.fetches.add(kind);
+        self.stats.words += kind.words();
+        self.stats.bytes += 4 * kind.words();
+        let req = Req {
+            cycle,
+            requester,
+            id,
+            addr,
+            kind,
+        };
+        if cycle == self.next {
+            self.arrivals.push(req);
+        } else {
+            self.future.push(Reverse(req));
+        }
+        Ok(RequestId(id))
+    }
+
+    /// Simulates every cycle before `cycle` without collecting completions (a later
+    /// [`tick_into`](Self::tick_into) of the same cycle returns them). Requests for `cycle`
+    /// made after this take the fast path of the current cycle instead of the heap of future
+    /// requests.
+    pub fn catch_up(&mut self, cycle: u64) {
+        self.advance_to(cycle.min(MAX_CYCLE + 1));
+    }
+
+    /// Called at the start of `cycle`: simulates every cycle before it and appends to `out`
+    /// the reads whose data is valid by `cycle` (`cycle_done ≤ cycle`) and were not returned
+    /// before, ordered by (done, id). A caller that ticks every cycle reuses one buffer
+    /// instead of allocating per cycle.
+    pub fn tick_into(&mut self, cycle: u64, out: &mut Vec<Completion>) {
+        self.advance_to(cycle.min(MAX_CYCLE + 1));
+        self.pending.pop_due(cycle, out);
+    }
+
+    /// Simulates until every request has been served and returns all completions not yet
+    /// returned, ordered by (done, id). `now` is then the cycle after the last one with any
+    /// activity, which may be before the last `cycle_done`.
+    pub fn drain(&mut self) -> Vec<Completion> {
+        while !(self.future.is_empty()
+            && self.arrivals.is_empty()
+            && self.waiting == 0
+            && self.dram.is_idle())
+        {
+            let k = self.next;
+            if self.has_work(k) {
+                self.step(k);
+                self.next = k + 1;
+            } else {
+                // Not idle, so there is a next event after k.
+                self.next = self.next_event().unwrap_or(k + 1);
+            }
+        }
+        // The banks' last service (a read that waited) is activity too, though no step runs
+        // for it: it happens in cycle `busy_until`. (A read served as it arrived was stepped
+        // in its own cycle, so `next` is past it already.)
+        let busy_until = self.banks.busy_until();
+        if busy_until > 0 && busy_until >= self.next {
+            self.next = busy_until + 1;
+        }
+        let mut out = Vec::new();
+        self.pending.drain_all(&mut out);
+        out
+    }
+
+    /// The statistics of the current window (up to the last simulated cycle).
+    pub fn stats(&self) -> NodeMemoryStats {
+        let mut s = self.stats.clone();
+        s.window_cycles = self.next.saturating_sub(s.window_start);
+        s.port_conflict_cycles += self.banks.conflicts_before(self.next);
+        s
+    }
+
+    /// Returns the current window's statistics and starts a new window at [`now`](Self::now)
+    /// (e.g. per frame). Cache contents and requests in flight are kept.
+    pub fn reset_stats(&mut self) -> NodeMemoryStats {
+        let out = self.stats();
+        self.banks.counted_to(self.next);
+        self.stats = NodeMemoryStats {
+            window_start: self.next,
+            dram_peak_bytes_per_cycle: out.dram_peak_bytes_per_cycle,
+            ..Default::default()
+        };
+        out
+    }
+
+    fn advance_to(&mut self, target: u64) {
+        while self.next < target {
+            let k = self.next;
+            if self.has_work(k) {
+                self.step(k);
+                self.next = k + 1;
+            } else {
+                self.next = self.next_event().map_or(target, |e| e.min(target));
+            }
+        }
+    }
+
+    /// Whether cycle `k` changes anything: a request arrives or waits, a fill completes or
+    /// moves bytes.
+    #[inline]
+    fn has_work(&self, k: u64) -> bool {
+        if self.waiting > 0 || !self.arrivals.is_empty() {
+            return true;
+        }
+        if self.future.peek().is_some_and(|Reverse(r)| r.cycle <= k) {
+            return true;
+        }
+        self.dram.has_work(k)
+    }
+
+    /// The next cycle with work, given that the current one has none.
+    fn next_event(&self) -> Option<u64> {
+        let arrival = self.future.peek().map(|Reverse(r)| r.cycle);
+        let transfer = self.dram.next_transfer();
+        match (arrival, transfer) {
+            (Some(a), Some(t)) => Some(a.min(t)),
+            (a, t) => a.or(t),
+        }
+    }
+
+    /// Simulates cycle `k`.
+    fn step(&mut self, k: u64) {
+        // 1. Fills that complete now install their line and free their MSHR, before this
+        //    cycle's lookups (so a lookup in the completion cycle hits).
+        self.dram.retire(k, &mut self.tags);
+        // 2. Requests of this cycle are arbitrated in (requester, id) order: all are of cycle k
+        //    (`arrivals` holds those made for `next` = k, the heap any made earlier for k) and
+        //    everything before them is from an earlier cycle, so taking them in this order
+        //    keeps each bank and the cache queue in (cycle, requester, id) service order.
+        //    An on-chip read is given its bank's next free port at once; a cached one joins
+        //    the cache queue.
+        while let Some(Reverse(r)) = self.future.peek().copied() {
+            if r.cycle > k {
+                break;
+            }
+            self.future.pop();
+            self.arrivals.push(r);
+        }
+        if self.arrivals.len() > 1 {
+            self.arrivals.sort_unstable_by_key(|r| (r.requester, r.id));
+        }
+        self.stats.port_conflict_cycles += self.banks.take_conflicts_before(k);
+        let latency = u64::from(self.cfg.onchip.latency);
+        for i in 0..self.arrivals.len() {
+            let r = self.arrivals[i];
+            let onchip = r.kind != FetchKind::Attr && self.layout.is_onchip(r.addr);
+            if onchip {
+                let (bank, served) = self.banks.serve(r.addr, k);
+                // Waiting in cycles k .. served − 1.
+                self.stats.port_wait += served - k;
+                self.stats.onchip_reads += 1;
+                self.complete(r, served, served + latency, Source::OnChip { bank });
+            } else {
+                self.cache_q.push_back(r);
+                self.waiting += 1;
+            }
+        }
+        self.arrivals.clear();
+        // 3. Bytes on the DRAM bus in this cycle.
+        let bytes = self.dram.bytes_in(k);
+        if bytes > 0 {
+            self.stats.dram_bytes += bytes;
+            self.stats.dram_busy_cycles += 1;
+            self.stats.dram_max_bytes_in_cycle = self.stats.dram_max_bytes_in_cycle.max(bytes);
+        }
+        // A bank has a request left waiting after this cycle's service.
+        let mut port_conflict = self.banks.busy_until() > k;
+        // 4. The cache pipeline, in order.
+        let mut blocked = false;
+        for _ in 0..self.cfg.cache.ports {
+            let Some(&r) = self.cache_q.front() else {
+                break;
+            };
+            let Some(source_done) = self.lookup(r, k) else {
+                blocked = true;
+                break;
+            };
+            self.cache_q.pop_front();
+            self.waiting -= 1;
+            self.complete(r, k, source_done.1, source_done.0);
+        }
+        let left = self.cache_q.len() as u64;
+        if left > 0 {
+            if blocked {
+                self.stats.mshr_full_cycles += 1;
+                self.stats.mshr_wait += left;
+            } else {
+                port_conflict = true;
+                self.stats.port_wait += left;
+            }
+        }
+        if port_conflict {
+            self.stats.port_conflict_cycles += 1;
+        }
+        self.banks.counted_to(k + 1);
+    }
+
+    /// Looks up a read in cycle `k`: where it is served and when it completes, or `None` when
+    /// it misses with every MSHR taken (nothing changes then).
+    #[inline]
+    fn lookup(&mut self, r: Req, k: u64) -> Option<(Source, u64)> {
+        let line = line_of(r.kind, r.addr, self.line_bytes);
+        let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
+        if cached && self.tags.touch(line) {
+            self.stats.cache_lookups += 1;
+            self.stats.cache_hits += 1;
+            return Some((Source::CacheHit, k + u64::from(self.cfg.cache.hit_latency)));
+        }
+        let (source, done) = self.dram.miss(line, cached, k)?;
+        let merged = source == Source::Merged;
+        if !merged {
+            self.stats.dram_fills += 1;
+            self.stats.mshr_max_in_use = self
+                .stats
+                .mshr_max_in_use
+                .max(self.dram.mshrs_in_use() as u64);
+        }
+        if cached {
+            self.stats.cache_lookups += 1;
+            if merged {
+                self.stats.cache_merged += 1;
+            } else {
+                self.stats.cache_misses += 1;
+            }
+        } else {
+            self.stats.uncached_reads += 1;
+            if merged {
+                self.stats.uncached_merged += 1;
+            }
+        }
+        Some((source, done))
+    }
+
+    fn complete(&mut self, r: Req, served: u64, done: u64, source: Source) {
+        let latency = done - r.cycle;
+        self.stats.served += 1;
+        self.stats.latency_sum += latency;
+        self.stats.latency_max = self.stats.latency_max.max(latency);
+        self.pending.push(Completion {
+            id: RequestId(r.id),
+            requester: r.requester,
+            kind: r.kind,
+            addr: r.addr,
+            cycle_requested: r.cycle,
+            cycle_served: served,
+            cycle_done: done,
+            source,
+        });
+    }
+}

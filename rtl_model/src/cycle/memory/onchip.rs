@@ -1,0 +1,99 @@
+//! The on-chip node store's read ports: `banks` word-interleaved banks of `ports_per_bank`
+//! ports each, served first come first served, and the count of cycles in which a read waited
+//! for one.
+//!
+//! Pipeline position: inside [`super::NodeMemory`]; step 2 of a simulated cycle gives every
+//! on-chip read of the cycle its bank's next free port. A bank serves at a fixed rate, so a
+//! read's service cycle is known the moment it joins the bank's queue: it needs no queue of
+//! its own, only the bank's next free port.
+
+use super::config::OnChipConfig;
+
+/// The next free read port of an on-chip bank: `used` of its ports are taken in `cycle`.
+#[derive(Clone, Copy, Debug, Default)]
+struct BankSlot {
+    cycle: u64,
+    used: u32,
+}
+
+/// The banks' ports and the port-conflict cycles they cause.
+#[derive(Clone, Debug)]
+pub(super) struct Banks {
+    /// Per bank, its next free port.
+    slots: Vec<BankSlot>,
+    /// Banks (word address mod banks picks one).
+    count: u32,
+    /// Reads a bank serves per cycle.
+    ports: u32,
+    /// The last cycle, plus one, in which some bank still has a request waiting for a port
+    /// (among the requests arbitrated so far).
+    busy_until: u64,
+    /// Cycles before this one are counted in `port_conflict_cycles`.
+    conflicts_counted: u64,
+}
+
+impl Banks {
+    /// Idle banks of `cfg` at cycle 0.
+    pub(super) fn new(cfg: &OnChipConfig) -> Self {
+        Self {
+            slots: vec![BankSlot::default(); cfg.banks as usize],
+            count: cfg.banks,
+            ports: cfg.ports_per_bank.max(1),
+            busy_until: 0,
+            conflicts_counted: 0,
+        }
+    }
+
+    /// Gives a read of word `addr` arriving in cycle `k` its bank's next free port, in
+    /// arrival order: returns (bank, cycle served). It waits in cycles `k .. served − 1`.
+    #[inline]
+    pub(super) fn serve(&mut self, addr: u32, k: u64) -> (u32, u64) {
+        let bank = addr % self.count;
+        let slot = &mut self.slots[bank as usize];
+        if slot.cycle < k {
+            *slot = BankSlot { cycle: k, used: 0 };
+        }
+        let served = slot.cycle;
+        slot.used += 1;
+        if slot.used == self.ports {
+            *slot = BankSlot {
+                cycle: served + 1,
+                used: 0,
+            };
+        }
+        self.busy_until = self.busy_until.max(served);
+        (bank, served)
+    }
+
+    /// The last cycle in which a bank serves a read that waited (0 when none has).
+    #[inline]
+    pub(super) fn busy_until(&self) -> u64 {
+        self.busy_until
+    }
+
+    /// Cycles from the last counted one to `end` in which a bank had a request waiting; valid
+    /// when no request arrives in between (every bank interval then starts before them).
+    #[inline]
+    pub(super) fn conflicts_before(&self, end: u64) -> u64 {
+        self.busy_until
+            .min(end)
+            .saturating_sub(self.conflicts_counted)
+    }
+
+    /// [`conflicts_before`](Self::conflicts_before) `k`, which are then counted: cycles
+    /// skipped since the last step had no arrivals and no cache work, so they were conflict
+    /// cycles exactly when a bank still had a request waiting.
+    #[inline]
+    pub(super) fn take_conflicts_before(&mut self, k: u64) -> u64 {
+        let n = self.conflicts_before(k);
+        self.conflicts_counted = k;
+        n
+    }
+
+    /// Marks every cycle before `end` as counted (after a step, or at a new statistics
+    /// window).
+    #[inline]
+    pub(super) fn counted_to(&mut self, end: u64) {
+        self.conflicts_counted = self.conflicts_counted.max(end);
+    }
+}

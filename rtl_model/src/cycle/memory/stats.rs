@@ -1,0 +1,129 @@
+//! The node memory's counters over a window of cycles: reads by kind, where they were
+//! served, DRAM traffic, port and MSHR waits, latency; integers only, with the rates as
+//! methods.
+//!
+//! Pipeline position: kept by [`super::NodeMemory`] as it simulates, read per frame
+//! ([`super::NodeMemory::reset_stats`]) into the run report.
+
+use crate::svo::FetchKind;
+use serde::{Deserialize, Serialize};
+
+/// Reads by kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct KindCounts {
+    /// Descriptor and leaf-slot reads.
+    pub node: u64,
+    /// Far-word reads.
+    pub far: u64,
+    /// Attribute-record reads.
+    pub attr: u64,
+}
+
+impl KindCounts {
+    /// All reads.
+    pub fn total(&self) -> u64 {
+        self.node + self.far + self.attr
+    }
+
+    pub(super) fn add(&mut self, kind: FetchKind) {
+        match kind {
+            FetchKind::Node => self.node += 1,
+            FetchKind::Far => self.far += 1,
+            FetchKind::Attr => self.attr += 1,
+        }
+    }
+}
+
+/// Counters over a window of cycles (from construction or the last
+/// [`NodeMemory::reset_stats`](super::NodeMemory::reset_stats) to the last simulated cycle). Integers only, so two runs can
+/// be compared exactly; the rates are methods.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct NodeMemoryStats {
+    /// First cycle of the window.
+    pub window_start: u64,
+    /// Cycles simulated in the window.
+    pub window_cycles: u64,
+    /// The DRAM's peak bytes per cycle (from the configuration, for the rates).
+    pub dram_peak_bytes_per_cycle: u64,
+    /// Accepted reads by kind (counted when requested).
+    pub fetches: KindCounts,
+    /// Words read (1 per node or far read, 2 per attribute read).
+    pub words: u64,
+    /// Bytes read by the walkers (4 per word); DRAM traffic is `dram_bytes`.
+    pub bytes: u64,
+    /// Requests refused for an out-of-range address.
+    pub out_of_range: u64,
+    /// Reads served by the on-chip store.
+    pub onchip_reads: u64,
+    /// Cached reads looked up (hits + misses + merged).
+    pub cache_lookups: u64,
+    /// Cache hits.
+    pub cache_hits: u64,
+    /// Cache misses that issued a fill.
+    pub cache_misses: u64,
+    /// Cache misses merged into a fill in flight.
+    pub cache_merged: u64,
+    /// Attribute reads that bypassed the cache (`attr_cached = false`).
+    pub uncached_reads: u64,
+    /// Of those, reads merged into a fill in flight.
+    pub uncached_merged: u64,
+    /// Line fills issued to DRAM.
+    pub dram_fills: u64,
+    /// Bytes moved on the DRAM bus in the window's cycles.
+    pub dram_bytes: u64,
+    /// Cycles in which the DRAM bus moved data.
+    pub dram_busy_cycles: u64,
+    /// Most bytes moved in one cycle (never above the peak).
+    pub dram_max_bytes_in_cycle: u64,
+    /// Cycles in which at least one read waited because its bank or the cache had no free port.
+    pub port_conflict_cycles: u64,
+    /// Request-cycles spent waiting for a port.
+    pub port_wait: u64,
+    /// Cycles in which the cache pipeline stalled on a miss with no free MSHR.
+    pub mshr_full_cycles: u64,
+    /// Request-cycles spent waiting behind such a stall.
+    pub mshr_wait: u64,
+    /// Most MSHRs in use at once.
+    pub mshr_max_in_use: u64,
+    /// Reads served (their completion cycle is fixed); each is returned once by `tick`.
+    pub served: u64,
+    /// Sum of (done − requested) over served reads.
+    pub latency_sum: u64,
+    /// Largest (done − requested).
+    pub latency_max: u64,
+}
+
+impl NodeMemoryStats {
+    /// Cache hits over lookups (merged misses count as misses); 0 without lookups.
+    pub fn hit_rate(&self) -> f64 {
+        ratio(self.cache_hits, self.cache_lookups)
+    }
+
+    /// DRAM bytes moved over the window's peak capacity, in percent.
+    pub fn dram_bandwidth_pct(&self) -> f64 {
+        100.0
+            * ratio(
+                self.dram_bytes,
+                self.window_cycles
+                    .saturating_mul(self.dram_peak_bytes_per_cycle),
+            )
+    }
+
+    /// Cycles the DRAM bus was busy over the window, in percent.
+    pub fn dram_busy_pct(&self) -> f64 {
+        100.0 * ratio(self.dram_busy_cycles, self.window_cycles)
+    }
+
+    /// Average latency of served reads, cycles.
+    pub fn avg_latency(&self) -> f64 {
+        ratio(self.latency_sum, self.served)
+    }
+}
+
+fn ratio(a: u64, b: u64) -> f64 {
+    if b == 0 {
+        0.0
+    } else {
+        a as f64 / b as f64
+    }
+}
