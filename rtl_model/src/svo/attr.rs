@@ -62,6 +62,13 @@ fn encode_octahedral(n: [f64; 3]) -> u32 {
 fn decode_octahedral(w: u32) -> [f64; 3] {
     let u = f64::from(w as u16 as i16) / 32767.0;
     let v = f64::from((w >> 16) as u16 as i16) / 32767.0;
+    octahedral_unfold(u, v)
+}
+
+/// The unit vector of octahedral coordinates (u, v) in [−1, 1]²: the upper half directly,
+/// the lower half folded back over the diagonals, then normalised. Shared by the leaf
+/// attribute's 16-bit code and the hit record's narrower one.
+pub fn octahedral_unfold(u: f64, v: f64) -> [f64; 3] {
     let z = 1.0 - u.abs() - v.abs();
     let (x, y) = if z < 0.0 {
         (

@@ -559,17 +559,7 @@ pub fn decode_normal(code: [i32; 2], bits: u8) -> [f64; 3] {
     let s = ((1i64 << (bits.clamp(2, 16) - 1)) - 1) as f64;
     let u = (f64::from(code[0]) / s).clamp(-1.0, 1.0);
     let v = (f64::from(code[1]) / s).clamp(-1.0, 1.0);
-    let z = 1.0 - u.abs() - v.abs();
-    let (x, y) = if z < 0.0 {
-        (
-            (1.0 - v.abs()) * if u >= 0.0 { 1.0 } else { -1.0 },
-            (1.0 - u.abs()) * if v >= 0.0 { 1.0 } else { -1.0 },
-        )
-    } else {
-        (u, v)
-    };
-    let len = (x * x + y * y + z * z).sqrt();
-    [x / len, y / len, z / len]
+    crate::svo::attr::octahedral_unfold(u, v)
 }
 
 /// Worst-case angle, radians, between a unit normal and its `bits`-bit octahedral code

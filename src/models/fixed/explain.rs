@@ -1,6 +1,7 @@
-//! Geometry for judging a difference between the fixed-point model and the reference: the
-//! exact ray of a pixel in an instance's frame, a leaf's box grown or shrunk by an error
-//! bound, and whether the ray crosses it.
+//! Judging a difference between the fixed-point model and the reference with an extra matrix
+//! error: the leaf's nearness to the exact ray and the entry-distance bound, on the geometry of
+//! [`super::bound`] (the exact ray in an instance's frame, a leaf's box grown or shrunk by an
+//! error bound, and whether the ray crosses it).
 //!
 //! Pipeline position: after both models have rendered a frame (`sim drift`, `sim stress`).
 //! [`super::bound::mismatch_explained`] answers "is this voxel mismatch within the datapath's
@@ -11,32 +12,13 @@
 
 #[cfg(doc)]
 use super::bound::spatial_bound;
-use crate::models::reference::ray::primary_ray;
+use super::bound::{crosses, local_ray, voxel_box};
 use crate::world::scene::{Camera, Pose};
 use glam::DVec3;
 use rtl_model::cost::DirectionErrorBound;
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::units::transform::origin_error_bound;
 use rtl_model::units::walker::spatial_error_bound;
-
-/// The exact (f64) ray of pixel (i, j), carried into the instance's frame: (origin, dir).
-pub fn local_ray(
-    cam: &Camera,
-    (w, h): (u32, u32),
-    (i, j): (u32, u32),
-    pose: &Pose,
-) -> (DVec3, DVec3) {
-    let ray = primary_ray(cam, w, h, i, j);
-    let r = pose.world_from_local;
-    let rel = ray.origin - pose.centre;
-    let o = DVec3::new(r.x_axis.dot(rel), r.y_axis.dot(rel), r.z_axis.dot(rel));
-    let d = DVec3::new(
-        r.x_axis.dot(ray.dir),
-        r.y_axis.dot(ray.dir),
-        r.z_axis.dot(ray.dir),
-    );
-    (o, d)
-}
 
 /// The direction part of the datapath's spatial bound, per ray: the transform's direction
 /// error and the reciprocal's relative error always, and the reciprocal's zero threshold
@@ -102,34 +84,6 @@ pub fn bound_with_matrix_error(
     let origin_err = origin_error_bound(&cfg.transform, rel);
     spatial_error_bound(&cfg.walker, origin_err, dir_err, reach, depth)
         + 3.0 * mat_err * (rel + reach)
-}
-
-/// The box of leaf `voxel` at `depth` in the instance's frame, grown by `eps` on every side
-/// (shrunk if `eps` is negative).
-pub fn voxel_box(pose: &Pose, voxel: [u32; 3], depth: u8, eps: f64) -> (DVec3, DVec3) {
-    let size = 2.0 * pose.half_extent / f64::from(1u32 << depth);
-    let lo = -pose.half_extent + DVec3::from_array(voxel.map(f64::from)) * size;
-    (lo - eps, lo + size + eps)
-}
-
-/// Whether the ray o + t·d, t ≥ 0, meets the closed box [lo, hi] (an empty box never).
-pub fn crosses(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> bool {
-    let (mut t_in, mut t_out) = (0.0f64, f64::INFINITY);
-    for k in 0..3 {
-        if lo[k] > hi[k] {
-            return false;
-        }
-        if d[k] == 0.0 {
-            if o[k] < lo[k] || o[k] > hi[k] {
-                return false;
-            }
-        } else {
-            let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
-            t_in = t_in.max(a.min(b));
-            t_out = t_out.min(a.max(b));
-        }
-    }
-    t_in <= t_out
 }
 
 /// Bound on the error of the entry distance into the box [lo, hi] (the leaf, unshrunk) along
