@@ -203,9 +203,8 @@ impl WalkerInput {
 /// The nearest solid leaf.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WalkerHit {
-    /// max(entry, 0): a raw code of the `t` format ([`WalkerHit::walker_t`] as a
-    /// [`WalkerT`]). A bare code because the cycle model compares it with its trace's.
-    pub t: i64,
+    /// max(entry, 0), in the walker's `t` format.
+    pub t: WalkerT,
     /// Leaf coordinates (real, unmirrored) at `level`.
     pub voxel: [u32; 3],
     /// Level of the leaf.
@@ -214,14 +213,6 @@ pub struct WalkerHit {
     pub attr: u32,
     /// Entry axis (0 = x, 1 = y, 2 = z): largest t0, ties x then y.
     pub entry_axis: u8,
-}
-
-impl WalkerHit {
-    /// The hit's t as a [`WalkerT`].
-    #[inline]
-    pub fn walker_t(&self) -> WalkerT {
-        WalkerT { raw: self.t }
-    }
 }
 
 /// How a walk ended.
@@ -517,7 +508,7 @@ fn walk_loop<O: WalkObserver>(
                 };
                 obs.read(FetchKind::Attr, attr);
                 return WalkOutcome::Hit(WalkerHit {
-                    t: enter.max(WalkerT::ZERO).raw,
+                    t: enter.max(WalkerT::ZERO),
                     voxel: coords,
                     level,
                     attr,

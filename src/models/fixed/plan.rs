@@ -116,7 +116,7 @@ impl PixelCounters {
 }
 
 /// The best hit of a ray so far: walker t, instance, the walker's hit and the direction signs.
-pub type Best = (i64, u16, WalkerHit, [bool; 3]);
+pub type Best = (WalkerT, u16, WalkerHit, [bool; 3]);
 
 /// A frame's prepared datapath (see the module doc).
 pub struct FramePlan<'a> {
@@ -350,8 +350,8 @@ impl<'a> FramePlan<'a> {
 
     /// Early termination: whether the best hit so far (walker t) is no farther than the next
     /// candidate's entry key.
-    pub fn stops(&self, best_t: i64, key: i64) -> bool {
-        WalkerT { raw: best_t }.at_most(self.t_fmt, key, self.key_fmt)
+    pub fn stops(&self, best_t: WalkerT, key: i64) -> bool {
+        best_t.at_most(self.t_fmt, key, self.key_fmt)
     }
 
     /// Transform, reciprocals and walk of direction `d` in instance `k`, reporting the walk to
@@ -466,7 +466,7 @@ impl<'a> FramePlan<'a> {
             &HitRecordF64 {
                 kind: spheres,
                 instance: Some(k),
-                t: to_f64(t, self.t_fmt), // the host's f64 path, as the reference's
+                t: to_f64(t.raw, self.t_fmt), // the host's f64 path, as the reference's
                 normal: n.to_array(),
                 colour: [r, g, b],
                 voxel: hit.voxel,
@@ -486,7 +486,7 @@ impl<'a> FramePlan<'a> {
         FixedRecord {
             word,
             hit: true,
-            t: hit.walker_t(),
+            t: hit.t,
             voxel: hit.voxel,
             face,
         }

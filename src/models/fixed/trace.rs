@@ -20,7 +20,7 @@ pub use rtl_model::cycle::walk_op::{OpRecorder, WalkOp};
 use rtl_model::units::hit_record::HitRecordFields;
 use rtl_model::units::sphere::{SphereHit, SphereRaw};
 use rtl_model::units::transform::InstanceRaw;
-use rtl_model::units::walker::{NoObserver, WalkObserver, WalkOutcome, WalkerInput};
+use rtl_model::units::walker::{NoObserver, WalkObserver, WalkOutcome, WalkerInput, WalkerT};
 
 /// What one pixel of `FramePlan::pixel` does, step by step, in program order: the sphere
 /// test of every instance, the candidates before and after the sorter, then either the
@@ -117,7 +117,7 @@ pub struct PixelWork {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct WalkWork {
     /// Walker t (raw, walker t format) of its hit, `None` for a miss or a stopped walk.
-    pub hit_t: Option<i64>,
+    pub hit_t: Option<WalkerT>,
     /// First op in [`RowTrace::ops`].
     pub op_start: u32,
     /// Ops.

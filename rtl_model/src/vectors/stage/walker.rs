@@ -426,7 +426,7 @@ impl WalkerStage {
                     WalkOutcome::StepLimit => (2, None),
                 };
                 v.push(u(outcome));
-                v.push(s(hit.map_or(0, |h| h.t)));
+                v.push(s(hit.map_or(0, |h| h.t.raw)));
                 v.extend(hit.map_or([0; 3], |h| h.voxel).map(|c| u(u64::from(c))));
                 v.push(u(hit.map_or(0, |h| u64::from(h.level))));
                 v.push(u(hit.map_or(0, |h| u64::from(h.attr))));

@@ -34,6 +34,7 @@ use crate::models::fixed::trace::{PixelWork, RowTrace};
 use rtl_model::cycle::clocked::{StageId, Stamped};
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::unit_pipe::UnitPipe;
+use rtl_model::units::walker::WalkerT;
 
 /// Stage ids for stamps and the transaction log, in pipeline order, FIFOs included.
 pub mod id {
@@ -167,7 +168,7 @@ pub struct Slot {
     /// Sorted candidates (from the trace, or this model's own sort under cross-check).
     pub cands: Vec<(i64, u16)>,
     /// Best hit so far: walker t (raw) and candidate index.
-    pub best: Option<(i64, u16)>,
+    pub best: Option<(WalkerT, u16)>,
     /// Under cross-check, the walker's own best result.
     pub best_full: Option<Best>,
     /// Walks done.
