@@ -122,7 +122,7 @@ impl SorterStats {
 
 // Networks of the fewest comparators known, by layer. Each pair (i, j), i < j, puts the
 // smaller key on lane i. They are checked exhaustively by the 0-1 principle in
-// `tests/unit_sorter.rs`; sources are in `docs/units/sorter.md`.
+// `rtl_model/tests/unit_sorter.rs`; sources are in `docs/units/sorter.md`.
 
 /// 2 lanes: 1 comparator, depth 1.
 const BEST_2: &[&[(u8, u8)]] = &[&[(0, 1)]];

@@ -19,7 +19,7 @@
 //!   (exact l·l against reach², a comparator on a product the unit forms anyway), not the
 //!   components: along a diagonal every |l_k| can be within the reach while |l| is up to √3
 //!   times it, where W is too small and an exact hit could be rejected (found by
-//!   `sim stress`, case `far_diagonal`; regression test in `tests/unit_sphere.rs`).
+//!   `sim stress`, case `far_diagonal`; regression test in `rtl_model/tests/unit_sphere.rs`).
 //! - Entry: t_enter = max(0, t_ca − Δt − √(T − p²)), the square root by the digit-recurrence
 //!   unit (floor), all rounded toward −∞; 0 when the origin may be inside (l·l ≤ r² + Δl²).
 //!   Culled as behind only if even t_ca + Δt + √(T − p²) < 0.

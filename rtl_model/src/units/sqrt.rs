@@ -339,7 +339,7 @@ fn saturate_high(out: Format, ov: &mut Overflows, sig: SignalId) -> i64 {
 /// ⌊√x⌋ — the same value as [`isqrt`], bit for bit, computed faster for the model: an f64
 /// estimate corrected by exact integer comparisons (the estimate is within one of the root,
 /// and the loops move it to the unique r with r² ≤ x < (r + 1)²). The digit recurrence of
-/// [`isqrt`] stays the specification the RTL follows; `tests/unit_sqrt.rs` pins the equality.
+/// [`isqrt`] stays the specification the RTL follows; `rtl_model/tests/unit_sqrt.rs` pins the equality.
 #[inline]
 pub fn isqrt_fast(x: u64) -> u64 {
     let mut r = (x as f64).sqrt() as u64;
