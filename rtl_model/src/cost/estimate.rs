@@ -230,35 +230,30 @@ impl HwConfig {
         let nm = &self.node_memory;
         let m = nm.resources(self.onchip_node_words());
         let (oc, c) = (&nm.onchip, &nm.cache);
+        let (levels, cap, banks) = (oc.levels, oc.max_bytes, oc.banks);
+        let (size, ways, line, sets) = (c.size_bytes, c.ways, c.line_bytes, nm.cache_sets());
+        let onchip = format!(
+            "top {levels} levels, capacity {cap} bytes in {banks} banks of 1024 × 32-bit BRAM36"
+        );
+        let data =
+            format!("{size} bytes, {ways} ways, {line}-byte lines; one URAM copy per lookup port");
+        let tags = format!("{sets} sets × {ways} ways, one BRAM36 copy per lookup port");
+        let ports = u64::from(c.ports);
         [
-            ResourceItem::new(
+            (
                 "node_onchip",
-                u64::from(oc.banks),
+                u64::from(banks),
                 Resources::bram36(m.onchip_bram36),
-                format!(
-                    "top {} levels, capacity {} bytes in {} banks of 1024 × 32-bit BRAM36",
-                    oc.levels, oc.max_bytes, oc.banks
-                ),
+                onchip,
             ),
-            ResourceItem::new(
-                "cache_data",
-                u64::from(c.ports),
-                Resources::uram288(m.cache_uram),
-                format!(
-                    "{} bytes, {} ways, {}-byte lines; one URAM copy per lookup port",
-                    c.size_bytes, c.ways, c.line_bytes
-                ),
-            ),
-            ResourceItem::new(
+            ("cache_data", ports, Resources::uram288(m.cache_uram), data),
+            (
                 "cache_tags",
-                u64::from(c.ports),
+                ports,
                 Resources::bram36(m.cache_tag_bram36),
-                format!(
-                    "{} sets × {} ways, one BRAM36 copy per lookup port",
-                    nm.cache_sets(),
-                    c.ways
-                ),
+                tags,
             ),
         ]
+        .map(|(name, n, used, note)| ResourceItem::new(name, n, used, note))
     }
 }
