@@ -457,3 +457,50 @@ fn closed_stdout_ends_quietly() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(out.status.code(), Some(141), "{stderr}");
 }
+
+/// A scene beyond the datapath's position range (the camera 150 m out; sQ8.32 holds ±128 m)
+/// saturates the fixed-point model. The warning reaches stderr even under `-q`, and the run
+/// exits non-zero unless `--allow-saturation` accepts it; a scene that fits prints no warning.
+#[test]
+fn saturation_is_loud_and_fails_unless_allowed() {
+    let t = Tmp::new("saturation_is_loud");
+    let car = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/car.ron"))
+        .expect("read scenes/car.ron");
+    let far = car.replace("position: (4.6, 2.2, -4.4)", "position: (150.0, 2.2, -4.4)");
+    assert_ne!(far, car, "the car's camera line moved: update this test");
+    let scene = t.p("far.ron");
+    std::fs::write(&scene, far).expect("write the scene");
+    let args = |extra: &[&str]| {
+        let mut v = vec![
+            "--scene", &scene, "--model", "fixed", "--frames", "1", "--width", "32", "--height",
+            "20", "--no-png", "-q",
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>();
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v
+    };
+    let refused = run_sim(&args(&[]), None, TIMEOUT);
+    assert!(!refused.status.success(), "{}", refused.stderr);
+    assert!(refused.stderr.contains("warning: "), "{}", refused.stderr);
+    assert!(refused.stderr.contains("raygen/pos"), "{}", refused.stderr);
+    assert!(
+        refused.stderr.contains("--allow-saturation"),
+        "{}",
+        refused.stderr
+    );
+    let allowed = run_sim(&args(&["--allow-saturation"]), None, TIMEOUT);
+    assert!(allowed.status.success(), "{}", allowed.stderr);
+    assert!(allowed.stderr.contains("saturated"), "{}", allowed.stderr);
+    let near = run_sim(
+        &[
+            "--model", "fixed", "--frames", "1", "--width", "32", "--height", "20", "--no-png",
+            "-q",
+        ],
+        None,
+        TIMEOUT,
+    );
+    assert!(near.status.success(), "{}", near.stderr);
+    assert!(!near.stderr.contains("saturated"), "{}", near.stderr);
+}

@@ -9,6 +9,7 @@ use super::report::{AssetReport, FrameReport, Summary};
 use crate::models::cycle::CycleFrame;
 use crate::models::reference::FrameStats;
 use crate::run::RunConfig;
+use std::collections::BTreeMap;
 use std::fmt::Write;
 
 /// The run's opening line: scene, resolution, frames, instances, threads and options.
@@ -231,4 +232,35 @@ pub fn written(cfg: &RunConfig, frames: u32) -> String {
         lines.push(format!("wrote hit records {}", p.display()));
     }
     lines.join("\n")
+}
+
+/// The run's saturations, if any: how many, in how many frames, and on which signals (most
+/// first), with where the formats' ranges are documented. `None` when every value fitted.
+pub fn saturation_warning(frames: &[FrameReport]) -> Option<String> {
+    let total: u64 = frames
+        .iter()
+        .filter_map(|f| f.accuracy.as_ref())
+        .map(|a| a.saturations)
+        .sum();
+    if total == 0 {
+        return None;
+    }
+    let hit = frames
+        .iter()
+        .filter(|f| f.accuracy.as_ref().is_some_and(|a| a.saturations > 0))
+        .count();
+    let mut by_signal: BTreeMap<&str, u64> = BTreeMap::new();
+    for (name, n) in frames.iter().filter_map(|f| f.overflows.as_ref()).flatten() {
+        *by_signal.entry(name.as_str()).or_default() += n;
+    }
+    let mut signals: Vec<(&str, u64)> = by_signal.into_iter().collect();
+    signals.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    let list: Vec<String> = signals.iter().map(|(s, n)| format!("{s} {n}")).collect();
+    Some(format!(
+        "{total} datapath values saturated in {hit} of {} frames ({}): the scene does not fit the \
+         datapath's formats (ranges in docs/number-formats.md §2); scale the scene, move it \
+         nearer the origin, or widen the formats with --datapath",
+        frames.len(),
+        list.join(", ")
+    ))
 }

@@ -90,6 +90,11 @@ pub struct RunArgs {
     /// docs/elaboration.md).
     #[arg(long)]
     no_prune: bool,
+    /// Fixed and cycle models: accept a run in which datapath values saturated (did not fit
+    /// their formats). Without it such a run still writes its outputs and prints the warning,
+    /// then exits non-zero, so a script cannot take saturated results for good ones.
+    #[arg(long)]
+    allow_saturation: bool,
 }
 
 impl RunArgs {
@@ -182,6 +187,16 @@ pub fn run_command(a: RunArgs) -> Result<()> {
     let written = text::written(&cfg, out.report.summary.frames);
     if !written.is_empty() {
         println!("{written}");
+    }
+    // Saturation is never silent: the warning goes to stderr whatever -q says, and the exit
+    // status says it unless the user accepted it.
+    if let Some(warning) = text::saturation_warning(&out.report.frames) {
+        eprintln!("warning: {warning}");
+        if !a.allow_saturation {
+            anyhow::bail!(
+                "the run saturated (warning above); pass --allow-saturation to accept its results"
+            );
+        }
     }
     Ok(())
 }
