@@ -459,32 +459,117 @@ fn closed_stdout_ends_quietly() {
 }
 
 /// A scene beyond the datapath's position range (the camera 150 m out; sQ8.32 holds ±128 m)
-/// saturates the fixed-point model. The warning reaches stderr even under `-q`, and the run
-/// exits non-zero unless `--allow-saturation` accepts it; a scene that fits prints no warning.
+/// is refused before the run: an error naming the value, the format's range and the remedy,
+/// and nothing written.
 #[test]
-fn saturation_is_loud_and_fails_unless_allowed() {
-    let t = Tmp::new("saturation_is_loud");
+fn scene_beyond_the_formats_is_refused_before_the_run() {
+    let t = Tmp::new("scene_beyond_the_formats");
     let car = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/car.ron"))
         .expect("read scenes/car.ron");
     let far = car.replace("position: (4.6, 2.2, -4.4)", "position: (150.0, 2.2, -4.4)");
     assert_ne!(far, car, "the car's camera line moved: update this test");
     let scene = t.p("far.ron");
     std::fs::write(&scene, far).expect("write the scene");
+    let out = t.p("out");
+    let report = t.p("r.json");
+    for model in ["fixed", "cycle"] {
+        let r = run_sim(
+            &[
+                "--scene",
+                &scene,
+                "--model",
+                model,
+                "--frames",
+                "1",
+                "--width",
+                "32",
+                "--height",
+                "20",
+                "--out",
+                &out,
+                "--report-json",
+                &report,
+            ],
+            None,
+            TIMEOUT,
+        );
+        assert!(!r.status.success(), "{model}: {}", r.stderr);
+        for needle in [
+            "camera position = 150.000 m",
+            "raygen.pos",
+            "sQ8.32",
+            "--datapath",
+        ] {
+            assert!(
+                r.stderr.contains(needle),
+                "{model}: no {needle:?} in {}",
+                r.stderr
+            );
+        }
+        assert!(!Path::new(&out).exists() && !Path::new(&report).exists());
+    }
+    // The reference has no formats: the same scene renders.
+    let r = run_sim(
+        &[
+            "--scene",
+            &scene,
+            "--model",
+            "reference",
+            "--frames",
+            "1",
+            "--width",
+            "32",
+            "--height",
+            "20",
+            "--no-png",
+        ],
+        None,
+        TIMEOUT,
+    );
+    assert!(r.status.success(), "{}", r.stderr);
+}
+
+/// A run that saturates anyway (here a hit-record t format narrowed to uQ2.10, 4 m, with the
+/// car 6 m away) warns on stderr even under `-q`, naming the signal, and exits non-zero unless
+/// `--allow-saturation` accepts it; a run that fits prints no warning.
+#[test]
+fn saturation_is_loud_and_fails_unless_allowed() {
+    let t = Tmp::new("saturation_is_loud");
+    let dp = t.p("narrow.ron");
+    std::fs::write(
+        &dp,
+        "(hit_record: (t: (signed: false, width: 12, frac: 10)))",
+    )
+    .expect("write the datapath");
     let args = |extra: &[&str]| {
-        let mut v = vec![
-            "--scene", &scene, "--model", "fixed", "--frames", "1", "--width", "32", "--height",
-            "20", "--no-png", "-q",
+        let mut v: Vec<String> = [
+            "--datapath",
+            &dp,
+            "--model",
+            "fixed",
+            "--frames",
+            "1",
+            "--width",
+            "32",
+            "--height",
+            "20",
+            "--no-png",
+            "-q",
         ]
-        .into_iter()
-        .map(String::from)
-        .collect::<Vec<_>>();
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
         v.extend(extra.iter().map(|s| s.to_string()));
         v
     };
     let refused = run_sim(&args(&[]), None, TIMEOUT);
     assert!(!refused.status.success(), "{}", refused.stderr);
     assert!(refused.stderr.contains("warning: "), "{}", refused.stderr);
-    assert!(refused.stderr.contains("raygen/pos"), "{}", refused.stderr);
+    assert!(
+        refused.stderr.contains("(hit_record "),
+        "{}",
+        refused.stderr
+    );
     assert!(
         refused.stderr.contains("--allow-saturation"),
         "{}",
@@ -493,7 +578,7 @@ fn saturation_is_loud_and_fails_unless_allowed() {
     let allowed = run_sim(&args(&["--allow-saturation"]), None, TIMEOUT);
     assert!(allowed.status.success(), "{}", allowed.stderr);
     assert!(allowed.stderr.contains("saturated"), "{}", allowed.stderr);
-    let near = run_sim(
+    let fits = run_sim(
         &[
             "--model", "fixed", "--frames", "1", "--width", "32", "--height", "20", "--no-png",
             "-q",
@@ -501,6 +586,6 @@ fn saturation_is_loud_and_fails_unless_allowed() {
         None,
         TIMEOUT,
     );
-    assert!(near.status.success(), "{}", near.stderr);
-    assert!(!near.stderr.contains("saturated"), "{}", near.stderr);
+    assert!(fits.status.success(), "{}", fits.stderr);
+    assert!(!fits.stderr.contains("saturated"), "{}", fits.stderr);
 }

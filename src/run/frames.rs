@@ -6,6 +6,7 @@
 //! atomically.
 
 use super::elaborate::Elaboration;
+use super::ranges::check_scene_ranges;
 use crate::models::cycle::runner::CycleRun;
 use crate::models::cycle::waves::PipelineWaves;
 use crate::models::cycle::CycleOptions;
@@ -247,6 +248,10 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
     let (w, h) = scene.file.resolution;
     let frames = scene.file.frames;
     let half: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
+    if cfg.model != Model::Reference {
+        // Before any file: a scene the formats cannot carry is an input error, not a run.
+        check_scene_ranges(scene, &half, &cfg.datapath)?;
+    }
     let csv = cfg
         .dump_hits
         .as_ref()

@@ -4,11 +4,13 @@
 //! the pipeline it needs (units kept, left out or resized, with what each saves); [`frames`]
 //! builds the assets and runs every frame through the chosen model — the f64 reference, the
 //! fixed-point functional model, or the cycle model beside it — comparing each frame with the
-//! reference and handing the results to [`crate::output`].
+//! reference and handing the results to [`crate::output`]; [`ranges`] first checks that the
+//! scene fits the datapath's formats.
 
 pub mod bench;
 pub mod config_files;
 pub mod elaborate;
 pub mod frames;
+pub mod ranges;
 
 pub use frames::{build, run, Model, RunConfig, RunOutput, VcdRequest};
