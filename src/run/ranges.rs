@@ -21,10 +21,27 @@ use rtl_model::datapath::DatapathConfig;
 use rtl_model::fixed::Format;
 use thiserror::Error;
 
-/// A scene value outside the range of the datapath format it is carried in.
+/// Why a scene does not fit the datapath.
 #[derive(Debug, Error, PartialEq)]
-#[error("{origin}: frame {frame}: {what} = {value:.3} m is outside {signal} ({range}); {remedy}")]
-pub struct RangeError {
+pub enum RangeError {
+    /// A value outside the range of the datapath format it is carried in.
+    #[error("{}: frame {}: {} = {:.3} m is outside {} ({}); {}", .0.origin, .0.frame, .0.what, .0.value, .0.signal, .0.range, .0.remedy)]
+    OutOfRange(Box<OutOfRange>),
+    /// The frame's state could not be computed (a scene error the loader did not catch).
+    #[error("{origin}: frame {frame}: {message}")]
+    Frame {
+        /// The scene, for the message.
+        origin: String,
+        /// The frame.
+        frame: u32,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// A scene value outside the range of the datapath format it is carried in.
+#[derive(Debug, PartialEq)]
+pub struct OutOfRange {
     /// The scene, for the message.
     pub origin: String,
     /// The first frame where it happens.
@@ -63,28 +80,28 @@ pub fn check_scene_ranges(
         .iter()
         .map(|i| i.name.as_str())
         .collect();
-    let err = |frame, what: String, value, signal, range: &str| RangeError {
-        origin: scene.origin.clone(),
-        frame,
-        what,
-        value,
-        signal,
-        range: range.to_string(),
-        remedy: REMEDY,
+    let err = |frame, what: String, value, signal, range: &str| {
+        RangeError::OutOfRange(Box::new(OutOfRange {
+            origin: scene.origin.clone(),
+            frame,
+            what,
+            value,
+            signal,
+            range: range.to_string(),
+            remedy: REMEDY,
+        }))
     };
     // The component of `v` furthest outside [lo, hi], if any.
     let outside =
         |v: DVec3, lo: f64, hi: f64| (0..3).map(|k| v[k]).find(|&x| !(lo..=hi).contains(&x));
     for f in 0..scene.file.frames {
-        let state = scene.frame_state(f, half).map_err(|m| RangeError {
-            origin: scene.origin.clone(),
-            frame: f,
-            what: format!("frame state ({m})"),
-            value: f64::NAN,
-            signal: "scene",
-            range: String::new(),
-            remedy: REMEDY,
-        })?;
+        let state = scene
+            .frame_state(f, half)
+            .map_err(|message| RangeError::Frame {
+                origin: scene.origin.clone(),
+                frame: f,
+                message,
+            })?;
         let o = state.camera.position;
         if let Some(x) = outside(o, pos_lo, pos_hi) {
             return Err(err(
@@ -143,6 +160,13 @@ mod tests {
         (scene, half)
     }
 
+    fn out_of_range(r: Result<(), RangeError>) -> OutOfRange {
+        match r {
+            Err(RangeError::OutOfRange(e)) => *e,
+            other => panic!("expected a value out of range, got {other:?}"),
+        }
+    }
+
     #[test]
     fn the_default_scene_fits_the_default_formats() {
         let (scene, half) = car();
@@ -158,17 +182,17 @@ mod tests {
         // The camera is about 6.7 m from the body's centre.
         let mut dp = DatapathConfig::default();
         dp.sphere.reach = 2.0;
-        let e = check_scene_ranges(&scene, &half, &dp).expect_err("beyond the reach");
+        let e = out_of_range(check_scene_ranges(&scene, &half, &dp));
         assert_eq!((e.frame, e.signal), (0, "sphere.reach"));
-        assert!(e.what.contains("instance body"), "{e}");
+        assert!(e.what.contains("instance body"), "{e:?}");
         let mut dp = DatapathConfig::default();
         dp.transform.local_pos = Format::sq(3, 20).with_quant(Quant::RndConv); // ±4 m
-        let e = check_scene_ranges(&scene, &half, &dp).expect_err("outside local_pos");
+        let e = out_of_range(check_scene_ranges(&scene, &half, &dp));
         assert_eq!(e.signal, "transform.local_pos");
-        assert!(e.to_string().contains("sQ3.20: -4 to"), "{e}");
+        assert!(e.range.contains("sQ3.20: -4 to"), "{e:?}");
         let mut dp = DatapathConfig::default();
         dp.raygen.pos = Format::sq(3, 20).with_quant(Quant::RndConv);
-        let e = check_scene_ranges(&scene, &half, &dp).expect_err("camera outside raygen.pos");
+        let e = out_of_range(check_scene_ranges(&scene, &half, &dp));
         assert_eq!((e.signal, e.value), ("raygen.pos", 4.6));
     }
 }
