@@ -458,6 +458,17 @@ fn closed_stdout_ends_quietly() {
     assert_eq!(out.status.code(), Some(141), "{stderr}");
 }
 
+/// A one-frame 32x20 run of `model` with `extra` options.
+fn one_small_frame(model: &str, extra: &[&str]) -> Vec<String> {
+    [
+        "--model", model, "--frames", "1", "--width", "32", "--height", "20",
+    ]
+    .iter()
+    .chain(extra)
+    .map(|s| s.to_string())
+    .collect()
+}
+
 /// A scene beyond the datapath's position range (the camera 150 m out; sQ8.32 holds ±128 m)
 /// is refused before the run: an error naming the value, the format's range and the remedy,
 /// and nothing written.
@@ -474,22 +485,10 @@ fn scene_beyond_the_formats_is_refused_before_the_run() {
     let report = t.p("r.json");
     for model in ["fixed", "cycle"] {
         let r = run_sim(
-            &[
-                "--scene",
-                &scene,
-                "--model",
+            &one_small_frame(
                 model,
-                "--frames",
-                "1",
-                "--width",
-                "32",
-                "--height",
-                "20",
-                "--out",
-                &out,
-                "--report-json",
-                &report,
-            ],
+                &["--scene", &scene, "--out", &out, "--report-json", &report],
+            ),
             None,
             TIMEOUT,
         );
@@ -510,19 +509,7 @@ fn scene_beyond_the_formats_is_refused_before_the_run() {
     }
     // The reference has no formats: the same scene renders.
     let r = run_sim(
-        &[
-            "--scene",
-            &scene,
-            "--model",
-            "reference",
-            "--frames",
-            "1",
-            "--width",
-            "32",
-            "--height",
-            "20",
-            "--no-png",
-        ],
+        &one_small_frame("reference", &["--scene", &scene, "--no-png"]),
         None,
         TIMEOUT,
     );
@@ -541,28 +528,8 @@ fn saturation_is_loud_and_fails_unless_allowed() {
         "(hit_record: (t: (signed: false, width: 12, frac: 10)))",
     )
     .expect("write the datapath");
-    let args = |extra: &[&str]| {
-        let mut v: Vec<String> = [
-            "--datapath",
-            &dp,
-            "--model",
-            "fixed",
-            "--frames",
-            "1",
-            "--width",
-            "32",
-            "--height",
-            "20",
-            "--no-png",
-            "-q",
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-        v.extend(extra.iter().map(|s| s.to_string()));
-        v
-    };
-    let refused = run_sim(&args(&[]), None, TIMEOUT);
+    let narrow = ["--datapath", dp.as_str(), "--no-png", "-q"];
+    let refused = run_sim(&one_small_frame("fixed", &narrow), None, TIMEOUT);
     assert!(!refused.status.success(), "{}", refused.stderr);
     assert!(refused.stderr.contains("warning: "), "{}", refused.stderr);
     assert!(
@@ -575,14 +542,15 @@ fn saturation_is_loud_and_fails_unless_allowed() {
         "{}",
         refused.stderr
     );
-    let allowed = run_sim(&args(&["--allow-saturation"]), None, TIMEOUT);
+    let allowed = run_sim(
+        &one_small_frame("fixed", &[&narrow[..], &["--allow-saturation"]].concat()),
+        None,
+        TIMEOUT,
+    );
     assert!(allowed.status.success(), "{}", allowed.stderr);
     assert!(allowed.stderr.contains("saturated"), "{}", allowed.stderr);
     let fits = run_sim(
-        &[
-            "--model", "fixed", "--frames", "1", "--width", "32", "--height", "20", "--no-png",
-            "-q",
-        ],
+        &one_small_frame("fixed", &["--no-png", "-q"]),
         None,
         TIMEOUT,
     );

@@ -14,6 +14,9 @@
 //! Seeded: the seed is printed; `SVO_TEST_SEED` replays a failure.
 
 use fixed::types::extra::LeEqU128;
+mod common;
+
+use common::Rng;
 use fixed::types::extra::*;
 use fixed::FixedI128;
 use rtl_model::datapath::DatapathConfig;
@@ -257,39 +260,21 @@ fn default_formats() -> Vec<Format> {
     out
 }
 
-/// SplitMix64: its own copy, so the oracle shares nothing with the code under test.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// A code of `f` (any of its value bits), biased towards the range's edges and small values.
-    fn code(&mut self, f: Format) -> i64 {
-        let (lo, hi) = range(f);
-        let r = self.next();
-        let v = match r % 8 {
-            0 => lo + (r >> 8) as i128 % 4,
-            1 => hi - (r >> 8) as i128 % 4,
-            2 => (r >> 8) as i128 % 64 - if f.signed { 32 } else { 0 },
-            _ => lo + (u128::from(self.next()) % ((hi - lo) as u128 + 1)) as i128,
-        };
-        v as i64
-    }
+/// A code of `f` (any of its value bits), biased towards the range's edges and small values.
+fn code(rng: &mut Rng, f: Format) -> i64 {
+    let (lo, hi) = range(f);
+    let r = rng.next();
+    let v = match r % 8 {
+        0 => lo + (r >> 8) as i128 % 4,
+        1 => hi - (r >> 8) as i128 % 4,
+        2 => (r >> 8) as i128 % 64 - if f.signed { 32 } else { 0 },
+        _ => lo + (u128::from(rng.next()) % ((hi - lo) as u128 + 1)) as i128,
+    };
+    v as i64
 }
 
-fn seed() -> u64 {
-    let s = std::env::var("SVO_TEST_SEED")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0x0F1C_ED00_2019_0001);
-    println!("fixed_crate_oracle: SVO_TEST_SEED={s}");
-    s
+fn seed(test: &str) -> u64 {
+    common::printed_seed(test, 0x0F1C_ED00_2019_0001)
 }
 
 /// Checks one quantisation of `raw` (with `from_frac` fraction bits) into `out`.
@@ -316,7 +301,7 @@ fn check_quantize(raw: i128, from_frac: i32, out: Format, what: &str) {
 
 #[test]
 fn quantize_matches_the_fixed_crate_for_every_default_format_and_mode() {
-    let mut rng = Rng(seed());
+    let mut rng = Rng(seed("quantize_matches_the_fixed_crate"));
     let formats = default_formats();
     assert!(
         formats.len() >= 8,
@@ -332,7 +317,7 @@ fn quantize_matches_the_fixed_crate_for_every_default_format_and_mode() {
                 for extra in [0, 1, 2, 3, 7, 16, 31, 40] {
                     let from_frac = i32::from(out.frac) + extra;
                     for _ in 0..200 {
-                        let base = i128::from(rng.code(out)) << extra;
+                        let base = i128::from(code(&mut rng, out)) << extra;
                         // Every remainder class near the rounding edges: exact, just below,
                         // at and just above one half.
                         let half = if extra > 0 { 1i128 << (extra - 1) } else { 0 };
@@ -365,7 +350,7 @@ fn quantize_matches_the_fixed_crate_for_every_default_format_and_mode() {
 
 #[test]
 fn products_and_sums_match_the_fixed_crate() {
-    let mut rng = Rng(seed() ^ 0x5555);
+    let mut rng = Rng(seed("products_and_sums_match_the_fixed_crate") ^ 0x5555);
     let formats = default_formats();
     let mut checked = 0u64;
     for &fa in &formats {
@@ -375,7 +360,7 @@ fn products_and_sums_match_the_fixed_crate() {
                 for q in QUANTS {
                     let out = out.with_quant(q);
                     for _ in 0..40 {
-                        let (a, b) = (rng.code(fa), rng.code(fb));
+                        let (a, b) = (code(&mut rng, fa), code(&mut rng, fb));
                         let mut ov = Overflows::new(&["s"]);
                         // The exact product as `fixed` computes it: integers (no fraction
                         // bits), so the product of the codes is exact in 128 bits.
