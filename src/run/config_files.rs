@@ -57,7 +57,15 @@ fn parse<T: DeserializeOwned>(what: &'static str, path: &Path) -> Result<T, Conf
         path: path.to_path_buf(),
         source,
     })?;
-    ron::from_str(&text).map_err(|e| ConfigFileError::Malformed {
+    parse_text(what, &text, path)
+}
+
+fn parse_text<T: DeserializeOwned>(
+    what: &'static str,
+    text: &str,
+    path: &Path,
+) -> Result<T, ConfigFileError> {
+    ron::from_str(text).map_err(|e| ConfigFileError::Malformed {
         what,
         path: path.to_path_buf(),
         line: e.position.line,
@@ -66,18 +74,41 @@ fn parse<T: DeserializeOwned>(what: &'static str, path: &Path) -> Result<T, Conf
     })
 }
 
+fn checked_datapath(cfg: DatapathConfig, path: &Path) -> Result<DatapathConfig, ConfigFileError> {
+    cfg.validate().map_err(|message| ConfigFileError::Invalid {
+        what: "datapath",
+        path: path.to_path_buf(),
+        message: message.to_string(),
+    })?;
+    Ok(cfg)
+}
+
+fn checked_hardware(cfg: HwConfig, path: &Path) -> Result<HwConfig, ConfigFileError> {
+    cfg.validate().map_err(|message| ConfigFileError::Invalid {
+        what: "hardware",
+        path: path.to_path_buf(),
+        message: message.to_string(),
+    })?;
+    Ok(cfg)
+}
+
+/// A datapath configuration from RON text already in memory (the parser fuzzer's entry, and
+/// the rules [`load_datapath`] applies); `path` only names the text in errors.
+pub fn datapath_from_text(text: &str, path: &Path) -> Result<DatapathConfig, ConfigFileError> {
+    checked_datapath(parse_text("datapath", text, path)?, path)
+}
+
+/// A hardware configuration from RON text already in memory; `path` only names it in errors.
+pub fn hardware_from_text(text: &str, path: &Path) -> Result<HwConfig, ConfigFileError> {
+    checked_hardware(parse_text("hardware", text, path)?, path)
+}
+
 /// The datapath configuration in `path`, or the documented default without one.
 pub fn load_datapath(path: Option<&Path>) -> Result<DatapathConfig, ConfigFileError> {
     let Some(p) = path else {
         return Ok(DatapathConfig::default());
     };
-    let cfg: DatapathConfig = parse("datapath", p)?;
-    cfg.validate().map_err(|message| ConfigFileError::Invalid {
-        what: "datapath",
-        path: p.to_path_buf(),
-        message: message.to_string(),
-    })?;
-    Ok(cfg)
+    checked_datapath(parse("datapath", p)?, p)
 }
 
 /// The hardware configuration in `path`, or the documented default without one.
@@ -85,11 +116,5 @@ pub fn load_hardware(path: Option<&Path>) -> Result<HwConfig, ConfigFileError> {
     let Some(p) = path else {
         return Ok(HwConfig::default());
     };
-    let cfg: HwConfig = parse("hardware", p)?;
-    cfg.validate().map_err(|message| ConfigFileError::Invalid {
-        what: "hardware",
-        path: p.to_path_buf(),
-        message: message.to_string(),
-    })?;
-    Ok(cfg)
+    checked_hardware(parse("hardware", p)?, p)
 }

@@ -11,6 +11,7 @@ mod args;
 mod bench;
 mod datapath;
 mod drift;
+mod fuzz;
 mod hardware;
 mod run;
 mod stress;
@@ -52,6 +53,10 @@ enum Command {
     /// Error over animation run time: fixed-point pose paths over a long animation
     /// (docs/drift.md); writes drift.csv, drift.json and drift.png.
     Drift(drift::DriftArgs),
+    /// Seeded mutation fuzzing of the input parsers (.vox, scene, hardware and datapath RON):
+    /// every input must end in a result or a clear error; panics and hangs are saved and
+    /// fail the run (docs/fuzz.md).
+    Fuzz(fuzz::FuzzArgs),
     /// Write HDL test vectors of every stage ($readmemh hex, JSON manifests, SystemVerilog
     /// packages) from adversarial cases, a real frame and seeded random stimulus
     /// (docs/vectors.md).
@@ -105,6 +110,7 @@ fn main() -> ExitCode {
         Some(Command::Datapath(a)) => datapath::datapath_command(a),
         Some(Command::Hardware(a)) => hardware::hardware_command(a),
         Some(Command::Drift(a)) => drift::drift_command(a),
+        Some(Command::Fuzz(a)) => fuzz::fuzz_command(a),
         Some(Command::Vectors(a)) => vectors::vectors_command(a),
         Some(Command::Stress(a)) => stress::stress_command(a),
         Some(Command::Sweep(a)) => sweep::sweep_command(a),
