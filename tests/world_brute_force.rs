@@ -10,7 +10,9 @@
 //! colour) must match the nearest solid voxel found by slab-testing every solid voxel of
 //! every instance as an oriented box in world space.
 //!
-//! Why the oracle is independent: it re-derives the camera ray from the camera basis, never
+//! Why the oracle is independent: it derives the camera basis and every pose from the numbers
+//! the RON text was written from (R = Rz·Ry·Rx multiplied out by hand, exact at multiples of
+//! 90°; the basis by the documented cross products), re-derives each pixel's ray, never
 //! transforms the ray into an instance's frame, uses no bounding spheres, no sorting, no
 //! early termination and no octree: each voxel's world box (centre = pose.centre +
 //! R·local centre, axes = R's columns, half size = half_extent/2^depth) is tested on its own.
@@ -112,7 +114,20 @@ enum Kind {
     AxisAligned,
 }
 
-fn random_scene(rng: &mut SplitMix64, kind: Kind) -> String {
+/// The numbers a random scene's RON text was written from, kept so that the oracle derives
+/// the camera basis and every pose from them (by the formulas of docs/scene-format.md),
+/// never from the scene code under test.
+struct SceneNumbers {
+    cam_pos: [f64; 3],
+    look_at: [f64; 3],
+    vfov_deg: f64,
+    /// Each asset's `half_extent`, where the text gives one.
+    asset_half: Vec<Option<f64>>,
+    /// Per instance: asset index, translation, rotation in degrees, scale.
+    instances: Vec<(usize, [f64; 3], [f64; 3], [f64; 3])>,
+}
+
+fn random_scene(rng: &mut SplitMix64, kind: Kind) -> (String, SceneNumbers) {
     let n_assets = 1 + rng.below(3) as usize;
     let mut text = String::new();
     let cam_pos = match kind {
@@ -145,6 +160,13 @@ fn random_scene(rng: &mut SplitMix64, kind: Kind) -> String {
         _ => [0, 1, 2].map(|_| rng.range(-0.3, 0.3)),
     };
     let vfov = rng.range(35.0, 70.0);
+    let mut numbers = SceneNumbers {
+        cam_pos,
+        look_at,
+        vfov_deg: vfov,
+        asset_half: Vec::new(),
+        instances: Vec::new(),
+    };
     writeln!(
         text,
         "(resolution: ({WIDTH}, {HEIGHT}), frames: 1,\n camera: [(frame: 0, position: {}, look_at: {}, vfov_deg: {})],\n assets: [",
@@ -155,12 +177,17 @@ fn random_scene(rng: &mut SplitMix64, kind: Kind) -> String {
     .expect("writing to a String");
     for a in 0..n_assets {
         let depth = 3 + rng.below(3);
-        let half = if kind == Kind::AxisAligned {
-            "Some(1.0)".to_string()
+        let half_value = if kind == Kind::AxisAligned {
+            Some(1.0)
         } else if rng.chance(0.5) {
-            format!("Some({})", f(rng.range(0.95, 1.3)))
+            Some(rng.range(0.95, 1.3))
         } else {
-            "None".to_string()
+            None
+        };
+        numbers.asset_half.push(half_value);
+        let half = match half_value {
+            Some(h) => format!("Some({})", f(h)),
+            None => "None".to_string(),
         };
         writeln!(
             text,
@@ -185,10 +212,12 @@ fn random_scene(rng: &mut SplitMix64, kind: Kind) -> String {
                 [0, 1, 2].map(|_| rng.range(0.4, 1.8)),
             )
         };
+        let asset = rng.below(n_assets as u64) as usize;
+        numbers.instances.push((asset, t, r, s));
         writeln!(
             text,
             "  (name: \"i{i}\", asset: \"a{}\", keys: [(frame: 0, translation: {}, rotation_deg: {}, scale: {})]),",
-            rng.below(n_assets as u64),
+            asset,
             v3(t),
             v3(r),
             v3(s)
@@ -196,7 +225,70 @@ fn random_scene(rng: &mut SplitMix64, kind: Kind) -> String {
         .expect("writing to a String");
     }
     text.push_str(" ],\n)\n");
-    text
+    (text, numbers)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Camera and poses from the scene's numbers (docs/scene-format.md), written here by hand
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn normalised(v: [f64; 3]) -> [f64; 3] {
+    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    v.map(|x| x / len)
+}
+
+/// The pinhole's basis: forward towards look_at, right = forward × up hint (the default hint
+/// (0, 1, 0), as the random scenes give none), up = right × forward.
+fn camera_from_numbers(n: &SceneNumbers) -> CameraBasis {
+    let forward = normalised(std::array::from_fn(|k| n.look_at[k] - n.cam_pos[k]));
+    let right = normalised(cross(forward, [0.0, 1.0, 0.0]));
+    CameraBasis {
+        position: n.cam_pos,
+        forward,
+        right,
+        up: cross(right, forward),
+        tan_half_vfov: (n.vfov_deg.to_radians() / 2.0).tan(),
+    }
+}
+
+/// cos and sin of an angle in degrees, exact at multiples of 90° (the axis-aligned scenes).
+fn cos_sin_deg(deg: f64) -> (f64, f64) {
+    let quarter = deg / 90.0;
+    if quarter == quarter.round() {
+        match (quarter as i64).rem_euclid(4) {
+            0 => (1.0, 0.0),
+            1 => (0.0, 1.0),
+            2 => (-1.0, 0.0),
+            _ => (0.0, -1.0),
+        }
+    } else {
+        let r = deg.to_radians();
+        (r.cos(), r.sin())
+    }
+}
+
+/// The rotation's columns (local axes in world coordinates) for Euler angles (α, β, γ) in
+/// degrees about x, then y, then z: R = Rz(γ)·Ry(β)·Rx(α), multiplied out by hand.
+fn axes_from_euler(deg: [f64; 3]) -> [[f64; 3]; 3] {
+    let (ca, sa) = cos_sin_deg(deg[0]);
+    let (cb, sb) = cos_sin_deg(deg[1]);
+    let (cg, sg) = cos_sin_deg(deg[2]);
+    // Rows of R:
+    //   [cg·cb, cg·sb·sa − sg·ca, cg·sb·ca + sg·sa]
+    //   [sg·cb, sg·sb·sa + cg·ca, sg·sb·ca − cg·sa]
+    //   [−sb,   cb·sa,            cb·ca           ]
+    [
+        [cg * cb, sg * cb, -sb],
+        [cg * sb * sa - sg * ca, sg * sb * sa + cg * ca, cb * sa],
+        [cg * sb * ca + sg * sa, sg * sb * ca - cg * sa, cb * ca],
+    ]
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -344,7 +436,7 @@ fn reference_frames_match_world_space_brute_force() {
             _ => Kind::Outside,
         };
         let mut rng = SplitMix64::derive(seed, &format!("world scene {n}"));
-        let text = random_scene(&mut rng, kind);
+        let (text, numbers) = random_scene(&mut rng, kind);
         let context = format!("scene {n} ({kind:?}) of seed = {seed}:\n{text}");
         let scene = Scene::from_ron(&text, "test", Path::new("."))
             .unwrap_or_else(|e| panic!("{context}\n{e}"));
@@ -395,34 +487,35 @@ fn reference_frames_match_world_space_brute_force() {
                 image.to_leaf_set().coords().collect()
             })
             .collect();
+        // Poses from the RON numbers: the pivot is at the octree centre in these scenes, so
+        // the centre is the translation; the half extents are the scale times the asset's
+        // half size — the text's half_extent where it gives one (checked against the built
+        // asset), else the built asset's (data: its bounds plus 2 %, like the voxel list).
         let mut instances = Vec::new();
         let mut attrs = Vec::new();
-        for (pose, &ai) in state.poses.iter().zip(&scene.instance_asset) {
-            let m = pose.world_from_local;
+        for &(ai, t, r, sc) in &numbers.instances {
+            let built_half = assets[ai].half_size;
+            let half = match numbers.asset_half[ai] {
+                Some(h) => {
+                    assert_eq!(h, built_half, "{context}\nasset {ai}'s half size");
+                    h
+                }
+                None => built_half,
+            };
             instances.push(WorldInstance {
-                axes: [
-                    m.x_axis.to_array(),
-                    m.y_axis.to_array(),
-                    m.z_axis.to_array(),
-                ],
-                centre: pose.centre.to_array(),
-                half_extent: pose.half_extent.to_array(),
+                axes: axes_from_euler(r),
+                centre: t,
+                half_extent: sc.map(|k| k * half),
                 depth: assets[ai].depth(),
                 voxels: leaf_lists[ai].iter().map(|&(c, _)| c).collect(),
             });
             attrs.push(leaf_lists[ai].iter().copied().collect::<HashMap<_, _>>());
         }
-        let cam = state.camera;
+        assert_eq!(instances.len(), state.poses.len(), "{context}");
         let oracle_scene = OracleScene {
             instances,
             attrs,
-            camera: CameraBasis {
-                position: cam.position.to_array(),
-                forward: cam.forward.to_array(),
-                right: cam.right.to_array(),
-                up: cam.up.to_array(),
-                tan_half_vfov: cam.tan_half_vfov,
-            },
+            camera: camera_from_numbers(&numbers),
         };
         // Pixels in parallel (the brute force is the slow part); results are collected in
         // pixel order, so the outcome does not depend on scheduling.
