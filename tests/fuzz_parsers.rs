@@ -43,13 +43,26 @@ fn twenty_thousand_mutated_inputs_end_in_a_result_or_an_error() {
     assert_eq!(s.panics(), 0, "inputs panicked (see FOUND lines above)");
     assert_eq!(s.hangs(), 0, "an input hung (see FOUND lines above)");
     for (t, r) in &s.reports {
-        assert!(r.seeds_rejected.is_empty(), "{}: {:?}", t.name(), r.seeds_rejected);
+        assert!(
+            r.seeds_rejected.is_empty(),
+            "{}: {:?}",
+            t.name(),
+            r.seeds_rejected
+        );
         // Both outcomes are reached: mutations that keep inputs valid and ones that break them.
         assert!(r.accepted > 0 && r.rejected > 0, "{}: {r:?}", t.name());
     }
     if vox_dir.is_some() {
-        let vox = &s.reports.iter().find(|(t, _)| *t == Target::Vox).expect("vox").1;
-        assert!(vox.inputs > INPUTS_PER_TARGET + 5, "the shared models were seeds");
+        let vox = &s
+            .reports
+            .iter()
+            .find(|(t, _)| *t == Target::Vox)
+            .expect("vox")
+            .1;
+        assert!(
+            vox.inputs > INPUTS_PER_TARGET + 5,
+            "the shared models were seeds"
+        );
     }
     if let Some(peak) = s.peak_rss {
         assert!(peak < MAX_PEAK_RSS, "peak resident memory {peak} bytes");
@@ -76,7 +89,10 @@ fn the_command_rejects_bad_options_and_replays_an_input() {
     std::fs::write(&input, "(frames: NaN)").expect("write input");
     let p = input.to_string_lossy().into_owned();
     let two = sim(&["fuzz", "--replay", &p]);
-    assert!(!two.status.success(), "--replay without one --target is an error");
+    assert!(
+        !two.status.success(),
+        "--replay without one --target is an error"
+    );
     let one = sim(&["fuzz", "--replay", &p, "--target", "scene"]);
     let out = String::from_utf8_lossy(&one.stdout);
     assert!(one.status.success(), "{out}");
@@ -87,6 +103,9 @@ fn the_command_rejects_bad_options_and_replays_an_input() {
     ]);
     let out = String::from_utf8_lossy(&small.stdout);
     assert!(small.status.success(), "{out}");
-    assert!(out.contains("404 inputs, 0 panics, 0 hangs, seed 1"), "{out}");
+    assert!(
+        out.contains("404 inputs, 0 panics, 0 hangs, seed 1"),
+        "{out}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
