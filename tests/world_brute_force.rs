@@ -123,8 +123,16 @@ struct SceneNumbers {
     vfov_deg: f64,
     /// Each asset's `half_extent`, where the text gives one.
     asset_half: Vec<Option<f64>>,
-    /// Per instance: asset index, translation, rotation in degrees, scale.
-    instances: Vec<(usize, [f64; 3], [f64; 3], [f64; 3])>,
+    /// Per instance.
+    instances: Vec<InstanceNumbers>,
+}
+
+/// One instance's key: asset index, translation, rotation in degrees, scale.
+struct InstanceNumbers {
+    asset: usize,
+    translation: [f64; 3],
+    rotation_deg: [f64; 3],
+    scale: [f64; 3],
 }
 
 fn random_scene(rng: &mut SplitMix64, kind: Kind) -> (String, SceneNumbers) {
@@ -213,7 +221,12 @@ fn random_scene(rng: &mut SplitMix64, kind: Kind) -> (String, SceneNumbers) {
             )
         };
         let asset = rng.below(n_assets as u64) as usize;
-        numbers.instances.push((asset, t, r, s));
+        numbers.instances.push(InstanceNumbers {
+            asset,
+            translation: t,
+            rotation_deg: r,
+            scale: s,
+        });
         writeln!(
             text,
             "  (name: \"i{i}\", asset: \"a{}\", keys: [(frame: 0, translation: {}, rotation_deg: {}, scale: {})]),",
@@ -493,7 +506,8 @@ fn reference_frames_match_world_space_brute_force() {
         // asset), else the built asset's (data: its bounds plus 2 %, like the voxel list).
         let mut instances = Vec::new();
         let mut attrs = Vec::new();
-        for &(ai, t, r, sc) in &numbers.instances {
+        for inst in &numbers.instances {
+            let ai = inst.asset;
             let built_half = assets[ai].half_size;
             let half = match numbers.asset_half[ai] {
                 Some(h) => {
@@ -503,9 +517,9 @@ fn reference_frames_match_world_space_brute_force() {
                 None => built_half,
             };
             instances.push(WorldInstance {
-                axes: axes_from_euler(r),
-                centre: t,
-                half_extent: sc.map(|k| k * half),
+                axes: axes_from_euler(inst.rotation_deg),
+                centre: inst.translation,
+                half_extent: inst.scale.map(|k| k * half),
                 depth: assets[ai].depth(),
                 voxels: leaf_lists[ai].iter().map(|&(c, _)| c).collect(),
             });
