@@ -181,7 +181,7 @@ fn small_sweep_writes_well_formed_deterministic_files() {
     assert!(score("coarse") > 10.0 * score("default"));
     assert!(score("recip_iter1") > score("default"));
     let dsp = |c: &str| -> u64 { column(header, row(&csv, c), "dsp48e2").parse().unwrap() };
-    assert_eq!(dsp("default"), 432);
+    assert_eq!(dsp("default"), 416);
     assert!(dsp("coarse") < dsp("default"));
     let pixels: u64 = column(header, row(&csv, "default"), "pixels")
         .parse()
@@ -227,7 +227,7 @@ fn bad_configs_are_refused_and_nothing_is_written() {
         ("[]", "empty"),
         (
             // A t format of 63 bits: walker.t must be at most 62 bits wide.
-            "[(name: \"wide_t\", datapath: (walker: (pos: (signed: true, width: 40, frac: 32, quant: RndConv), inv: (signed: true, width: 48, frac: 26, quant: RndConv), t: (signed: true, width: 63, frac: 31), max_steps: 100000)))]",
+            "[(name: \"wide_t\", datapath: (walker: (pos: (signed: true, width: 40, frac: 32, quant: RndConv), inv: (signed: true, width: 52, frac: 30, quant: RndConv), t: (signed: true, width: 63, frac: 31), max_steps: 100000)))]",
             "configuration \"wide_t\" is invalid: walker.t",
         ),
     ];
@@ -334,15 +334,15 @@ fn docs_match_the_built_in_list_and_the_example_file_is_valid() {
         svo_sim::studies::sweep::configs::load(&root.join("docs/sweep_configs_example.ron"))
             .unwrap_or_else(|e| panic!("{e}"));
     let names: Vec<&str> = example.iter().map(|c| c.name.as_str()).collect();
-    assert_eq!(names, ["default", "recip30_tca24"]);
+    assert_eq!(names, ["default", "former_default"]);
     assert_eq!(example[0].datapath, list[0].datapath);
-    // The example combines two built-in variants: recip_frac30's reciprocal and walker, and
-    // tca_frac24's sphere.
+    // The example's second entry is the default before `sim sweep` moved it onto the front: two
+    // built-in variants combined, recip_frac26's reciprocal and walker and tca_frac32's sphere.
     let pick = |n: &str| list.iter().find(|c| c.name == n).unwrap().datapath.clone();
-    let (r30, tca) = (pick("recip_frac30"), pick("tca_frac24"));
+    let (r26, tca) = (pick("recip_frac26"), pick("tca_frac32"));
     let combo = &example[1].datapath;
-    assert_eq!(combo.reciprocal, r30.reciprocal);
-    assert_eq!(combo.walker, r30.walker);
+    assert_eq!(combo.reciprocal, r26.reciprocal);
+    assert_eq!(combo.walker, r26.walker);
     assert_eq!(combo.sphere, tca.sphere);
     assert_eq!(combo.transform, list[0].datapath.transform);
 }

@@ -2,7 +2,7 @@
 // (manifest: frame_instances.json). Slice a row as row[<FIELD>_LSB +: <FIELD>_WIDTH].
 `timescale 1ns/1ps
 package frame_instances_vectors_pkg;
-  localparam int WORD_BITS = 746;  // bits per row
+  localparam int WORD_BITS = 738;  // bits per row
   localparam int DEPTH = 8;  // rows
   localparam int CAPTURED_FIRST = 0;
   localparam int CAPTURED_COUNT = 8;
@@ -76,32 +76,32 @@ package frame_instances_vectors_pkg;
   localparam int INSIDE_SIGNED = 0;
   localparam int INSIDE_FRAC = 48;
   localparam int INSIDE_IS_OUTPUT = 0;
-  localparam int DELTA_T_LSB = 536;  // input sQ10.32
-  localparam int DELTA_T_WIDTH = 42;
+  localparam int DELTA_T_LSB = 536;  // input sQ10.24
+  localparam int DELTA_T_WIDTH = 34;
   localparam int DELTA_T_SIGNED = 1;
-  localparam int DELTA_T_FRAC = 32;
+  localparam int DELTA_T_FRAC = 24;
   localparam int DELTA_T_IS_OUTPUT = 0;
-  localparam int REACH_LSB = 578;  // input uQ8.32
+  localparam int REACH_LSB = 570;  // input uQ8.32
   localparam int REACH_WIDTH = 40;
   localparam int REACH_SIGNED = 0;
   localparam int REACH_FRAC = 32;
   localparam int REACH_IS_OUTPUT = 0;
-  localparam int HALF_X_LSB = 618;  // input sQ8.32
+  localparam int HALF_X_LSB = 610;  // input sQ8.32
   localparam int HALF_X_WIDTH = 40;
   localparam int HALF_X_SIGNED = 1;
   localparam int HALF_X_FRAC = 32;
   localparam int HALF_X_IS_OUTPUT = 0;
-  localparam int HALF_Y_LSB = 658;  // input sQ8.32
+  localparam int HALF_Y_LSB = 650;  // input sQ8.32
   localparam int HALF_Y_WIDTH = 40;
   localparam int HALF_Y_SIGNED = 1;
   localparam int HALF_Y_FRAC = 32;
   localparam int HALF_Y_IS_OUTPUT = 0;
-  localparam int HALF_Z_LSB = 698;  // input sQ8.32
+  localparam int HALF_Z_LSB = 690;  // input sQ8.32
   localparam int HALF_Z_WIDTH = 40;
   localparam int HALF_Z_SIGNED = 1;
   localparam int HALF_Z_FRAC = 32;
   localparam int HALF_Z_IS_OUTPUT = 0;
-  localparam int IMAGE_LSB = 738;  // input
+  localparam int IMAGE_LSB = 730;  // input
   localparam int IMAGE_WIDTH = 8;
   localparam int IMAGE_SIGNED = 0;
   localparam int IMAGE_FRAC = 0;

@@ -2,7 +2,7 @@
 // (manifest: reciprocal.json). Slice a row as row[<FIELD>_LSB +: <FIELD>_WIDTH].
 `timescale 1ns/1ps
 package reciprocal_vectors_pkg;
-  localparam int WORD_BITS = 85;  // bits per row
+  localparam int WORD_BITS = 89;  // bits per row
   localparam int DEPTH = 317;  // rows
   localparam int LATENCY = 23;  // cycles, the model's default configuration
   localparam int II = 1;  // initiation interval, cycles
@@ -22,27 +22,27 @@ package reciprocal_vectors_pkg;
   localparam int SIGN_NEGATIVE_SIGNED = 0;
   localparam int SIGN_NEGATIVE_FRAC = 0;
   localparam int SIGN_NEGATIVE_IS_OUTPUT = 0;
-  localparam int INV_LSB = 33;  // output sQ22.26
-  localparam int INV_WIDTH = 48;
+  localparam int INV_LSB = 33;  // output sQ22.30
+  localparam int INV_WIDTH = 52;
   localparam int INV_SIGNED = 1;
-  localparam int INV_FRAC = 26;
+  localparam int INV_FRAC = 30;
   localparam int INV_IS_OUTPUT = 1;
-  localparam int ZERO_LSB = 81;  // output
+  localparam int ZERO_LSB = 85;  // output
   localparam int ZERO_WIDTH = 1;
   localparam int ZERO_SIGNED = 0;
   localparam int ZERO_FRAC = 0;
   localparam int ZERO_IS_OUTPUT = 1;
-  localparam int NEGATIVE_LSB = 82;  // output
+  localparam int NEGATIVE_LSB = 86;  // output
   localparam int NEGATIVE_WIDTH = 1;
   localparam int NEGATIVE_SIGNED = 0;
   localparam int NEGATIVE_FRAC = 0;
   localparam int NEGATIVE_IS_OUTPUT = 1;
-  localparam int FLUSHED_LSB = 83;  // output
+  localparam int FLUSHED_LSB = 87;  // output
   localparam int FLUSHED_WIDTH = 1;
   localparam int FLUSHED_SIGNED = 0;
   localparam int FLUSHED_FRAC = 0;
   localparam int FLUSHED_IS_OUTPUT = 1;
-  localparam int OV_LSB = 84;  // output
+  localparam int OV_LSB = 88;  // output
   localparam int OV_WIDTH = 1;
   localparam int OV_SIGNED = 0;
   localparam int OV_FRAC = 0;

@@ -2,7 +2,7 @@
 // (manifest: sphere.json). Slice a row as row[<FIELD>_LSB +: <FIELD>_WIDTH].
 `timescale 1ns/1ps
 package sphere_vectors_pkg;
-  localparam int WORD_BITS = 581;  // bits per row
+  localparam int WORD_BITS = 573;  // bits per row
   localparam int DEPTH = 87;  // rows
   localparam int LATENCY = 47;  // cycles, the model's default configuration
   localparam int II = 1;  // initiation interval, cycles
@@ -67,32 +67,32 @@ package sphere_vectors_pkg;
   localparam int INSIDE_SIGNED = 0;
   localparam int INSIDE_FRAC = 48;
   localparam int INSIDE_IS_OUTPUT = 0;
-  localparam int DELTA_T_LSB = 464;  // input sQ10.32
-  localparam int DELTA_T_WIDTH = 42;
+  localparam int DELTA_T_LSB = 464;  // input sQ10.24
+  localparam int DELTA_T_WIDTH = 34;
   localparam int DELTA_T_SIGNED = 1;
-  localparam int DELTA_T_FRAC = 32;
+  localparam int DELTA_T_FRAC = 24;
   localparam int DELTA_T_IS_OUTPUT = 0;
-  localparam int REACH_LSB = 506;  // input uQ8.32
+  localparam int REACH_LSB = 498;  // input uQ8.32
   localparam int REACH_WIDTH = 40;
   localparam int REACH_SIGNED = 0;
   localparam int REACH_FRAC = 32;
   localparam int REACH_IS_OUTPUT = 0;
-  localparam int HIT_LSB = 546;  // output
+  localparam int HIT_LSB = 538;  // output
   localparam int HIT_WIDTH = 1;
   localparam int HIT_SIGNED = 0;
   localparam int HIT_FRAC = 0;
   localparam int HIT_IS_OUTPUT = 1;
-  localparam int T_ENTER_LSB = 547;  // output uQ10.22
+  localparam int T_ENTER_LSB = 539;  // output uQ10.22
   localparam int T_ENTER_WIDTH = 32;
   localparam int T_ENTER_SIGNED = 0;
   localparam int T_ENTER_FRAC = 22;
   localparam int T_ENTER_IS_OUTPUT = 1;
-  localparam int OV_REACH_LSB = 579;  // output
+  localparam int OV_REACH_LSB = 571;  // output
   localparam int OV_REACH_WIDTH = 1;
   localparam int OV_REACH_SIGNED = 0;
   localparam int OV_REACH_FRAC = 0;
   localparam int OV_REACH_IS_OUTPUT = 1;
-  localparam int OV_T_ENTER_LSB = 580;  // output
+  localparam int OV_T_ENTER_LSB = 572;  // output
   localparam int OV_T_ENTER_WIDTH = 1;
   localparam int OV_T_ENTER_SIGNED = 0;
   localparam int OV_T_ENTER_FRAC = 0;

@@ -58,11 +58,11 @@ pub struct DatapathConfig {
 
 impl Default for WalkerConfig {
     /// Local positions as the transform's output (sQ8.32), reciprocals as the reciprocal
-    /// unit's (sQ22.26), t in sQ31.31: |t| ≤ (2·128 m)·2^21 < 2^30 with 2^-31 m resolution.
+    /// unit's (sQ22.30), t in sQ31.31: |t| ≤ (2·128 m)·2^21 < 2^30 with 2^-31 m resolution.
     fn default() -> Self {
         Self {
             pos: Format::sq(8, 32).with_quant(Quant::RndConv),
-            inv: Format::sq(22, 26).with_quant(Quant::RndConv),
+            inv: Format::sq(22, 30).with_quant(Quant::RndConv),
             t: Format::sq(31, 31),
             max_steps: 100_000,
         }

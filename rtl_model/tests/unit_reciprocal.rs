@@ -181,16 +181,16 @@ fn default_within_bound() {
     let c = ReciprocalConfig::default();
     c.validate().unwrap();
     let st = run(
-        "default sQ2.30 → sQ22.26 RndConv, t = 8, 2 it",
+        "default sQ2.30 → sQ22.30 RndConv, t = 8, 2 it",
         &c,
         200_000,
         &mut rng,
     );
     assert!(st.cases >= 200_000);
     // The bound is not vacuous: the default delivers 1/d to ~2 LSB near |d| = 1 and to
-    // better than 2^-26 relative everywhere.
+    // better than 2^-30 relative everywhere.
     let b = error_bound(&c);
-    assert!(b.rel < 2f64.powi(-26), "rel {}", b.rel);
+    assert!(b.rel < 2f64.powi(-30), "rel {}", b.rel);
     assert!(b.at(2.0) < 3.0 * c.output.lsb());
     println!("default: {:.2?}", t.elapsed());
 }
@@ -303,25 +303,25 @@ fn exhaustive_16_bit_inputs() {
 #[test]
 fn pinned_codes_of_the_default() {
     // Worked by hand in docs/units/reciprocal.md: d = 1 → seed 1022/1024 → y1 = 1 − 2^-18 →
-    // y2 = 1 − 2^-28 → rounds (nearest) to exactly 1.0; truncation gives 1 − 2^-26.
+    // y2 = 1 − 2^-32 → rounds (nearest) to exactly 1.0; truncation gives 1 − 2^-30.
     let c = ReciprocalConfig::default();
     let mut ov = Overflows::new(&["inv_d"]);
     let s = SignalId(0);
     let one = 1i64 << 30;
     let r = reciprocal(one, false, &c, &mut ov, s);
-    assert_eq!((r.raw, r.zero, r.negative), (1 << 26, false, false));
-    assert_eq!(reciprocal(-one, false, &c, &mut ov, s).raw, -(1 << 26));
+    assert_eq!((r.raw, r.zero, r.negative), (1 << 30, false, false));
+    assert_eq!(reciprocal(-one, false, &c, &mut ov, s).raw, -(1 << 30));
     let trn = ReciprocalConfig {
-        output: Format::sq(22, 26),
+        output: Format::sq(22, 30),
         ..c
     };
-    assert_eq!(reciprocal(one, false, &trn, &mut ov, s).raw, (1 << 26) - 1);
+    assert_eq!(reciprocal(one, false, &trn, &mut ov, s).raw, (1 << 30) - 1);
     // Truncation toward −∞ is not symmetric: −1 gives exactly −1.0.
-    assert_eq!(reciprocal(-one, false, &trn, &mut ov, s).raw, -(1 << 26));
+    assert_eq!(reciprocal(-one, false, &trn, &mut ov, s).raw, -(1 << 30));
     // Largest |d|: −2 (the most negative code) → −0.5.
     assert_eq!(
         reciprocal(i64::from(i32::MIN), false, &c, &mut ov, s).raw,
-        -(1 << 25)
+        -(1 << 29)
     );
     // Just above the zero threshold 2^-21: finite, ≈ 2^21 (1 − 2^-9).
     let r = reciprocal((1 << 9) + 1, false, &c, &mut ov, s);

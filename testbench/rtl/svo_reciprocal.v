@@ -3,19 +3,23 @@
 //
 // Pipeline position: between the transform and the walker, three per (ray, candidate).
 // Default formats: d sQ2.30 (32 bits) with the transform's sign bit (so -0 is negative),
-// 1/d sQ22.26 (48 bits) rounded to nearest, ties to even, saturated; mantissa uQ1.28
-// (G = 28), seed ROM of 2^8 entries in uQ0.10 (loaded from reciprocal_seed.hex, which
-// `sim vectors` generates from the model), 2 iterations.
+// 1/d sQ22.30 (52 bits) rounded to nearest, ties to even, saturated; mantissa uQ1.32
+// (G = 32, 33 bits: the 32-bit input normalised, one zero bit below), seed ROM of 2^8
+// entries in uQ0.10 (loaded from reciprocal_seed.hex, which `sim vectors` generates from the
+// model), 2 iterations.
 //
 // Stages (rtl_model units::reciprocal::latency_cycles, 23 cycles, II = 1):
 //   1        sign (the code's, or sign_negative for code 0), a = |d|, zero = a <= 2^9
-//   2        leading-zero count, normalise: m = top 29 bits (uQ1.28), idx = next 8 bits
-//   3        y0 = ROM[idx], placed in uQ1.28
-//   4..12    iteration 1: P = m*y (4), q = 2 - floor(P) (1), Y = y*q (4), y = floor(Y)
-//   13..21   iteration 2, the same
-//   22       +-y * 2^(lead - 30) to 26 fraction bits: a left shift, or a right shift of up to
+//   2        leading-zero count, normalise: m = {32 normalised bits, 0} (uQ1.32), idx = the
+//            8 bits after the leading one
+//   3        y0 = ROM[idx] (uQ0.10; its value in uQ1.32 is y0 * 2^22)
+//   4..12    iteration 1: P = m*y (4), q = 2 - floor(P) (1), Y = y*q (4), y = floor(Y); the
+//            seed enters its two products as the 10-bit code (33 x 10 and 10 x 33 bits), the
+//            shift by 22 folded into the truncations, so they are narrow multipliers
+//   13..21   iteration 2, the same on 33-bit y (33 x 33 bits)
+//   22       +-y * 2^(lead - 30) to 30 fraction bits: a left shift, or a right shift of up to
 //            3 bits rounded half to even
-//   23       saturate to 48 bits (flagged); zero components give +-max
+//   23       saturate to 52 bits (flagged); zero components give +-max
 `timescale 1ns/1ps
 `default_nettype none
 module svo_reciprocal #(
@@ -27,13 +31,14 @@ module svo_reciprocal #(
     input  wire [31:0]  in_d,            // sQ2.30
     input  wire         in_sign_negative,
     output wire         out_valid,
-    output reg  [47:0]  out_inv,         // sQ22.26
+    output reg  [51:0]  out_inv,         // sQ22.30
     output reg          out_zero,
     output reg          out_negative,
     output reg          out_flushed,
     output reg          out_ov
 );
-    localparam G = 28;                   // mantissa fraction bits
+    localparam G = 32;                   // mantissa fraction bits (output fraction bits + 2)
+    localparam SEED = 10;                // seed code bits, uQ0.10
     localparam PROD = 4;                 // cycles of one multi-slice DSP product
     localparam LATENCY = 23;
 
@@ -65,12 +70,12 @@ module svo_reciprocal #(
     endfunction
     wire [5:0]  lz      = lzc32(a1);
     wire [31:0] norm    = a1 << lz;
-    reg  [28:0] m2;
+    reg  [G:0]  m2;
     reg  [7:0]  idx2;
     reg  [4:0]  lead2;
     reg         neg2, zero2, flushed2;
     always @(posedge clk) begin
-        m2       <= norm[31:3];
+        m2       <= {norm, 1'b0};
         idx2     <= norm[30:23];
         lead2    <= 5'd31 - lz[4:0];
         neg2     <= neg1;
@@ -79,18 +84,20 @@ module svo_reciprocal #(
     end
 
     // ---- Stage 3: seed ROM (registered read). --------------------------------------------
-    reg [31:0] y3;
-    reg [28:0] m3;
+    reg [SEED-1:0] y3;
+    reg [G:0]      m3;
     always @(posedge clk) begin
-        y3 <= {4'b0, rom[idx2], 18'b0};                       // uQ0.10 -> uQ1.28
+        y3 <= rom[idx2];                                      // uQ0.10 (= y0 * 2^22 in uQ1.32)
         m3 <= m2;
     end
 
     // ---- Stages 4..21: two Newton-Raphson iterations. ------------------------------------
-    wire [31:0] y12, y21;
-    wire [28:0] m12, m21;
-    svo_newton_step #(.G(G), .PROD(PROD)) it1 (.clk(clk), .m_in(m3), .y_in(y3), .m_out(m12), .y_out(y12));
-    svo_newton_step #(.G(G), .PROD(PROD)) it2 (.clk(clk), .m_in(m12), .y_in(y12), .m_out(m21), .y_out(y21));
+    wire [G:0] y12, y21;
+    wire [G:0] m12, m21;
+    svo_newton_step #(.G(G), .YW(SEED), .YF(SEED), .PROD(PROD)) it1 (
+        .clk(clk), .m_in(m3), .y_in(y3), .m_out(m12), .y_out(y12));
+    svo_newton_step #(.G(G), .YW(G + 1), .YF(G), .PROD(PROD)) it2 (
+        .clk(clk), .m_in(m12), .y_in(y12), .m_out(m21), .y_out(y21));
     wire [4:0] lead21;
     wire       neg21, zero21, flushed21;
     svo_delay #(.W(8), .D(19)) side21 (
@@ -99,19 +106,20 @@ module svo_reciprocal #(
     // m21 is not needed after the last iteration.
 
     // ---- Stage 22: denormalise and round. -------------------------------------------------
-    wire signed [33:0] code = neg21 ? -$signed({2'b0, y21}) : $signed({2'b0, y21});
-    reg  signed [53:0] val22;
+    wire signed [G+1:0] code = neg21 ? -$signed({1'b0, y21}) : $signed({1'b0, y21});
+    reg  signed [57:0] val22;
     reg                neg22, zero22, flushed22;
     reg         [1:0]  s;
-    reg  signed [33:0] fl;
+    reg  signed [G+1:0] fl;
     reg         [2:0]  rem, half;
+    wire        [4:0]  sh21 = lead21 - 5'd28;
     always @(*) begin
         s    = 2'd0;
         fl   = code;
         rem  = 3'd0;
         half = 3'd0;
         if (lead21 > 5'd28) begin
-            s    = lead21 - 5'd28;                            // 1..3
+            s    = sh21[1:0];                                 // 1..3
             fl   = code >>> s;
             rem  = code[2:0] & ((3'd1 << s) - 3'd1);
             half = 3'd1 << (s - 2'd1);
@@ -120,17 +128,17 @@ module svo_reciprocal #(
     wire up = (lead21 > 5'd28) && ((rem > half) || (rem == half && fl[0]));
     always @(posedge clk) begin
         if (lead21 > 5'd28)
-            val22 <= $signed(fl) + $signed({53'd0, up});
+            val22 <= $signed({{(56 - G){fl[G+1]}}, fl} + {57'd0, up});
         else
-            val22 <= $signed(code) <<< (5'd28 - lead21);
+            val22 <= $signed({{(56 - G){code[G+1]}}, code} << (5'd28 - lead21));
         neg22     <= neg21;
         zero22    <= zero21;
         flushed22 <= flushed21;
     end
 
     // ---- Stage 23: saturate; zero components. --------------------------------------------
-    localparam signed [53:0] MAX = 54'sd140737488355327;    //  2^47 - 1
-    localparam signed [53:0] MIN = -54'sd140737488355328;   // -2^47
+    localparam signed [57:0] MAX = 58'sd2251799813685247;   //  2^51 - 1
+    localparam signed [57:0] MIN = -58'sd2251799813685248;  // -2^51
     wire sat_hi = val22 > MAX;
     wire sat_lo = val22 < MIN;
     always @(posedge clk) begin
@@ -138,42 +146,52 @@ module svo_reciprocal #(
         out_negative <= neg22;
         out_flushed  <= flushed22;
         if (zero22) begin
-            out_inv <= neg22 ? 48'h8000_0000_0001 : 48'h7fff_ffff_ffff;
+            out_inv <= neg22 ? 52'h8_0000_0000_0001 : 52'h7_ffff_ffff_ffff;
             out_ov  <= 1'b0;
         end else begin
-            out_inv <= sat_hi ? 48'h7fff_ffff_ffff : sat_lo ? 48'h8000_0000_0000 : val22[47:0];
+            out_inv <= sat_hi ? 52'h7_ffff_ffff_ffff : sat_lo ? 52'h8_0000_0000_0000 : val22[51:0];
             out_ov  <= sat_hi | sat_lo;
         end
     end
 endmodule
 
 // svo_newton_step: one Newton-Raphson iteration y <- y * (2 - m*y), every product truncated
-// to G fraction bits (uQ1.G operands). 2 * PROD + 1 cycles: P = m*y, q = 2 - floor(P),
-// Y = y*q. The model's invariants (y <= 1, p < 2) keep q in (0, 2); the subtraction still
-// clamps at 0 as the model's saturating_sub does.
+// to G fraction bits (uQ1.G operands). The incoming y arrives as a YW-bit code with YF
+// fraction bits (YF <= G; the seed: 10 and 10), so its products are YW bits wide rather than
+// G + 1: y * 2^(G - YF) is the uQ1.G value, and the shift is folded into the truncations
+// (the bits it would append are zero, so floor(m*y / 2^YF) is floor(m*y' / 2^G) exactly).
+// 2 * PROD + 1 cycles: P = m*y, q = 2 - floor(P), Y = y*q.
+// Widths: the model's invariants (docs/units/reciprocal.md: y in [1/2, 1], m in [1, 2),
+// p = floor(m*y) < 2, so q = 2 - p in (0, 2)) keep p in G + 2 bits (uQ2.G), q and the new y
+// in G + 1 (uQ1.G); the subtraction still clamps at 0 as the model's saturating_sub does.
 module svo_newton_step #(
-    parameter G = 28,
+    parameter G = 32,
+    parameter YW = G + 1,
+    parameter YF = G,
     parameter PROD = 4
 ) (
-    input  wire        clk,
-    input  wire [G:0]  m_in,
-    input  wire [31:0] y_in,
-    output wire [G:0]  m_out,
-    output wire [31:0] y_out
+    input  wire          clk,
+    input  wire [G:0]    m_in,
+    input  wire [YW-1:0] y_in,
+    output wire [G:0]    m_out,
+    output wire [G:0]    y_out
 );
-    wire [G+32:0] p_now = m_in * y_in;
-    wire [G+32:0] p_full;
-    svo_delay #(.W(G + 33), .D(PROD)) p_line (.clk(clk), .rst(1'b0), .d(p_now), .q(p_full));
-    wire [32:0] p   = p_full >> G;                     // floor, uQ2.G
-    wire [32:0] two = 33'd2 << G;
-    reg  [32:0] q;
-    always @(posedge clk) q <= (p > two) ? 33'd0 : two - p;
-    wire [31:0] y_d;
-    svo_delay #(.W(32), .D(PROD + 1)) y_line (.clk(clk), .rst(1'b0), .d(y_in), .q(y_d));
-    wire [64:0] yq_now = y_d * q;
-    wire [64:0] yq;
-    svo_delay #(.W(65), .D(PROD)) yq_line (.clk(clk), .rst(1'b0), .d(yq_now), .q(yq));
-    assign y_out = yq >> G;
+    // One bit above the product, so that p's G + 2 bits can be selected when YF = YW.
+    wire [G+YW:0]   p_mul = m_in * y_in;
+    wire [G+YW+1:0] p_now = {1'b0, p_mul};
+    wire [G+YW+1:0] p_full;
+    svo_delay #(.W(G + YW + 2), .D(PROD)) p_line (.clk(clk), .rst(1'b0), .d(p_now), .q(p_full));
+    wire [G+1:0] p   = p_full[YF +: G + 2];              // floor, uQ2.G
+    wire [G+1:0] two = {2'b10, {G{1'b0}}};
+    wire [G+1:0] q_now = (p > two) ? {(G + 2){1'b0}} : two - p;
+    reg  [G:0]   q;                                      // q < 2: its top bit is always 0
+    always @(posedge clk) q <= q_now[G:0];
+    wire [YW-1:0] y_d;
+    svo_delay #(.W(YW), .D(PROD + 1)) y_line (.clk(clk), .rst(1'b0), .d(y_in), .q(y_d));
+    wire [YW+G:0] yq_now = y_d * q;
+    wire [YW+G:0] yq;
+    svo_delay #(.W(YW + G + 1), .D(PROD)) yq_line (.clk(clk), .rst(1'b0), .d(yq_now), .q(yq));
+    assign y_out = yq[YF +: G + 1];                      // floor, uQ1.G
     svo_delay #(.W(G + 1), .D(2 * PROD + 1)) m_line (.clk(clk), .rst(1'b0), .d(m_in), .q(m_out));
 endmodule
 `default_nettype wire

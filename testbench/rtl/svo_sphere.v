@@ -3,7 +3,7 @@
 //
 // Pipeline position: after ray generation, once per (ray, instance), in world space; the
 // entry distance is the sorter's key. Default formats: positions sQ8.32 (40 bits), direction
-// sQ2.30 (32), t_ca sQ10.32 (42, truncated), squares uQ16.48 (64), entry uQ10.22 (32,
+// sQ2.30 (32), t_ca sQ10.24 (34, truncated), squares uQ16.48 (64), entry uQ10.22 (32,
 // truncated). The host programs per instance T (threshold), the inside threshold, and the
 // constants dt and reach; they arrive with each transaction.
 //
@@ -12,14 +12,16 @@
 //   1        l = c - o (exact, 41 bits); far = some |l_k| > reach (kept, t_enter 0, flagged)
 //   2..5     l_k * d_k and l_k * l_k (one DSP product: 4 cycles)
 //   6, 7     the dot sums, (p0 + p1) + p2
-//   8        t_ca = floor(l.d) into sQ10.32, saturated
-//   9..12    t_ca^2
-//   13       p2 = l.l - t_ca^2 (64 fraction bits); cull iff p2 > T (at the same scale);
+//   8        t_ca = floor(l.d) into sQ10.24, saturated
+//   9..12    t_ca^2 (48 fraction bits)
+//   13       p2 = l.l - t_ca^2 (64 fraction bits: t_ca^2 shifted up by 16); cull iff p2 > T
+//            (at the same scale);
 //            radicand = floor((T - max(p2, 0)) / 2^16) in uQ16.48; inside iff l.l <= inside
 //   14..45   svo_sqrt: root = floor(sqrt(radicand)), uQ8.24
-//   46       behind iff t_ca + dt + root < 0 (culled); t = t_ca - dt - root (32 fraction bits)
+//   46       behind iff t_ca + dt + root < 0 (culled); t = t_ca - dt - root (24 fraction bits,
+//            those of t_ca and of the root alike)
 //   47       decide in the model's order: far, culled, behind, inside, else
-//            t_enter = floor(max(t, 0) / 2^10), saturated to 32 bits (flagged)
+//            t_enter = floor(max(t, 0) / 2^2), saturated to 32 bits (flagged)
 `timescale 1ns/1ps
 `default_nettype none
 module svo_sphere (
@@ -31,7 +33,7 @@ module svo_sphere (
     input  wire [3*40-1:0]  in_c,          // sphere centre {z, y, x}, sQ8.32
     input  wire [63:0]      in_threshold,  // T, uQ16.48
     input  wire [63:0]      in_inside,     // inside threshold, uQ16.48
-    input  wire [41:0]      in_delta_t,    // dt, sQ10.32
+    input  wire [33:0]      in_delta_t,    // dt, sQ10.24
     input  wire [39:0]      in_reach,      // reach, sQ8.32
     output wire             out_valid,
     output reg              out_hit,
@@ -52,7 +54,7 @@ module svo_sphere (
     reg               far1;
     reg        [79:0] reach2_1;   // reach^2 (64 fraction bits), for the length test at stage 13
     reg        [63:0] thr1, ins1;
-    reg signed [41:0] dt1;
+    reg signed [33:0] dt1;
     wire signed [40:0] l_now [0:2];
     wire signed [40:0] reach_s = $signed({1'b0, in_reach});
     genvar k;
@@ -92,8 +94,8 @@ module svo_sphere (
     wire        far13;
     wire [79:0] reach2_13;
     wire [63:0] thr13, ins13;
-    wire [41:0] dt13;
-    svo_delay #(.W(1 + 80 + 64 + 64 + 42), .D(11)) side13 (
+    wire [33:0] dt13;
+    svo_delay #(.W(1 + 80 + 64 + 64 + 34), .D(11)) side13 (
         .clk(clk), .rst(1'b0), .d({far1, reach2_1, thr1, ins1, dt1}),
         .q({far13, reach2_13, thr13, ins13, dt13}));
 
@@ -111,28 +113,28 @@ module svo_sphere (
         l2_7  <= l2_01 + {2'b00, pl2_6};
     end
 
-    // ---- Stage 8: t_ca = floor(l.d / 2^30), saturated into sQ10.32. ------------------
-    wire signed [74:0] tca_fl = dot7 >>> 30;
-    wire tca_hi = tca_fl > 75'sd2199023255551;       //  2^41 - 1
-    wire tca_lo = tca_fl < -75'sd2199023255552;      // -2^41
-    reg signed [41:0] tca8;
+    // ---- Stage 8: t_ca = floor(l.d / 2^38), saturated into sQ10.24. ------------------
+    wire signed [74:0] tca_fl = dot7 >>> 38;
+    wire tca_hi = tca_fl > 75'sd8589934591;          //  2^33 - 1
+    wire tca_lo = tca_fl < -75'sd8589934592;         // -2^33
+    reg signed [33:0] tca8;
     reg        [83:0] l2_8;
     always @(posedge clk) begin
-        tca8 <= tca_hi ? 42'sh1ff_ffff_ffff : tca_lo ? -42'sh200_0000_0000 : tca_fl[41:0];
+        tca8 <= tca_hi ? 34'sh1_ffff_ffff : tca_lo ? -34'sh2_0000_0000 : tca_fl[33:0];
         l2_8 <= l2_7;
     end
 
-    // ---- Stages 9..12: t_ca^2. ---------------------------------------------------------
-    wire        [83:0] tca2_now = tca8 * tca8;
-    wire        [83:0] tca2;
+    // ---- Stages 9..12: t_ca^2 (uQ20.48: below 2^66, so 67 bits hold it). --------------
+    wire signed [67:0] tca2_now = tca8 * tca8;
+    wire signed [67:0] tca2;
     wire        [83:0] l2_12;
-    wire signed [41:0] tca12;
-    svo_delay #(.W(84), .D(PROD)) tca2_line (.clk(clk), .rst(1'b0), .d(tca2_now), .q(tca2));
-    svo_delay #(.W(84 + 42), .D(PROD)) side12 (
+    wire signed [33:0] tca12;
+    svo_delay #(.W(68), .D(PROD)) tca2_line (.clk(clk), .rst(1'b0), .d(tca2_now), .q(tca2));
+    svo_delay #(.W(84 + 34), .D(PROD)) side12 (
         .clk(clk), .rst(1'b0), .d({l2_8, tca8}), .q({l2_12, tca12}));
 
     // ---- Stage 13: p2, cull, radicand, inside. -----------------------------------------
-    wire signed [85:0] p2  = $signed({2'b00, l2_12}) - $signed({2'b00, tca2});
+    wire signed [85:0] p2  = $signed({2'b00, l2_12}) - $signed({3'b000, tca2[66:0], 16'b0});
     wire signed [85:0] thr = $signed({6'b0, thr13, 16'b0});
     wire signed [85:0] p2_pos = (p2 < 0) ? 86'sd0 : p2;
     wire signed [85:0] room = thr - p2_pos;
@@ -141,7 +143,7 @@ module svo_sphere (
     wire inside_now = {2'b00, l2_12} <= {6'b0, ins13, 16'b0};
     reg  [63:0] radicand13;
     reg         cull13, inside13, far13r;
-    reg  signed [41:0] tca13, dt13r;
+    reg  signed [33:0] tca13, dt13r;
     always @(posedge clk) begin
         radicand13 <= radicand_now;
         cull13     <= cull_now;
@@ -160,26 +162,26 @@ module svo_sphere (
         .clk(clk), .rst(rst), .in_valid(1'b1), .in_x(radicand13),
         .out_valid(root_valid), .out_root(root));
     wire        far45, cull45, inside45;
-    wire signed [41:0] tca45, dt45;
-    svo_delay #(.W(3 + 42 + 42), .D(ROOT)) side45 (
+    wire signed [33:0] tca45, dt45;
+    svo_delay #(.W(3 + 34 + 34), .D(ROOT)) side45 (
         .clk(clk), .rst(1'b0), .d({far13r, cull13, inside13, tca13, dt13r}),
         .q({far45, cull45, inside45, tca45, dt45}));
 
     // ---- Stage 46: behind, t. ------------------------------------------------------------
-    wire signed [43:0] root_f = $signed({4'b0, root, 8'b0});      // 24 -> 32 fraction bits
-    reg  signed [43:0] t46;
+    wire signed [35:0] root_f = $signed({4'b0, root});            // uQ8.24, as t_ca
+    reg  signed [35:0] t46;
     reg                behind46, far46, cull46, inside46;
     always @(posedge clk) begin
-        behind46 <= ($signed({{2{tca45[41]}}, tca45}) + $signed({{2{dt45[41]}}, dt45}) + root_f) < 0;
-        t46      <= $signed({{2{tca45[41]}}, tca45}) - $signed({{2{dt45[41]}}, dt45}) - root_f;
+        behind46 <= ($signed({{2{tca45[33]}}, tca45}) + $signed({{2{dt45[33]}}, dt45}) + root_f) < 0;
+        t46      <= $signed({{2{tca45[33]}}, tca45}) - $signed({{2{dt45[33]}}, dt45}) - root_f;
         far46    <= far45;
         cull46   <= cull45;
         inside46 <= inside45;
     end
 
     // ---- Stage 47: decide. ---------------------------------------------------------------
-    wire [43:0] t_pos = (t46 < 0) ? 44'd0 : t46;
-    wire [33:0] t_q   = t_pos[43:10];                       // 32 -> 22 fraction bits, floor
+    wire [35:0] t_pos = (t46 < 0) ? 36'd0 : t46;
+    wire [33:0] t_q   = t_pos[35:2];                        // 24 -> 22 fraction bits, floor
     wire        t_sat = t_q > 34'h0_ffff_ffff;
     always @(posedge clk) begin
         out_ov_reach   <= far46;

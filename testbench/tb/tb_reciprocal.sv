@@ -7,7 +7,7 @@ module tb_reciprocal;
     `include "tb_common.svh"
 
     wire        got_valid, got_zero, got_negative, got_flushed, got_ov;
-    wire [47:0] got_inv;
+    wire [51:0] got_inv;
     svo_reciprocal dut (
         .clk(clk), .rst(rst), .in_valid(drive_valid),
         .in_d(drive_row[D_LSB +: 32]), .in_sign_negative(drive_row[SIGN_NEGATIVE_LSB]),
@@ -17,7 +17,7 @@ module tb_reciprocal;
     string seed_path;
     initial begin
         require_width("d", 32, D_WIDTH);
-        require_width("inv", 48, INV_WIDTH);
+        require_width("inv", 52, INV_WIDTH);
         if (!$value$plusargs("vectors=%s", seed_path)) seed_path = "vectors";
         seed_path = $sformatf("%0s/reciprocal_seed.hex", seed_path);
         $readmemh(seed_path, dut.rom);
@@ -25,7 +25,7 @@ module tb_reciprocal;
 
     always @(negedge clk) if (!rst && got_valid === 1'b1) begin
         check_row_begin();
-        check_field("inv", got_inv, exp_row[INV_LSB +: 48]);
+        check_field("inv", got_inv, exp_row[INV_LSB +: 52]);
         check_field("zero", got_zero, exp_row[ZERO_LSB]);
         check_field("negative", got_negative, exp_row[NEGATIVE_LSB]);
         check_field("flushed", got_flushed, exp_row[FLUSHED_LSB]);

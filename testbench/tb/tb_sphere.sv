@@ -13,7 +13,7 @@ module tb_sphere;
         .in_o(drive_row[O_X_LSB +: 120]), .in_d(drive_row[D_X_LSB +: 96]),
         .in_c(drive_row[C_X_LSB +: 120]),
         .in_threshold(drive_row[THRESHOLD_LSB +: 64]), .in_inside(drive_row[INSIDE_LSB +: 64]),
-        .in_delta_t(drive_row[DELTA_T_LSB +: 42]), .in_reach(drive_row[REACH_LSB +: 40]),
+        .in_delta_t(drive_row[DELTA_T_LSB +: 34]), .in_reach(drive_row[REACH_LSB +: 40]),
         .out_valid(got_valid), .out_hit(got_hit), .out_t_enter(got_t_enter),
         .out_ov_reach(got_ov_reach), .out_ov_t_enter(got_ov_t_enter));
 
@@ -23,7 +23,7 @@ module tb_sphere;
         require_width("c_x", 40, C_X_WIDTH);
         require_width("threshold", 64, THRESHOLD_WIDTH);
         require_width("inside", 64, INSIDE_WIDTH);
-        require_width("delta_t", 42, DELTA_T_WIDTH);
+        require_width("delta_t", 34, DELTA_T_WIDTH);
         require_width("reach", 40, REACH_WIDTH);
         require_width("t_enter", 32, T_ENTER_WIDTH);
     end

@@ -60,27 +60,30 @@ pub struct ReciprocalConfig {
 }
 
 impl Default for ReciprocalConfig {
-    /// sQ2.30 in, sQ22.26 out rounded to nearest even, an 8-bit table, 2 iterations.
+    /// sQ2.30 in, sQ22.30 out rounded to nearest even, an 8-bit table, 2 iterations.
     ///
     /// - Input sQ2.30: the transform unit's direction format (unit-vector components,
     ///   |d| ≤ 1, LSB 2^-30).
-    /// - Output sQ22.26: 21 magnitude integer bits, so every |d| > 2^-21 has a finite 1/d
+    /// - Output sQ22.30 (52 bits): 21 magnitude integer bits, so every |d| > 2^-21 has a finite 1/d
     ///   (|1/d| < 2^21) and smaller ones are flagged zero. An axis with |d| ≤ 2^-21 moves the
     ///   ray less than 0.5 µm per metre (61 µm over a 128 m reach: treating it as parallel is
     ///   a direction error of at most 2^-21 on that axis, counted), and its input code is at
     ///   most 2^9, so its reciprocal would be known only to about 0.2 % anyway.
-    ///   26 fraction bits give 1/d to 1.9·10^-8 near |d| = 1 (the bound), i.e. t to about
-    ///   2.4 µm over a 128 m reach. The walker's test configuration uses the same format.
+    ///   30 fraction bits give 1/d to 1.2·10^-9 near |d| = 1 (the bound), i.e. t to about
+    ///   0.15 µm over a 128 m reach. 26 bits (the default until `sim sweep` measured the
+    ///   choice, `docs/accuracy.md` §7) left 4–6× more depth error at the same DSP48E2 count:
+    ///   the Newton–Raphson products grow from 29×29 to 33×33 bits and stay within 2×2 tiles,
+    ///   the walker's root products from 41×48 to 41×52 and stay within 2×3.
     /// - Round to nearest, ties to even: symmetric, so d and −d give the same magnitude code
     ///   and a mirrored walk (§3.4) sees exactly the reciprocal of the unmirrored one.
     /// - 8 table bits, 2 iterations: the seed is good to 2^-8.7; two iterations take that to
-    ///   2^-34.9, below the 2^-27 floor the 28-bit mantissa's truncations set. The ROM is
+    ///   2^-34.9, below the 2^-31 floor the 32-bit mantissa's truncations set. The ROM is
     ///   256 × 9 bits (LUTs); a 12-bit table with one iteration would need 4 DSPs instead of
     ///   12 but 2 BRAM36 and 3× the error (`docs/units/reciprocal.md`).
     fn default() -> Self {
         Self {
             input: Format::sq(2, 30).with_quant(Quant::RndConv),
-            output: Format::sq(22, 26).with_quant(Quant::RndConv),
+            output: Format::sq(22, 30).with_quant(Quant::RndConv),
             table_bits: 8,
             iterations: 2,
         }
@@ -249,9 +252,9 @@ pub fn mantissa_frac_bits(cfg: &ReciprocalConfig) -> u32 {
 /// use rtl_model::units::reciprocal::{reciprocal, ReciprocalConfig};
 /// let cfg = ReciprocalConfig::default();
 /// let mut ov = Overflows::new(&["inv_d"]);
-/// // d = 0.5 (sQ2.30) → 1/d = 2.0 (sQ22.26)
+/// // d = 0.5 (sQ2.30) → 1/d = 2.0 (sQ22.30)
 /// let r = reciprocal(1 << 29, false, &cfg, &mut ov, SignalId(0));
-/// assert_eq!((r.raw, r.zero, r.negative), (2 << 26, false, false));
+/// assert_eq!((r.raw, r.zero, r.negative), (2 << 30, false, false));
 /// // d = −0: zero flag, negative, −max.
 /// let z = reciprocal(0, true, &cfg, &mut ov, SignalId(0));
 /// assert_eq!((z.raw, z.zero, z.negative), (-cfg.output.max_raw(), true, true));
@@ -429,7 +432,7 @@ const BOUND_MARGIN: f64 = 1.0 + 1e-12;
 /// ```
 /// use rtl_model::units::reciprocal::{error_bound, ReciprocalConfig};
 /// let b = error_bound(&ReciprocalConfig::default());
-/// assert!(b.rel < 2f64.powi(-26) && b.abs == 2f64.powi(-27));
+/// assert!(b.rel < 2f64.powi(-30) && b.abs == 2f64.powi(-31));
 /// ```
 pub fn error_bound(cfg: &ReciprocalConfig) -> ReciprocalErrorBound {
     let p = plan(cfg);
@@ -490,7 +493,7 @@ fn dsp_for(a_bits: u32, b_bits: u32) -> u32 {
 
 /// DSP48E2 slices of one reciprocal unit: the sum over every multiply of its 27×18 tiles
 /// (unsigned operands: 26 × 17 value bits per slice). 12 for the default (4 for the first
-/// iteration, whose seed operand is 10 bits, and 8 for the second, 29 × 29 bits).
+/// iteration, whose seed operand is 10 bits, and 8 for the second, 33 × 33 bits).
 pub fn dsp48e2_count(cfg: &ReciprocalConfig) -> u32 {
     multiplies(&plan(cfg))
         .iter()
@@ -533,7 +536,7 @@ mod tests {
     fn default_costs() {
         let cfg = ReciprocalConfig::default();
         cfg.validate().unwrap();
-        assert_eq!(mantissa_frac_bits(&cfg), 28);
+        assert_eq!(mantissa_frac_bits(&cfg), 32);
         assert_eq!(dsp48e2_count(&cfg), 12);
         assert_eq!(latency_cycles(&cfg), 23);
         assert_eq!(zero_threshold(&cfg), 2f64.powi(-21));

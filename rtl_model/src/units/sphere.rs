@@ -47,13 +47,16 @@ pub struct SphereConfig {
 }
 
 impl Default for SphereConfig {
-    /// sQ8.32 positions, sQ2.30 directions (as the transform unit), t_ca sQ10.32, squares
+    /// sQ8.32 positions, sQ2.30 directions (as the transform unit), t_ca sQ10.24, squares
     /// uQ16.48 (up to 65 536 m²; its square root has 24 fraction bits), sort key uQ10.22.
+    /// t_ca only feeds the conservative entry distance (the sort key, 22 fraction bits), so
+    /// 24 fraction bits render the same records as 32 and its square t_ca² takes 4 DSP48E2
+    /// per lane instead of 6 (`sim sweep`, `docs/accuracy.md` §7).
     fn default() -> Self {
         Self {
             pos: Format::sq(8, 32).with_quant(Quant::RndConv),
             dir: Format::sq(2, 30).with_quant(Quant::RndConv),
-            tca: Format::sq(10, 32),
+            tca: Format::sq(10, 24),
             sq: Format::uq(16, 48),
             t_enter: Format::uq(10, 22),
             reach: 128.0,

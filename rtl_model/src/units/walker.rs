@@ -94,7 +94,7 @@ impl WalkerPos {
     }
 }
 
-/// A reciprocal magnitude 1/|d|: a raw code of [`WalkerConfig::inv`] (default sQ22.26, the
+/// A reciprocal magnitude 1/|d|: a raw code of [`WalkerConfig::inv`] (default sQ22.30, the
 /// reciprocal unit's output), non-negative.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[repr(transparent)]

@@ -245,7 +245,7 @@ pub fn builtin() -> Vec<NamedConfig> {
         variant("mat_frac17", |d| set_mat_frac(d, 17)),
         variant("pos_frac24", |d| set_pos_frac(d, 24)),
         variant("pos_frac16", |d| set_pos_frac(d, 16)),
-        variant("tca_frac24", |d| d.sphere.tca = Format::sq(10, 24)),
+        variant("tca_frac32", |d| d.sphere.tca = Format::sq(10, 32)),
         variant("sqrt_digits24", |d| set_sqrt_digits(d, 24)),
         variant("sqrt_digits16", |d| set_sqrt_digits(d, 16)),
         variant("recip_iter1", |d| d.reciprocal.iterations = 1),
@@ -254,7 +254,7 @@ pub fn builtin() -> Vec<NamedConfig> {
             d.reciprocal.table_bits = 12;
             d.reciprocal.iterations = 1;
         }),
-        variant("recip_frac30", |d| set_recip_frac(d, 30)),
+        variant("recip_frac26", |d| set_recip_frac(d, 26)),
         variant("lean", |d| {
             set_dir_frac(d, 24);
             set_mat_frac(d, 24);
@@ -336,13 +336,13 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("f.ron:1:"), "{e}");
-        let bad = "[(name: \"w\", datapath: (walker: (pos: (signed: true, width: 41, frac: 33), inv: (signed: true, width: 48, frac: 26), t: (signed: true, width: 62, frac: 31), max_steps: 100000)))]";
+        let bad = "[(name: \"w\", datapath: (walker: (pos: (signed: true, width: 41, frac: 33), inv: (signed: true, width: 52, frac: 30), t: (signed: true, width: 62, frac: 31), max_steps: 100000)))]";
         let e = parse(bad, "f.ron").unwrap_err().to_string();
         assert!(
             e.contains("\"w\" is invalid") && e.contains("walker.pos"),
             "{e}"
         );
-        let ok = parse("[(name: \"d\"), (name: \"t20\", datapath: (walker: (pos: (signed: true, width: 40, frac: 32, quant: RndConv), inv: (signed: true, width: 48, frac: 26, quant: RndConv), t: (signed: true, width: 51, frac: 20), max_steps: 100000)))]", "f.ron").unwrap();
+        let ok = parse("[(name: \"d\"), (name: \"t20\", datapath: (walker: (pos: (signed: true, width: 40, frac: 32, quant: RndConv), inv: (signed: true, width: 52, frac: 30, quant: RndConv), t: (signed: true, width: 51, frac: 20), max_steps: 100000)))]", "f.ron").unwrap();
         assert_eq!(ok.len(), 2);
         assert_eq!(ok[1].datapath.walker.t.frac, 20);
     }

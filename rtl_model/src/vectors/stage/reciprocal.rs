@@ -213,7 +213,7 @@ mod tests {
             // Independent check: a non-zero result is within 2^-20 relative of 1/d.
             if !zero {
                 let exact = (1u64 << 30) as f64 / d as f64;
-                let got = inv as f64 / (1u64 << 26) as f64;
+                let got = inv as f64 / (1u64 << 30) as f64; // sQ22.30
                 assert!((got - exact).abs() <= exact.abs() * 1e-6 + 1e-7, "d = {d}");
             } else {
                 assert!(d.unsigned_abs() <= 1 << 9, "d = {d}");

@@ -389,9 +389,9 @@ mod tests {
                 let dot: i128 = (0..3)
                     .map(|k| (i128::from(t.centre[k]) - i128::from(t.o[k])) * i128::from(t.d[k]))
                     .sum();
-                let tca = (dot >> 30).clamp(-(1 << 41), (1 << 41) - 1);
-                let e =
-                    ((tca - i128::from(t.delta_t) - (root << 8)).max(0) >> 10).min(u32::MAX.into());
+                // t_ca sQ10.24 (62 − 24 = 38 bits dropped), root uQ8.24, entry uQ10.22.
+                let tca = (dot >> 38).clamp(-(1 << 33), (1 << 33) - 1);
+                let e = ((tca - i128::from(t.delta_t) - root).max(0) >> 2).min(u32::MAX.into());
                 assert_eq!(t_enter, e, "{t:?}");
             }
         }
