@@ -134,5 +134,5 @@ pub fn unit_tables(
     Ok(v)
 }
 
-/// The names of the stages with a fixed-latency RTL unit in `testbench/`.
-pub const RTL_UNITS: [&str; 4] = ["sqrt", "reciprocal", "transform", "sphere"];
+/// The names of the stages with a reference RTL unit and testbench in `testbench/`.
+pub const RTL_UNITS: [&str; 5] = ["sqrt", "reciprocal", "transform", "sphere", "walker"];
