@@ -4,14 +4,17 @@
 #
 # Usage: testbench/run.sh [VECTORS_DIR] [UNIT ...]
 #   VECTORS_DIR  default: the committed golden set, ../vectors
-#   UNIT         sqrt, reciprocal, transform, sphere (default: all four)
+#   UNIT         sqrt, reciprocal, transform, sphere, walker (default: all)
+# The walker runs three times, once per memory latency of its cycle predictions (+latency=0..2);
+# WALKER_ARGS adds plusargs to those runs (e.g. "+first=0 +count=2000"); WALKER_LATENCIES
+# chooses the runs (default "0 1 2").
 # Needs iverilog and vvp (Debian/Ubuntu: apt-get install iverilog).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 vec="${1:-$here/../vectors}"
 if [ $# -gt 0 ]; then shift; fi
 units=("$@")
-if [ ${#units[@]} -eq 0 ]; then units=(sqrt reciprocal transform sphere); fi
+if [ ${#units[@]} -eq 0 ]; then units=(sqrt reciprocal transform sphere walker); fi
 if ! command -v iverilog >/dev/null || ! command -v vvp >/dev/null; then
     echo "run.sh: iverilog/vvp not found; install Icarus Verilog (apt-get install iverilog)" >&2
     exit 2
@@ -30,13 +33,24 @@ for u in "${units[@]}"; do
         status=1
         continue
     fi
-    iverilog -g2012 -Wall -I "$here/tb" -o "$build/tb_$u" \
-        "$vec/${u}_pkg.sv" "$here"/rtl/*.v "$here/tb/tb_$u.sv"
-    out="$(vvp -n "$build/tb_$u" "+vectors=$vec")"
-    printf '%s\n' "$out"
-    last="$(printf '%s\n' "$out" | tail -n 1)"
-    if [[ ! "$last" =~ ^([0-9]+)\ passed,\ ([0-9]+)\ failed$ ]] || [ "${BASH_REMATCH[2]}" != 0 ]; then
-        status=1
+    pkgs=("$vec/${u}_pkg.sv")
+    runs=("")
+    if [ "$u" = walker ]; then
+        pkgs+=("$vec/walker_visits_pkg.sv")
+        runs=()
+        for k in ${WALKER_LATENCIES:-0 1 2}; do runs+=("+latency=$k ${WALKER_ARGS:-}"); done
     fi
+    # -Wno-sensitivity-entire-array: the walker's @* blocks read small per-axis arrays whole.
+    iverilog -g2012 -Wall -Wno-sensitivity-entire-array -I "$here/tb" -o "$build/tb_$u" \
+        "${pkgs[@]}" "$here"/rtl/*.v "$here/tb/tb_$u.sv"
+    for extra in "${runs[@]}"; do
+        # shellcheck disable=SC2086
+        out="$(vvp -n "$build/tb_$u" "+vectors=$vec" $extra)"
+        printf '%s\n' "$out"
+        last="$(printf '%s\n' "$out" | tail -n 1)"
+        if [[ ! "$last" =~ ^([0-9]+)\ passed,\ ([0-9]+)\ failed$ ]] || [ "${BASH_REMATCH[2]}" != 0 ]; then
+            status=1
+        fi
+    done
 done
 exit $status

@@ -76,8 +76,10 @@ fn golden_set_regenerates_byte_for_byte() {
         total,
         total as f64 / 1024.0
     );
+    // 512 KiB: the walker's concatenated memory (walker_nodes.hex, walker_attrs.hex) and its
+    // per-row cycle predictions took the set from about 330 KB to about 420 KB.
     assert!(
-        total < 400 * 1024,
+        total < 512 * 1024,
         "the golden set must stay small: {total} bytes"
     );
 }

@@ -3,9 +3,9 @@
 `timescale 1ns/1ps
 package walker_visits_vectors_pkg;
   localparam int WORD_BITS = 97;  // bits per row
-  localparam int DEPTH = 464;  // rows
+  localparam int DEPTH = 1146;  // rows
   localparam int TABLE_FIRST = 0;
-  localparam int TABLE_COUNT = 464;
+  localparam int TABLE_COUNT = 1146;
   localparam int WALK_LSB = 0;  // output
   localparam int WALK_WIDTH = 32;
   localparam int WALK_SIGNED = 0;

@@ -12,5 +12,6 @@ pub mod memory;
 pub mod stage_stats;
 pub mod unit_pipe;
 pub mod walk_op;
+pub mod walk_timing;
 pub mod walker_pool;
 pub mod waves;

@@ -40,6 +40,14 @@ pub fn hex_text(t: &VectorTable) -> String {
     s
 }
 
+/// The manifest's `timing`: a fixed latency and II, or the per-row predictions.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum ManifestTiming<'a> {
+    Fixed(&'a super::table::Timing),
+    PerRow(&'a super::table::RowTiming),
+}
+
 #[derive(Serialize)]
 struct Manifest<'a> {
     format_version: u32,
@@ -51,7 +59,7 @@ struct Manifest<'a> {
     word_bits: u32,
     hex_digits: u32,
     depth: usize,
-    timing: Option<super::table::Timing>,
+    timing: Option<ManifestTiming<'a>>,
     rows: &'a [super::table::RowBlock],
     fields: &'a [super::layout::Field],
     parameters: &'a serde_json::Map<String, serde_json::Value>,
@@ -74,7 +82,11 @@ pub fn manifest_json(t: &VectorTable) -> Result<String, serde_json::Error> {
         word_bits: t.layout.word_bits(),
         hex_digits: t.layout.word_bits().div_ceil(4),
         depth: t.rows.len(),
-        timing: t.timing,
+        timing: match (&t.timing, &t.row_timing) {
+            (Some(f), _) => Some(ManifestTiming::Fixed(f)),
+            (None, Some(r)) => Some(ManifestTiming::PerRow(r)),
+            (None, None) => None,
+        },
         rows: &t.blocks,
         fields: t.layout.fields(),
         parameters: &t.parameters,
@@ -112,6 +124,9 @@ pub fn sv_package(t: &VectorTable) -> String {
             "cycles, the model's default configuration",
         );
         line("II", i64::from(tm.ii), "initiation interval, cycles");
+    }
+    for (name, v, note) in &t.constants {
+        line(name, *v, note);
     }
     for b in &t.blocks {
         let tag = serde_json::to_value(b.origin)

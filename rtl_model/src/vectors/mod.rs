@@ -43,6 +43,9 @@ pub enum VectorError {
     /// A memory image could not be built.
     #[error("synthetic octree image: {0}")]
     Image(#[from] BuildError),
+    /// A walk could not be timed by the cycle model.
+    #[error(transparent)]
+    Timing(#[from] crate::cycle::walk_timing::WalkTimingError),
     /// A manifest could not be serialised.
     #[error("manifest: {0}")]
     Json(#[from] serde_json::Error),
@@ -84,7 +87,7 @@ pub fn unit_tables(
     dp.validate().map_err(VectorError::Config)?;
     let recip = stage::reciprocal::ReciprocalStage::new(dp);
     let walker = stage::walker::WalkerStage::new(dp, scene_images)?;
-    let (walks, visits) = walker.build(&captured.walker, count, seed);
+    let (walks, visits) = walker.build(&captured.walker, count, seed)?;
     let mut v = vec![
         stage::build(
             &stage::raygen::RaygenStage::new(dp),
@@ -131,5 +134,5 @@ pub fn unit_tables(
     Ok(v)
 }
 
-/// The names of the stages with a fixed-latency RTL unit in `testbench/`.
-pub const RTL_UNITS: [&str; 4] = ["sqrt", "reciprocal", "transform", "sphere"];
+/// The names of the stages with a reference RTL unit and testbench in `testbench/`.
+pub const RTL_UNITS: [&str; 5] = ["sqrt", "reciprocal", "transform", "sphere", "walker"];

@@ -44,6 +44,21 @@ pub struct Timing {
     pub ii: u32,
 }
 
+/// Per-row timing of a unit whose cycles depend on the data (the walker): which output
+/// fields hold the cycle model's prediction, for which memory latency each, and what is
+/// counted. The manifest's `timing` then holds this instead of a fixed latency.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct RowTiming {
+    /// What a predicted count measures.
+    pub cycles: String,
+    /// The output fields with the predictions, one per memory latency.
+    pub fields: Vec<String>,
+    /// The fixed memory latency (cycles per read) of each field.
+    pub memory_latencies: Vec<u32>,
+    /// Where the prediction comes from.
+    pub model: String,
+}
+
 /// One stage's vectors.
 #[derive(Clone, Debug)]
 pub struct VectorTable {
@@ -59,6 +74,11 @@ pub struct VectorTable {
     pub blocks: Vec<RowBlock>,
     /// The unit's timing, for units with a fixed latency.
     pub timing: Option<Timing>,
+    /// The per-row timing, for units whose cycles depend on the data (instead of `timing`).
+    pub row_timing: Option<RowTiming>,
+    /// Extra `localparam int`s of the package (name, value, comment): configuration a
+    /// testbench needs beside the fields (memory sizes, latencies).
+    pub constants: Vec<(String, i64, String)>,
     /// Constants of the stage (formats, configuration, companion files) for the manifest.
     pub parameters: serde_json::Map<String, serde_json::Value>,
     /// Whether the stage gets a SystemVerilog package (memory tables do not).
@@ -75,6 +95,8 @@ impl VectorTable {
             rows: Vec::new(),
             blocks: Vec::new(),
             timing: None,
+            row_timing: None,
+            constants: Vec::new(),
             parameters: serde_json::Map::new(),
             package: true,
         }

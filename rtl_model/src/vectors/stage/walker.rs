@@ -13,18 +13,26 @@
 //! inside solid and empty voxels, boxes behind the origin, zero axes outside the slab, and a
 //! ray with all three axes zero.
 
-use super::dedup;
+mod adversarial;
+mod images;
+
+use crate::cycle::hw_config::{HwConfig, WalkerPool};
+use crate::cycle::walk_op::OpRecorder;
+use crate::cycle::walk_timing::WalkTiming;
 use crate::datapath::DatapathConfig;
 use crate::fixed::{from_f64, Format, Overflows, SignalId};
-use crate::svo::{LeafAttr, LeafSet, SvoImage};
+use crate::svo::FetchKind;
+use crate::svo::SvoImage;
 use crate::units::reciprocal::ReciprocalUnit;
 use crate::units::walker::{
-    walk_fixed_visiting, WalkOutcome, WalkerConfig, WalkerInput, WalkerPos, WalkerStats,
+    root_latency_cycles, walk_fixed_observed, WalkObserver, WalkOutcome, WalkerConfig, WalkerInput,
+    WalkerPos, WalkerStats,
 };
 use crate::vectors::layout::{b, s, u, Direction::*, Layout};
 use crate::vectors::rng::Rng;
-use crate::vectors::table::{plan_rows, spread, Origin, VectorTable};
+use crate::vectors::table::{plan_rows, spread, Origin, RowTiming, VectorTable};
 use crate::vectors::VectorError;
+use images::{synthetic_images, DEEP_VOXELS};
 
 /// One walk: which image, and the walker's inputs (raw codes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,6 +55,13 @@ pub struct NamedImage {
 /// ray into walker inputs (direction codes through the reciprocal unit).
 pub struct WalkerStage {
     cfg: WalkerConfig,
+    /// The walker pool of the default hardware (step timing, stack depth).
+    pool: WalkerPool,
+    /// The fixed memory latencies the rows' cycle predictions are for: 1, the on-chip
+    /// store's and the DRAM's of the default hardware.
+    latencies: [u32; 3],
+    /// The walker-root unit's latency (the testbench's root stage).
+    root_latency: u32,
     dir: Format,
     recip: ReciprocalUnit,
     images: Vec<NamedImage>,
@@ -79,36 +94,25 @@ pub fn file_stem(name: &str) -> String {
     }
 }
 
-fn attr(c: [u32; 3]) -> LeafAttr {
-    LeafAttr::new(
-        [c[0] as u8 * 16, c[1] as u8 * 16, c[2] as u8 * 16, 255],
-        [0.0, 0.0, 1.0],
-    )
+/// Records a walk's ops (for its timing) and the nodes it enters (for the visit table).
+struct Recording<'a> {
+    ops: OpRecorder<'a>,
+    path: &'a mut Vec<(u8, [u32; 3])>,
 }
 
-/// The synthetic octrees: a full depth-3 cube, two opposite corner voxels at depth 4, and a
-/// sparse lattice at depth 4.
-fn synthetic_images() -> Result<Vec<NamedImage>, VectorError> {
-    let full: Vec<[u32; 3]> = (0..512).map(|i| [i & 7, (i >> 3) & 7, i >> 6]).collect();
-    let corners = vec![[0, 0, 0], [15, 15, 15]];
-    let lattice: Vec<[u32; 3]> = (0..4096u32)
-        .map(|i| [i & 15, (i >> 4) & 15, i >> 8])
-        .filter(|c| (c[0] + 2 * c[1] + c[2]) % 7 == 0 && c[1] > 3)
-        .collect();
-    [
-        ("adv_cube3", 3, full),
-        ("adv_corners4", 4, corners),
-        ("adv_lattice4", 4, lattice),
-    ]
-    .into_iter()
-    .map(|(name, depth, coords)| {
-        let set = LeafSet::from_coords(depth, coords.into_iter().map(|c| (c, attr(c))))?;
-        Ok(NamedImage {
-            name: name.to_string(),
-            image: SvoImage::build(&set)?,
-        })
-    })
-    .collect()
+impl WalkObserver for Recording<'_> {
+    fn enter(&mut self, level: u8, coords: [u32; 3]) {
+        self.path.push((level, coords));
+    }
+    fn step(&mut self) {
+        self.ops.step();
+    }
+    fn pop(&mut self) {
+        self.ops.pop();
+    }
+    fn read(&mut self, kind: FetchKind, addr: u32) {
+        self.ops.read(kind, addr);
+    }
 }
 
 impl WalkerStage {
@@ -118,8 +122,16 @@ impl WalkerStage {
         let synthetic = scene_images.len();
         let mut images = scene_images;
         images.extend(synthetic_images()?);
+        let hw = HwConfig::for_datapath(dp);
         Ok(Self {
             cfg: dp.walker,
+            pool: hw.walker_pool.clone(),
+            latencies: [
+                1,
+                hw.node_memory.onchip.latency,
+                hw.node_memory.dram.latency,
+            ],
+            root_latency: root_latency_cycles(&dp.walker),
             dir: dp.transform.local_dir,
             recip: ReciprocalUnit::new(&dp.reciprocal),
             images,
@@ -160,6 +172,18 @@ impl WalkerStage {
         let c = &self.cfg;
         let mut l = Layout::new();
         l.uint("image", Input, 8, "memory image index (parameters.images)");
+        l.uint(
+            "node_base",
+            Input,
+            32,
+            "first word of the image in walker_nodes.hex (added to every node address)",
+        );
+        l.uint(
+            "attr_base",
+            Input,
+            32,
+            "first record of the image in walker_attrs.hex (added to every attribute index)",
+        );
         for a in AXES {
             l.fixed(&format!("o_{a}"), Input, c.pos, "local ray origin, m");
         }
@@ -240,6 +264,14 @@ impl WalkerStage {
             COUNT_BITS,
             "nodes entered, in walker_visits.hex",
         );
+        for (k, lat) in self.latencies.iter().enumerate() {
+            l.uint(
+                &format!("cycles_{k}"),
+                Output,
+                COUNT_BITS,
+                &format!("cycle model: cycles from accept to result, every read taking {lat} cycles (MEM_LATENCY_{k})"),
+            );
+        }
         l
     }
 
@@ -259,92 +291,6 @@ impl WalkerStage {
         l
     }
 
-    fn adversarial(&self) -> Vec<WalkTxn> {
-        let (cube, corners, lattice) = (self.synthetic, self.synthetic + 1, self.synthetic + 2);
-        let cubic = [1.0; 3];
-        let aniso = [2.0, 0.5, 1.0];
-        let mut v = Vec::new();
-        let mut walk = |image: usize, o: [f64; 3], d: [f64; 3], half: [f64; 3]| {
-            v.push(WalkTxn {
-                image,
-                input: self.input_for(o, d, half),
-            });
-        };
-        for (image, half) in [
-            (cube, cubic),
-            (corners, cubic),
-            (lattice, cubic),
-            (lattice, aniso),
-        ] {
-            {
-                // Axis-parallel rays, both ways, through the centre and off it; −0 on the
-                // other axes.
-                for k in 0..3 {
-                    for sign in [1.0, -1.0] {
-                        for off in [0.0, -0.77] {
-                            let mut o = [off * half[0], -off * half[1], off * half[2]];
-                            o[k] = -sign * 3.0 * half[k];
-                            let mut d = [0.0, -0.0, 0.0];
-                            d[(k + 1) % 3] = -0.0;
-                            d[(k + 2) % 3] = 0.0;
-                            d[k] = sign;
-                            walk(image, o, d, half);
-                        }
-                    }
-                }
-                // Origins on faces, centre planes and level-2 node planes, axis-parallel.
-                for plane in [-1.0, -0.5, 0.0, 0.25, 0.5, 1.0] {
-                    walk(
-                        image,
-                        [plane * half[0], -3.0 * half[1], 0.1],
-                        [0.0, 1.0, -0.0],
-                        half,
-                    );
-                    walk(
-                        image,
-                        [-3.0 * half[0], plane * half[1], plane * half[2]],
-                        [1.0, 0.0, 0.0],
-                        half,
-                    );
-                }
-                // Through the corners and the centre.
-                let s = 1.0 / 3f64.sqrt();
-                walk(image, half.map(|h| -2.0 * h), [s, s, s], half);
-                walk(image, half.map(|h| 2.0 * h), [-s, -s, -s], half);
-                walk(
-                    image,
-                    [-2.0 * half[0], 2.0 * half[1], -2.0 * half[2]],
-                    [s, -s, s],
-                    half,
-                );
-                // Inside the box; behind it; missing it; zero axes outside the slab.
-                walk(image, [0.01, 0.02, -0.03], [0.6, 0.0, 0.8], half);
-                walk(image, half.map(|h| -0.9 * h), [0.0, 0.0, 1.0], half);
-                walk(image, half.map(|h| 3.0 * h), [s, s, s], half);
-                walk(
-                    image,
-                    [-3.0 * half[0], 2.0 * half[1], 0.0],
-                    [1.0, 0.0, 0.0],
-                    half,
-                );
-                walk(
-                    image,
-                    [-3.0 * half[0], half[1], 0.0],
-                    [1.0, 0.0, -0.0],
-                    half,
-                );
-                walk(
-                    image,
-                    [-3.0 * half[0], -half[1], 0.0],
-                    [1.0, -0.0, 0.0],
-                    half,
-                );
-                walk(image, [0.0, 0.0, 0.0], [0.0, -0.0, 0.0], half);
-            }
-        }
-        dedup(v)
-    }
-
     fn random(&self, rng: &mut Rng) -> WalkTxn {
         let image = self.synthetic + rng.below(3) as usize;
         let half = [0; 3].map(|_| rng.range(0.25, 3.0));
@@ -359,19 +305,34 @@ impl WalkerStage {
         }
     }
 
+    /// First node word and first attribute record of each image in the concatenated memory
+    /// tables (`walker_nodes`, `walker_attrs`), and the totals.
+    fn bases(&self) -> (Vec<(u64, u64)>, u64, u64) {
+        let (mut n, mut a) = (0u64, 0u64);
+        let mut v = Vec::with_capacity(self.images.len());
+        for im in &self.images {
+            v.push((n, a));
+            n += im.image.nodes().len() as u64;
+            a += im.image.attrs().len() as u64;
+        }
+        (v, n, a)
+    }
+
     /// The walk table (adversarial walks, `count`/2 captured ones spread over `captured`, the
-    /// rest random) and its visit table.
+    /// rest random) and its visit table. Each walk's cycles come from the cycle model
+    /// ([`WalkTiming`]: one walker, one context, every read taking one of the three
+    /// latencies).
     pub fn build(
         &self,
         captured: &[WalkTxn],
         count: usize,
         seed: u64,
-    ) -> (VectorTable, VectorTable) {
+    ) -> Result<(VectorTable, VectorTable), VectorError> {
         let layout = self.layout();
         let vlayout = Self::visit_layout();
         let mut walks = VectorTable::new(
             "walker",
-            "one octree walk per row: image, local origin, 1/|d|, zero and negative flags, half extents in; outcome, hit, counts and the walk's rows in walker_visits.hex out",
+            "one octree walk per row: image, its memory bases, local origin, 1/|d|, zero and negative flags, half extents in; outcome, hit, counts, the walk's rows in walker_visits.hex and the cycle model's cycles at three memory latencies out",
             layout.clone(),
         );
         let mut visits = VectorTable::new(
@@ -379,10 +340,12 @@ impl WalkerStage {
             "one node entered per row, in walk order: the walk's row in walker.hex, the node's level and coordinates",
             vlayout.clone(),
         );
+        let (bases, node_words, attr_records) = self.bases();
         let (n_captured, n_random) = plan_rows(captured.len(), count);
         let mut rng = Rng::for_stage(seed, "walker");
         let random: Vec<WalkTxn> = (0..n_random).map(|_| self.random(&mut rng)).collect();
         let mut visit_rows = Vec::new();
+        let mut ops = Vec::new();
         for (origin, txns) in [
             (Origin::Adversarial, self.adversarial()),
             (Origin::Captured, spread(captured, n_captured)),
@@ -394,16 +357,32 @@ impl WalkerStage {
                 let first = visit_rows.len();
                 let mut path: Vec<(u8, [u32; 3])> = Vec::new();
                 let mut st = WalkerStats::default();
-                let img = &self.images[t.image.min(self.images.len() - 1)].image;
-                let out = walk_fixed_visiting(
+                let image = t.image.min(self.images.len() - 1);
+                let img = &self.images[image].image;
+                ops.clear();
+                let mut rec = Recording {
+                    ops: OpRecorder::new(&mut ops),
+                    path: &mut path,
+                };
+                let out = walk_fixed_observed(
                     img,
                     &t.input,
                     &self.cfg,
                     &mut Overflows::new(&["walker"]),
                     SignalId(0),
                     &mut st,
-                    &mut |level, c| path.push((level, c)),
+                    &mut rec,
                 );
+                rec.ops.finish();
+                let timing = WalkTiming::new(
+                    &self.pool,
+                    img.nodes().len() as u64,
+                    img.attrs().len() as u64,
+                );
+                let mut cycles = [0u64; 3];
+                for (c, &lat) in cycles.iter_mut().zip(&self.latencies) {
+                    *c = timing.cycles(&ops, lat)?;
+                }
                 for &(level, c) in &path {
                     visit_rows.push(vlayout.pack(&[
                         u(walk as u64),
@@ -414,7 +393,8 @@ impl WalkerStage {
                     ]));
                 }
                 let inp = &t.input;
-                let mut v = vec![u(t.image as u64)];
+                let (nb, ab) = bases[image];
+                let mut v = vec![u(image as u64), u(nb), u(ab)];
                 v.extend(inp.origin.map(|p| s(p.raw)));
                 v.extend(inp.inv.map(|i| s(i.raw)));
                 v.extend(inp.zero.map(b));
@@ -435,10 +415,72 @@ impl WalkerStage {
                 v.push(u(st.fetches));
                 v.push(u(first as u64));
                 v.push(u(path.len() as u64));
+                v.extend(cycles.map(u));
                 rows.push(layout.pack(&v));
             }
             walks.push_block(origin, rows);
         }
+        walks.row_timing = Some(RowTiming {
+            cycles: "from the cycle the walker accepts a walk (in_valid and in_ready) to the cycle its result leaves (out_valid and out_ready), the result port always ready".into(),
+            fields: (0..self.latencies.len()).map(|k| format!("cycles_{k}")).collect(),
+            memory_latencies: self.latencies.to_vec(),
+            model: format!(
+                "rtl_model::cycle::walk_timing: the walker pool with one walker and one context (step_cycles {}, step_latency_cycles {}) and a node memory whose every read takes the latency",
+                self.pool.step_cycles, self.pool.step_latency_cycles
+            ),
+        });
+        let consts = [
+            (
+                "MEM_LATENCY_0",
+                i64::from(self.latencies[0]),
+                "cycles per read of cycles_0",
+            ),
+            (
+                "MEM_LATENCY_1",
+                i64::from(self.latencies[1]),
+                "cycles per read of cycles_1: the on-chip node store's",
+            ),
+            (
+                "MEM_LATENCY_2",
+                i64::from(self.latencies[2]),
+                "cycles per read of cycles_2: the DRAM's",
+            ),
+            (
+                "STEP_CYCLES",
+                i64::from(self.pool.step_cycles),
+                "walker issue interval, cycles",
+            ),
+            (
+                "STEP_LATENCY",
+                i64::from(self.pool.step_latency_cycles),
+                "cycles from a step to the context's next step or read",
+            ),
+            (
+                "STACK_DEPTH",
+                i64::from(self.pool.stack_depth),
+                "stack frames per context",
+            ),
+            (
+                "MAX_STEPS",
+                i64::from(self.cfg.max_steps),
+                "step limit of a walk",
+            ),
+            (
+                "ROOT_LATENCY",
+                i64::from(self.root_latency),
+                "walker-root unit latency, cycles",
+            ),
+            ("NODE_WORDS", node_words as i64, "words in walker_nodes.hex"),
+            (
+                "ATTR_RECORDS",
+                attr_records as i64,
+                "records in walker_attrs.hex",
+            ),
+        ];
+        walks.constants = consts
+            .iter()
+            .map(|&(n, v, c)| (n.to_string(), v, c.to_string()))
+            .collect();
         visits.push_block(Origin::Table, visit_rows);
         visits.package = true;
         walks.param("config", self.cfg);
@@ -453,6 +495,8 @@ impl WalkerStage {
                     "nodes_file": format!("svo_{}_nodes.hex", n.name),
                     "attrs_file": (i < self.synthetic).then(|| format!("svo_{}_attrs.hex", n.name)),
                     "depth": n.image.depth(),
+                    "node_base": bases[i].0,
+                    "attr_base": bases[i].1,
                     "node_words": n.image.nodes().len(),
                     "leaves": n.image.attrs().len(),
                     "synthetic": i >= self.synthetic,
@@ -461,60 +505,9 @@ impl WalkerStage {
             .collect();
         walks.param("images", images);
         walks.param("visits_file", "walker_visits.hex");
-        (walks, visits)
-    }
-
-    /// The memory tables of every image: node words (32 bits, `docs/svo-format.md`) and, for
-    /// the scene's images (the end-to-end frame shades from them), leaf attributes (64 bits:
-    /// normal word high, colour word low).
-    pub fn image_tables(&self) -> Vec<VectorTable> {
-        let mut out = Vec::new();
-        for (i, n) in self.images.iter().enumerate() {
-            let mut nl = Layout::new();
-            nl.uint("word", Output, 32, "node memory word");
-            let mut t = VectorTable::new(
-                &format!("svo_{}_nodes", n.name),
-                "SVO node memory: child descriptors, leaf slots (attribute indices) and far words",
-                nl.clone(),
-            );
-            t.package = false;
-            t.push_block(
-                Origin::Table,
-                n.image
-                    .nodes()
-                    .iter()
-                    .map(|&w| nl.pack(&[u(u64::from(w))]))
-                    .collect(),
-            );
-            out.push(t);
-            if i >= self.synthetic {
-                continue;
-            }
-            let mut al = Layout::new();
-            al.uint("colour_rgba8", Output, 32, "R in bits 7..0, then G, B, A");
-            al.uint(
-                "normal_oct16",
-                Output,
-                32,
-                "octahedral normal, u in bits 15..0, v above (snorm16)",
-            );
-            let mut a = VectorTable::new(
-                &format!("svo_{}_attrs", n.name),
-                "SVO leaf attributes, one per leaf, indexed by the walker's attr",
-                al.clone(),
-            );
-            a.package = false;
-            a.push_block(
-                Origin::Table,
-                n.image
-                    .attrs()
-                    .iter()
-                    .map(|x| al.pack(&[u(u64::from(x.colour_rgba8)), u(u64::from(x.normal_oct16))]))
-                    .collect(),
-            );
-            out.push(a);
-        }
-        out
+        walks.param("nodes_file", "walker_nodes.hex");
+        walks.param("attrs_file", "walker_attrs.hex");
+        Ok((walks, visits))
     }
 }
 
@@ -526,7 +519,7 @@ mod tests {
     fn walks_and_visits_agree() {
         let st =
             WalkerStage::new(&DatapathConfig::default(), Vec::new()).expect("synthetic images");
-        let (walks, visits) = st.build(&[], 50, 1);
+        let (walks, visits) = st.build(&[], 50, 1).expect("timed");
         let (l, vl) = (st.layout(), WalkerStage::visit_layout());
         let mut hits = 0;
         let mut total_visits = 0;
