@@ -84,7 +84,11 @@ struct Tally {
 }
 
 /// Upper bound on accepted ties + grazes among rays starting on a grid plane (see [`Tally`]).
-const PLANE_START_LIMIT_PERCENT: u64 = 15;
+/// Measured over 13 seeds (1 to 13) of the four ray sets: at most 0.32 % (31 grazes in 9,736
+/// rays), never a tie; 1 % keeps a 3× margin for other seeds while a walker that mishandled
+/// plane starts systematically (about half of such rays meet a solid far-side cell) would
+/// exceed it many times over. It was 15 % before it was measured.
+const PLANE_START_LIMIT_PERCENT: u64 = 1;
 
 impl Tally {
     fn add(&self, plane_start: bool, v: Verdict, hit: bool) {
