@@ -111,10 +111,10 @@ fn conservative_and_within_bound() {
     // keeps a sphere the exact test culls only if the exact p² lies in (r², r² + 2W] (its own
     // p² is at most W below the exact one, and it keeps p² ≤ r² + W). For an origin at
     // distance L from the centre and a uniformly random direction, P(p² ≤ x) ≈ x/(4L²) per
-    // cone, so the band has probability ≤ 2·2W/(4L²) = W/L² (both cones). With W = 2.7·10⁻⁵ m²
+    // cone, so the band has probability ≤ 2·2W/(4L²) = W/L² (both cones). With W = 4.2·10⁻⁵ m² (the default, `sim datapath`)
     // and the 12,000 ordinary rays' L distributed as the distance of two uniform points in a
     // 60 m cube (E[1/L²] ≈ 4π·30/60³ ≈ 1.7·10⁻³ m⁻²), the expected count is about
-    // 12,000 · 2.7·10⁻⁵ · 1.7·10⁻³ ≈ 6·10⁻⁴: P(extra ≥ 2) ≈ 2·10⁻⁷. Measured: 0 for seeds 1 to
+    // 12,000 · 4.2·10⁻⁵ · 1.7·10⁻³ ≈ 9·10⁻⁴: P(extra ≥ 2) ≈ 4·10⁻⁷. Measured: 0 for seeds 1 to
     // 5 and the default. (It was `extra < 12` before it was derived.)
     assert!(
         extra <= 1,

@@ -1,0 +1,165 @@
+//! Every error-bound function of the default datapath against a value derived by hand from
+//! the default formats (issue 14 part 4): the bound functions are the numbers the accuracy
+//! tests judge against, so a slip in one (a lost term, a wrong LSB) would loosen or break
+//! every test that trusts it. Each case gives its derivation from the formats in
+//! `docs/number-formats.md` (LSBs written as powers of two here, not read from the code) and
+//! requires the function to agree with the hand value to 0.5 % — a cap above and a floor
+//! below. A deliberate change of a default format fails here first: re-derive, then update.
+
+use rtl_model::cost::direction_error_bound;
+use rtl_model::datapath::DatapathConfig;
+use rtl_model::units::cordic::{self, CordicConfig};
+use rtl_model::units::keyframe::{matrix_error_bound, KeyframeConfig};
+use rtl_model::units::{hit_record, raygen, reciprocal, sqrt, transform, walker};
+
+fn p2(e: i32) -> f64 {
+    2f64.powi(e)
+}
+
+/// The bound agrees with the hand value within 0.5 % (and both are positive).
+fn agrees(what: &str, bound: f64, hand: f64) {
+    println!("{what:<34} bound {bound:.4e}   by hand {hand:.4e}");
+    assert!(hand > 0.0 && bound > 0.0, "{what}: {bound:e}");
+    assert!(
+        (bound - hand).abs() <= 0.005 * hand,
+        "{what}: the bound function gives {bound:e}, the hand derivation {hand:e}"
+    );
+}
+
+#[test]
+fn leaf_unit_bounds_match_the_hand_derivation() {
+    let dp = DatapathConfig::default();
+    // Square root uQ16.48 → uQ8.24, truncated: below one output LSB.
+    agrees(
+        "sqrt",
+        sqrt::error_bound(&sqrt::SqrtConfig::default()),
+        p2(-24),
+    );
+    // Ray generation: directions sQ2.30 rounded to nearest: half an LSB.
+    agrees("raygen direction", raygen::error_bound(&dp.raygen), p2(-31));
+    // Hit record: t uQ8.14 truncated: one LSB.
+    agrees(
+        "hit record t",
+        hit_record::t_error_bound(&dp.hit_record),
+        p2(-14),
+    );
+    // Octahedral normal, 8 bits: s = 127, h = 1/(2s); 2·asin(3h/√2) = 2·asin(0.0083517).
+    agrees(
+        "hit record normal (rad)",
+        hit_record::normal_error_bound_rad(8),
+        2.0 * (3.0 / 254.0 / 2f64.sqrt()).asin(),
+    );
+}
+
+#[test]
+fn transform_and_reciprocal_bounds_match_the_hand_derivation() {
+    let dp = DatapathConfig::default();
+    // Transform origin, |o − c| ≤ 128 m per component: e_m = 2^−31 (sQ2.30 nearest),
+    // e_p = 2^−33 (sQ8.32 nearest), output sQ8.32 nearest:
+    // 3·(e_m·128 + (1 + e_m)·2·e_p) + 2^−33 = 3·(5.9605e-8 + 2.328e-10) + 1.164e-10 = 1.7963e-7.
+    let em = p2(-31);
+    agrees(
+        "transform origin (128 m)",
+        transform::origin_error_bound(&dp.transform, 128.0),
+        3.0 * (em * 128.0 + (1.0 + em) * 2.0 * p2(-33)) + p2(-33),
+    );
+    // Transform direction: 3·(e_m + (1 + e_m)·e_d) + e_out with e_d = e_out = 2^−31: ≈ 7·2^−31.
+    agrees(
+        "transform direction",
+        transform::dir_error_bound(&dp.transform),
+        7.0 * p2(-31),
+    );
+    // Reciprocal sQ2.30 → sQ22.30, t = 8, two iterations, G = 32 mantissa fraction bits.
+    // R0 = 2.37·10⁻³ (docs/units/reciprocal.md §6, the worst interval end of the ROM);
+    // R1 = R0² + 2^−31 = 5.617e-6; R2 = R1² + 2^−31 = 4.973e-10; rel = R2·(1 + 2^−32) + 2^−32
+    // = 7.301e-10. abs: half an LSB of sQ22.30 = 2^−31. Zero threshold: k = 52 − 30 − 1 = 21
+    // magnitude bits, |d| ≤ 2^−21.
+    let b = reciprocal::error_bound(&dp.reciprocal);
+    let r1 = 2.37e-3f64.powi(2) + p2(-31);
+    let r2 = r1 * r1 + p2(-31);
+    agrees("reciprocal relative", b.rel, r2 * (1.0 + p2(-32)) + p2(-32));
+    agrees("reciprocal absolute", b.abs, p2(-31));
+    agrees(
+        "reciprocal zero threshold",
+        reciprocal::zero_threshold(&dp.reciprocal),
+        p2(-21),
+    );
+    // The direction error any ray's walk follows: transform + reciprocal relative + the zero
+    // threshold (a flushed component tilts the ray by up to 2^−21).
+    agrees(
+        "direction (any ray)",
+        direction_error_bound(&dp),
+        7.0 * p2(-31) + 7.301e-10 + p2(-21),
+    );
+}
+
+#[test]
+fn sphere_bounds_match_the_hand_derivation() {
+    let s = DatapathConfig::default().sphere;
+    // reach 128 m; e_d = 2^−31, e_p = 2^−33; t_ca sQ10.24 truncated: lsb 2^−24; squares
+    // uQ16.48: lsb 2^−48; entry uQ10.22: lsb 2^−22.
+    // Δt = 128·√3·2^−31 + 2√3·2^−33 + 2^−24 = 1.0326e-7 + 4.03e-10 + 5.960e-8 = 1.6326e-7
+    // Δl² = 2·128·(2√3·2^−33) + (2√3·2^−33)² = 1.0319e-7
+    // W = Δl² + 2·128·Δt + Δt² + 2·2^−48 = 4.1898e-5 m²
+    let s3 = 3f64.sqrt();
+    let dt = 128.0 * s3 * p2(-31) + 2.0 * s3 * p2(-33) + p2(-24);
+    let dl = 2.0 * s3 * p2(-33);
+    let w = 2.0 * 128.0 * dl + dl * dl + 2.0 * 128.0 * dt + dt * dt + 2.0 * p2(-48);
+    agrees("sphere widening W (m²)", s.widening(), w);
+    // Entry earlier by at most 2Δt + √(2W) + √(2^−48) + 2·2^−22 = 9.155e-3 m.
+    agrees(
+        "sphere entry (m)",
+        s.t_enter_error_bound(1.0),
+        2.0 * dt + (2.0 * w).sqrt() + p2(-24) + 2.0 * p2(-22),
+    );
+}
+
+#[test]
+fn walker_bounds_match_the_hand_derivation() {
+    let dp = DatapathConfig::default();
+    // The walker's t is sQ31.31 truncated (docs/number-formats.md): lsb 2^−31.
+    // Spatial, 20 m reach, depth 11, with the transform origin bound at 20 m
+    // (3·(2^−31·20 + 2·2^−33) + 2^−33 = 2.8756e-8) and the direction bound above:
+    // origin + 20·dir + 2^−31·(2 + 11).
+    let origin = 3.0 * (p2(-31) * 20.0 + 2.0 * p2(-33)) + p2(-33);
+    let dir = 7.0 * p2(-31) + 7.301e-10 + p2(-21);
+    let spatial = walker::spatial_error_bound(&dp.walker, origin, dir, 20.0, 11);
+    agrees(
+        "walker spatial (20 m, depth 11)",
+        spatial,
+        origin + 20.0 * dir + 13.0 * p2(-31),
+    );
+    // A voxel of the 4.2 m car at depth 11 is 2 mm: the bound must stay far inside it.
+    assert!(spatial < 2e-3 / 100.0, "spatial bound {spatial:e} m");
+    // t of a leaf at depth 11, 1/|d| ≤ 2^21 (the zero threshold), reach 20 m, 1/d error
+    // 2^−31 absolute + 7.3e-10 relative at 2^21: origin·2^21 + 20·inv_err + 2^−31·12.
+    let inv_err = 7.301e-10 * p2(21) + p2(-31);
+    agrees(
+        "walker t (depth 11)",
+        walker::t_error_bound(&dp.walker, origin, inv_err, p2(21), 20.0, 11),
+        origin * p2(21) + 20.0 * inv_err + 12.0 * p2(-31),
+    );
+}
+
+#[test]
+fn pose_bounds_match_the_hand_derivation() {
+    // CORDIC, 36 iterations, work 40 and angle 44 fraction bits, K = 1.6467602581:
+    // angle residual atan(2^−35) + 2π·36·½·2^−44 = 2.9104e-11 + 6.4296e-12; floors
+    // 36·√2·K·2^−40 = 7.6233e-11; start K·½·2^−40 = 7.489e-13; total 1.1252e-10.
+    let k = 1.646_760_258_1_f64;
+    let e_c = p2(-35).atan()
+        + 2.0 * std::f64::consts::PI * 36.0 * 0.5 * p2(-44)
+        + 36.0 * 2f64.sqrt() * k * p2(-40)
+        + k * 0.5 * p2(-40);
+    agrees(
+        "CORDIC sin/cos",
+        cordic::error_bound(&CordicConfig::default()),
+        e_c,
+    );
+    // Euler matrix entries from exact angles: 6·e_c·(1 + e_c)² + output sQ2.30 nearest 2^−31.
+    agrees(
+        "keyframe matrix entry",
+        matrix_error_bound(&KeyframeConfig::default(), 0.0),
+        6.0 * e_c + p2(-31),
+    );
+}
