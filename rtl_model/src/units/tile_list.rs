@@ -97,6 +97,57 @@ pub fn passes(len: u32, lanes: u32) -> u32 {
 /// output registers, 2) and the list-word read (2).
 pub const LATENCY_CYCLES: u32 = 4;
 
+/// What the reader does for one ray: which tile, which words, how many, and which lanes of
+/// the last word hold ids (bit k set: lane k valid).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReadPlan {
+    /// Tile index (raster order).
+    pub tile: u32,
+    /// First list word.
+    pub first_word: u32,
+    /// Cycles the ray occupies the lanes ([`passes`]).
+    pub cycles: u32,
+    /// Valid lanes of the last word (all ones for a full word, 0 for an empty list).
+    pub last_mask: u32,
+}
+
+/// The reader's transaction: pixel (`i`, `j`) of a frame `tiles_x` tiles wide, whose tile's
+/// offset-table entry is (`start`, `len`), on `lanes` lanes with `cfg.tile`-pixel tiles.
+///
+/// ```
+/// use rtl_model::units::tile_list::{read_plan, TileListConfig};
+/// let cfg = TileListConfig::default();
+/// let r = read_plan(35, 17, (100, 11), 80, 8, &cfg);
+/// assert_eq!((r.tile, r.first_word, r.cycles, r.last_mask), (82, 100, 2, 0b111));
+/// ```
+pub fn read_plan(
+    i: u32,
+    j: u32,
+    (start, len): (u32, u32),
+    tiles_x: u32,
+    lanes: u32,
+    cfg: &TileListConfig,
+) -> ReadPlan {
+    let shift = cfg.tile.max(1).trailing_zeros();
+    let lanes = lanes.clamp(1, 32);
+    let rem = len % lanes;
+    let full = if lanes == 32 {
+        u32::MAX
+    } else {
+        (1u32 << lanes) - 1
+    };
+    ReadPlan {
+        tile: (j >> shift) * tiles_x + (i >> shift),
+        first_word: start,
+        cycles: passes(len, lanes),
+        last_mask: match (len, rem) {
+            (0, _) => 0,
+            (_, 0) => full,
+            (_, r) => (1u32 << r) - 1,
+        },
+    }
+}
+
 /// How a frame's lists fit the memory.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ListBudget {

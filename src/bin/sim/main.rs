@@ -13,6 +13,7 @@ mod datapath;
 mod drift;
 mod fuzz;
 mod hardware;
+mod instances;
 mod run;
 mod stress;
 mod sweep;
@@ -57,6 +58,10 @@ enum Command {
     /// every input must end in a result or a clear error; panics and hangs are saved and
     /// fail the run (docs/fuzz.md).
     Fuzz(fuzz::FuzzArgs),
+    /// Frame rate against instance count for the flat and the two-level instance scheme
+    /// (1 … 10,000 instances, still and moving camera), the functional models' speed and the
+    /// hit buffer's reuse (docs/instances.md); writes instances.md, .json and .png.
+    Instances(instances::InstancesArgs),
     /// Write HDL test vectors of every stage ($readmemh hex, JSON manifests, SystemVerilog
     /// packages) from adversarial cases, a real frame and seeded random stimulus
     /// (docs/vectors.md).
@@ -111,6 +116,7 @@ fn main() -> ExitCode {
         Some(Command::Hardware(a)) => hardware::hardware_command(a),
         Some(Command::Drift(a)) => drift::drift_command(a),
         Some(Command::Fuzz(a)) => fuzz::fuzz_command(a),
+        Some(Command::Instances(a)) => instances::instances_command(a),
         Some(Command::Vectors(a)) => vectors::vectors_command(a),
         Some(Command::Stress(a)) => stress::stress_command(a),
         Some(Command::Sweep(a)) => sweep::sweep_command(a),

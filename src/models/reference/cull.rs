@@ -20,7 +20,8 @@
 //! widened by one pixel on each side, which covers f64's rounding of every step here and of
 //! the ray generation by many orders of magnitude. A sphere with c_z ≤ R + slack straddles
 //! the eye's plane: its projection is unbounded and it goes into every tile. A sphere wholly
-//! behind the eye (c_z < −(2R + slack)) can meet no primary ray and goes nowhere.
+//! behind the eye or outside a side plane of the view frustum (by more than 2R + slack, which
+//! covers the fixed unit's relaxed "behind" test) can meet no primary ray and goes nowhere.
 
 use crate::world::scene::Camera;
 use glam::DVec3;
@@ -93,14 +94,26 @@ pub fn footprint(cam: &Camera, w: u32, h: u32, s: &BinSphere) -> Footprint {
     let r = s.keep_radius;
     // Slack for f64 rounding of the camera coordinates (a few ulps of |l|).
     let slack = 1e-9 * (1.0 + l.length());
-    if cz < -(2.0 * r + s.behind_slack + slack) {
+    // Behind the eye, or outside one of the frustum's four side planes (every primary ray has
+    // |u| < τa and |v| < τ): no point of a ray at t ≥ 0 is on the far side of such a plane,
+    // and the fixed unit's relaxed "behind" test keeps at most 2Δt + R behind the eye, hence
+    // the same margin for all five planes.
+    let tau = cam.tan_half_vfov;
+    let aspect = f64::from(w) / f64::from(h);
+    let margin = 2.0 * r + s.behind_slack + slack;
+    let (ta, t) = (tau * aspect, tau);
+    let outside = [
+        (cx - ta * cz) / ta.hypot(1.0),
+        (-cx - ta * cz) / ta.hypot(1.0),
+        (cy - t * cz) / t.hypot(1.0),
+        (-cy - t * cz) / t.hypot(1.0),
+    ];
+    if cz < -margin || outside.iter().any(|&d| d > margin) {
         return Footprint::Nowhere;
     }
     if cz <= r + slack {
         return Footprint::Everywhere;
     }
-    let tau = cam.tan_half_vfov;
-    let aspect = f64::from(w) / f64::from(h);
     let range = |c: f64| {
         let len = c.hypot(cz);
         let theta = c.atan2(cz);

@@ -1,7 +1,7 @@
 //! The procedural crowd: a `crowds: [(...)]` entry in a scene file that the loader expands into
 //! `count` instances of the scene's own assets (shared: every instance of a model walks the
 //! same SVO), each on its own straight path across a rectangular area while it turns about its
-//! vertical axis, all drawn from a seeded generator (docs/scene-format.md §8, docs/instances.md).
+//! vertical axis, all drawn from a seeded generator (docs/scene-format.md §10, docs/instances.md).
 //!
 //! Pipeline position: scene loading, before validation — the expanded instances are checked as
 //! if written by hand, so a renderer never sees the block.
