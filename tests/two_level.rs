@@ -232,3 +232,174 @@ fn overflowing_list_memory_falls_back_to_flat_tiles() {
     assert_eq!(used, used2);
     assert_eq!(ff.records, ft.records);
 }
+
+/// The cycle model with the two-level scheme on a crowd of 300 (more ids than 8 bits hold):
+/// elaboration keeps the lists and widens the ids; the cycle model checks its hit buffer
+/// against the functional model word for word every frame (`CycleModel::run_frame`), the
+/// records equal the flat functional model's, and the sphere lanes take fewer cycles.
+#[test]
+fn cycle_model_with_lists_matches_flat_and_elaboration_says_why() {
+    use rtl_model::cycle::hw_config::HwConfig;
+    use svo_sim::models::cycle::runner::CycleRun;
+    use svo_sim::models::cycle::CycleOptions;
+    use svo_sim::run::elaborate::elaborate;
+    let ron = r#"(
+    resolution: (48, 32),
+    frames: 2,
+    camera: [(frame: 0, position: (0, 12, 16), look_at: (0, 0, 0), vfov_deg: 50)],
+    assets: [
+        (name: "ball", depth: 3, source: Sdf(shape: Sphere(radius: 0.4))),
+        (name: "box", depth: 3, source: Sdf(shape: Box(half: (0.5, 0.25, 0.3)))),
+    ],
+    crowds: [(count: 300, seed: 5, area: (16, 16), models: ["ball", "box"], speed: (0, 0.1), moving: 0.5)],
+)"#;
+    let scene = Scene::from_ron(ron, "crowd", Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+    let dp = DatapathConfig::default();
+    let hw = HwConfig::for_datapath(&dp);
+    let e = elaborate(&scene, None, &hw, &dp, true).unwrap_or_else(|e| panic!("{e}"));
+    let tl = e
+        .two_level
+        .expect("lists kept for 300 instances on 8 lanes");
+    let units: Vec<(&str, String)> = e
+        .decisions
+        .iter()
+        .map(|d| (d.unit.as_str(), d.action.label()))
+        .collect();
+    assert!(
+        units.contains(&("instance_lists", "kept".into())),
+        "{units:?}"
+    );
+    assert!(
+        units.contains(&("instance_bits", "resized 8 → 9".into())),
+        "{units:?}"
+    );
+    assert_eq!(e.datapath.hit_record.instance_bits, 9);
+    let depths = effective_depths(&scene, None).unwrap_or_else(|e| panic!("{e}"));
+    let assets = build_assets(&scene, &depths, Materialise::Auto).unwrap_or_else(|e| panic!("{e}"));
+    let halves: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
+    let (w, h) = scene.file.resolution;
+    let mut runs: Vec<CycleRun> = [Some(tl), None]
+        .into_iter()
+        .map(|t| {
+            let mut r = CycleRun::new(
+                &e.hardware,
+                &e.datapath,
+                &assets,
+                &scene.instance_asset,
+                (w, h),
+                CycleOptions::default(),
+            )
+            .unwrap_or_else(|e| panic!("{e}"));
+            r.set_two_level(t);
+            r
+        })
+        .collect();
+    for f in 0..scene.file.frames {
+        let state = scene
+            .frame_state(f, &halves)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let input = FrameInput {
+            scene: &scene,
+            assets: &assets,
+            state: &state,
+        };
+        let two = runs[0]
+            .frame(&input, &e.datapath, e.use_hit_buffer)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let flat = runs[1]
+            .frame(&input, &e.datapath, e.use_hit_buffer)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(
+            runs[0].buffer().records,
+            runs[1].buffer().records,
+            "frame {f}"
+        );
+        assert!(
+            two.cycles.cycles * 2 < flat.cycles.cycles,
+            "frame {f}: two-level {} cycles, flat {}",
+            two.cycles.cycles,
+            flat.cycles.cycles
+        );
+        assert!(
+            two.fixed.sphere_tests * 3 < flat.fixed.sphere_tests,
+            "frame {f}: two-level {} sphere tests, flat {}",
+            two.fixed.sphere_tests,
+            flat.fixed.sphere_tests
+        );
+    }
+    // The default car (8 instances on 8 lanes) gets no line: it elaborates as before.
+    let car = Scene::default_car().unwrap_or_else(|e| panic!("{e}"));
+    let e = elaborate(&car, None, &hw, &dp, true).unwrap_or_else(|e| panic!("{e}"));
+    assert!(e.two_level.is_none());
+    assert!(e.decisions.iter().all(
+        |d| !["instance_lists", "instance_bits", "direction_table"].contains(&d.unit.as_str())
+    ));
+}
+
+/// The embedded crowd examples load with the right counts (they need the shared `.vox`
+/// models: skipped with a reason when the folder is missing, a failure under `CI=true`).
+#[test]
+fn crowd_examples_load() {
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/vox"));
+    if !dir.is_dir() {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "the .vox folder {} is missing (CI=true, so this is a failure)",
+            dir.display()
+        );
+        eprintln!("skipping: the .vox folder {} is missing", dir.display());
+        return;
+    }
+    for n in [100usize, 1000, 10_000] {
+        let path = format!("{}/scenes/crowd_{n}.ron", env!("CARGO_MANIFEST_DIR"));
+        let scene = Scene::load(Path::new(&path)).unwrap_or_else(|e| panic!("{path}: {e}"));
+        assert_eq!(scene.file.instances.len(), n);
+        // Every instance stays within the sphere unit's reach of the camera in every frame.
+        let eye = glam::DVec3::from_array(scene.file.camera[0].position);
+        for inst in &scene.file.instances {
+            for k in &inst.keys {
+                let p = glam::DVec3::from_array(k.translation);
+                assert!((p - eye).length() < 125.0, "{path}: {} too far", inst.name);
+            }
+        }
+    }
+}
+
+/// A bad crowd entry is an error naming the entry and the field.
+#[test]
+fn bad_crowds_are_named() {
+    let base = |crowd: &str| {
+        format!(
+            r#"(resolution: (8, 8), frames: 2, camera: [(frame: 0, position: (0, 1, 9), look_at: (0, 0, 0), vfov_deg: 40)],
+               assets: [(name: "b", depth: 3, source: Sdf(shape: Sphere(radius: 0.5)))], crowds: [{crowd}])"#
+        )
+    };
+    for (crowd, expect) in [
+        (
+            r#"(count: 5, seed: 1, area: (4, 4), models: ["x"], speed: (0, 1))"#,
+            "crowds[0]: crowd.models[0]: unknown asset \"x\"",
+        ),
+        (
+            r#"(count: 0, seed: 1, area: (4, 4), models: ["b"], speed: (0, 1))"#,
+            "crowds[0]: crowd.count",
+        ),
+        (
+            r#"(count: 5, seed: 1, area: (4, -1), models: ["b"], speed: (0, 1))"#,
+            "crowds[0]: crowd.area",
+        ),
+        (
+            r#"(count: 5, seed: 1, area: (4, 4), models: ["b"], speed: (0, 1), moving: 2)"#,
+            "crowds[0]: crowd.moving",
+        ),
+        (
+            r#"(count: 5, seed: 1, area: (4, 4), models: ["b"], speed: (0, 1), colour: 3)"#,
+            "colour",
+        ),
+    ] {
+        let err = Scene::from_ron(&base(crowd), "t.ron", Path::new("."))
+            .err()
+            .unwrap_or_else(|| panic!("{crowd} was accepted"))
+            .to_string();
+        assert!(err.contains(expect), "{crowd}: {err}");
+    }
+}
