@@ -137,10 +137,12 @@ fn two_level_lane_cycles(b: &Built, dp: &DatapathConfig, tl: &TileListConfig, la
         .sum()
 }
 
-/// The limit to name: the sphere lanes when they are busy for at least 90 % of the frame's
-/// cycles (the cycle model's own classification does not consider them), else the model's.
+/// The limit to name: the sphere lanes when they take more than one cycle a ray on average
+/// and are busy for at least 90 % of the frame's cycles (the cycle model's own classification
+/// does not consider them), else the model's (at one cycle a ray the lanes keep up with the
+/// clock, which is the model's `clock` limit).
 fn bound_name(lane_cycles: u64, cycles: u64, rays: u64, model: &str) -> String {
-    if lane_cycles * 10 >= cycles * 9 {
+    if lane_cycles > rays && lane_cycles * 10 >= cycles * 9 {
         format!(
             "sphere lanes ({:.2} cycles a ray)",
             lane_cycles as f64 / rays.max(1) as f64
