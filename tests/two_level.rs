@@ -274,6 +274,16 @@ fn cycle_model_with_lists_matches_flat_and_elaboration_says_why() {
         "{units:?}"
     );
     assert_eq!(e.datapath.hit_record.instance_bits, 9);
+    // A 73-bit record takes two URAM columns: the direction table goes to DRAM, and the
+    // printed totals (full − savings) equal the elaborated estimate.
+    assert!(units.contains(&("direction_table", "left out".into())), "{units:?}");
+    assert_eq!(
+        e.full.uram288 - e.total_saved().uram288,
+        e.elaborated.uram288,
+        "{:?} {:?}",
+        e.full,
+        e.elaborated
+    );
     let depths = effective_depths(&scene, None).unwrap_or_else(|e| panic!("{e}"));
     let assets = build_assets(&scene, &depths, Materialise::Auto).unwrap_or_else(|e| panic!("{e}"));
     let halves: Vec<f64> = assets.iter().map(|a| a.half_size).collect();

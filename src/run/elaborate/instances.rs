@@ -70,6 +70,7 @@ pub fn decide(
     ));
     let need = instance_bits_for(n);
     if need > dp.hit_record.instance_bits {
+        let narrow = dp.clone();
         let from = dp.hit_record.instance_bits;
         dp.hit_record.instance_bits = need;
         ds.push(decision(
@@ -87,13 +88,32 @@ pub fn decide(
         // also in URAM the part's 960 would not hold both, so the table streams from DRAM
         // (docs/cycle-model.md §1.3, as for the 105-bit record).
         if dp.hit_record.word_bits() > 72 && hw.direction_table == Placement::Uram {
+            let before = hw.resources(&narrow).map(|r| r.used);
+            let hb_growth = hw
+                .hit_buffer_bits(dp)
+                .saturating_sub(hw.hit_buffer_bits(&narrow));
+            let table_bits = hw.direction_table_bits(dp);
             hw.direction_table = Placement::External;
-            ds.push(decision(
+            let after = hw.resources(dp).map(|r| r.used);
+            let mut d = decision(
                 "direction_table",
                 Action::LeftOut,
-                "the widened hit record takes 480 URAM288: the direction table streams from DRAM"
-                    .into(),
-            ));
+                format!(
+                    "the {}-bit hit record takes two URAM288 columns: the direction table streams from DRAM (saving net of the wider hit buffer)",
+                    dp.hit_record.word_bits()
+                ),
+            );
+            // Both changes together, so the printed totals equal the elaborated estimate.
+            if let (Ok(b), Ok(a)) = (before, after) {
+                d.saved = Saving {
+                    dsp48e2: b.dsp48e2.saturating_sub(a.dsp48e2),
+                    bram36: b.bram36.saturating_sub(a.bram36),
+                    uram288: b.uram288.saturating_sub(a.uram288),
+                    ram_bits: table_bits.saturating_sub(hb_growth),
+                    ..Saving::default()
+                };
+            }
+            ds.push(d);
         }
     }
     (ds, Some(tl))
