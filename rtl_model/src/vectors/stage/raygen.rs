@@ -13,7 +13,7 @@ use crate::fixed::{from_f64, Overflows, SignalId};
 use crate::units::raygen::direction_entry;
 use crate::vectors::layout::{b, s, u, Direction::*, Layout};
 use crate::vectors::rng::Rng;
-use crate::vectors::table::VectorTable;
+use crate::vectors::table::{Timing, VectorTable};
 
 /// One transaction: a pixel, its f64 ray direction and the f64 camera position.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -172,6 +172,15 @@ impl Stage for RaygenStage {
         v.push(b(ov.count(SignalId(0)) > 0));
         v.push(b(ov.count(SignalId(1)) > 0));
         v
+    }
+
+    fn timing(&self) -> Option<Timing> {
+        // units.raygen of the default hardware: svo_raygen.v is pipelined to it.
+        let t = crate::cycle::hw_config::UnitTimings::default().raygen;
+        Some(Timing {
+            latency_cycles: t.latency_cycles,
+            ii: t.ii,
+        })
     }
 
     fn parameters(&self, t: &mut VectorTable) {
