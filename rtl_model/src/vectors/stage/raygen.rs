@@ -5,7 +5,9 @@
 //!
 //! Adversarial cases: +0 and −0, ±1, exact round-half-even ties of both parities and signs,
 //! the next doubles either side of a tie, subnormals, values that saturate (2.0, ±∞, 128 m),
-//! the most negative codes (exact), NaN (0, flagged), and axis-parallel unit directions.
+//! the most negative codes (exact), NaN (0, flagged), axis-parallel unit directions, and the
+//! view's corners (diagonals of all eight octants) at the extreme pixels with the camera at the
+//! corners of its range.
 
 use super::{dedup, Stage};
 use crate::datapath::{DatapathConfig, RaygenConfig};
@@ -146,6 +148,20 @@ impl Stage for RaygenStage {
                     origin: [0.0; 3],
                 });
             }
+        }
+        // Corners of the view (unit diagonals in all eight octants) at the extreme pixels,
+        // with the camera at the corners of its range (the largest code, the most negative
+        // exact code, and one LSB beyond).
+        let c = 1.0 / 3f64.sqrt();
+        let pixels = [[0, 0], [u16::MAX, u16::MAX], [u16::MAX, 0], [0, u16::MAX]];
+        let corner = [128.0 - pl, -128.0, 128.0, -128.0 - pl];
+        for k in 0..8 {
+            let sg = |b: usize| if k >> b & 1 == 1 { -1.0 } else { 1.0 };
+            v.push(RaygenTxn {
+                pixel: pixels[k % 4],
+                dir: [sg(0) * c, sg(1) * c, sg(2) * c],
+                origin: [0, 1, 2].map(|a| sg(a) * corner[(k + a) % 4].abs()),
+            });
         }
         dedup_f(v)
     }
