@@ -199,58 +199,123 @@ pub enum StampError {
 /// The stamp list grows by one entry per stage visited; the pipeline's stages record entry at
 /// their input handshake and exit at their output handshake, so a hand-over from one stage to
 /// the next gives the same cycle for the first's exit and the second's entry.
+///
+/// A transaction made with [`Stamped::untracked`] keeps only its latest visit, inline: what a
+/// FIFO needs for its latency counters, without a heap allocation per transaction. The cycle
+/// model uses it unless a transaction log asks for the whole history (docs/cycle-model.md
+/// §3.2); every method then acts as if the history were that one visit.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Stamped<T> {
     /// The transaction itself.
     pub payload: T,
     // Private so that only `enter` and `leave` write it: they keep it in visit order.
     stamps: Vec<StageStamp>,
+    /// The latest visit of an untracked transaction (`None` while tracked or before any).
+    #[serde(default)]
+    latest: Option<StageStamp>,
+    /// Whether the whole history is kept in `stamps`.
+    #[serde(default = "tracked_default")]
+    tracked: bool,
+}
+
+fn tracked_default() -> bool {
+    true
 }
 
 impl<T> Stamped<T> {
-    /// A transaction that has not entered any stage yet.
+    /// A transaction that has not entered any stage yet, keeping its whole history.
     pub fn new(payload: T) -> Self {
         Self {
             payload,
             // A ray visits about a dozen stages and FIFOs: one allocation up front instead of
             // a few regrowths on the way.
             stamps: Vec::with_capacity(12),
+            latest: None,
+            tracked: true,
         }
     }
 
-    /// Every stage visit so far, oldest first.
+    /// A transaction that keeps only its latest visit (no allocation).
+    #[inline]
+    pub fn untracked(payload: T) -> Self {
+        Self {
+            payload,
+            stamps: Vec::new(),
+            latest: None,
+            tracked: false,
+        }
+    }
+
+    /// [`Stamped::new`] when `tracked`, else [`Stamped::untracked`].
+    #[inline]
+    pub fn with_history(payload: T, tracked: bool) -> Self {
+        if tracked {
+            Self::new(payload)
+        } else {
+            Self::untracked(payload)
+        }
+    }
+
+    /// Whether the whole history is kept.
+    pub fn is_tracked(&self) -> bool {
+        self.tracked
+    }
+
+    /// Every stage visit so far, oldest first (the latest only, if untracked).
     pub fn stamps(&self) -> &[StageStamp] {
-        &self.stamps
+        if self.tracked {
+            &self.stamps
+        } else {
+            self.latest.as_slice()
+        }
     }
 
     /// The last visit, if any.
+    #[inline]
     pub fn last(&self) -> Option<&StageStamp> {
-        self.stamps.last()
+        if self.tracked {
+            self.stamps.last()
+        } else {
+            self.latest.as_ref()
+        }
+    }
+
+    #[inline]
+    fn last_mut(&mut self) -> Option<&mut StageStamp> {
+        if self.tracked {
+            self.stamps.last_mut()
+        } else {
+            self.latest.as_mut()
+        }
     }
 
     /// The stage the transaction is inside (its last stamp, if still open).
     pub fn inside(&self) -> Option<StageId> {
-        self.stamps
-            .last()
-            .filter(|s| s.left.is_none())
-            .map(|s| s.stage)
+        self.last().filter(|s| s.left.is_none()).map(|s| s.stage)
     }
 
     /// Records entry to `stage` at cycle `cycle`. Never refused, so a stage can always accept
     /// what its handshake accepted; a misordered history shows up in [`Stamped::check`].
+    #[inline]
     pub fn enter(&mut self, stage: StageId, cycle: u64) {
-        self.stamps.push(StageStamp {
+        let s = StageStamp {
             stage,
             entered: cycle,
             left: None,
-        });
+        };
+        if self.tracked {
+            self.stamps.push(s);
+        } else {
+            self.latest = Some(s);
+        }
     }
 
     /// Records exit from `stage` at cycle `cycle` and returns the cycles spent inside. The
     /// transaction must be inside `stage` (its last stamp open and for that stage) and `cycle`
     /// must not be before the entry; otherwise nothing changes.
+    #[inline]
     pub fn leave(&mut self, stage: StageId, cycle: u64) -> Result<u64, StampError> {
-        match self.stamps.last_mut() {
+        match self.last_mut() {
             Some(s) if s.stage == stage && s.left.is_none() => {
                 if cycle < s.entered {
                     return Err(StampError::LeftBeforeEntered {
@@ -270,7 +335,7 @@ impl<T> Stamped<T> {
     /// each exit is at or after its entry, and each entry is at or after the previous exit.
     pub fn check(&self) -> Result<(), StampError> {
         let mut prev_left: Option<u64> = None;
-        for (i, s) in self.stamps.iter().enumerate() {
+        for (i, s) in self.stamps().iter().enumerate() {
             if i > 0 && prev_left.is_none_or(|l| s.entered < l) {
                 return Err(StampError::Overlap {
                     stage: s.stage,
@@ -293,7 +358,7 @@ impl<T> Stamped<T> {
 
     /// Cycles spent in the most recent completed visit to `stage`.
     pub fn latency_in(&self, stage: StageId) -> Option<u64> {
-        self.stamps
+        self.stamps()
             .iter()
             .rev()
             .filter(|s| s.stage == stage)
@@ -311,6 +376,8 @@ impl<T> Stamped<T> {
         Stamped {
             payload: f(self.payload),
             stamps: self.stamps,
+            latest: self.latest,
+            tracked: self.tracked,
         }
     }
 }

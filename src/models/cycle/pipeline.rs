@@ -219,6 +219,8 @@ impl<'f> Pipeline<'f> {
             hw.walker_pool.walkers * hw.walker_pool.contexts_per_walker + hw.fifos.root_to_dispatch;
         let fifos = Fifos::new(hw, ray_slots, start)?;
         let instances = frame.plan.instances();
+        // Rays keep their whole stamp history only while the transaction log wants more.
+        let track = log.len() < log_limit;
         machine.mem.reset_stats();
         machine.pool.take_cycles();
         Ok(Self {
@@ -228,7 +230,7 @@ impl<'f> Pipeline<'f> {
             machine,
             log,
             fifos,
-            raygen: Raygen::new(hw),
+            raygen: Raygen::new(hw, track),
             sphere: Sphere::new(hw, instances),
             sorter: Sorter::new(hw, instances),
             check: Check::new(hw),

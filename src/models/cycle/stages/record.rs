@@ -138,7 +138,7 @@ impl Record {
         let mut ray = s
             .stamps
             .take()
-            .unwrap_or_else(|| Stamped::new(Ray { pixel: s.pixel }));
+            .unwrap_or_else(|| Stamped::untracked(Ray { pixel: s.pixel }));
         ray.enter(id::RECORD, now);
         let rec = ray.map(|r| Rec {
             pixel: r.pixel,

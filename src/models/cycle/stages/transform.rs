@@ -55,7 +55,7 @@ impl Transform {
                     let pixel = ray.payload.pixel;
                     let (tr, pw, _) = frame.trace_at(pixel)?;
                     let slot = slots.take(pixel, tr.candidates_of(pw), ray)?;
-                    let mut w = Stamped::new(Walk { slot, cand: 0 });
+                    let mut w = Stamped::untracked(Walk { slot, cand: 0 });
                     w.enter(id::TRANSFORM, now);
                     self.pipe.accept(now, w, 1, 0);
                 }

@@ -56,7 +56,7 @@ impl Walkers {
         pool.wake(now, mem)?;
         if pool.finished_head().is_some() && out.ready() {
             if let Some(tag) = pool.retire() {
-                let mut wk = Stamped::new(walk_of(tag));
+                let mut wk = Stamped::untracked(walk_of(tag));
                 wk.enter(id::WALKER, now);
                 let _ = wk.leave(id::WALKER, now);
                 out.try_push(wk).map_err(internal)?;
