@@ -9,6 +9,7 @@
 use super::runner::CycleRun;
 use super::CycleOptions;
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
+use crate::run::parallel::map_in_order;
 use crate::world::assets::Asset;
 use crate::world::scene::Scene;
 use plotters::prelude::*;
@@ -138,29 +139,30 @@ pub fn scaling(
         c.node_memory.dram.latency = lat;
         configs.push(("dram_latency", lat, c));
     }
-    let mut out = Vec::new();
-    for (sweep, value, c) in configs {
-        let mut run = CycleRun::new(
-            &c,
-            dp,
-            assets,
-            &scene.instance_asset,
-            (w, h),
-            CycleOptions::default(),
-        )?;
-        let r = run.frame(&input, dp, false)?;
-        let p = ScalePoint {
-            sweep,
-            value,
-            cycles: r.cycles.cycles,
-            fps: r.cycles.fps_at_clock,
-            bound: r.cycles.bound.limit.clone(),
-            reason: r.cycles.bound.reason.clone(),
-        };
-        progress(&p);
-        out.push(p);
-    }
-    Ok(out)
+    // Independent runs: on all cores, points and progress in the sequential order.
+    map_in_order(
+        &configs,
+        |(sweep, value, c)| -> anyhow::Result<ScalePoint> {
+            let mut run = CycleRun::new(
+                c,
+                dp,
+                assets,
+                &scene.instance_asset,
+                (w, h),
+                CycleOptions::default(),
+            )?;
+            let r = run.frame(&input, dp, false)?;
+            Ok(ScalePoint {
+                sweep,
+                value: *value,
+                cycles: r.cycles.cycles,
+                fps: r.cycles.fps_at_clock,
+                bound: r.cycles.bound.limit.clone(),
+                reason: r.cycles.bound.reason.clone(),
+            })
+        },
+        |p| progress(p),
+    )
 }
 
 /// The sweep as CSV.
