@@ -201,6 +201,12 @@ pub struct Fifo<T> {
     push_driven: bool,
     pop_driven: bool,
     popped: bool,
+    /// This cycle's consumer asked while empty / producer offered while full.
+    starved_now: bool,
+    full_now: bool,
+    /// The same for the last committed cycle (what [`Fifo::skip_idle`] repeats).
+    last_starved: bool,
+    last_full: bool,
     stats: FifoStats,
 }
 
@@ -223,6 +229,10 @@ impl<T> Fifo<T> {
             push_driven: false,
             pop_driven: false,
             popped: false,
+            starved_now: false,
+            full_now: false,
+            last_starved: false,
+            last_full: false,
             stats: FifoStats {
                 occupancy_histogram: vec![0; depth + 1],
                 ..FifoStats::default()
@@ -293,6 +303,7 @@ impl<T> Fifo<T> {
         self.push_driven = true;
         if !self.ready() {
             self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
+            self.full_now = true;
             return Err(Rejected {
                 item,
                 reason: Refusal::Full,
@@ -312,6 +323,7 @@ impl<T> Fifo<T> {
         self.pop_driven = true;
         if !self.valid() {
             self.stats.starved_cycles = self.stats.starved_cycles.saturating_add(1);
+            self.starved_now = true;
             return Ok(None);
         }
         Ok(self.take())
@@ -367,9 +379,11 @@ pub fn forward<T>(from: &mut Fifo<T>, to: &mut Fifo<T>) -> Result<bool, FifoErro
     to.push_driven = true;
     if valid && !ready {
         to.stats.full_cycles = to.stats.full_cycles.saturating_add(1);
+        to.full_now = true;
     }
     if ready && !valid {
         from.stats.starved_cycles = from.stats.starved_cycles.saturating_add(1);
+        from.starved_now = true;
     }
     if valid && ready {
         if let Some(item) = from.take() {
@@ -412,6 +426,33 @@ impl<T> Commit for Fifo<T> {
         self.push_driven = false;
         self.pop_driven = false;
         self.popped = false;
+        self.last_starved = std::mem::take(&mut self.starved_now);
+        self.last_full = std::mem::take(&mut self.full_now);
         self.now = self.now.saturating_add(1);
+    }
+}
+
+impl<T> Fifo<T> {
+    /// Takes `k` idle cycles at once, as `k` cycles in which the FIFO's sides are driven as
+    /// in the last committed one and nothing is pushed or popped: the counters (cycles,
+    /// occupancy, histogram, starved and full cycles) are credited as if stepped. For the
+    /// pipeline's idle-cycle skipping (docs/cycle-model.md §3.3); call it between edges,
+    /// only after a cycle in which nothing moved through this FIFO.
+    pub fn skip_idle(&mut self, k: u64) {
+        let s = &mut self.stats;
+        s.cycles = s.cycles.saturating_add(k);
+        s.occupancy_sum = s
+            .occupancy_sum
+            .saturating_add((self.occupancy as u64).saturating_mul(k));
+        if let Some(h) = s.occupancy_histogram.get_mut(self.occupancy) {
+            *h = h.saturating_add(k);
+        }
+        if self.last_starved {
+            s.starved_cycles = s.starved_cycles.saturating_add(k);
+        }
+        if self.last_full {
+            s.full_cycles = s.full_cycles.saturating_add(k);
+        }
+        self.now = self.now.saturating_add(k);
     }
 }

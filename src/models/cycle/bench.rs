@@ -38,6 +38,8 @@ pub struct SpeedFrame {
     pub rays_per_cycle: f64,
     /// The limit.
     pub bound: String,
+    /// Cycles of the frame taken at once by idle-cycle skipping (docs/cycle-model.md §3.3).
+    pub skipped_cycles: u64,
 }
 
 /// Runs every frame of `scene` through the reference and the cycle model (both with or both
@@ -77,7 +79,9 @@ pub fn speed(
         let t = Instant::now();
         render_frame(&input, &mut reference, opts);
         let reference_s = t.elapsed().as_secs_f64();
+        let skipped_before = run.model().skipped_cycles().0;
         let r = run.frame(&input, dp, use_hit_buffer)?;
+        let skipped_cycles = run.model().skipped_cycles().0 - skipped_before;
         out.push(SpeedFrame {
             frame: f,
             reference_s,
@@ -87,6 +91,7 @@ pub fn speed(
             fps: r.cycles.fps_at_clock,
             rays_per_cycle: r.cycles.rays_per_cycle,
             bound: r.cycles.bound.limit.clone(),
+            skipped_cycles,
         });
     }
     Ok(out)

@@ -23,6 +23,13 @@ pub struct Check {
 }
 
 impl Check {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pipe.next_change(now)
+    }
+
     /// The stage of `hw`: the hit buffer's read latency (0 without one) and the unpacking.
     pub fn new(hw: &HwConfig) -> Self {
         let latency = hw.hit_buffer_read_cycles() + hw.units.hit_unpack.latency_cycles;

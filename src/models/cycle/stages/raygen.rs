@@ -24,6 +24,13 @@ pub struct Raygen {
 }
 
 impl Raygen {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pipe.next_change(now)
+    }
+
     /// The stage of `hw`, at pixel 0; `track`: rays keep their whole stamp history.
     pub fn new(hw: &HwConfig, track: bool) -> Self {
         let u = &hw.units.raygen;
