@@ -310,9 +310,13 @@ fn untracked_stamps_keep_the_latest_visit() {
         assert_eq!(t.inside(), Some(b));
     }
     assert_eq!(full.stamps().len(), 2);
-    assert_eq!(thin.stamps().len(), 1);
-    assert_eq!(thin.stamps()[0], full.stamps()[1]);
+    assert!(thin.stamps().is_empty(), "no history kept");
     assert_eq!(thin.last(), full.last());
+    assert_eq!(full.last(), Some(full.stamps()[1]));
+    assert_eq!(thin.latency_in(b), None, "b is still open");
+    assert_eq!(thin.leave(b, 9), Ok(4));
+    assert_eq!(full.leave(b, 9), Ok(4));
+    assert_eq!(thin.latency_in(b), full.latency_in(b));
     let thin = thin.map(|x| x + 1);
     assert_eq!((thin.payload, thin.is_tracked()), (8, false));
     assert_eq!(thin.check(), Ok(()));

@@ -221,7 +221,7 @@ fn run_single(seed: u64, depth: usize, n: u64) -> u64 {
         assert!(fifo.occupancy() <= depth);
     }
     let s = fifo.stats();
-    assert_eq!(*s, model.stats, "counters against the reference");
+    assert_eq!(s, model.stats, "counters against the reference");
     assert_eq!(s.pushes, n);
     assert_eq!(s.pops, n);
     assert_eq!(s.pushes, s.pops + fifo.occupancy() as u64);

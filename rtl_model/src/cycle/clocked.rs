@@ -208,27 +208,30 @@ pub enum StampError {
 /// their input handshake and exit at their output handshake, so a hand-over from one stage to
 /// the next gives the same cycle for the first's exit and the second's entry.
 ///
-/// A transaction made with [`Stamped::untracked`] keeps only its latest visit, inline: what a
-/// FIFO needs for its latency counters, without a heap allocation per transaction. The cycle
-/// model uses it unless a transaction log asks for the whole history (docs/cycle-model.md
-/// §3.2); every method then acts as if the history were that one visit.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// A transaction made with [`Stamped::untracked`] keeps only its latest visit, inline (no
+/// list, no heap allocation): what a FIFO needs for its latency counters. The cycle model uses
+/// it unless a transaction log asks for the whole history (docs/cycle-model.md §3.2). Its
+/// [`stamps`](Stamped::stamps) are empty; [`last`](Stamped::last), [`inside`](Stamped::inside),
+/// [`leave`](Stamped::leave) and [`latency_in`](Stamped::latency_in) of the latest visit
+/// answer as for a tracked one.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Stamped<T> {
     /// The transaction itself.
     pub payload: T,
-    // Private so that only `enter` and `leave` write it: they keep it in visit order.
-    stamps: Vec<StageStamp>,
-    /// The latest visit of an untracked transaction (`None` while tracked or before any).
-    #[serde(default)]
-    latest: Option<StageStamp>,
-    /// Whether the whole history is kept in `stamps`.
-    #[serde(default = "tracked_default")]
-    tracked: bool,
+    // Private so that only `enter` and `leave` write them: they keep the visits in order.
+    /// Every visit, oldest first, when tracked.
+    history: Option<Box<Vec<StageStamp>>>,
+    /// The latest visit: its stage (`NO_STAGE` before any), entry and exit (`OPEN` while
+    /// inside). Kept for tracked transactions too, so both kinds leave the same way.
+    stage: StageId,
+    entered: u64,
+    left: u64,
 }
 
-fn tracked_default() -> bool {
-    true
-}
+/// `Stamped::stage` before any visit.
+const NO_STAGE: StageId = StageId(u16::MAX);
+/// `Stamped::left` while inside.
+const OPEN: u64 = u64::MAX;
 
 impl<T> Stamped<T> {
     /// A transaction that has not entered any stage yet, keeping its whole history.
@@ -237,9 +240,10 @@ impl<T> Stamped<T> {
             payload,
             // A ray visits about a dozen stages and FIFOs: one allocation up front instead of
             // a few regrowths on the way.
-            stamps: Vec::with_capacity(12),
-            latest: None,
-            tracked: true,
+            history: Some(Box::new(Vec::with_capacity(12))),
+            stage: NO_STAGE,
+            entered: 0,
+            left: OPEN,
         }
     }
 
@@ -248,9 +252,10 @@ impl<T> Stamped<T> {
     pub fn untracked(payload: T) -> Self {
         Self {
             payload,
-            stamps: Vec::new(),
-            latest: None,
-            tracked: false,
+            history: None,
+            stage: NO_STAGE,
+            entered: 0,
+            left: OPEN,
         }
     }
 
@@ -266,55 +271,42 @@ impl<T> Stamped<T> {
 
     /// Whether the whole history is kept.
     pub fn is_tracked(&self) -> bool {
-        self.tracked
+        self.history.is_some()
     }
 
-    /// Every stage visit so far, oldest first (the latest only, if untracked).
+    /// Every stage visit so far, oldest first (none if untracked).
     pub fn stamps(&self) -> &[StageStamp] {
-        if self.tracked {
-            &self.stamps
-        } else {
-            self.latest.as_slice()
-        }
+        self.history.as_deref().map_or(&[], |h| h.as_slice())
     }
 
     /// The last visit, if any.
     #[inline]
-    pub fn last(&self) -> Option<&StageStamp> {
-        if self.tracked {
-            self.stamps.last()
-        } else {
-            self.latest.as_ref()
-        }
-    }
-
-    #[inline]
-    fn last_mut(&mut self) -> Option<&mut StageStamp> {
-        if self.tracked {
-            self.stamps.last_mut()
-        } else {
-            self.latest.as_mut()
-        }
+    pub fn last(&self) -> Option<StageStamp> {
+        (self.stage != NO_STAGE).then_some(StageStamp {
+            stage: self.stage,
+            entered: self.entered,
+            left: (self.left != OPEN).then_some(self.left),
+        })
     }
 
     /// The stage the transaction is inside (its last stamp, if still open).
     pub fn inside(&self) -> Option<StageId> {
-        self.last().filter(|s| s.left.is_none()).map(|s| s.stage)
+        (self.stage != NO_STAGE && self.left == OPEN).then_some(self.stage)
     }
 
     /// Records entry to `stage` at cycle `cycle`. Never refused, so a stage can always accept
     /// what its handshake accepted; a misordered history shows up in [`Stamped::check`].
     #[inline]
     pub fn enter(&mut self, stage: StageId, cycle: u64) {
-        let s = StageStamp {
-            stage,
-            entered: cycle,
-            left: None,
-        };
-        if self.tracked {
-            self.stamps.push(s);
-        } else {
-            self.latest = Some(s);
+        self.stage = stage;
+        self.entered = cycle;
+        self.left = OPEN;
+        if let Some(h) = self.history.as_mut() {
+            h.push(StageStamp {
+                stage,
+                entered: cycle,
+                left: None,
+            });
         }
     }
 
@@ -323,20 +315,21 @@ impl<T> Stamped<T> {
     /// must not be before the entry; otherwise nothing changes.
     #[inline]
     pub fn leave(&mut self, stage: StageId, cycle: u64) -> Result<u64, StampError> {
-        match self.last_mut() {
-            Some(s) if s.stage == stage && s.left.is_none() => {
-                if cycle < s.entered {
-                    return Err(StampError::LeftBeforeEntered {
-                        stage,
-                        entered: s.entered,
-                        left: cycle,
-                    });
-                }
-                s.left = Some(cycle);
-                Ok(cycle - s.entered)
-            }
-            _ => Err(StampError::NotInside(stage)),
+        if self.stage != stage || stage == NO_STAGE || self.left != OPEN {
+            return Err(StampError::NotInside(stage));
         }
+        if cycle < self.entered {
+            return Err(StampError::LeftBeforeEntered {
+                stage,
+                entered: self.entered,
+                left: cycle,
+            });
+        }
+        self.left = cycle;
+        if let Some(last) = self.history.as_mut().and_then(|h| h.last_mut()) {
+            last.left = Some(cycle);
+        }
+        Ok(cycle - self.entered)
     }
 
     /// Checks that the history is one visit at a time: every stamp but the last is closed,
@@ -364,8 +357,15 @@ impl<T> Stamped<T> {
         Ok(())
     }
 
-    /// Cycles spent in the most recent completed visit to `stage`.
+    /// Cycles spent in the most recent completed visit to `stage` (of an untracked
+    /// transaction: only if that is its latest visit).
     pub fn latency_in(&self, stage: StageId) -> Option<u64> {
+        if !self.is_tracked() {
+            return self
+                .last()
+                .filter(|s| s.stage == stage)
+                .and_then(|s| s.latency());
+        }
         self.stamps()
             .iter()
             .rev()
@@ -383,9 +383,10 @@ impl<T> Stamped<T> {
     pub fn map<U>(self, f: impl FnOnce(T) -> U) -> Stamped<U> {
         Stamped {
             payload: f(self.payload),
-            stamps: self.stamps,
-            latest: self.latest,
-            tracked: self.tracked,
+            history: self.history,
+            stage: self.stage,
+            entered: self.entered,
+            left: self.left,
         }
     }
 }

@@ -157,7 +157,7 @@ impl Fifos {
     /// Name, depth and counters of each FIFO, for the report.
     fn stats(&self) -> [(&'static str, usize, FifoStats); 10] {
         fn s<T>(name: &'static str, f: &Fifo<T>) -> (&'static str, usize, FifoStats) {
-            (name, f.depth(), f.stats().clone())
+            (name, f.depth(), f.stats())
         }
         [
             s("raygen_to_sphere", &self.rg_sp),
@@ -347,17 +347,16 @@ impl<'f> Pipeline<'f> {
     /// a record's write pops one).
     fn activity(&self) -> u64 {
         let f = &self.fifos;
-        let fifo = |s: &FifoStats| s.pushes + s.pops;
-        fifo(f.rg_sp.stats())
-            + fifo(f.sp_so.stats())
-            + fifo(f.so_ck.stats())
-            + fifo(f.ck_tr.stats())
-            + fifo(f.loop_back.stats())
-            + fifo(f.tr_rc.stats())
-            + fifo(f.rc_rt.stats())
-            + fifo(f.rt_dp.stats())
-            + fifo(f.wk_rc.stats())
-            + fifo(f.rc_wr.stats())
+        f.rg_sp.moved()
+            + f.sp_so.moved()
+            + f.so_ck.moved()
+            + f.ck_tr.moved()
+            + f.loop_back.moved()
+            + f.tr_rc.moved()
+            + f.rc_rt.moved()
+            + f.rt_dp.moved()
+            + f.wk_rc.moved()
+            + f.rc_wr.moved()
             + self.raygen.next_pixel()
             + self.machine.pool.activity()
     }

@@ -20,6 +20,9 @@ use rtl_model::cycle::unit_pipe::UnitPipe;
 /// The check stage: rays with the word their read returned.
 pub struct Check {
     pipe: UnitPipe<(Stamped<Ray>, u128)>,
+    /// The record word of a ray with no candidate: the same for every such ray of the frame
+    /// (the plan's background record), computed once.
+    miss_word: Option<u128>,
 }
 
 impl Check {
@@ -35,6 +38,7 @@ impl Check {
         let latency = hw.hit_buffer_read_cycles() + hw.units.hit_unpack.latency_cycles;
         Self {
             pipe: UnitPipe::new(latency, 1),
+            miss_word: None,
         }
     }
 
@@ -71,10 +75,13 @@ impl Check {
                     ),
                 ));
             }
+            let miss_word = &mut self.miss_word;
             let direct = reuse.or_else(|| {
                 cands.is_empty().then(|| {
-                    plan.finish(None, SphereCount::None, &mut frame.xc_counters)
-                        .word
+                    *miss_word.get_or_insert_with(|| {
+                        plan.finish(None, SphereCount::None, &mut frame.xc_counters)
+                            .word
+                    })
                 })
             });
             if let Some(word) = direct {
