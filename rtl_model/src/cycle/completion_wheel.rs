@@ -129,7 +129,10 @@ impl CompletionWheel {
             if !bucket.is_empty() {
                 // Pushed in service order, which is not always id order (banks before the
                 // cache, a merged miss served late): sort the few entries of the cycle.
-                bucket.sort_unstable_by_key(|c| c.id);
+                // Usually already in order: checking is cheaper than sorting.
+                if !bucket.is_sorted_by_key(|c| c.id) {
+                    bucket.sort_unstable_by_key(|c| c.id);
+                }
                 self.in_wheel -= bucket.len();
                 out.append(bucket);
             }
