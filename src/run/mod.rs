@@ -11,6 +11,7 @@ pub mod bench;
 pub mod config_files;
 pub mod elaborate;
 pub mod frames;
+pub mod parallel;
 pub mod ranges;
 
 pub use frames::{build, run, Model, RunConfig, RunOutput, VcdRequest};

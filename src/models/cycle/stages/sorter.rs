@@ -39,6 +39,13 @@ fn sort_cost_of(n: usize, lanes: u8, network_latency: u32) -> (u64, u64) {
 }
 
 impl Sorter {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pipe.next_change(now)
+    }
+
     /// The stage of `hw` for a frame of `instances` instances.
     pub fn new(hw: &HwConfig, instances: usize) -> Self {
         let u = &hw.units.sorter;
