@@ -293,7 +293,7 @@ fn verilator_lint_is_clean() {
 
 /// Files whose lint fixes land with another branch of issue 15 (the reciprocal and sphere
 /// change formats there); empty this list when it is merged.
-const LINT_PENDING: &[&str] = &["svo_reciprocal", "svo_sphere"];
+const LINT_PENDING: &[&str] = &[];
 
 #[test]
 fn one_corrupted_expected_value_is_exactly_one_failure() {
