@@ -12,5 +12,6 @@ pub mod config_files;
 pub mod elaborate;
 pub mod frames;
 pub mod ranges;
+pub mod render;
 
 pub use frames::{build, run, Model, RunConfig, RunOutput, VcdRequest};
