@@ -102,11 +102,12 @@ struct Cam {
 }
 
 /// The four cameras of a model with solid box [mn, mx] (inclusive voxel indices).
-fn cameras(mn: [i64; 3], mx: [i64; 3]) -> Vec<Cam> {
+/// `scale` multiplies the image sides (1 in the test, 8 in benchmark mode).
+fn cameras(mn: [i64; 3], mx: [i64; 3], scale: u32) -> Vec<Cam> {
     let c: [f64; 3] = std::array::from_fn(|k| (mn[k] + mx[k] + 1) as f64 * 0.5);
     let ext = (0..3).map(|k| mx[k] + 1 - mn[k]).max().unwrap() as f64;
     let side = (ext as u32).next_power_of_two().min(128);
-    let pixels = side.max(64);
+    let pixels = side.max(64) * scale;
     let ortho_off = 1.0 - 0.5 / f64::from(pixels / side);
     let fl = |v: f64| v.floor();
     vec![
@@ -121,8 +122,8 @@ fn cameras(mn: [i64; 3], mx: [i64; 3]) -> Vec<Cam> {
             up: [0.0, 0.0, 1.0],
             ortho: false,
             value: 40.0,
-            w: 160,
-            h: 120,
+            w: 160 * scale,
+            h: 120 * scale,
         },
         // Odd size: the centre column and row have exact-zero direction components, and the
         // integer eye puts those rays exactly in the voxel planes x = eye.x and z = eye.z.
@@ -133,8 +134,8 @@ fn cameras(mn: [i64; 3], mx: [i64; 3]) -> Vec<Cam> {
             up: [0.0, 0.0, 1.0],
             ortho: false,
             value: 50.0,
-            w: 161,
-            h: 121,
+            w: 160 * scale + 1,
+            h: 120 * scale + 1,
         },
         // A power-of-two view `side` voxels wide on `pixels` = p·side pixels (p a power of
         // two), so every origin is exact: (i + ½)/p − side/2 from the eye. With the eye at
@@ -161,8 +162,8 @@ fn cameras(mn: [i64; 3], mx: [i64; 3]) -> Vec<Cam> {
             up: [0.0, 0.0, 1.0],
             ortho: false,
             value: 90.0,
-            w: 160,
-            h: 120,
+            w: 160 * scale,
+            h: 120 * scale,
         },
     ]
 }
@@ -430,7 +431,12 @@ fn reference_walk_agrees_with_openvdb() {
     let Some(peer) = build_peer() else {
         return;
     };
-    let sim = env!("CARGO_BIN_EXE_sim");
+    // Benchmark mode (docs/render.md §7): larger images, best of 3 for the peer, and the
+    // sim binary of SVO_SIM_BIN (e.g. target/release/sim) if given.
+    let bench = std::env::var("SVO_PEER_BENCH").as_deref() == Ok("1");
+    let sim_bin = std::env::var("SVO_SIM_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_sim").into());
+    let sim = sim_bin.as_str();
+    let repeat = if bench { "3" } else { "1" };
     let tmp = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join(format!("openvdb_peer_run_{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
@@ -474,7 +480,7 @@ fn reference_walk_agrees_with_openvdb() {
             "sim render",
         );
         let (mn, mx) = parse_box(&s);
-        for cam in cameras(mn, mx) {
+        for cam in cameras(mn, mx, if bench { 8 } else { 1 }) {
             let ours = tmp.join("ours.bin");
             let theirs = tmp.join("peer.bin");
             let (w, h) = (cam.w.to_string(), cam.h.to_string());
@@ -509,6 +515,7 @@ fn reference_walk_agrees_with_openvdb() {
                 if cam.ortho { "ortho" } else { "pinhole" },
                 &cam.value.to_string(),
                 "2",
+                repeat,
             ]);
             let p = run_ok(&mut c, "OpenVDB peer");
             // Both read the model the same way: the same solid box, voxels and surface.
@@ -558,8 +565,10 @@ fn reference_walk_agrees_with_openvdb() {
             }
             let seconds: f64 = peer_value(&p, "trace_seconds")[0].parse().unwrap();
             let pixels = a.len();
+            let ref_speed = number_before(&s, "Mrays/s");
+            let vdb_speed = pixels as f64 / seconds.max(1e-9) / 1e6;
             println!(
-                "{:<15} {:<23} {:>6} {:>6} {:>5} {:>7} {:>5} {:>9.1e} {:>10.1e} {:>8.2} {:>8.2}",
+                "{:<15} {:<23} {:>6} {:>6} {:>5} {:>7} {:>5} {:>9.1e} {:>10.1e} {:>8.2} {:>8.2} {:>6.2}",
                 m.trim_end_matches(".vox"),
                 cam.name,
                 pixels,
@@ -569,8 +578,9 @@ fn reference_walk_agrees_with_openvdb() {
                 counts[3],
                 max_dt,
                 MAX_SLIVER.with(|m| m.get()),
-                number_before(&s, "Mrays/s"),
-                pixels as f64 / seconds.max(1e-9) / 1e6
+                ref_speed,
+                vdb_speed,
+                ref_speed / vdb_speed
             );
             total_real += counts[3];
         }

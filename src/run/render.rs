@@ -248,7 +248,7 @@ impl RayGen {
             }
             Projection::Ortho { view_width } => {
                 check_finite("ortho view width", view_width)?;
-                if !(view_width > 0.0) {
+                if view_width <= 0.0 {
                     return Err(RenderError::OrthoWidth(view_width));
                 }
                 0.0
