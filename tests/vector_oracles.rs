@@ -1,5 +1,5 @@
 //! Independent oracles for the vector rows of the reciprocal (with its seed ROM), the
-//! transform's origin path and the hit-record packer (issue 14 part 4; the square root, the
+//! transform's origin path, the sphere test and the hit-record packer (issue 14 part 4; the square root, the
 //! sorter and the transform's direction path are checked in `tests/vectors.rs`).
 //!
 //! Every check reads the rows through the manifests alone (`tests/vector_files`, plain JSON and
@@ -257,4 +257,106 @@ fn hit_record_words_pack_the_saturated_fields_at_their_documented_places() {
     }
     println!("hit_record: {n} rows, {misses} misses, {saturated} saturating");
     assert!(n > 1000 && misses > 0 && saturated > 0);
+}
+
+#[test]
+fn sphere_rows_follow_the_documented_test_within_rounding() {
+    // rtl_model/src/units/sphere.rs's module documentation (and docs/number-formats.md):
+    // l = c − o exact; beyond the reach (a component or the length) → kept, entry 0, ov_reach;
+    // origin may be inside (l·l ≤ the inside threshold) → kept, entry 0; otherwise p² =
+    // l·l − t_ca² against T: culled iff p² > T; culled as behind iff t_ca + Δt + √(T − p²) < 0;
+    // else entry = max(0, t_ca − Δt − √(T − p²)). Computed here in f64 from the row's codes;
+    // where the unit's roundings (t_ca down to its LSB, squares and root truncated) could
+    // decide differently, the row is counted as in the band and its decision not judged.
+    let t = Tmp::new("sphere_oracle");
+    make_set(&t);
+    let m = manifest(&t.dir, "sphere");
+    let fr = |k: &str| param(&m, &["config", k, "frac"]) as i32;
+    let (fp, fd, ftca, fsq, fte) = (fr("pos"), fr("dir"), fr("tca"), fr("sq"), fr("t_enter"));
+    let lsb = |f: i32| 2f64.powi(-f);
+    let axes = ["x", "y", "z"];
+    let (mut judged, mut band, mut culled, mut inside, mut beyond) = (0, 0, 0, 0, 0);
+    for r in rows(&t.dir, "sphere") {
+        let v = |n: &str| value(&m, &r, n);
+        let l: Vec<i128> = axes
+            .iter()
+            .map(|a| v(&format!("c_{a}")) - v(&format!("o_{a}")))
+            .collect();
+        let reach = v("reach");
+        let l2_code: i128 = l.iter().map(|x| x * x).sum(); // 2·F_pos fraction bits
+        let (hit, te, ov_reach) = (v("hit"), v("t_enter"), v("ov_reach"));
+        if l.iter().any(|x| x.abs() > reach) || l2_code > reach * reach {
+            beyond += 1;
+            assert_eq!((hit, te, ov_reach), (1, 0, 1), "beyond the reach, row {r}");
+            continue;
+        }
+        assert_eq!(ov_reach, 0, "within the reach, row {r}");
+        // Inside: l·l against the inside code (F_sq); the unit may truncate l·l to F_sq first.
+        let inside_code = v("inside") << (2 * fp - fsq);
+        let step = 1i128 << (2 * fp - fsq);
+        if l2_code <= inside_code {
+            inside += 1;
+            assert_eq!((hit, te), (1, 0), "origin may be inside, row {r}");
+            continue;
+        }
+        if l2_code < inside_code + step {
+            band += 1;
+            continue;
+        }
+        let lf: Vec<f64> = l.iter().map(|&x| x as f64 * lsb(fp)).collect();
+        let df: Vec<f64> = axes
+            .iter()
+            .map(|a| v(&format!("d_{a}")) as f64 * lsb(fd))
+            .collect();
+        let tca: f64 = (0..3).map(|k| lf[k] * df[k]).sum();
+        let l2 = l2_code as f64 * lsb(2 * fp);
+        // p² lives in the unsigned squares' format: a direction longer than 1 (adversarial
+        // rows) can make l·l − t_ca² negative, which the format holds as 0.
+        let p2 = (l2 - tca * tca).max(0.0);
+        let thr = v("threshold") as f64 * lsb(fsq);
+        let dt = v("delta_t") as f64 * lsb(ftca);
+        // How far the unit's roundings can move p²: t_ca down by < 1 LSB moves t_ca² by
+        // ≤ 2|t_ca|·lsb + lsb²; two truncations of squares; f64's own error on values ≤ 3·128².
+        let slack = 2.0 * tca.abs() * lsb(ftca) + lsb(ftca).powi(2) + 2.0 * lsb(fsq) + 1e-10;
+        if (p2 - thr).abs() <= slack {
+            band += 1;
+            continue;
+        }
+        if p2 > thr {
+            culled += 1;
+            assert_eq!((hit, te), (0, 0), "p² {p2} > T {thr}, row {r}");
+            continue;
+        }
+        let s = (thr - p2).sqrt();
+        // The root's own error: t_ca's rounding, √ of the p² slack, the root's floor.
+        let tol = lsb(ftca) + slack.sqrt() + lsb(fsq / 2) + 2.0 * lsb(fte) + 1e-9;
+        let far = tca + dt + s;
+        if far.abs() <= tol {
+            band += 1;
+            continue;
+        }
+        judged += 1;
+        if far < 0.0 {
+            culled += 1;
+            assert_eq!(
+                (hit, te),
+                (0, 0),
+                "behind: t_ca + Δt + √(T − p²) = {far}, row {r}"
+            );
+            continue;
+        }
+        assert_eq!(hit, 1, "kept sphere culled, row {r}");
+        let want = (tca - dt - s).max(0.0);
+        let got = te as f64 * lsb(fte);
+        assert!(
+            (got - want).abs() <= tol,
+            "entry {got} vs {want} (tolerance {tol:e}), row {r}"
+        );
+        assert_eq!(v("ov_t_enter"), 0, "row {r}");
+    }
+    println!(
+        "sphere: {judged} entries judged, {culled} culled, {inside} inside, {beyond} beyond the reach, {band} in a rounding band"
+    );
+    assert!(judged > 500 && culled > 100 && inside > 10 && beyond > 0);
+    assert!(band * 20 < judged, "too many rows undecided: {band}");
 }

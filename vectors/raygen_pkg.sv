@@ -3,12 +3,14 @@
 `timescale 1ns/1ps
 package raygen_vectors_pkg;
   localparam int WORD_BITS = 634;  // bits per row
-  localparam int DEPTH = 82;  // rows
+  localparam int DEPTH = 90;  // rows
+  localparam int LATENCY = 4;  // cycles, the model's default configuration
+  localparam int II = 1;  // initiation interval, cycles
   localparam int ADVERSARIAL_FIRST = 0;
-  localparam int ADVERSARIAL_COUNT = 50;
-  localparam int CAPTURED_FIRST = 50;
+  localparam int ADVERSARIAL_COUNT = 58;
+  localparam int CAPTURED_FIRST = 58;
   localparam int CAPTURED_COUNT = 16;
-  localparam int RANDOM_FIRST = 66;
+  localparam int RANDOM_FIRST = 74;
   localparam int RANDOM_COUNT = 16;
   localparam int PIXEL_X_LSB = 0;  // input
   localparam int PIXEL_X_WIDTH = 16;

@@ -4,8 +4,8 @@
 
 use rtl_model::fixed::Format;
 use rtl_model::units::sorter::{
-    apply_network, comparator_count, depth, network, network_stages, resources, sort_timing,
-    SortKey, Sorter, SorterConfig, SorterStats,
+    apply_network, comparator_count, depth, network, network_stages, pipe_cost, resources,
+    sort_timing, SortKey, Sorter, SorterConfig, SorterStats,
 };
 
 /// SplitMix64: small, seeded, and the same on every platform.
@@ -399,8 +399,17 @@ fn timing_model_examples() {
         (t.chunks, t.merge_passes, t.merge_steps, t.latency),
         (3, 2, 34, 2 + 6 + 2 * 18)
     );
+    // It holds the input until its merges are done: 2 + 2 * 18 + 1 cycles.
+    assert_eq!(t.occupancy, 2 + 2 * 18 + 1);
+    assert_eq!(pipe_cost(17, 8, 6), (39, 2 + 2 * 18));
+    assert_eq!(pipe_cost(8, 8, 6), (1, 0));
+    assert_eq!(
+        pipe_cost(0, 8, 6),
+        (1, 0),
+        "an empty issue passes the network"
+    );
     let t = sort_timing(16, 16);
-    assert_eq!((t.chunks, t.latency), (1, 10));
+    assert_eq!((t.chunks, t.latency, t.occupancy), (1, 10, 1));
 }
 
 #[test]

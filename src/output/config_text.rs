@@ -146,13 +146,66 @@ pub fn hardware_text(
     }
     let estimate = hw
         .validate_for(dp)
-        .and_then(|()| hw.resources(dp))
+        .and_then(|()| Ok((hw.resources(dp)?, hw.fabric(dp)?)))
         .map_err(HardwareTextError::Invalid)
-        .map(|r| {
-            r.to_string()
-                .lines()
-                .map(|l| format!("// {l}\n"))
-                .collect::<String>()
+        .map(|(r, f)| {
+            let mut t: String = r.to_string().lines().map(|l| format!("// {l}\n")).collect();
+            t.push_str(&fabric_text(&f, u64::from(hw.part.luts)));
+            t
         });
     (s, estimate)
+}
+
+/// The LUT/FF estimate (`HwConfig::fabric`) as `//` lines: per component instances, LUTs and
+/// flip-flops in all, and the formula; the total against the part's LUTs (and its flip-flops,
+/// two per LUT on UltraScale+).
+fn fabric_text(items: &[rtl_model::cost::FabricItem], part_luts: u64) -> String {
+    let mut s = String::from(
+        "// fabric (estimate, calibrated on Yosys synthesis of the RTL; docs/cycle-model.md §1.5):\n",
+    );
+    let _ = writeln!(
+        s,
+        "//   {:<16} {:>5} {:>9} {:>9}  formula",
+        "component", "n", "LUT", "FF"
+    );
+    let (mut lut, mut ff) = (0u64, 0u64);
+    for it in items {
+        let t = it.total();
+        lut = lut.saturating_add(t.lut);
+        ff = ff.saturating_add(t.ff);
+        let _ = writeln!(
+            s,
+            "//   {:<16} {:>5} {:>9} {:>9}  {}{}",
+            it.name,
+            it.instances,
+            t.lut,
+            t.ff,
+            it.formula,
+            if it.calibrated { "" } else { " (uncalibrated)" }
+        );
+    }
+    let pct = |u: u64, a: u64| {
+        if a == 0 {
+            "none".to_string()
+        } else {
+            format!("{:.1}%", 100.0 * u as f64 / a as f64)
+        }
+    };
+    let _ = writeln!(s, "//   {:<16} {:>5} {lut:>9} {ff:>9}", "used", "");
+    let _ = writeln!(
+        s,
+        "//   {:<16} {:>5} {part_luts:>9} {:>9}",
+        "available",
+        "",
+        part_luts.saturating_mul(2)
+    );
+    let _ = writeln!(
+        s,
+        "//   {:<16} {:>5} {:>9} {:>9}",
+        "utilisation",
+        "",
+        pct(lut, part_luts),
+        pct(ff, part_luts.saturating_mul(2))
+    );
+    s
 }

@@ -207,16 +207,18 @@ pub fn cycle_speed_table(label: &str, frames: &[SpeedFrame], pixels: f64, hw: &H
     let rs: f64 = frames.iter().map(|f| f.reference_s).sum();
     let cs: f64 = frames.iter().map(|f| f.cycle_s).sum();
     let cy: u64 = frames.iter().map(|f| f.cycles).sum();
+    let skipped: u64 = frames.iter().map(|f| f.skipped_cycles).sum();
     let n = frames.len() as f64;
     let _ = write!(
         t,
-        "  total: cycle model / reference wall time {:.2}; simulated {:.3} M rays/s, {:.3} M cycles/s; modelled {:.1} fps at {} MHz (slowest frame {:.1})",
+        "  total: cycle model / reference wall time {:.2}; simulated {:.3} M rays/s, {:.3} M cycles/s; modelled {:.1} fps at {} MHz (slowest frame {:.1}); idle cycles skipped {:.2} % ({skipped} of {cy})",
         cs / rs.max(1e-9),
         n * pixels / cs.max(1e-9) / 1e6,
         cy as f64 / cs.max(1e-9) / 1e6,
         n * f64::from(hw.clock_mhz) * 1e6 / cy.max(1) as f64,
         hw.clock_mhz,
-        frames.iter().map(|f| f.fps).fold(f64::INFINITY, f64::min)
+        frames.iter().map(|f| f.fps).fold(f64::INFINITY, f64::min),
+        100.0 * skipped as f64 / cy.max(1) as f64
     );
     t
 }

@@ -294,6 +294,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
                 cross_check: cfg.cross_check,
                 waves,
                 log_limit: cfg.transaction_log.as_ref().map_or(0, |(_, n)| *n),
+                ..CycleOptions::default()
             },
         )?;
         // The two-level instance scheme, when elaboration keeps it (docs/instances.md §7).

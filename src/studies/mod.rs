@@ -1,12 +1,14 @@
 //! Studies: runs of the models over many configurations, animations or cases.
 //!
 //! [`sweep`] (accuracy against cost, Pareto fronts), [`drift`] (fixed-point error over a long
-//! animation), [`stress`] (stiff and extreme cases with a verdict each) [`fuzz`] (mutated inputs for the parsers) and [`vectors`] (HDL
-//! test vectors from adversarial cases, a real frame and random stimulus).
+//! animation), [`stress`] (stiff and extreme cases with a verdict each) [`fuzz`] (mutated inputs for the parsers), [`vectors`] (HDL
+//! test vectors from adversarial cases, a real frame and random stimulus) and [`synthesis`]
+//! (the RTL units through Yosys, beside the resource estimate).
 
 pub mod drift;
 pub mod fuzz;
 pub mod instances;
 pub mod stress;
 pub mod sweep;
+pub mod synthesis;
 pub mod vectors;

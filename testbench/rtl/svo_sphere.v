@@ -5,7 +5,9 @@
 // entry distance is the sorter's key. Default formats: positions sQ8.32 (40 bits), direction
 // sQ2.30 (32), t_ca sQ10.24 (34, truncated), squares uQ16.48 (64), entry uQ10.22 (32,
 // truncated). The host programs per instance T (threshold), the inside threshold, and the
-// constants dt and reach; they arrive with each transaction.
+// constants dt, reach and reach^2 (the model's sphere unit holds reach as a constant of the
+// configuration, units::sphere::SphereUnit; its square is a constant too, so the lane spends
+// no multiplier on it, as the resource estimate counts); they arrive with each transaction.
 //
 // Stages (rtl_model cycle::hw_config::sphere_latency_cycles + the square root: 15 + 32 = 47
 // cycles, II = 1):
@@ -35,6 +37,7 @@ module svo_sphere (
     input  wire [63:0]      in_inside,     // inside threshold, uQ16.48
     input  wire [33:0]      in_delta_t,    // dt, sQ10.24
     input  wire [39:0]      in_reach,      // reach, sQ8.32
+    input  wire [79:0]      in_reach2,     // reach^2, uQ16.64 (the host squares the constant)
     output wire             out_valid,
     output reg              out_hit,
     output reg  [31:0]      out_t_enter,   // uQ10.22
@@ -73,7 +76,7 @@ module svo_sphere (
         far1 <= (l_now[0] > reach_s) || (l_now[0] < -reach_s)
              || (l_now[1] > reach_s) || (l_now[1] < -reach_s)
              || (l_now[2] > reach_s) || (l_now[2] < -reach_s);
-        reach2_1 <= in_reach * in_reach;
+        reach2_1 <= in_reach2;
         thr1 <= in_threshold;
         ins1 <= in_inside;
         dt1  <= $signed(in_delta_t);
@@ -105,11 +108,11 @@ module svo_sphere (
     reg        [83:0] l2_01, l2_7;
     reg        [81:0] pl2_6;
     always @(posedge clk) begin
-        dot01 <= pd[0] + pd[1];
+        dot01 <= {{2{pd[0][72]}}, pd[0]} + {{2{pd[1][72]}}, pd[1]};
         pd2_6 <= pd[2];
         l2_01 <= {2'b00, pl[0]} + {2'b00, pl[1]};
         pl2_6 <= pl[2];
-        dot7  <= dot01 + pd2_6;
+        dot7  <= dot01 + {{2{pd2_6[72]}}, pd2_6};
         l2_7  <= l2_01 + {2'b00, pl2_6};
     end
 
@@ -125,11 +128,11 @@ module svo_sphere (
     end
 
     // ---- Stages 9..12: t_ca^2 (uQ20.48: below 2^66, so 67 bits hold it). --------------
-    wire signed [67:0] tca2_now = tca8 * tca8;
-    wire signed [67:0] tca2;
+    wire signed [66:0] tca2_now = tca8 * tca8;
+    wire signed [66:0] tca2;
     wire        [83:0] l2_12;
     wire signed [33:0] tca12;
-    svo_delay #(.W(68), .D(PROD)) tca2_line (.clk(clk), .rst(1'b0), .d(tca2_now), .q(tca2));
+    svo_delay #(.W(67), .D(PROD)) tca2_line (.clk(clk), .rst(1'b0), .d(tca2_now), .q(tca2));
     svo_delay #(.W(84 + 34), .D(PROD)) side12 (
         .clk(clk), .rst(1'b0), .d({l2_8, tca8}), .q({l2_12, tca12}));
 
@@ -157,7 +160,9 @@ module svo_sphere (
 
     // ---- Stages 14..45: the square root. -------------------------------------------------
     wire [31:0] root;
+    /* verilator lint_off UNUSEDSIGNAL */
     wire        root_valid;  // unused: the valid line above carries validity
+    /* verilator lint_on UNUSEDSIGNAL */
     svo_sqrt #(.N(64)) sqrt_unit (
         .clk(clk), .rst(rst), .in_valid(1'b1), .in_x(radicand13),
         .out_valid(root_valid), .out_root(root));
@@ -180,8 +185,7 @@ module svo_sphere (
     end
 
     // ---- Stage 47: decide. ---------------------------------------------------------------
-    wire [35:0] t_pos = (t46 < 0) ? 36'd0 : t46;
-    wire [33:0] t_q   = t_pos[35:2];                        // 24 -> 22 fraction bits, floor
+    wire [33:0] t_q   = (t46 < 0) ? 34'd0 : t46[35:2];      // max(t, 0), 24 -> 22 fraction bits, floor
     wire        t_sat = t_q > 34'h0_ffff_ffff;
     always @(posedge clk) begin
         out_ov_reach   <= far46;

@@ -29,7 +29,10 @@ module svo_sqrt #(
     generate
         for (k = 1; k <= S; k = k + 1) begin : st
             wire [S-1:0]  root_p;
+            // Lint waiver: the top two bits of rem_p are never read (always 0, see below).
+            /* verilator lint_off UNUSEDSIGNAL */
             wire [RW-1:0] rem_p;
+            /* verilator lint_on UNUSEDSIGNAL */
             wire [N-1:0]  x_p;
             wire          v_p;
             if (k == 1) begin : first
@@ -48,8 +51,13 @@ module svo_sqrt #(
             wire [RW-1:0] trial   = {root_p, 2'b01};
             wire          ge      = shifted >= trial;
             reg  [S-1:0]  root_q;
+            // Lint waiver: the last stage's remainder and radicand are not read (only its root
+            // is); one generate body for every stage keeps the recurrence in one place, and
+            // synthesis removes the unread registers.
+            /* verilator lint_off UNUSEDSIGNAL */
             reg  [RW-1:0] rem_q;
             reg  [N-1:0]  x_q;
+            /* verilator lint_on UNUSEDSIGNAL */
             reg           v_q;
             always @(posedge clk) begin
                 v_q    <= rst ? 1'b0 : v_p;

@@ -52,8 +52,6 @@ module svo_transform (
     genvar k, q;
     generate
         for (k = 0; k < 3; k = k + 1) begin : col
-            wire signed [74:0] po_sum;
-            wire signed [65:0] pd_sum;
             wire signed [72:0] po [0:2];
             wire signed [63:0] pd [0:2];
             for (q = 0; q < 3; q = q + 1) begin : prod
@@ -68,24 +66,25 @@ module svo_transform (
             reg signed [72:0] po2;
             reg signed [63:0] pd2;
             always @(posedge clk) begin
-                so01 <= po[0] + po[1];
-                sd01 <= pd[0] + pd[1];
+                // Sign-extended to the sum's width first: the sums are exact.
+                so01 <= {{2{po[0][72]}}, po[0]} + {{2{po[1][72]}}, po[1]};
+                sd01 <= {{2{pd[0][63]}}, pd[0]} + {{2{pd[1][63]}}, pd[1]};
                 po2  <= po[2];
                 pd2  <= pd[2];
-                so   <= so01 + po2;
-                sd   <= sd01 + pd2;
+                so   <= so01 + {{2{po2[72]}}, po2};
+                sd   <= sd01 + {{2{pd2[63]}}, pd2};
             end
             // Stage 8: round half to even by 30 bits, saturate.
             wire signed [74:0] o_fl  = so >>> 30;
             wire        [29:0] o_rem = so[29:0];
             wire o_up = (o_rem > 30'h2000_0000) || (o_rem == 30'h2000_0000 && o_fl[0]);
-            wire signed [74:0] o_q   = o_fl + o_up;
+            wire signed [74:0] o_q   = o_fl + $signed({74'd0, o_up});
             wire o_hi = o_q > 75'sd549755813887;             //  2^39 - 1
             wire o_lo = o_q < -75'sd549755813888;            // -2^39
             wire signed [65:0] d_fl  = sd >>> 30;
             wire        [29:0] d_rem = sd[29:0];
             wire d_up = (d_rem > 30'h2000_0000) || (d_rem == 30'h2000_0000 && d_fl[0]);
-            wire signed [65:0] d_q   = d_fl + d_up;
+            wire signed [65:0] d_q   = d_fl + $signed({65'd0, d_up});
             wire d_hi = d_q > 66'sd2147483647;               //  2^31 - 1
             wire d_lo = d_q < -66'sd2147483648;              // -2^31
             wire [39:0] o_out = o_hi ? 40'h7f_ffff_ffff : o_lo ? 40'h80_0000_0000 : o_q[39:0];

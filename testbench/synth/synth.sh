@@ -5,7 +5,9 @@
 # separately), DSP48E2, block RAM (RAMB18/36) and UltraRAM — and the longest combinational
 # path between registers in cells (Yosys `ltp -noff` with registers, shift registers, DSP48E2,
 # RAMs and I/O buffers taken out of the selection, so every path ends at one of them; LUTs,
-# CARRY4 and MUXF7/8/9 each count one), and the wall time.
+# CARRY4 and MUXF7/8/9 each count one), and the wall time. It also writes the mapped netlist
+# as JSON ($logs/UNIT.json), from which `sim hardware --synth` counts logic levels per stage
+# (docs/cycle-model.md §1.5).
 #
 # Usage: testbench/synth/synth.sh [UNIT ...]      (default: every unit of units.tsv)
 # Needs yosys (0.23 tested; Debian/Ubuntu: apt-get install yosys). Logs: $SYNTH_LOGS or a
@@ -24,7 +26,7 @@ mkdir -p "$logs"
 want=("$@")
 printf '%-12s %7s %7s %6s %8s %6s %6s %7s %7s\n' unit LUT FF SRL DSP48E2 BRAM URAM levels wall_s
 status=0
-while read -r unit top files params; do
+while read -r unit top files params _dsp_vs_model _reason; do
     case "$unit" in ''|'#'*) continue ;; esac
     if [ ${#want[@]} -gt 0 ] && [[ ! " ${want[*]} " =~ " $unit " ]]; then continue; fi
     ys="$logs/$unit.ys"
@@ -46,6 +48,7 @@ while read -r unit top files params; do
         fi
         printf 'synth_xilinx -family xcup -flatten -top %s\n' "$top"
         printf 'tee -o %s stat\n' "$logs/$unit.stat"
+        printf 'write_json %s\n' "$logs/$unit.json"
         printf 'select -set seq t:FD* t:SRL* t:DSP48E2 t:RAMB* t:URAM* t:BUFG t:IBUF t:OBUF\n'
         printf 'tee -o %s ltp -noff * @seq %%d\n' "$logs/$unit.ltp"
     } >"$ys"

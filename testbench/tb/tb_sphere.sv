@@ -8,12 +8,15 @@ module tb_sphere;
 
     wire        got_valid, got_hit, got_ov_reach, got_ov_t_enter;
     wire [31:0] got_t_enter;
+    // reach^2 is a host constant like T (svo_sphere.v): the testbench is the host here.
+    wire [79:0] reach2 = drive_row[REACH_LSB +: 40] * drive_row[REACH_LSB +: 40];
     svo_sphere dut (
         .clk(clk), .rst(rst), .in_valid(drive_valid),
         .in_o(drive_row[O_X_LSB +: 120]), .in_d(drive_row[D_X_LSB +: 96]),
         .in_c(drive_row[C_X_LSB +: 120]),
         .in_threshold(drive_row[THRESHOLD_LSB +: 64]), .in_inside(drive_row[INSIDE_LSB +: 64]),
         .in_delta_t(drive_row[DELTA_T_LSB +: 34]), .in_reach(drive_row[REACH_LSB +: 40]),
+        .in_reach2(reach2),
         .out_valid(got_valid), .out_hit(got_hit), .out_t_enter(got_t_enter),
         .out_ov_reach(got_ov_reach), .out_ov_t_enter(got_ov_t_enter));
 

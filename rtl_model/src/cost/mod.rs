@@ -12,6 +12,8 @@
 //! - [`latency`] collects the unit latencies into the hardware's `UnitTimings`;
 //! - [`estimate`] multiplies the units' DSP48E2 by their instances and adds the memories into
 //!   the [`ResourceReport`] of `HwConfig::resources` ([`report`] holds its types);
+//! - [`fabric`] estimates LUTs and flip-flops per unit, calibrated on the Yosys synthesis
+//!   of the RTL; [`timing`] is the clock rule applied to the logic levels of that synthesis;
 //! - [`pricing`] is what `sim sweep` prices per configuration;
 //! - [`bounds`] names the error bounds that add up several units' terms (the direction error
 //!   of a walk).
@@ -20,9 +22,12 @@
 
 pub mod bounds;
 pub mod estimate;
+pub mod fabric;
 pub mod latency;
 pub mod pricing;
 pub mod report;
+pub mod timing;
 
 pub use bounds::{direction_error_bound, DirectionErrorBound};
+pub use fabric::{Fabric, FabricItem};
 pub use report::{ResourceItem, ResourceReport, Resources};

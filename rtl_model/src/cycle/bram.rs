@@ -81,6 +81,15 @@ pub struct Bram<T> {
     stats: BramStats,
 }
 
+impl<T> Bram<T> {
+    /// Takes `k` cycles without an access at once (idle-cycle skipping), as `k` edges with
+    /// no access would: only the cycle counters move. Call between edges.
+    pub fn skip_idle(&mut self, k: u64) {
+        self.now = self.now.saturating_add(k);
+        self.stats.cycles = self.stats.cycles.saturating_add(k);
+    }
+}
+
 impl<T: Clone> Bram<T> {
     /// A memory of `depth` words, each `init`, with `ports` accesses per cycle (2 for a
     /// true dual-port block RAM).

@@ -139,6 +139,14 @@ impl Clock {
         self.now = self.now.saturating_add(1);
         Ok(self.now)
     }
+
+    /// Skips `k` idle cycles: the caller has taken them on every part (e.g.
+    /// `Fifo::skip_idle`), as `k` edges in which nothing changed would have. Returns the new
+    /// cycle.
+    pub fn skip(&mut self, k: u64) -> u64 {
+        self.now = self.now.saturating_add(k);
+        self.now
+    }
 }
 
 /// Identifies a pipeline stage (or FIFO) in cycle stamps. The pipeline assigns the numbers and
@@ -199,78 +207,139 @@ pub enum StampError {
 /// The stamp list grows by one entry per stage visited; the pipeline's stages record entry at
 /// their input handshake and exit at their output handshake, so a hand-over from one stage to
 /// the next gives the same cycle for the first's exit and the second's entry.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+///
+/// A transaction made with [`Stamped::untracked`] keeps only its latest visit, inline (no
+/// list, no heap allocation): what a FIFO needs for its latency counters. The cycle model uses
+/// it unless a transaction log asks for the whole history (docs/cycle-model.md §3.2). Its
+/// [`stamps`](Stamped::stamps) are empty; [`last`](Stamped::last), [`inside`](Stamped::inside),
+/// [`leave`](Stamped::leave) and [`latency_in`](Stamped::latency_in) of the latest visit
+/// answer as for a tracked one.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Stamped<T> {
     /// The transaction itself.
     pub payload: T,
-    // Private so that only `enter` and `leave` write it: they keep it in visit order.
-    stamps: Vec<StageStamp>,
+    // Private so that only `enter` and `leave` write them: they keep the visits in order.
+    /// Every visit, oldest first, when tracked. Boxed so that an untracked transaction, the
+    /// common case, carries one null pointer instead of an empty `Vec`'s three words through
+    /// every FIFO and unit register it passes.
+    #[allow(clippy::box_collection)]
+    history: Option<Box<Vec<StageStamp>>>,
+    /// The latest visit: its stage (`NO_STAGE` before any), entry and exit (`OPEN` while
+    /// inside). Kept for tracked transactions too, so both kinds leave the same way.
+    stage: StageId,
+    entered: u64,
+    left: u64,
 }
 
+/// `Stamped::stage` before any visit.
+const NO_STAGE: StageId = StageId(u16::MAX);
+/// `Stamped::left` while inside.
+const OPEN: u64 = u64::MAX;
+
 impl<T> Stamped<T> {
-    /// A transaction that has not entered any stage yet.
+    /// A transaction that has not entered any stage yet, keeping its whole history.
     pub fn new(payload: T) -> Self {
         Self {
             payload,
             // A ray visits about a dozen stages and FIFOs: one allocation up front instead of
             // a few regrowths on the way.
-            stamps: Vec::with_capacity(12),
+            history: Some(Box::new(Vec::with_capacity(12))),
+            stage: NO_STAGE,
+            entered: 0,
+            left: OPEN,
         }
     }
 
-    /// Every stage visit so far, oldest first.
+    /// A transaction that keeps only its latest visit (no allocation).
+    #[inline]
+    pub fn untracked(payload: T) -> Self {
+        Self {
+            payload,
+            history: None,
+            stage: NO_STAGE,
+            entered: 0,
+            left: OPEN,
+        }
+    }
+
+    /// [`Stamped::new`] when `tracked`, else [`Stamped::untracked`].
+    #[inline]
+    pub fn with_history(payload: T, tracked: bool) -> Self {
+        if tracked {
+            Self::new(payload)
+        } else {
+            Self::untracked(payload)
+        }
+    }
+
+    /// Whether the whole history is kept.
+    pub fn is_tracked(&self) -> bool {
+        self.history.is_some()
+    }
+
+    /// Every stage visit so far, oldest first (none if untracked).
     pub fn stamps(&self) -> &[StageStamp] {
-        &self.stamps
+        self.history.as_deref().map_or(&[], |h| h.as_slice())
     }
 
     /// The last visit, if any.
-    pub fn last(&self) -> Option<&StageStamp> {
-        self.stamps.last()
+    #[inline]
+    pub fn last(&self) -> Option<StageStamp> {
+        (self.stage != NO_STAGE).then_some(StageStamp {
+            stage: self.stage,
+            entered: self.entered,
+            left: (self.left != OPEN).then_some(self.left),
+        })
     }
 
     /// The stage the transaction is inside (its last stamp, if still open).
     pub fn inside(&self) -> Option<StageId> {
-        self.stamps
-            .last()
-            .filter(|s| s.left.is_none())
-            .map(|s| s.stage)
+        (self.stage != NO_STAGE && self.left == OPEN).then_some(self.stage)
     }
 
     /// Records entry to `stage` at cycle `cycle`. Never refused, so a stage can always accept
     /// what its handshake accepted; a misordered history shows up in [`Stamped::check`].
+    #[inline]
     pub fn enter(&mut self, stage: StageId, cycle: u64) {
-        self.stamps.push(StageStamp {
-            stage,
-            entered: cycle,
-            left: None,
-        });
+        self.stage = stage;
+        self.entered = cycle;
+        self.left = OPEN;
+        if let Some(h) = self.history.as_mut() {
+            h.push(StageStamp {
+                stage,
+                entered: cycle,
+                left: None,
+            });
+        }
     }
 
     /// Records exit from `stage` at cycle `cycle` and returns the cycles spent inside. The
     /// transaction must be inside `stage` (its last stamp open and for that stage) and `cycle`
     /// must not be before the entry; otherwise nothing changes.
+    #[inline]
     pub fn leave(&mut self, stage: StageId, cycle: u64) -> Result<u64, StampError> {
-        match self.stamps.last_mut() {
-            Some(s) if s.stage == stage && s.left.is_none() => {
-                if cycle < s.entered {
-                    return Err(StampError::LeftBeforeEntered {
-                        stage,
-                        entered: s.entered,
-                        left: cycle,
-                    });
-                }
-                s.left = Some(cycle);
-                Ok(cycle - s.entered)
-            }
-            _ => Err(StampError::NotInside(stage)),
+        if self.stage != stage || stage == NO_STAGE || self.left != OPEN {
+            return Err(StampError::NotInside(stage));
         }
+        if cycle < self.entered {
+            return Err(StampError::LeftBeforeEntered {
+                stage,
+                entered: self.entered,
+                left: cycle,
+            });
+        }
+        self.left = cycle;
+        if let Some(last) = self.history.as_mut().and_then(|h| h.last_mut()) {
+            last.left = Some(cycle);
+        }
+        Ok(cycle - self.entered)
     }
 
     /// Checks that the history is one visit at a time: every stamp but the last is closed,
     /// each exit is at or after its entry, and each entry is at or after the previous exit.
     pub fn check(&self) -> Result<(), StampError> {
         let mut prev_left: Option<u64> = None;
-        for (i, s) in self.stamps.iter().enumerate() {
+        for (i, s) in self.stamps().iter().enumerate() {
             if i > 0 && prev_left.is_none_or(|l| s.entered < l) {
                 return Err(StampError::Overlap {
                     stage: s.stage,
@@ -291,9 +360,16 @@ impl<T> Stamped<T> {
         Ok(())
     }
 
-    /// Cycles spent in the most recent completed visit to `stage`.
+    /// Cycles spent in the most recent completed visit to `stage` (of an untracked
+    /// transaction: only if that is its latest visit).
     pub fn latency_in(&self, stage: StageId) -> Option<u64> {
-        self.stamps
+        if !self.is_tracked() {
+            return self
+                .last()
+                .filter(|s| s.stage == stage)
+                .and_then(|s| s.latency());
+        }
+        self.stamps()
             .iter()
             .rev()
             .filter(|s| s.stage == stage)
@@ -310,7 +386,10 @@ impl<T> Stamped<T> {
     pub fn map<U>(self, f: impl FnOnce(T) -> U) -> Stamped<U> {
         Stamped {
             payload: f(self.payload),
-            stamps: self.stamps,
+            history: self.history,
+            stage: self.stage,
+            entered: self.entered,
+            left: self.left,
         }
     }
 }

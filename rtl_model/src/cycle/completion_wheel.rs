@@ -75,6 +75,22 @@ impl CompletionWheel {
         self.len() == 0
     }
 
+    /// The earliest cycle a waiting completion is done in, if any (for idle-cycle skipping:
+    /// nothing comes back before it). Scans at most the wheel's span of buckets.
+    pub fn next_due(&self) -> Option<u64> {
+        let far = self.far.peek().map(|Reverse(ByDone(c))| c.cycle_done);
+        let near = (self.in_wheel > 0)
+            .then(|| {
+                (self.base..self.base + SPAN)
+                    .find(|&c| !self.buckets[(c % SPAN) as usize].is_empty())
+            })
+            .flatten();
+        match (near, far) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
     /// Queues `c` for its cycle `c.cycle_done`.
     pub fn push(&mut self, c: Completion) {
         let done = c.cycle_done;
@@ -113,7 +129,10 @@ impl CompletionWheel {
             if !bucket.is_empty() {
                 // Pushed in service order, which is not always id order (banks before the
                 // cache, a merged miss served late): sort the few entries of the cycle.
-                bucket.sort_unstable_by_key(|c| c.id);
+                // Usually already in order: checking is cheaper than sorting.
+                if !bucket.is_sorted_by_key(|c| c.id) {
+                    bucket.sort_unstable_by_key(|c| c.id);
+                }
                 self.in_wheel -= bucket.len();
                 out.append(bucket);
             }

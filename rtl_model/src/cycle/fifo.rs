@@ -201,6 +201,16 @@ pub struct Fifo<T> {
     push_driven: bool,
     pop_driven: bool,
     popped: bool,
+    /// This cycle's consumer asked while empty / producer offered while full.
+    starved_now: bool,
+    full_now: bool,
+    /// The same for the last committed cycle (what [`Fifo::skip_idle`] repeats).
+    last_starved: bool,
+    last_full: bool,
+    /// Cycles at the current registered occupancy not yet added to the occupancy counters
+    /// (`cycles`, `occupancy_sum`, the histogram): they are added in bulk when the occupancy
+    /// changes, and [`Fifo::stats`] includes them.
+    unsampled: u64,
     stats: FifoStats,
 }
 
@@ -223,6 +233,11 @@ impl<T> Fifo<T> {
             push_driven: false,
             pop_driven: false,
             popped: false,
+            starved_now: false,
+            full_now: false,
+            last_starved: false,
+            last_full: false,
+            unsampled: 0,
             stats: FifoStats {
                 occupancy_histogram: vec![0; depth + 1],
                 ..FifoStats::default()
@@ -275,8 +290,28 @@ impl<T> Fifo<T> {
     }
 
     /// The counters so far.
-    pub fn stats(&self) -> &FifoStats {
-        &self.stats
+    pub fn stats(&self) -> FifoStats {
+        let mut s = self.stats.clone();
+        Self::sample(&mut s, self.occupancy, self.unsampled);
+        s
+    }
+
+    /// Items pushed plus items popped so far: changes whenever an item moves.
+    #[inline]
+    pub fn moved(&self) -> u64 {
+        self.stats.pushes + self.stats.pops
+    }
+
+    /// Adds `k` cycles at occupancy `occupancy` to the occupancy counters.
+    #[inline]
+    fn sample(s: &mut FifoStats, occupancy: usize, k: u64) {
+        s.cycles = s.cycles.saturating_add(k);
+        s.occupancy_sum = s
+            .occupancy_sum
+            .saturating_add((occupancy as u64).saturating_mul(k));
+        if let Some(h) = s.occupancy_histogram.get_mut(occupancy) {
+            *h = h.saturating_add(k);
+        }
     }
 
     /// The producer offers `item` this cycle (asserts valid). Taken if the FIFO was not full at
@@ -293,6 +328,7 @@ impl<T> Fifo<T> {
         self.push_driven = true;
         if !self.ready() {
             self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
+            self.full_now = true;
             return Err(Rejected {
                 item,
                 reason: Refusal::Full,
@@ -312,6 +348,7 @@ impl<T> Fifo<T> {
         self.pop_driven = true;
         if !self.valid() {
             self.stats.starved_cycles = self.stats.starved_cycles.saturating_add(1);
+            self.starved_now = true;
             return Ok(None);
         }
         Ok(self.take())
@@ -367,9 +404,11 @@ pub fn forward<T>(from: &mut Fifo<T>, to: &mut Fifo<T>) -> Result<bool, FifoErro
     to.push_driven = true;
     if valid && !ready {
         to.stats.full_cycles = to.stats.full_cycles.saturating_add(1);
+        to.full_now = true;
     }
     if ready && !valid {
         from.stats.starved_cycles = from.stats.starved_cycles.saturating_add(1);
+        from.starved_now = true;
     }
     if valid && ready {
         if let Some(item) = from.take() {
@@ -398,20 +437,43 @@ impl<T> Commit for Fifo<T> {
     }
 
     fn commit(&mut self) {
-        let s = &mut self.stats;
-        s.cycles = s.cycles.saturating_add(1);
-        s.occupancy_sum = s.occupancy_sum.saturating_add(self.occupancy as u64);
-        if let Some(h) = s.occupancy_histogram.get_mut(self.occupancy) {
-            *h = h.saturating_add(1);
-        }
+        // This cycle's occupancy sample, in bulk with the cycles before it at the same level.
+        self.unsampled += 1;
         if let Some(item) = self.pending.take() {
             self.items.push_back(item);
         }
-        self.occupancy = self.items.len();
-        s.max_occupancy = s.max_occupancy.max(self.occupancy as u64);
+        let occupancy = self.items.len();
+        if occupancy != self.occupancy {
+            let s = &mut self.stats;
+            Self::sample(s, self.occupancy, self.unsampled);
+            self.unsampled = 0;
+            self.occupancy = occupancy;
+            s.max_occupancy = s.max_occupancy.max(occupancy as u64);
+        }
         self.push_driven = false;
         self.pop_driven = false;
         self.popped = false;
+        self.last_starved = std::mem::take(&mut self.starved_now);
+        self.last_full = std::mem::take(&mut self.full_now);
         self.now = self.now.saturating_add(1);
+    }
+}
+
+impl<T> Fifo<T> {
+    /// Takes `k` idle cycles at once, as `k` cycles in which the FIFO's sides are driven as
+    /// in the last committed one and nothing is pushed or popped: the counters (cycles,
+    /// occupancy, histogram, starved and full cycles) are credited as if stepped. For the
+    /// pipeline's idle-cycle skipping (docs/cycle-model.md §3.3); call it between edges,
+    /// only after a cycle in which nothing moved through this FIFO.
+    pub fn skip_idle(&mut self, k: u64) {
+        self.unsampled = self.unsampled.saturating_add(k);
+        let s = &mut self.stats;
+        if self.last_starved {
+            s.starved_cycles = s.starved_cycles.saturating_add(k);
+        }
+        if self.last_full {
+            s.full_cycles = s.full_cycles.saturating_add(k);
+        }
+        self.now = self.now.saturating_add(k);
     }
 }

@@ -57,6 +57,17 @@ impl StageCycles {
         }
     }
 
+    /// Counts `k` cycles in state `s` (idle-cycle skipping).
+    #[inline]
+    pub fn count_many(&mut self, s: StageState, k: u64) {
+        match s {
+            StageState::Busy => self.busy += k,
+            StageState::Starved => self.starved += k,
+            StageState::Backpressured => self.backpressured += k,
+            StageState::Idle => self.idle += k,
+        }
+    }
+
     /// Cycles counted.
     pub fn cycles(&self) -> u64 {
         self.busy + self.starved + self.backpressured + self.idle

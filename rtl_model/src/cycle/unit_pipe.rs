@@ -83,6 +83,20 @@ impl<T> UnitPipe<T> {
             .map(|(_, t)| t)
     }
 
+    /// The first cycle after `now` in which what the unit shows its neighbours can change
+    /// with time alone: the head's result becomes ready, or the initiation interval ends.
+    /// `None` when neither lies ahead. For idle-cycle skipping: with no transaction moving,
+    /// every cycle before it looks like `now`.
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        let head = self.items.front().map(|&(r, _)| r).filter(|&r| r > now);
+        let accept = Some(self.next_accept).filter(|&a| a > now);
+        match (head, accept) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
     /// Takes the ready head (after the output FIFO took it).
     #[inline]
     pub fn pop(&mut self, now: u64) -> Option<T> {

@@ -199,6 +199,11 @@ pub struct WalkerPoolModel {
     classes: ClassCounts,
     completions: Vec<Completion>,
     cycles: PoolCycles,
+    /// Context wake-ups, dispatches, issues and retirements so far: unchanged over a cycle
+    /// means nothing in the pool moved (idle-cycle skipping, [`WalkerPoolModel::activity`]).
+    activity: u64,
+    /// A walk waited at the dispatcher in the current cycle.
+    stalled_now: bool,
 }
 
 impl WalkerPoolModel {
@@ -244,6 +249,8 @@ impl WalkerPoolModel {
             classes: ClassCounts([w as u32, 0, 0, 0]),
             completions: Vec::new(),
             cycles: PoolCycles::default(),
+            activity: 0,
+            stalled_now: false,
         })
     }
 
@@ -306,6 +313,7 @@ impl WalkerPoolModel {
     /// a read, or finishes.
     fn advance(&mut self, ctx: u32, mem: &mut NodeMemory) -> Result<(), PoolError> {
         let now = self.now;
+        self.activity += 1;
         let c = &mut self.ctxs[ctx as usize];
         let wi = c.walker as usize;
         let wk = &mut self.walkers[wi];
@@ -351,6 +359,7 @@ impl WalkerPoolModel {
     /// completed. Call once per cycle, in order, before the other phases.
     pub fn wake(&mut self, now: u64, mem: &mut NodeMemory) -> Result<(), PoolError> {
         self.now = now;
+        self.stalled_now = false;
         // Bring the memory to this cycle first, so the reads requested below are this
         // cycle's arrivals (the same arbitration either way; only cheaper).
         mem.catch_up(now);
@@ -386,6 +395,59 @@ impl WalkerPoolModel {
     /// Counts a cycle in which a walk waited at the dispatcher with every context busy.
     pub fn note_dispatch_stall(&mut self) {
         self.cycles.dispatch_stalls += 1;
+        self.stalled_now = true;
+    }
+
+    /// A count that changes whenever anything in the pool moves (a context wakes or moves on,
+    /// a walk is dispatched or retired, a walker issues). Equal before and after a cycle:
+    /// the pool was idle in it, and stays so until [`next_event`](Self::next_event).
+    pub fn activity(&self) -> u64 {
+        self.activity
+    }
+
+    /// After an idle cycle `now` (nothing moved): the first later cycle in which the pool can
+    /// move by itself — a step latency ends, a walker's initiation interval ends with a
+    /// ready context, or a read may complete (`mem`'s bound). `None`: nothing is due.
+    pub fn next_event(&self, now: u64, mem: &NodeMemory) -> Option<u64> {
+        let mut next = mem.next_completion_bound();
+        let mut at = |c: u64| next = Some(next.map_or(c, |n: u64| n.min(c)));
+        let span = self.wheel.len() as u64;
+        let mask = self.wheel.len() - 1;
+        if let Some(d) = (1..span).find(|&d| !self.wheel[((now + d) as usize) & mask].is_empty()) {
+            at(now + d);
+        }
+        for word in 0..self.has_ready.0.len() {
+            let mut bits = self.has_ready.0[word];
+            while bits != 0 {
+                let w = word * 64 + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                at(self.walkers[w].next_issue.max(now + 1));
+            }
+        }
+        next
+    }
+
+    /// Takes `k` idle cycles at once, each as the last one (no walker issues, every walker
+    /// keeps its class, a waiting walk stalls at the dispatcher again if it did): the
+    /// counters are credited as if stepped. Call after an idle cycle's [`issue`](Self::issue)
+    /// and before the next [`wake`](Self::wake).
+    pub fn skip_idle(&mut self, k: u64) {
+        let cls = |c: Class| u64::from(self.classes.0[c as usize]) * k;
+        let (empty, mem, bp, lat) = (
+            cls(Class::Empty),
+            cls(Class::MemoryWait),
+            cls(Class::Backpressured),
+            cls(Class::LatencyWait),
+        );
+        let c = &mut self.cycles;
+        c.busy_context_cycles += u64::from(self.busy_total) * k;
+        c.empty += empty;
+        c.memory_wait += mem;
+        c.backpressured += bp;
+        c.latency_wait += lat;
+        if self.stalled_now {
+            c.dispatch_stalls += k;
+        }
     }
 
     /// Phase 2: dispatches a walk (its ops with global addresses) if a context is free;
@@ -414,6 +476,7 @@ impl WalkerPoolModel {
         };
         self.by_free[f].remove(best);
         self.by_free[f - 1].insert(best);
+        self.activity += 1;
         let c = &mut self.ctxs[ctx as usize];
         c.busy = true;
         c.tag = tag;
@@ -482,6 +545,7 @@ impl WalkerPoolModel {
         c.issuing += u64::from(issued);
         c.slots += u64::from(issued);
         self.issued_count = issued;
+        self.activity += u64::from(issued);
     }
 
     /// The tag of the oldest finished walk, if any.
@@ -492,6 +556,7 @@ impl WalkerPoolModel {
     /// Phase 4: retires the oldest finished walk (the record stage took it this cycle).
     pub fn retire(&mut self) -> Option<u64> {
         let ctx = self.finished.pop_front()?;
+        self.activity += 1;
         let c = &mut self.ctxs[ctx as usize];
         c.busy = false;
         c.finished = false;

@@ -26,7 +26,9 @@ use crate::fixed::{from_f64, to_f64, Format, Overflows, Quant, SignalId};
 use serde::{Deserialize, Serialize};
 
 mod bram;
+mod reuse;
 pub use bram::{bram36_count, uram288_count, BRAM36_SHAPES};
+pub use reuse::{reuse, ReuseInputs};
 
 /// How many bounding spheres the pixel's ray pierced in the frame that wrote the record (the
 /// paper's "nature of the hit"). A miss is told by the instance field, not by this.

@@ -327,13 +327,20 @@ pub struct SortTiming {
     /// through the merger all the same, since the next pass reads the other buffer).
     pub merge_steps: u64,
     /// Cycles from the first key in to the last key out: depth for one chunk; otherwise
-    /// (chunks − 1) + depth + passes · (count + [`MERGE_LATENCY`]). 0 for no keys (the ray
-    /// bypasses the sorter).
+    /// (chunks − 1) + depth + passes · (count + [`MERGE_LATENCY`]). 0 for no keys (nothing
+    /// to sort: the statistics count no sort; the cycle model still passes the ray through
+    /// the network as an empty issue, see [`pipe_cost`]).
     pub latency: u64,
     /// Cycles the network is occupied (one per chunk).
     pub network_busy: u64,
     /// Cycles the merger is occupied.
     pub merger_busy: u64,
+    /// Cycles the ray holds the sorter's input before the next ray may enter: 1 for one chunk
+    /// (the network's II); for several, `latency − depth + 1` (the chunks' issues and every
+    /// merge pass), so that the next ray's network pass ends after this ray's last key left.
+    /// The unit has one merger and no reorder buffer: two rays never merge at once and results
+    /// leave in order (`testbench/rtl/svo_sorter.v` takes exactly these cycles).
+    pub occupancy: u64,
 }
 
 /// The cycle model's parameters for one ray of `count` candidates (documented in
@@ -353,14 +360,30 @@ fn sort_timing_with_latency(count: usize, n: u8, d: u64) -> SortTiming {
     let chunks = count.div_ceil(n) as u64;
     let passes = u64::from(64 - (chunks - 1).leading_zeros()); // ⌈log2 chunks⌉, 0 for 1
     let merge_cycles = passes * (count64 + MERGE_LATENCY);
+    let latency = (chunks - 1) + d + merge_cycles;
     SortTiming {
         chunks,
         merge_passes: passes,
         merge_steps: passes * count64,
-        latency: (chunks - 1) + d + merge_cycles,
+        latency,
         network_busy: chunks,
         merger_busy: merge_cycles,
+        occupancy: if chunks > 1 { latency - d + 1 } else { 1 },
     }
+}
+
+/// What the cycle model's sorter stage (`src/models/cycle/stages/sorter.rs`) gives a
+/// `UnitPipe` of latency `network_latency` for a ray of `count` candidates on `lanes` lanes:
+/// (initiation intervals the ray occupies the input, latency beyond the network's). A ray
+/// without candidates still passes the network as an empty issue: (1, 0). The vector stage
+/// times its rows with this and the same `UnitPipe`, so the RTL is checked against the cycle
+/// model's own code.
+pub fn pipe_cost(count: usize, lanes: u8, network_latency: u32) -> (u64, u64) {
+    let t = sort_timing(count, lanes);
+    (
+        t.occupancy.max(1),
+        t.latency.saturating_sub(u64::from(network_latency)),
+    )
 }
 
 /// Hardware cost of a sorter configuration.

@@ -61,7 +61,7 @@ pub struct Captured {
     pub sphere: Vec<stage::sphere::SphereTxn>,
     /// Square-root radicands of the sphere tests that took a root.
     pub sqrt: Vec<i64>,
-    /// Sorting-network issues.
+    /// Candidate lists of rays, unsorted (at most `stage::sorter::rows_max_keys`).
     pub sorter: Vec<stage::sorter::SorterTxn>,
     /// Ray transforms.
     pub transform: Vec<stage::transform::TransformTxn>,
@@ -69,8 +69,8 @@ pub struct Captured {
     pub reciprocal: Vec<stage::reciprocal::ReciprocalTxn>,
     /// Walks (image = asset index).
     pub walker: Vec<stage::walker::WalkTxn>,
-    /// Hit records packed.
-    pub hit_record: Vec<crate::units::hit_record::HitRecordFields>,
+    /// Hit records packed, each with the reuse check of its own word in a still next frame.
+    pub hit_record: Vec<stage::hit_record::HitRecordTxn>,
 }
 
 /// Every unit's tables for `dp`: per stage all adversarial rows plus `count` captured and
@@ -135,5 +135,14 @@ pub fn unit_tables(
     Ok(v)
 }
 
-/// The names of the stages with a reference RTL unit and testbench in `testbench/`.
-pub const RTL_UNITS: [&str; 5] = ["sqrt", "reciprocal", "transform", "sphere", "walker"];
+/// The names of the stages with an RTL unit and a testbench in `testbench/` (one a line).
+pub const RTL_UNITS: &[&str] = &[
+    "raygen",
+    "sqrt",
+    "sphere",
+    "sorter",
+    "transform",
+    "reciprocal",
+    "hit_record",
+    "walker",
+];

@@ -1,12 +1,15 @@
 //! `sim hardware`: prints a hardware configuration of the cycle model (the RON a user edits
 //! and passes back with `--hw`) with its resource estimate against the part; the text is
-//! `svo_sim::output::config_text`.
+//! `svo_sim::output::config_text`. With `--synth` it also synthesises the RTL units with Yosys
+//! (`svo_sim::studies::synthesis`) and prints them beside the estimate, with the logic levels
+//! and the clock verdict.
 
-use anyhow::Result;
+use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::path::PathBuf;
 use svo_sim::output::config_text::hardware_text;
 use svo_sim::run::config_files::{load_datapath, load_hardware};
+use svo_sim::studies::synthesis::{self, text, SynthOptions};
 
 #[derive(Args, Debug)]
 pub struct HardwareArgs {
@@ -16,6 +19,24 @@ pub struct HardwareArgs {
     /// Datapath the hardware is checked against (RON); default: the documented default.
     #[arg(long, value_name = "FILE")]
     datapath: Option<PathBuf>,
+    /// Also synthesise the RTL units (testbench/synth/units.tsv) with Yosys and print them
+    /// beside the estimate; fails when yosys is missing or a unit's DSP48E2 count differs
+    /// from the estimate without a recorded reason.
+    #[arg(long)]
+    synth: bool,
+    /// With --synth: only these units (comma-separated).
+    #[arg(long, value_name = "UNITS", value_delimiter = ',', requires = "synth")]
+    units: Vec<String>,
+    /// With --synth: the repository holding testbench/ and vectors/.
+    #[arg(long, value_name = "DIR", default_value = ".", requires = "synth")]
+    repo: PathBuf,
+    /// With --synth: cache of synthesis results (default: REPO/target/synth-cache); a unit
+    /// whose files, script and Yosys version are unchanged is not synthesised again.
+    #[arg(long, value_name = "DIR", requires = "synth")]
+    synth_cache: Option<PathBuf>,
+    /// With --synth: units synthesised at a time.
+    #[arg(long, value_name = "N", default_value_t = 2, requires = "synth")]
+    jobs: usize,
 }
 
 /// Runs `sim hardware`.
@@ -25,5 +46,35 @@ pub fn hardware_command(a: HardwareArgs) -> Result<()> {
     let (config, estimate) = hardware_text(&hw, &dp);
     print!("{config}");
     print!("{}", estimate?);
+    if !a.synth {
+        return Ok(());
+    }
+    let list = a.repo.join("testbench/synth/units.tsv");
+    if !list.is_file() {
+        bail!(
+            "{} not found: run from the repository root or pass --repo",
+            list.display()
+        );
+    }
+    let mut o = SynthOptions::new(
+        &a.repo,
+        &a.synth_cache
+            .unwrap_or_else(|| a.repo.join("target/synth-cache")),
+    );
+    o.units = a.units;
+    o.jobs = a.jobs;
+    let units = synthesis::synthesise(&o).context("sim hardware --synth")?;
+    print!(
+        "{}",
+        text::synthesis_text(&hw, &dp, &units, &o.rule, hw.clock_mhz)
+    );
+    let bad = text::dsp_mismatches(&hw, &dp, &units);
+    if !bad.is_empty() {
+        bail!(
+            "{} unit(s) differ from the DSP48E2 estimate without a recorded reason: {}",
+            bad.len(),
+            bad.join("; ")
+        );
+    }
     Ok(())
 }

@@ -14,6 +14,7 @@ mod drift;
 mod fuzz;
 mod hardware;
 mod instances;
+mod render;
 mod run;
 mod stress;
 mod sweep;
@@ -66,6 +67,9 @@ enum Command {
     /// packages) from adversarial cases, a real frame and seeded random stimulus
     /// (docs/vectors.md).
     Vectors(vectors::VectorsArgs),
+    /// Render a bare MagicaVoxel model with the reference walk and a camera in the model's own
+    /// voxel coordinates (z up); print where it sits in the octree (docs/render.md).
+    Render(render::RenderArgs),
     /// Stiff and extreme cases against the f64 reference, with a verdict each
     /// (docs/stability.md).
     Stress(stress::StressArgs),
@@ -118,6 +122,7 @@ fn main() -> ExitCode {
         Some(Command::Fuzz(a)) => fuzz::fuzz_command(a),
         Some(Command::Instances(a)) => instances::instances_command(a),
         Some(Command::Vectors(a)) => vectors::vectors_command(a),
+        Some(Command::Render(a)) => render::render_command(a),
         Some(Command::Stress(a)) => stress::stress_command(a),
         Some(Command::Sweep(a)) => sweep::sweep_command(a),
         None => run::run_command(cli.run),

@@ -1,6 +1,6 @@
 //! `sim sweep`: parses the options and runs `svo_sim::studies::sweep::command`.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
 use svo_sim::studies::sweep;
@@ -39,10 +39,23 @@ pub struct SweepArgs {
     /// missing).
     #[arg(long, value_name = "DIR", default_value = "sweep_out")]
     out: PathBuf,
+    /// Worker threads: configurations run on this many cores at once (default: all cores).
+    /// The output is the same for every count.
+    #[arg(long)]
+    threads: Option<usize>,
 }
 
 /// Runs `sim sweep`.
 pub fn sweep_command(a: SweepArgs) -> Result<()> {
+    if let Some(n) = a.threads {
+        if n == 0 || n > 1024 {
+            anyhow::bail!("--threads {n} is out of range (1 to 1024)");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("cannot start the worker threads")?;
+    }
     sweep::command::run_command(&SweepCommand {
         configs: a.configs,
         only: a.only,

@@ -9,6 +9,7 @@
 use super::runner::CycleRun;
 use super::CycleOptions;
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
+use crate::run::parallel::map_in_order;
 use crate::world::assets::Asset;
 use crate::world::scene::Scene;
 use plotters::prelude::*;
@@ -37,6 +38,8 @@ pub struct SpeedFrame {
     pub rays_per_cycle: f64,
     /// The limit.
     pub bound: String,
+    /// Cycles of the frame taken at once by idle-cycle skipping (docs/cycle-model.md §3.3).
+    pub skipped_cycles: u64,
 }
 
 /// Runs every frame of `scene` through the reference and the cycle model (both with or both
@@ -76,7 +79,9 @@ pub fn speed(
         let t = Instant::now();
         render_frame(&input, &mut reference, opts);
         let reference_s = t.elapsed().as_secs_f64();
+        let skipped_before = run.model().skipped_cycles().0;
         let r = run.frame(&input, dp, use_hit_buffer)?;
+        let skipped_cycles = run.model().skipped_cycles().0 - skipped_before;
         out.push(SpeedFrame {
             frame: f,
             reference_s,
@@ -86,6 +91,7 @@ pub fn speed(
             fps: r.cycles.fps_at_clock,
             rays_per_cycle: r.cycles.rays_per_cycle,
             bound: r.cycles.bound.limit.clone(),
+            skipped_cycles,
         });
     }
     Ok(out)
@@ -138,29 +144,30 @@ pub fn scaling(
         c.node_memory.dram.latency = lat;
         configs.push(("dram_latency", lat, c));
     }
-    let mut out = Vec::new();
-    for (sweep, value, c) in configs {
-        let mut run = CycleRun::new(
-            &c,
-            dp,
-            assets,
-            &scene.instance_asset,
-            (w, h),
-            CycleOptions::default(),
-        )?;
-        let r = run.frame(&input, dp, false)?;
-        let p = ScalePoint {
-            sweep,
-            value,
-            cycles: r.cycles.cycles,
-            fps: r.cycles.fps_at_clock,
-            bound: r.cycles.bound.limit.clone(),
-            reason: r.cycles.bound.reason.clone(),
-        };
-        progress(&p);
-        out.push(p);
-    }
-    Ok(out)
+    // Independent runs: on all cores, points and progress in the sequential order.
+    map_in_order(
+        &configs,
+        |(sweep, value, c)| -> anyhow::Result<ScalePoint> {
+            let mut run = CycleRun::new(
+                c,
+                dp,
+                assets,
+                &scene.instance_asset,
+                (w, h),
+                CycleOptions::default(),
+            )?;
+            let r = run.frame(&input, dp, false)?;
+            Ok(ScalePoint {
+                sweep,
+                value: *value,
+                cycles: r.cycles.cycles,
+                fps: r.cycles.fps_at_clock,
+                bound: r.cycles.bound.limit.clone(),
+                reason: r.cycles.bound.reason.clone(),
+            })
+        },
+        |p| progress(p),
+    )
 }
 
 /// The sweep as CSV.

@@ -70,6 +70,9 @@ pub struct CycleOptions {
     pub waves: Option<PipelineWaves>,
     /// Keep the stage stamps of this many records (in write order) per run.
     pub log_limit: usize,
+    /// Step every cycle, also those in which nothing can move (off: idle cycles are taken at
+    /// once, with the same report; docs/cycle-model.md §3.3). For the comparison test.
+    pub step_every_cycle: bool,
 }
 
 /// The parts of the machine that keep their state across frames (cache lines, hit-buffer
@@ -100,6 +103,10 @@ pub struct CycleModel {
     /// Stamps of the first transactions, for transaction logs (pixel, stamps).
     pub log: Vec<(u32, Vec<StageStamp>)>,
     log_limit: usize,
+    step_every_cycle: bool,
+    /// Cycles run so far, and of those the ones idle-cycle skipping took at once.
+    cycles_run: u64,
+    cycles_skipped: u64,
 }
 
 impl CycleModel {
@@ -136,7 +143,16 @@ impl CycleModel {
             },
             log: Vec::new(),
             log_limit: opts.log_limit,
+            step_every_cycle: opts.step_every_cycle,
+            cycles_run: 0,
+            cycles_skipped: 0,
         })
+    }
+
+    /// Cycles simulated so far over all frames, and of those the ones taken at once by
+    /// idle-cycle skipping (not stepped one by one).
+    pub fn skipped_cycles(&self) -> (u64, u64) {
+        (self.cycles_skipped, self.cycles_run)
     }
 
     /// The hardware configuration.
@@ -178,6 +194,7 @@ impl CycleModel {
             &mut self.machine,
             &mut self.log,
             self.log_limit,
+            !self.step_every_cycle,
         )?;
         while !pipeline.done() {
             pipeline.step()?;
@@ -185,6 +202,9 @@ impl CycleModel {
         // Bit-exact: the hit buffer equals the functional model's, word for word.
         pipeline.check_hit_buffer()?;
         self.frame += 1;
-        Ok(pipeline.report(wall.elapsed().as_secs_f64()))
+        self.cycles_skipped += pipeline.skipped();
+        let report = pipeline.report(wall.elapsed().as_secs_f64());
+        self.cycles_run += report.cycles;
+        Ok(report)
     }
 }

@@ -55,7 +55,7 @@ use super::stats::CycleFrame;
 use rtl_model::cycle::clocked::{Commit, StageId, StageStamp};
 use rtl_model::cycle::fifo::{Fifo, FifoStats};
 use rtl_model::cycle::hw_config::HwConfig;
-use rtl_model::cycle::stage_stats::StageCycles;
+use rtl_model::cycle::stage_stats::{StageCycles, StageState};
 
 pub use super::stages::STAGE_NAMES;
 
@@ -158,7 +158,7 @@ impl Fifos {
     /// Name, depth and counters of each FIFO, for the report.
     fn stats(&self) -> [(&'static str, usize, FifoStats); 10] {
         fn s<T>(name: &'static str, f: &Fifo<T>) -> (&'static str, usize, FifoStats) {
-            (name, f.depth(), f.stats().clone())
+            (name, f.depth(), f.stats())
         }
         [
             s("raygen_to_sphere", &self.rg_sp),
@@ -196,6 +196,14 @@ pub struct Pipeline<'f> {
     slots: RaySlots,
     counts: FrameCounts,
     stages: [StageCycles; 10],
+    /// Each stage's state in the last cycle stepped (what skipped cycles repeat).
+    states: [StageState; 10],
+    /// Whether idle cycles are skipped (off: every cycle is stepped, for the comparison).
+    skip: bool,
+    /// [`Pipeline::activity`] after the last cycle.
+    last_activity: u64,
+    /// Cycles of the frame taken at once by idle-cycle skipping.
+    skipped: u64,
     /// The cycle the frame started at.
     start: u64,
     /// The last cycle anything moved, and the progress measure then.
@@ -213,14 +221,19 @@ impl<'f> Pipeline<'f> {
         machine: &'f mut Machine,
         log: &'f mut Vec<(u32, Vec<StageStamp>)>,
         log_limit: usize,
+        skip: bool,
     ) -> Result<Self, CycleError> {
         let start = machine.clock.now();
+        // No skipping while waveforms are recorded: they sample every cycle.
+        let skip = skip && machine.waves.is_none();
         // Every context, plus the walks that can wait for one.
         let ray_slots =
             hw.walker_pool.walkers * hw.walker_pool.contexts_per_walker + hw.fifos.root_to_dispatch;
         let fifos = Fifos::new(hw, ray_slots, start)?;
         let instances = frame.plan.instances();
         let tiles = TilePasses::of(frame.plan, hw);
+        // Rays keep their whole stamp history only while the transaction log wants more.
+        let track = log.len() < log_limit;
         machine.mem.reset_stats();
         machine.pool.take_cycles();
         Ok(Self {
@@ -230,7 +243,7 @@ impl<'f> Pipeline<'f> {
             machine,
             log,
             fifos,
-            raygen: Raygen::new(hw),
+            raygen: Raygen::new(hw, track),
             sphere: Sphere::new(hw, instances).with_tiles(tiles),
             sorter: Sorter::new(hw, instances),
             check: Check::new(hw),
@@ -242,6 +255,10 @@ impl<'f> Pipeline<'f> {
             write: Write::new(log_limit),
             slots: RaySlots::new(ray_slots),
             stages: STAGE_ROWS.map(StageCycles::named),
+            states: [StageState::Idle; 10],
+            skip,
+            last_activity: u64::MAX,
+            skipped: 0,
             start,
             last_progress: (start, 0),
             stuck_limit: 1_000_000 + 100 * u64::from(hw.node_memory.dram.latency),
@@ -254,15 +271,15 @@ impl<'f> Pipeline<'f> {
         self.counts.written >= self.counts.pixels
     }
 
-    /// One clock: every stage evaluated, consumers first, then the edge.
+    /// One clock: every stage evaluated, consumers first, then the edge; then, if nothing
+    /// moved in it, the idle cycles that follow are taken at once ([`Pipeline::skip_idle`]).
     pub fn step(&mut self) -> Result<(), CycleError> {
         let now = self.machine.clock.now();
         let (f, c, m) = (&mut self.fifos, &mut self.counts, &mut *self.machine);
-        let st = &mut self.stages;
-        st[S_WRITE].count(
-            self.write
-                .eval(&mut f.rc_wr, &mut m.bram, self.log, c, now)?,
-        );
+        let st = &mut self.states;
+        st[S_WRITE] = self
+            .write
+            .eval(&mut f.rc_wr, &mut m.bram, self.log, c, now)?;
         let (state, took_write_port) = self.record.eval(
             &mut f.wk_rc,
             &mut f.loop_back,
@@ -272,10 +289,10 @@ impl<'f> Pipeline<'f> {
             c,
             now,
         )?;
-        st[S_RECORD].count(state);
+        st[S_RECORD] = state;
         // No stage before the check changes what this reads.
         let more_walks = c.more_walks();
-        st[S_WALK].count(self.walkers.eval(
+        st[S_WALK] = self.walkers.eval(
             &mut f.rt_dp,
             &mut f.wk_rc,
             &mut m.pool,
@@ -284,16 +301,14 @@ impl<'f> Pipeline<'f> {
             &mut self.frame,
             more_walks,
             now,
-        )?);
-        st[S_ROOT].count(
-            self.root
-                .eval(&mut f.rc_rt, &mut f.rt_dp, more_walks, now)?,
-        );
-        st[S_RECIP].count(
-            self.recip
-                .eval(&mut f.tr_rc, &mut f.rc_rt, more_walks, now)?,
-        );
-        st[S_TRANSFORM].count(self.transform.eval(
+        )?;
+        st[S_ROOT] = self
+            .root
+            .eval(&mut f.rc_rt, &mut f.rt_dp, more_walks, now)?;
+        st[S_RECIP] = self
+            .recip
+            .eval(&mut f.tr_rc, &mut f.rc_rt, more_walks, now)?;
+        st[S_TRANSFORM] = self.transform.eval(
             &mut f.loop_back,
             &mut f.ck_tr,
             &mut f.tr_rc,
@@ -301,8 +316,8 @@ impl<'f> Pipeline<'f> {
             &self.frame,
             more_walks,
             now,
-        )?);
-        st[S_CHECK].count(self.check.eval(
+        )?;
+        st[S_CHECK] = self.check.eval(
             &mut f.so_ck,
             &mut f.ck_tr,
             &mut f.rc_wr,
@@ -311,19 +326,105 @@ impl<'f> Pipeline<'f> {
             &mut self.frame,
             c,
             now,
-        )?);
-        st[S_SORTER].count(self.sorter.eval(
-            &mut f.sp_so,
-            &mut f.so_ck,
-            &mut self.frame,
-            c,
-            now,
-        )?);
-        st[S_SPHERE].count(self.sphere.eval(&mut f.rg_sp, &mut f.sp_so, c, now)?);
-        st[S_RAYGEN].count(self.raygen.eval(&mut f.rg_sp, &mut self.frame, c, now)?);
+        )?;
+        st[S_SORTER] = self
+            .sorter
+            .eval(&mut f.sp_so, &mut f.so_ck, &mut self.frame, c, now)?;
+        st[S_SPHERE] = self.sphere.eval(&mut f.rg_sp, &mut f.sp_so, c, now)?;
+        st[S_RAYGEN] = self.raygen.eval(&mut f.rg_sp, &mut self.frame, c, now)?;
+        for (row, &s) in self.stages.iter_mut().zip(st.iter()) {
+            row.count(s);
+        }
         self.sample_waves(now);
         self.edge()?;
-        self.watch(now)
+        self.watch(now)?;
+        if self.skip {
+            self.skip_idle(now)?;
+        }
+        Ok(())
+    }
+
+    /// What changes whenever anything moves: every FIFO's pushes and pops, the pixel counter
+    /// and the walker pool's activity (a unit's transaction enters from or leaves into a FIFO,
+    /// a record's write pops one).
+    fn activity(&self) -> u64 {
+        let f = &self.fifos;
+        f.rg_sp.moved()
+            + f.sp_so.moved()
+            + f.so_ck.moved()
+            + f.ck_tr.moved()
+            + f.loop_back.moved()
+            + f.tr_rc.moved()
+            + f.rc_rt.moved()
+            + f.rt_dp.moved()
+            + f.wk_rc.moved()
+            + f.rc_wr.moved()
+            + self.raygen.next_pixel()
+            + self.machine.pool.activity()
+    }
+
+    /// Idle-cycle skipping (docs/cycle-model.md §3.3), after the edge that ended cycle `now`.
+    /// If nothing moved in `now`, every state the stages read is what it was at its start, so
+    /// each following cycle repeats it exactly until time alone changes something: a unit's
+    /// result becomes ready or its initiation interval ends, a walker's step latency or II
+    /// ends, or a node read may complete. The clock jumps to the first such cycle at once and
+    /// every counter is credited for the cycles in between as if they had been stepped (the
+    /// stage rows with `now`'s states, the FIFOs with their occupancy and starved/full
+    /// cycles, the pool with its walkers' classes). The node memory catches up by itself at
+    /// the next cycle it is asked about.
+    fn skip_idle(&mut self, now: u64) -> Result<(), CycleError> {
+        let activity = self.activity();
+        let idle = activity == self.last_activity;
+        self.last_activity = activity;
+        if !idle || self.done() {
+            return Ok(());
+        }
+        let m = &*self.machine;
+        let next = [
+            self.raygen.next_change(now),
+            self.sphere.next_change(now),
+            self.sorter.next_change(now),
+            self.check.next_change(now),
+            self.transform.next_change(now),
+            self.recip.next_change(now),
+            self.root.next_change(now),
+            self.record.next_change(now),
+            m.pool.next_event(now, &m.mem),
+        ]
+        .into_iter()
+        .flatten()
+        .min();
+        // Nothing due at all would be a stuck pipeline: step on and let the watch report it.
+        let Some(next) = next else {
+            return Ok(());
+        };
+        let k = next.saturating_sub(now + 1);
+        if k == 0 {
+            return Ok(());
+        }
+        for (row, &s) in self.stages.iter_mut().zip(self.states.iter()) {
+            row.count_many(s, k);
+        }
+        let f = &mut self.fifos;
+        for fifo in [&mut f.rg_sp, &mut f.sp_so, &mut f.so_ck, &mut f.ck_tr] {
+            fifo.skip_idle(k);
+        }
+        for fifo in [
+            &mut f.loop_back,
+            &mut f.tr_rc,
+            &mut f.rc_rt,
+            &mut f.rt_dp,
+            &mut f.wk_rc,
+        ] {
+            fifo.skip_idle(k);
+        }
+        f.rc_wr.skip_idle(k);
+        let m = &mut *self.machine;
+        m.bram.skip_idle(k);
+        m.pool.skip_idle(k);
+        let last = m.clock.skip(k) - 1;
+        self.skipped += k;
+        self.watch(last)
     }
 
     /// Records cycle `now` in the waveforms, if any.
@@ -386,6 +487,11 @@ impl<'f> Pipeline<'f> {
             });
         }
         Ok(())
+    }
+
+    /// Cycles of the frame taken at once by idle-cycle skipping so far.
+    pub fn skipped(&self) -> u64 {
+        self.skipped
     }
 
     /// After the frame: this model's hit buffer must equal the functional model's, word for

@@ -22,7 +22,9 @@ use rayon::prelude::*;
 use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
 use rtl_model::fixed::{from_f64, to_f64, Format, Overflows};
 use rtl_model::svo::SvoImage;
-use rtl_model::units::hit_record::{pack, quantise, unpack, HitRecordF64, HitRecordFields};
+use rtl_model::units::hit_record::{
+    pack, quantise, reuse as hit_record_reuse, HitRecordF64, HitRecordFields, ReuseInputs,
+};
 use rtl_model::units::raygen::direction_entry;
 use rtl_model::units::reciprocal::ReciprocalUnit;
 use rtl_model::units::sorter::{Sorter, SorterStats};
@@ -346,25 +348,32 @@ impl<'a> FramePlan<'a> {
     /// The hit-buffer rule: the refreshed word if `prev` (the buffer's word) can be reused for
     /// a ray with these candidates, `None` if the ray must be traced.
     pub fn reuse(&self, prev: u128, cands: &[(i64, u16)], c: &mut PixelCounters) -> Option<u128> {
-        if !self.use_hit_buffer || self.dirty.camera || cands.len() != 1 {
-            return None;
-        }
-        let k = cands[0].1;
-        let old = unpack(prev, &self.cfg.hit_record);
-        if self.dirty.instances[usize::from(k)]
-            || !(old.instance.is_none() || old.instance == Some(k))
-        {
-            return None;
-        }
-        // Refresh the sphere count from this frame's tests, as the reference does.
-        let mut f = old;
-        f.kind = SphereCount::from_count(cands.len());
-        Some(pack(
-            &f,
+        let (candidate, instance_dirty) = match cands {
+            // An instance the frame does not know is treated as moved: never reused.
+            [(_, k)] => (
+                *k,
+                self.dirty
+                    .instances
+                    .get(usize::from(*k))
+                    .copied()
+                    .unwrap_or(true),
+            ),
+            _ => (0, false),
+        };
+        let inp = ReuseInputs {
+            buffer: self.use_hit_buffer,
+            camera_dirty: self.dirty.camera,
+            candidates: cands.len(),
+            candidate,
+            instance_dirty,
+        };
+        hit_record_reuse(
+            prev,
+            &inp,
             &self.cfg.hit_record,
             &mut c.ov,
             signals::HIT_RECORD,
-        ))
+        )
     }
 
     /// Early termination: whether the best hit so far (walker t) is no farther than the next

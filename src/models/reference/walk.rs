@@ -171,8 +171,37 @@ pub fn walk_visiting<T: Octree, V: FnMut(u8, [u32; 3])>(
     cnt: &mut WalkCounters,
     visit: &mut V,
 ) -> Option<WalkHit<T::Leaf>> {
-    let lo = (-half).to_array();
-    let hi = half.to_array();
+    walk_box_visiting(tree, -half, half, o, d, cnt, visit)
+}
+
+/// [`walk`] for an octree occupying the box [lo, hi] instead of [−half, half]: `sim render`
+/// walks a bare model in its own voxel coordinates, where the box is
+/// [base, base + 2^depth] and the ray needs no translation (so a ray lying in a voxel plane
+/// stays exactly in it). With lo = −half and hi = half this is [`walk`], operation for
+/// operation.
+pub fn walk_box<T: Octree>(
+    tree: &T,
+    lo: DVec3,
+    hi: DVec3,
+    o: DVec3,
+    d: DVec3,
+    cnt: &mut WalkCounters,
+) -> Option<WalkHit<T::Leaf>> {
+    walk_box_visiting(tree, lo, hi, o, d, cnt, &mut |_, _| {})
+}
+
+/// [`walk_box`], calling `visit(level, coords)` for every node it enters.
+pub fn walk_box_visiting<T: Octree, V: FnMut(u8, [u32; 3])>(
+    tree: &T,
+    lo: DVec3,
+    hi: DVec3,
+    o: DVec3,
+    d: DVec3,
+    cnt: &mut WalkCounters,
+    visit: &mut V,
+) -> Option<WalkHit<T::Leaf>> {
+    let lo = lo.to_array();
+    let hi = hi.to_array();
     let (o, d) = (o.to_array(), d.to_array());
     let mut rf = RayFrame {
         o: [0.0; 3],

@@ -17,6 +17,7 @@ use crate::models::cycle::runner::{CycleRun, CycleRunError};
 use crate::models::cycle::CycleOptions;
 use crate::models::fixed::to_hit_records;
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, HitRecord, RenderOptions};
+use crate::run::parallel::map_in_order;
 use crate::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
 use rtl_model::cycle::hw_config::HwConfig;
@@ -357,12 +358,17 @@ pub fn run_sweep(
             instances: p.scene.file.instances.len(),
             leaf_edge: leaf_edge(&p.assets),
         });
-        let mut mine = Vec::with_capacity(configs.len());
-        for (c, (hw, k)) in configs.iter().zip(&hardware) {
-            let row = run_one(c, &ns.name, &p, hw, k)?;
-            progress(&row);
-            mine.push(row);
-        }
+        // The configurations run on all cores; rows and progress come in the sequential
+        // order (`run::parallel::map_in_order`), so the output is that of a sequential loop.
+        let jobs: Vec<usize> = (0..configs.len()).collect();
+        let mut mine = map_in_order(
+            &jobs,
+            |&c| {
+                let (hw, k) = &hardware[c];
+                run_one(&configs[c], &ns.name, &p, hw, k)
+            },
+            |row| progress(row),
+        )?;
         place_on_fronts(&mut mine);
         if let Some(d) = mine.iter().find(|r| r.config == DEFAULT_NAME) {
             verdicts.push(DefaultVerdict {

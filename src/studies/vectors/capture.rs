@@ -17,12 +17,14 @@ use crate::models::reference::FrameInput;
 use crate::world::assets::Asset;
 use crate::world::scene::{FrameState, Scene};
 use rtl_model::datapath::{overflow_table, DatapathConfig};
-use rtl_model::units::hit_record::HitRecordFields;
+use rtl_model::units::hit_record::{HitRecordFields, ReuseInputs};
 use rtl_model::units::sphere::{SphereHit, SphereRaw};
 use rtl_model::units::transform::InstanceRaw;
 use rtl_model::units::walker::{NoObserver, WalkerInput};
 use rtl_model::vectors::frame::{FrameInstance, FramePixel};
+use rtl_model::vectors::stage::hit_record::HitRecordTxn;
 use rtl_model::vectors::stage::raygen::RaygenTxn;
+use rtl_model::vectors::stage::sorter::rows_max_keys;
 use rtl_model::vectors::stage::sphere::{SphereStage, SphereTxn};
 use rtl_model::vectors::stage::transform::TransformTxn;
 use rtl_model::vectors::stage::walker::WalkTxn;
@@ -46,14 +48,15 @@ struct Recorder<'s> {
     pixels: Vec<FramePixel>,
     /// The sphere stage, for the square root's radicands.
     sphere_stage: SphereStage,
-    /// Sorter lanes: the candidates go to the sorter in issues of this many.
-    lanes: usize,
+    /// Most keys of a sorter row: longer candidate lists are not captured.
+    sorter_max: usize,
     /// Asset (memory image) of each instance.
     instance_asset: &'s [usize],
     /// The pixel being run: column and row, direction-table entry, candidates, walks.
     xy: [u16; 2],
     dir: [i64; 3],
     candidates: u32,
+    first_candidate: u16,
     walks: u32,
 }
 
@@ -80,9 +83,10 @@ impl PixelObserver for Recorder<'_> {
 
     fn on_candidates(&mut self, unsorted: &[(i64, u16)]) {
         self.candidates = unsorted.len() as u32;
-        self.cap
-            .sorter
-            .extend(unsorted.chunks(self.lanes).map(<[_]>::to_vec));
+        self.first_candidate = unsorted.first().map_or(0, |c| c.1);
+        if unsorted.len() <= self.sorter_max {
+            self.cap.sorter.push(unsorted.to_vec());
+        }
     }
 
     fn on_transform(&mut self, _k: u16, o: [i64; 3], d: [i64; 3], inst: &InstanceRaw) {
@@ -102,8 +106,20 @@ impl PixelObserver for Recorder<'_> {
         NoObserver
     }
 
-    fn on_record(&mut self, fields: &HitRecordFields, _word: u128) {
-        self.cap.hit_record.push(*fields);
+    fn on_record(&mut self, fields: &HitRecordFields, word: u128) {
+        // The check of the next frame with a still camera: this word read back, this ray's
+        // candidates again.
+        self.cap.hit_record.push(HitRecordTxn {
+            record: *fields,
+            prev: word,
+            check: ReuseInputs {
+                buffer: true,
+                camera_dirty: false,
+                candidates: self.candidates as usize,
+                candidate: self.first_candidate,
+                instance_dirty: false,
+            },
+        });
     }
 
     fn on_pixel_end(&mut self, rec: &FixedRecord) {
@@ -146,11 +162,12 @@ pub fn capture_frame(
         cap: Captured::default(),
         pixels: Vec::with_capacity(w as usize * h as usize),
         sphere_stage: SphereStage::new(dp),
-        lanes: usize::from(dp.sorter.n.max(1)),
+        sorter_max: rows_max_keys(&dp.sorter),
         instance_asset: &scene.instance_asset,
         xy: [0; 2],
         dir: [0; 3],
         candidates: 0,
+        first_candidate: 0,
         walks: 0,
     };
     // Counters and overflows are not what the capture is for (the rows carry their own

@@ -275,6 +275,23 @@ impl NodeMemory {
         Ok(RequestId(id))
     }
 
+    /// A lower bound on the first cycle at or after [`now`](Self::now) in which a read not yet
+    /// returned can complete, or `None` when nothing is outstanding. Completions already
+    /// computed give their own cycle; a request not yet served may complete as early as the
+    /// cycle it can be served in, so any waiting or arriving request bounds it by that cycle.
+    /// The pipeline's idle-cycle skipping (docs/cycle-model.md §3.3) jumps no further.
+    pub fn next_completion_bound(&self) -> Option<u64> {
+        let mut bound = self.pending.next_due();
+        let mut at = |c: u64| bound = Some(bound.map_or(c, |b| b.min(c)));
+        if self.waiting > 0 || !self.arrivals.is_empty() {
+            at(self.next);
+        }
+        if let Some(Reverse(r)) = self.future.peek() {
+            at(r.cycle.max(self.next));
+        }
+        bound
+    }
+
     /// Simulates every cycle before `cycle` without collecting completions (a later
     /// [`tick_into`](Self::tick_into) of the same cycle returns them). Requests for `cycle`
     /// made after this take the fast path of the current cycle instead of the heap of future

@@ -5,7 +5,9 @@
 //!
 //! Adversarial cases: +0 and −0, ±1, exact round-half-even ties of both parities and signs,
 //! the next doubles either side of a tie, subnormals, values that saturate (2.0, ±∞, 128 m),
-//! the most negative codes (exact), NaN (0, flagged), and axis-parallel unit directions.
+//! the most negative codes (exact), NaN (0, flagged), axis-parallel unit directions, and the
+//! view's corners (diagonals of all eight octants) at the extreme pixels with the camera at the
+//! corners of its range.
 
 use super::{dedup, Stage};
 use crate::datapath::{DatapathConfig, RaygenConfig};
@@ -13,7 +15,7 @@ use crate::fixed::{from_f64, Overflows, SignalId};
 use crate::units::raygen::direction_entry;
 use crate::vectors::layout::{b, s, u, Direction::*, Layout};
 use crate::vectors::rng::Rng;
-use crate::vectors::table::VectorTable;
+use crate::vectors::table::{Timing, VectorTable};
 
 /// One transaction: a pixel, its f64 ray direction and the f64 camera position.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -147,6 +149,20 @@ impl Stage for RaygenStage {
                 });
             }
         }
+        // Corners of the view (unit diagonals in all eight octants) at the extreme pixels,
+        // with the camera at the corners of its range (the largest code, the most negative
+        // exact code, and one LSB beyond).
+        let c = 1.0 / 3f64.sqrt();
+        let pixels = [[0, 0], [u16::MAX, u16::MAX], [u16::MAX, 0], [0, u16::MAX]];
+        let corner = [128.0 - pl, -128.0, 128.0, -128.0 - pl];
+        for k in 0..8 {
+            let sg = |b: usize| if k >> b & 1 == 1 { -1.0 } else { 1.0 };
+            v.push(RaygenTxn {
+                pixel: pixels[k % 4],
+                dir: [sg(0) * c, sg(1) * c, sg(2) * c],
+                origin: [0, 1, 2].map(|a| sg(a) * corner[(k + a) % 4].abs()),
+            });
+        }
         dedup_f(v)
     }
 
@@ -172,6 +188,15 @@ impl Stage for RaygenStage {
         v.push(b(ov.count(SignalId(0)) > 0));
         v.push(b(ov.count(SignalId(1)) > 0));
         v
+    }
+
+    fn timing(&self) -> Option<Timing> {
+        // units.raygen of the default hardware: svo_raygen.v is pipelined to it.
+        let t = crate::cycle::hw_config::UnitTimings::default().raygen;
+        Some(Timing {
+            latency_cycles: t.latency_cycles,
+            ii: t.ii,
+        })
     }
 
     fn parameters(&self, t: &mut VectorTable) {

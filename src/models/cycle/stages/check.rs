@@ -20,14 +20,25 @@ use rtl_model::cycle::unit_pipe::UnitPipe;
 /// The check stage: rays with the word their read returned.
 pub struct Check {
     pipe: UnitPipe<(Stamped<Ray>, u128)>,
+    /// The record word of a ray with no candidate: the same for every such ray of the frame
+    /// (the plan's background record), computed once.
+    miss_word: Option<u128>,
 }
 
 impl Check {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pipe.next_change(now)
+    }
+
     /// The stage of `hw`: the hit buffer's read latency (0 without one) and the unpacking.
     pub fn new(hw: &HwConfig) -> Self {
         let latency = hw.hit_buffer_read_cycles() + hw.units.hit_unpack.latency_cycles;
         Self {
             pipe: UnitPipe::new(latency, 1),
+            miss_word: None,
         }
     }
 
@@ -64,10 +75,13 @@ impl Check {
                     ),
                 ));
             }
+            let miss_word = &mut self.miss_word;
             let direct = reuse.or_else(|| {
                 cands.is_empty().then(|| {
-                    plan.finish(None, SphereCount::None, &mut frame.xc_counters)
-                        .word
+                    *miss_word.get_or_insert_with(|| {
+                        plan.finish(None, SphereCount::None, &mut frame.xc_counters)
+                            .word
+                    })
                 })
             });
             if let Some(word) = direct {

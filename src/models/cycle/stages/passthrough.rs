@@ -23,6 +23,13 @@ pub struct PassThrough {
 }
 
 impl PassThrough {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pipe.next_change(now)
+    }
+
     /// The reciprocal stage of `hw`: three units per walk (one per axis); with fewer than three
     /// units a walk takes several passes.
     pub fn reciprocal(hw: &HwConfig) -> Self {

@@ -19,15 +19,25 @@ pub struct Raygen {
     pipe: UnitPipe<Stamped<Ray>>,
     /// The pixel counter: the next pixel to generate.
     next_pixel: u64,
+    /// Whether rays keep their whole stamp history (only a transaction log reads it).
+    track: bool,
 }
 
 impl Raygen {
-    /// The stage of `hw`, at pixel 0.
-    pub fn new(hw: &HwConfig) -> Self {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pipe.next_change(now)
+    }
+
+    /// The stage of `hw`, at pixel 0; `track`: rays keep their whole stamp history.
+    pub fn new(hw: &HwConfig, track: bool) -> Self {
         let u = &hw.units.raygen;
         Self {
             pipe: UnitPipe::new(u.latency_cycles, u.ii),
             next_pixel: 0,
+            track,
         }
     }
 
@@ -53,7 +63,7 @@ impl Raygen {
             let width = u64::from(frame.setup.width);
             frame.need_row((self.next_pixel / width) as usize)?;
             let pixel = u32::try_from(self.next_pixel).map_err(internal)?;
-            let mut ray = Stamped::new(Ray { pixel });
+            let mut ray = Stamped::with_history(Ray { pixel }, self.track);
             ray.enter(id::RAYGEN, now);
             self.pipe.accept(now, ray, 1, 0);
             self.next_pixel += 1;

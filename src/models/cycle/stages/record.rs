@@ -23,6 +23,13 @@ pub struct Record {
 }
 
 impl Record {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pack.next_change(now)
+    }
+
     /// The stage of `hw`.
     pub fn new(hw: &HwConfig) -> Self {
         let u = &hw.units.hit_pack;
@@ -138,7 +145,7 @@ impl Record {
         let mut ray = s
             .stamps
             .take()
-            .unwrap_or_else(|| Stamped::new(Ray { pixel: s.pixel }));
+            .unwrap_or_else(|| Stamped::untracked(Ray { pixel: s.pixel }));
         ray.enter(id::RECORD, now);
         let rec = ray.map(|r| Rec {
             pixel: r.pixel,

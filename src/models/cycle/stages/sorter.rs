@@ -2,7 +2,7 @@
 //! passes when a ray has more candidates than the network has lanes.
 //!
 //! Pipeline position: `sphere_to_sorter` → `sorter_to_check` (docs/cycle-model.md §2.1). A ray
-//! occupies the network for the passes `units::sorter::sort_timing` gives its candidate count
+//! occupies the network for the passes `units::sorter::pipe_cost` gives its candidate count
 //! (from the trace) and leaves after the network's latency plus the merges. Under cross-check
 //! this stage re-runs the sphere tests and the sort from the ray's direction and compares the
 //! list with the trace (§2.4).
@@ -14,7 +14,7 @@ use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::unit_pipe::UnitPipe;
-use rtl_model::units::sorter::sort_timing;
+use rtl_model::units::sorter::pipe_cost;
 
 /// Candidate counts whose sort cost is tabulated up front; beyond it, computed per ray.
 const SORT_COST_TABLE: usize = 4096;
@@ -30,16 +30,22 @@ pub struct Sorter {
 }
 
 /// Passes (initiation intervals) a ray of `n` candidates occupies the sorter for, and its
-/// latency beyond the network's.
+/// latency beyond the network's: `units::sorter::pipe_cost`, which the sorter's vectors use
+/// too. A ray with more chunks than one holds the input until its merges are done (one
+/// merger, results in order); before issue 15 it held it for max(chunks, merge cycles), which
+/// let two rays' merges overlap in the one merger.
 fn sort_cost_of(n: usize, lanes: u8, network_latency: u32) -> (u64, u64) {
-    let t = sort_timing(n, lanes);
-    (
-        t.network_busy.max(t.merger_busy).max(1),
-        t.latency.saturating_sub(u64::from(network_latency)),
-    )
+    pipe_cost(n, lanes, network_latency)
 }
 
 impl Sorter {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pipe.next_change(now)
+    }
+
     /// The stage of `hw` for a frame of `instances` instances.
     pub fn new(hw: &HwConfig, instances: usize) -> Self {
         let u = &hw.units.sorter;

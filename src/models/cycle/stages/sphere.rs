@@ -23,6 +23,13 @@ pub struct Sphere {
 }
 
 impl Sphere {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pipe.next_change(now)
+    }
+
     /// The stage of `hw` for a frame of `instances` instances.
     pub fn new(hw: &HwConfig, instances: usize) -> Self {
         let u = &hw.units;

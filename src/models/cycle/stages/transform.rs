@@ -21,6 +21,13 @@ pub struct Transform {
 }
 
 impl Transform {
+    /// The first cycle after `now` in which the stage's unit can change by itself
+    /// (idle-cycle skipping, docs/cycle-model.md §3.3).
+    #[inline]
+    pub fn next_change(&self, now: u64) -> Option<u64> {
+        self.pipe.next_change(now)
+    }
+
     /// The stage of `hw` (`transform_units` units act as one of a shorter II).
     pub fn new(hw: &HwConfig) -> Self {
         let u = &hw.units.transform;
@@ -55,7 +62,7 @@ impl Transform {
                     let pixel = ray.payload.pixel;
                     let (tr, pw, _) = frame.trace_at(pixel)?;
                     let slot = slots.take(pixel, tr.candidates_of(pw), ray)?;
-                    let mut w = Stamped::new(Walk { slot, cand: 0 });
+                    let mut w = Stamped::untracked(Walk { slot, cand: 0 });
                     w.enter(id::TRANSFORM, now);
                     self.pipe.accept(now, w, 1, 0);
                 }

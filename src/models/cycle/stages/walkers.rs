@@ -10,10 +10,10 @@
 
 use super::{id, internal, FrameInputs, RaySlots, Walk};
 use crate::models::cycle::model::CycleError;
-use crate::models::fixed::trace::{OpRecorder, WalkOp};
+use crate::models::fixed::trace::OpRecorder;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
-use rtl_model::cycle::memory::{FetchKind, NodeMemory};
+use rtl_model::cycle::memory::NodeMemory;
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::walker_pool::WalkerPoolModel;
 use rtl_model::units::walker::WalkOutcome;
@@ -56,7 +56,7 @@ impl Walkers {
         pool.wake(now, mem)?;
         if pool.finished_head().is_some() && out.ready() {
             if let Some(tag) = pool.retire() {
-                let mut wk = Stamped::new(walk_of(tag));
+                let mut wk = Stamped::untracked(walk_of(tag));
                 wk.enter(id::WALKER, now);
                 let _ = wk.leave(id::WALKER, now);
                 out.try_push(wk).map_err(internal)?;
@@ -151,10 +151,16 @@ impl Walkers {
         }
         // Node and attribute addresses are per asset: relocate them to the asset's place in
         // the node memory as the context takes them.
-        let relocate = |o: &u64| match WalkOp::unpack(*o) {
-            WalkOp::Read(FetchKind::Attr, a) => WalkOp::Read(FetchKind::Attr, a + ab).pack(),
-            WalkOp::Read(kind, a) => WalkOp::Read(kind, a + nb).pack(),
-            op => op.pack(),
+        // On the packed word (`WalkOp::pack`: the kind in bits 32.., the address in the low
+        // 32; `unpack` reads any kind above 2 as an attribute read): an issue run (kind 0)
+        // stays, a node or far word read (1, 2) moves by `nb`, an attribute read by `ab`.
+        let relocate = |&o: &u64| {
+            let (kind, base) = match o >> 32 {
+                0 => return o,
+                k @ (1 | 2) => (k, nb),
+                _ => (3, ab),
+            };
+            (kind << 32) | u64::from((o as u32).wrapping_add(base))
         };
         pool.dispatch_with(tag_of(w), |v| v.extend(ops.iter().map(relocate)));
         Ok(())

@@ -1,0 +1,285 @@
+//! The fabric estimate: LUTs and flip-flops per unit, a first-order model calibrated on the
+//! Yosys synthesis of the RTL (`testbench/synth/`, `sim hardware --synth`) so that it follows
+//! a change of the datapath's formats.
+//!
+//! Pipeline position: beside the resource estimate of hard blocks ([`super::estimate`]), read
+//! once per configuration by `sim hardware`. Each unit with RTL has a width measure `W(dp)`
+//! — a sum of the bit widths its registers and adders carry, one formula per unit (below and
+//! in docs/cycle-model.md §1.5) — and its LUT and FF counts scale with it from the synthesis
+//! of the default datapath: `LUT(dp) = LUT₀ · W(dp) / W(default)`, the same for FFs. At the
+//! default the estimate therefore equals synthesis by construction; elsewhere it is linear in
+//! the widths, which is first order (a multiplier's partial-product adders grow with the
+//! product of its operand widths). LUTs here are what Vivado reports as CLB LUTs: logic
+//! LUTs, shift registers (SRL16E/SRLC32E) and LUT-RAM. Units without RTL (the sorter) get a
+//! structural count instead, marked uncalibrated.
+
+use crate::cycle::hw_config::HwConfig;
+use crate::datapath::DatapathConfig;
+use crate::units::{reciprocal, sorter, sphere};
+
+/// LUTs and FFs of one instance of a unit with RTL, from Yosys 0.23 `synth_xilinx -family
+/// xcup -flatten` of the default datapath (testbench/README.md, synthesis): LUT1..6 + SRLs
+/// + 8 per RAM32M16.
+pub mod calibration {
+    /// `svo_sqrt` N = 64: 2020 LUT + 58 SRL, 1531 FF.
+    pub const SQRT: (u64, u64) = (2078, 1531);
+    /// `svo_sphere` without its square root: (4330 + 1025 SRL) − sqrt's 2078 LUT,
+    /// 2130 − 1531 FF.
+    pub const SPHERE: (u64, u64) = (3277, 599);
+    /// `svo_transform`: 3560 LUT + 1233 SRL, 1576 FF.
+    pub const TRANSFORM: (u64, u64) = (4793, 1576);
+    /// `svo_reciprocal`: 1106 LUT + 215 SRL, 309 FF.
+    pub const RECIPROCAL: (u64, u64) = (1321, 309);
+    /// `svo_walker_root`: 3476 LUT, 5208 FF.
+    pub const WALKER_ROOT: (u64, u64) = (3476, 5208);
+    /// `svo_walker` (one context, its 21-frame stack in 50 RAM32M16): 6389 + 400 LUT,
+    /// 2072 FF.
+    pub const WALKER: (u64, u64) = (6789, 2072);
+}
+
+/// LUTs and flip-flops.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Fabric {
+    /// CLB LUTs (logic, shift registers, LUT-RAM).
+    pub lut: u64,
+    /// Flip-flops.
+    pub ff: u64,
+}
+
+/// One unit's line of the fabric estimate.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FabricItem {
+    /// Component name, as in the resource estimate (`sphere`, `walker`, …).
+    pub name: &'static str,
+    /// Instances the hardware has.
+    pub instances: u64,
+    /// One instance.
+    pub per_instance: Fabric,
+    /// Whether the figure is calibrated on the unit's synthesis (false: structural only).
+    pub calibrated: bool,
+    /// The formula, as printed.
+    pub formula: String,
+}
+
+impl FabricItem {
+    /// All instances together.
+    pub fn total(&self) -> Fabric {
+        Fabric {
+            lut: self.per_instance.lut.saturating_mul(self.instances),
+            ff: self.per_instance.ff.saturating_mul(self.instances),
+        }
+    }
+}
+
+/// The width measures `W(dp)` (LUT, FF) of each unit with RTL.
+fn widths(name: &str, dp: &DatapathConfig) -> Option<(u64, u64)> {
+    let w = |f: crate::fixed::Format| u64::from(f.width);
+    Some(match name {
+        "sqrt" => {
+            let c = sphere::sqrt_config(&dp.sphere);
+            let r = w(c.output);
+            (r * r, r * w(c.input))
+        }
+        "sphere" => {
+            let s = &dp.sphere;
+            let b = 3 * (w(s.pos) + 1) + 3 * w(s.dir) + 2 * w(s.tca) + 3 * w(s.sq) + w(s.t_enter);
+            (b, b)
+        }
+        "transform" => {
+            let t = &dp.transform;
+            let b = 9 * (w(t.pos) + 1 + w(t.mat))
+                + 9 * (w(t.dir) + w(t.mat))
+                + 3 * w(t.local_pos)
+                + 3 * w(t.local_dir);
+            (b, b)
+        }
+        "reciprocal" => {
+            let r = &dp.reciprocal;
+            let g = u64::from(reciprocal::mantissa_frac_bits(r));
+            let b = 2 * u64::from(r.iterations) * (2 * g + 2) + w(r.output) + w(r.input);
+            (b, b)
+        }
+        "walker_root" => {
+            let k = &dp.walker;
+            let b = 6 * (w(k.pos) + 2 + w(k.inv)) + 6 * (w(k.t) + 1) + 3 * w(k.pos);
+            (b, b)
+        }
+        "walker" => {
+            let k = &dp.walker;
+            let b = 9 * (w(k.t) + 1) + 3 * (w(k.pos) + 1);
+            (b, b)
+        }
+        _ => return None,
+    })
+}
+
+/// The formula of a unit's width measure, as printed.
+fn formula(name: &str) -> &'static str {
+    match name {
+        "sqrt" => "W = R² (LUT), R·N (FF); R root bits, N radicand bits",
+        "sphere" => "W = 3(pos+1) + 3 dir + 2 tca + 3 sq + t_enter (bits)",
+        "transform" => "W = 9(pos+1+mat) + 9(dir+mat) + 3 local_pos + 3 local_dir",
+        "reciprocal" => "W = 2·iterations·(2G+2) + output + input; G mantissa bits",
+        "walker_root" => "W = 6(pos+2+inv) + 6(t+1) + 3 pos",
+        "walker" => "W = 9(t+1) + 3(pos+1); per walker as the one-context RTL walker",
+        _ => "",
+    }
+}
+
+/// One instance of a unit with RTL (`sqrt`, `sphere` without its square root, `transform`,
+/// `reciprocal`, `walker_root`, `walker` with one context) with datapath `dp`; `None` for a
+/// name without RTL.
+pub fn unit_fabric(name: &str, dp: &DatapathConfig) -> Option<Fabric> {
+    let cal = match name {
+        "sqrt" => calibration::SQRT,
+        "sphere" => calibration::SPHERE,
+        "transform" => calibration::TRANSFORM,
+        "reciprocal" => calibration::RECIPROCAL,
+        "walker_root" => calibration::WALKER_ROOT,
+        "walker" => calibration::WALKER,
+        _ => return None,
+    };
+    let (wl, wf) = widths(name, dp)?;
+    let (wl0, wf0) = widths(name, &DatapathConfig::default())?;
+    let scale = |c: u64, w: u64, w0: u64| {
+        (u128::from(c) * u128::from(w) + u128::from(w0) / 2)
+            .checked_div(u128::from(w0))
+            .map_or(0, |v| u64::try_from(v).unwrap_or(u64::MAX))
+    };
+    Some(Fabric {
+        lut: scale(cal.0, wl, wl0),
+        ff: scale(cal.1, wf, wf0),
+    })
+}
+
+/// The estimate of one instance of a unit with RTL, as `sim hardware --synth` sets it
+/// beside the unit's synthesis.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct UnitEstimate {
+    /// LUTs and flip-flops ([`unit_fabric`]).
+    pub fabric: Fabric,
+    /// DSP48E2 (the unit's own count).
+    pub dsp48e2: u64,
+    /// BRAM36.
+    pub bram36: u64,
+    /// URAM288.
+    pub uram288: u64,
+}
+
+impl HwConfig {
+    /// One instance of the RTL unit `name` as the estimate prices it: `sphere` with its
+    /// square root (the RTL instantiates it), `walker` as one context with its stack of
+    /// `walker_pool.stack_depth` frames (the RTL walker is one context), the others as their
+    /// component of [`HwConfig::resources`]. `None` for a name without RTL.
+    pub fn unit_estimate(&self, name: &str, dp: &DatapathConfig) -> Option<UnitEstimate> {
+        use crate::units::{sqrt, transform, walker};
+        let sq_dsp = u64::from(sqrt::dsp48e2_count(&sphere::sqrt_config(&dp.sphere)));
+        let (fabric, dsp48e2, bram36) = match name {
+            "sphere" => {
+                let (a, b) = (unit_fabric("sphere", dp)?, unit_fabric("sqrt", dp)?);
+                let f = Fabric {
+                    lut: a.lut + b.lut,
+                    ff: a.ff + b.ff,
+                };
+                (f, u64::from(sphere::dsp48e2_count(&dp.sphere)) + sq_dsp, 0)
+            }
+            "sqrt" => (unit_fabric("sqrt", dp)?, sq_dsp, 0),
+            "transform" => {
+                let d = match self.transform_products {
+                    true => transform::dsp48e2_count(&dp.transform),
+                    false => 0,
+                };
+                (unit_fabric(name, dp)?, u64::from(d), 0)
+            }
+            "reciprocal" => (
+                unit_fabric(name, dp)?,
+                u64::from(reciprocal::dsp48e2_count(&dp.reciprocal)),
+                0,
+            ),
+            "walker_root" => (
+                unit_fabric(name, dp)?,
+                u64::from(walker::root_dsp48e2_count(&dp.walker)),
+                0,
+            ),
+            "walker" => {
+                let bits = self.stack_frame_bits(dp);
+                let frames = u64::from(self.walker_pool.stack_depth);
+                let b = crate::units::hit_record::bram36_count(bits, frames);
+                (unit_fabric(name, dp)?, 0, b)
+            }
+            _ => return None,
+        };
+        Some(UnitEstimate {
+            fabric,
+            dsp48e2,
+            bram36,
+            uram288: 0,
+        })
+    }
+
+    /// LUTs and flip-flops per unit of this configuration with datapath `dp` (the model of
+    /// this module), with the part's LUTs; an error when either configuration is invalid.
+    /// Counted: sphere lanes, their square roots, the sorter (structural: per
+    /// compare-exchange two word multiplexers and a comparator, 3 LUTs per compared bit, and
+    /// its pipeline registers), transform, reciprocal and walker-root units, and each walker
+    /// as the RTL walker (its step logic and one context; the registers of its other
+    /// contexts are not counted). Not counted: FIFOs, the hit-record and ray-generation
+    /// logic, the memory controller and host interface.
+    pub fn fabric(&self, dp: &DatapathConfig) -> Result<Vec<FabricItem>, String> {
+        self.validate()?;
+        dp.validate().map_err(|m| format!("datapath: {m}"))?;
+        let mut items = Vec::new();
+        let mut push = |name: &'static str, n: u32| {
+            if let Some(per) = unit_fabric(name, dp) {
+                items.push(FabricItem {
+                    name,
+                    instances: u64::from(n),
+                    per_instance: per,
+                    calibrated: true,
+                    formula: formula(name).to_string(),
+                });
+            }
+        };
+        push("sphere", self.sphere_units);
+        push("sqrt", self.sphere_units);
+        push("transform", self.transform_units);
+        push("reciprocal", self.reciprocal_units);
+        push("walker_root", self.walker_root_units);
+        push("walker", self.walker_pool.walkers);
+        let s = sorter::resources(&dp.sorter, dp.hit_record.instance_bits);
+        items.insert(
+            2,
+            FabricItem {
+                name: "sorter",
+                instances: 1,
+                per_instance: Fabric {
+                    lut: 3 * s.comparator_bits,
+                    ff: s.register_bits,
+                },
+                calibrated: false,
+                formula: format!(
+                    "structural, no RTL: 3 LUT × {} comparators × {} bits; {} register bits",
+                    s.comparators, s.compare_bits, s.register_bits
+                ),
+            },
+        );
+        Ok(items)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_equals_its_calibration_and_wider_formats_cost_more() {
+        let dp = DatapathConfig::default();
+        let f = unit_fabric("transform", &dp).unwrap();
+        assert_eq!((f.lut, f.ff), calibration::TRANSFORM);
+        let mut wide = dp.clone();
+        wide.transform.pos.width += 8;
+        let g = unit_fabric("transform", &wide).unwrap();
+        assert!(g.lut > f.lut && g.ff > f.ff);
+        assert!(unit_fabric("sorter", &dp).is_none());
+    }
+}

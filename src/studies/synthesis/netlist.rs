@@ -1,0 +1,370 @@
+//! Logic levels of a mapped netlist: the longest combinational path into every register of a
+//! unit, read from the JSON netlist Yosys writes after `synth_xilinx -family xcup`
+//! (`testbench/synth/synth.sh`), timed by the clock rule (`rtl_model::cost::timing`).
+//!
+//! Pipeline position: `sim hardware --synth` and `tests/synthesis_yosys.rs`, after the
+//! synthesis of a unit. The method: every register-like cell cuts paths — flip-flops, shift
+//! registers, DSP48E2 and block/Ultra RAM (as the DSP's own A/B, M and P registers would when
+//! Vivado packs the RTL's product register chain into it; Yosys 0.23 leaves them outside, so a
+//! DSP48E2 here is taken as registered on both sides), the write side of LUT-RAM and the I/O
+//! buffers (a unit's inputs come from registers of the unit before it). The combinational cells
+//! between them carry delay: a LUT (or inverter, or a LUT-RAM read from its address) one
+//! level with its net, a CARRY4 half an UltraScale+ CARRY8 segment, a MUXF7/8/9 its own. The
+//! path into each register is the slowest by the rule's delays; registers are grouped into
+//! stages by the RTL name of the net they drive.
+
+use rtl_model::cost::timing::{ClockRule, PathLevels};
+use serde::Deserialize;
+use std::collections::HashMap;
+
+/// A net bit, or a constant.
+#[derive(Deserialize, Clone, Copy, Debug)]
+#[serde(untagged)]
+enum Bit {
+    Net(u64),
+    // Constants ("0", "1", "x", "z") start no path.
+    #[allow(dead_code)]
+    Const(char),
+}
+
+#[derive(Deserialize)]
+struct Cell {
+    #[serde(rename = "type")]
+    kind: String,
+    #[serde(default)]
+    port_directions: HashMap<String, String>,
+    #[serde(default)]
+    connections: HashMap<String, Vec<Bit>>,
+}
+
+#[derive(Deserialize)]
+struct NetName {
+    hide_name: u8,
+    bits: Vec<Bit>,
+}
+
+#[derive(Deserialize)]
+struct Module {
+    #[serde(default)]
+    cells: HashMap<String, Cell>,
+    #[serde(default)]
+    netnames: HashMap<String, NetName>,
+}
+
+#[derive(Deserialize)]
+struct Netlist {
+    modules: HashMap<String, Module>,
+}
+
+/// The slowest path into one stage's registers.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StagePath {
+    /// The registers' RTL name (the net their output drives), or the cell kind.
+    pub stage: String,
+    /// The path's levels.
+    pub path: PathLevels,
+    /// Its delay by the clock rule, picoseconds (clock-to-out, setup and margin included).
+    pub ps: u32,
+}
+
+/// How a cell takes part in the timing graph.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Role {
+    Lut,
+    Carry,
+    Muxf,
+    LutRam,
+    Register,
+    Ignore,
+}
+
+fn role(kind: &str) -> Role {
+    let k = kind.trim_start_matches('\\');
+    if k.starts_with("LUT") || k == "INV" {
+        Role::Lut
+    } else if k.starts_with("CARRY") {
+        Role::Carry
+    } else if k.starts_with("MUXF") {
+        Role::Muxf
+    } else if k.starts_with("RAM32") || k.starts_with("RAM64") || k.starts_with("RAM128") {
+        Role::LutRam
+    } else if k == "BUFG" {
+        Role::Ignore
+    } else {
+        // FD*, SRL*, DSP48E2, RAMB*, URAM*, IBUF, OBUF and anything unknown cut paths.
+        Role::Register
+    }
+}
+
+fn is_clock_pin(pin: &str) -> bool {
+    matches!(pin, "C" | "CLK" | "WCLK" | "CLKARDCLK" | "CLKBWRCLK")
+}
+
+/// Arrival at a net bit: (delay in ps, the levels on the way).
+type Arrival = (u32, PathLevels);
+
+struct Graph<'a> {
+    rule: ClockRule,
+    cells: Vec<&'a Cell>,
+    roles: Vec<Role>,
+    /// Net bit → the combinational cell that drives it.
+    driver: HashMap<u64, usize>,
+    memo: HashMap<u64, Arrival>,
+}
+
+impl Graph<'_> {
+    /// The cell's delay and levels.
+    fn weight(&self, r: Role) -> Arrival {
+        let mut p = PathLevels::default();
+        let ps = match r {
+            Role::Lut | Role::LutRam => {
+                p.luts = 1;
+                self.rule.lut_net_ps
+            }
+            Role::Carry => {
+                p.carry4 = 1;
+                self.rule.carry4_ps()
+            }
+            Role::Muxf => {
+                p.muxf = 1;
+                self.rule.muxf_ps
+            }
+            Role::Register | Role::Ignore => 0,
+        };
+        (ps, p)
+    }
+
+    /// The slowest arrival at net bit `b` (iterative depth-first, memoised).
+    fn arrival(&mut self, b: u64) -> Arrival {
+        if let Some(a) = self.memo.get(&b) {
+            return *a;
+        }
+        // Explicit stack: (bit, inputs expanded).
+        let mut stack = vec![(b, false)];
+        while let Some((bit, expanded)) = stack.pop() {
+            if self.memo.contains_key(&bit) {
+                continue;
+            }
+            let Some(&ci) = self.driver.get(&bit) else {
+                self.memo.insert(bit, (0, PathLevels::default()));
+                continue;
+            };
+            let inputs = self.comb_inputs(ci);
+            if !expanded {
+                stack.push((bit, true));
+                for i in inputs {
+                    if !self.memo.contains_key(&i) {
+                        stack.push((i, false));
+                    }
+                }
+                continue;
+            }
+            let mut best: Arrival = (0, PathLevels::default());
+            for i in inputs {
+                // An input still unresolved here is on a combinational loop: it starts none.
+                let a = self.memo.get(&i).copied().unwrap_or_default();
+                if a.0 > best.0 {
+                    best = a;
+                }
+            }
+            let (w, p) = self.weight(self.roles[ci]);
+            let lv = PathLevels {
+                luts: best.1.luts + p.luts,
+                carry4: best.1.carry4 + p.carry4,
+                muxf: best.1.muxf + p.muxf,
+            };
+            self.memo.insert(bit, (best.0 + w, lv));
+        }
+        self.memo.get(&b).copied().unwrap_or_default()
+    }
+
+    /// Input bits of a combinational cell that its outputs depend on (a LUT-RAM's read
+    /// address only).
+    fn comb_inputs(&self, ci: usize) -> Vec<u64> {
+        let c = self.cells[ci];
+        let ram = self.roles[ci] == Role::LutRam;
+        let mut v = Vec::new();
+        // Pins in name order: among inputs of equal delay the first wins, the same each run.
+        let mut pins: Vec<(&String, &Vec<Bit>)> = c.connections.iter().collect();
+        pins.sort_by(|a, b| a.0.cmp(b.0));
+        for (pin, bits) in pins {
+            if c.port_directions.get(pin).map(String::as_str) != Some("input") {
+                continue;
+            }
+            if ram && !pin.starts_with("ADDR") {
+                continue;
+            }
+            v.extend(bits.iter().filter_map(|b| match b {
+                Bit::Net(n) => Some(*n),
+                Bit::Const(_) => None,
+            }));
+        }
+        v
+    }
+}
+
+/// Strips a Yosys net name to its RTL stem: no leading `\`, no bit index, no hierarchy of
+/// generate blocks beyond the last name.
+fn stem(name: &str) -> String {
+    let n = name.trim_start_matches('\\');
+    let n = n.split('[').next().unwrap_or(n);
+    n.to_string()
+}
+
+/// The slowest path into each stage of module `top` in the JSON netlist `json`, slowest
+/// first, by `rule`.
+pub fn stage_paths(json: &str, top: &str, rule: ClockRule) -> Result<Vec<StagePath>, String> {
+    let nl: Netlist = serde_json::from_str(json).map_err(|e| format!("netlist JSON: {e}"))?;
+    let m = nl
+        .modules
+        .get(top)
+        .ok_or_else(|| format!("netlist has no module `{top}`"))?;
+    // Public names of net bits, for naming stages.
+    // A bit with several names takes the shortest (then the first in order), so that the
+    // stage names do not depend on the hash map's order.
+    let mut names: HashMap<u64, String> = HashMap::new();
+    let mut nets: Vec<(&String, &NetName)> = m.netnames.iter().collect();
+    nets.sort_by(|a, b| a.0.len().cmp(&b.0.len()).then_with(|| a.0.cmp(b.0)));
+    for (n, net) in nets {
+        if net.hide_name != 0 {
+            continue;
+        }
+        for b in &net.bits {
+            if let Bit::Net(x) = b {
+                names.entry(*x).or_insert_with(|| stem(n));
+            }
+        }
+    }
+    let mut keys: Vec<&String> = m.cells.keys().collect();
+    keys.sort();
+    let cells: Vec<&Cell> = keys.iter().map(|k| &m.cells[*k]).collect();
+    let roles: Vec<Role> = cells.iter().map(|c| role(&c.kind)).collect();
+    let mut driver = HashMap::new();
+    for (i, c) in cells.iter().enumerate() {
+        if matches!(roles[i], Role::Register | Role::Ignore) {
+            continue;
+        }
+        for (pin, bits) in &c.connections {
+            if c.port_directions.get(pin).map(String::as_str) == Some("output") {
+                for b in bits {
+                    if let Bit::Net(x) = b {
+                        driver.insert(*x, i);
+                    }
+                }
+            }
+        }
+    }
+    let mut g = Graph {
+        rule,
+        cells: cells.clone(),
+        roles: roles.clone(),
+        driver,
+        memo: HashMap::new(),
+    };
+    let mut stages: HashMap<String, Arrival> = HashMap::new();
+    for (i, c) in cells.iter().enumerate() {
+        // Every input of a register-like cell ends paths, and so does a LUT-RAM's write side
+        // (data, write enable, write address), in pin-name order.
+        if !matches!(roles[i], Role::Register | Role::LutRam) {
+            continue;
+        }
+        let mut endpoint: Vec<(&String, &Vec<Bit>)> = c
+            .connections
+            .iter()
+            .filter(|(p, _)| {
+                c.port_directions.get(*p).map(String::as_str) == Some("input") && !is_clock_pin(p)
+            })
+            .collect();
+        endpoint.sort_by(|a, b| a.0.cmp(b.0));
+        let endpoint_pins: Vec<&Vec<Bit>> = endpoint.into_iter().map(|(_, b)| b).collect();
+        let kind = c.kind.trim_start_matches('\\');
+        // The stage: the RTL name of the first named net the cell drives.
+        let mut outs: Vec<(&String, &Vec<Bit>)> = c
+            .connections
+            .iter()
+            .filter(|(p, _)| c.port_directions.get(*p).map(String::as_str) == Some("output"))
+            .collect();
+        outs.sort_by(|a, b| a.0.cmp(b.0));
+        let out_name = outs
+            .into_iter()
+            .flat_map(|(_, b)| b.iter())
+            .find_map(|b| match b {
+                Bit::Net(x) => names.get(x).cloned(),
+                Bit::Const(_) => None,
+            });
+        let stage = match (kind, out_name) {
+            ("OBUF", _) => "(outputs)".to_string(),
+            ("IBUF", _) => continue,
+            (_, Some(n)) => n,
+            (k, None) => format!("({k})"),
+        };
+        for bits in endpoint_pins {
+            for b in bits {
+                if let Bit::Net(x) = b {
+                    let a = g.arrival(*x);
+                    let e = stages.entry(stage.clone()).or_default();
+                    if a.0 > e.0 {
+                        *e = a;
+                    }
+                }
+            }
+        }
+    }
+    let fixed = rule.clk_to_out_setup_ps + rule.margin_ps;
+    let mut out: Vec<StagePath> = stages
+        .into_iter()
+        .map(|(stage, (ps, path))| StagePath {
+            stage,
+            path,
+            ps: ps + fixed,
+        })
+        .collect();
+    out.sort_by(|a, b| b.ps.cmp(&a.ps).then_with(|| a.stage.cmp(&b.stage)));
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rtl_model::cost::timing::ULTRASCALE_PLUS_2;
+
+    /// FD → LUT → CARRY4 → CARRY4 → FD, and FD → FD.
+    const NET: &str = r#"{"modules": {"t": {
+      "cells": {
+        "r0": {"type": "FDRE", "port_directions": {"C": "input", "D": "input", "Q": "output"},
+               "connections": {"C": [1], "D": [2], "Q": [3]}},
+        "l":  {"type": "LUT2", "port_directions": {"I0": "input", "I1": "input", "O": "output"},
+               "connections": {"I0": [3], "I1": ["0"], "O": [4]}},
+        "c0": {"type": "CARRY4", "port_directions": {"S": "input", "CO": "output"},
+               "connections": {"S": [4], "CO": [5]}},
+        "c1": {"type": "CARRY4", "port_directions": {"CI": "input", "O": "output"},
+               "connections": {"CI": [5], "O": [6]}},
+        "r1": {"type": "FDRE", "port_directions": {"C": "input", "D": "input", "Q": "output"},
+               "connections": {"C": [1], "D": [6], "Q": [7]}},
+        "r2": {"type": "FDRE", "port_directions": {"C": "input", "D": "input", "Q": "output"},
+               "connections": {"C": [1], "D": [3], "Q": [8]}}
+      },
+      "netnames": {"\\sum_q": {"hide_name": 0, "bits": [7]},
+                   "\\copy_q": {"hide_name": 0, "bits": [8]}}
+    }}}"#;
+
+    #[test]
+    fn the_slowest_path_per_stage_counts_luts_and_carry_segments() {
+        let r = ULTRASCALE_PLUS_2;
+        let s = stage_paths(NET, "t", r).unwrap();
+        assert_eq!(s[0].stage, "sum_q");
+        assert_eq!(
+            s[0].path,
+            PathLevels {
+                luts: 1,
+                carry4: 2,
+                muxf: 0
+            }
+        );
+        assert_eq!(s[0].path.levels(), 2);
+        assert_eq!(s[0].ps, 150 + 300 + 450 + 2 * 50);
+        let copy = s.iter().find(|p| p.stage == "copy_q").unwrap();
+        assert_eq!(copy.path, PathLevels::default());
+        assert!(stage_paths(NET, "nope", r).is_err());
+    }
+}

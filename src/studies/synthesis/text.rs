@@ -1,0 +1,168 @@
+//! The text of `sim hardware --synth`: per unit the model's estimate beside Yosys's counts
+//! (LUT, FF, DSP48E2, BRAM36, URAM288), the slowest stages' logic levels and the clock
+//! verdict; and the DSP48E2 check the CI test applies.
+//!
+//! Pipeline position: after the synthesis study (`studies::synthesis`), the estimate from
+//! `HwConfig::unit_estimate`; nothing is recomputed here.
+
+use super::UnitSynthesis;
+use rtl_model::cost::fabric::UnitEstimate;
+use rtl_model::cost::timing::ClockRule;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::datapath::DatapathConfig;
+use std::fmt::Write;
+
+/// Stages listed per unit below the table.
+const STAGES_SHOWN: usize = 3;
+
+/// The estimate of a synthesised unit (zero for a unit the estimate does not know).
+fn estimate(hw: &HwConfig, dp: &DatapathConfig, u: &UnitSynthesis) -> UnitEstimate {
+    hw.unit_estimate(&u.spec.name, dp).unwrap_or_default()
+}
+
+/// Units whose Yosys DSP48E2 count differs from the estimate by other than the difference
+/// recorded in units.tsv, one message each.
+pub fn dsp_mismatches(hw: &HwConfig, dp: &DatapathConfig, units: &[UnitSynthesis]) -> Vec<String> {
+    units
+        .iter()
+        .filter_map(|u| {
+            let e = estimate(hw, dp, u).dsp48e2;
+            let got = u.cells.dsp48e2;
+            let diff = i128::from(got) - i128::from(e);
+            (diff != i128::from(u.spec.dsp_vs_model)).then(|| {
+                format!(
+                    "{}: Yosys {got} DSP48E2, estimate {e} (difference {diff:+}, recorded {:+}{})",
+                    u.spec.name,
+                    u.spec.dsp_vs_model,
+                    if u.spec.reason.is_empty() {
+                        String::new()
+                    } else {
+                        format!(": {}", u.spec.reason)
+                    }
+                )
+            })
+        })
+        .collect()
+}
+
+/// The comparison table, the slowest stages and the verdict at `mhz`.
+pub fn synthesis_text(
+    hw: &HwConfig,
+    dp: &DatapathConfig,
+    units: &[UnitSynthesis],
+    rule: &ClockRule,
+    mhz: u32,
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "synthesis (Yosys synth_xilinx -family xcup) against the estimate, per instance (est/yosys):"
+    );
+    let _ = writeln!(
+        s,
+        "  {:<12} {:>13} {:>13} {:>9} {:>7} {:>7} {:>6} {:>8} {:>6}  {mhz} MHz",
+        "unit", "LUT", "FF", "DSP48E2", "BRAM36", "URAM", "levels", "path ns", "fmax"
+    );
+    for u in units {
+        let e = estimate(hw, dp, u);
+        let c = &u.cells;
+        let worst = u.stages.first();
+        let (levels, ns, fmax, ok) = match worst {
+            Some(w) => (
+                w.path.levels().to_string(),
+                format!("{:.2}", f64::from(w.ps) / 1000.0),
+                (1_000_000 / w.ps.max(1)).to_string(),
+                if rule.meets(&w.path, mhz) {
+                    "plausible"
+                } else {
+                    "NOT plausible"
+                },
+            ),
+            None => ("-".into(), "-".into(), "-".into(), "plausible (no logic)"),
+        };
+        let _ = writeln!(
+            s,
+            "  {:<12} {:>13} {:>13} {:>9} {:>7} {:>7} {:>6} {:>8} {:>6}  {ok}",
+            u.spec.name,
+            format!("{}/{}", e.fabric.lut, c.clb_luts()),
+            format!("{}/{}", e.fabric.ff, c.ff),
+            format!("{}/{}", e.dsp48e2, c.dsp48e2),
+            format!("{}/{}", e.bram36, c.bram36()),
+            format!("{}/{}", e.uram288, c.uram288),
+            levels,
+            ns,
+            fmax,
+        );
+    }
+    let _ = writeln!(
+        s,
+        "  LUT counts logic + SRL + LUT-RAM; levels = LUTs + CARRY8 segments + MUXFs on the slowest \
+         register-to-register path; path ns by the clock rule: {} ps per LUT level with its net, \
+         {} ps per CARRY8, {} ps per MUXF, {} ps clock-to-out + setup, {} ps margin (assumed; \
+         docs/cycle-model.md §1.5)",
+        rule.lut_net_ps, rule.carry8_ps, rule.muxf_ps, rule.clk_to_out_setup_ps, rule.margin_ps
+    );
+    let _ = writeln!(
+        s,
+        "slowest stages (register: LUT + CARRY8 + MUXF levels, ns):"
+    );
+    for u in units {
+        let list: Vec<String> = u
+            .stages
+            .iter()
+            .take(STAGES_SHOWN)
+            .map(|p| {
+                format!(
+                    "{} {}+{}+{} {:.2}",
+                    p.stage,
+                    p.path.luts,
+                    p.path.carry4.div_ceil(2),
+                    p.path.muxf,
+                    f64::from(p.ps) / 1000.0
+                )
+            })
+            .collect();
+        let over = u
+            .stages
+            .iter()
+            .filter(|p| !rule.meets(&p.path, mhz))
+            .count();
+        let _ = writeln!(
+            s,
+            "  {:<12} {}; {over} of {} stages over {mhz} MHz",
+            u.spec.name,
+            list.join(", "),
+            u.stages.len()
+        );
+    }
+    let _ = writeln!(
+        s,
+        "recorded DSP48E2 differences (testbench/synth/units.tsv):"
+    );
+    for u in units.iter().filter(|u| u.spec.dsp_vs_model != 0) {
+        let _ = writeln!(
+            s,
+            "  {:<12} {:+}: {}",
+            u.spec.name, u.spec.dsp_vs_model, u.spec.reason
+        );
+    }
+    let bad = dsp_mismatches(hw, dp, units);
+    if bad.is_empty() {
+        let _ = writeln!(
+            s,
+            "DSP48E2 check: every unit agrees with the estimate or differs by its recorded reason"
+        );
+    } else {
+        for b in &bad {
+            let _ = writeln!(s, "DSP48E2 MISMATCH {b}");
+        }
+    }
+    let ran: f64 = units.iter().map(|u| u.seconds).sum();
+    let cached = units.iter().filter(|u| u.cached).count();
+    let _ = writeln!(
+        s,
+        "// {} units, {cached} from the cache, {ran:.1} s of Yosys",
+        units.len()
+    );
+    s
+}
