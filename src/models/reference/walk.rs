@@ -372,8 +372,9 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
         if !(enter < exit && exit > 0.0) {
             continue;
         }
-        // ts1 > 0 here, so min(exit, ts1) > 0 already holds.
-        if CLIP && !(enter.max(ts0) < exit.min(ts1)) {
+        // ts1 > 0 here, so min(exit, ts1) > 0 already holds; no t is NaN (finite planes and
+        // 1/d, or ±∞ on zero axes), so ≥ is the negation of <.
+        if CLIP && enter.max(ts0) >= exit.min(ts1) {
             continue;
         }
         let real = c ^ rf.a;
