@@ -19,7 +19,7 @@ use thiserror::Error;
 
 use crate::models::reference::octree::Octree;
 use crate::models::reference::ray::primary_ray;
-use crate::models::reference::walk::{walk_box, WalkCounters};
+use crate::models::reference::walk::{walk_box_clipped, WalkCounters};
 use crate::world::assets::vox::model_frame::{load_model_frame, ModelFrame};
 use crate::world::assets::vox::VoxError;
 use crate::world::scene::Camera;
@@ -343,13 +343,20 @@ pub fn render_model(
     })?;
     let lo = DVec3::from_array(frame.base.map(|b| b as f64));
     let hi = lo + DVec3::splat(frame.side() as f64);
+    // The solid box (every leaf's cell lies in it), on voxel planes: the walk is clipped to it.
+    let bounds = Bounds {
+        lo,
+        hi,
+        solid_lo: DVec3::from_array(frame.solid_min.map(|v| v as f64)),
+        solid_hi: DVec3::from_array(frame.solid_max.map(|v| (v + 1) as f64)),
+    };
     let start = Instant::now();
     let rows: Vec<(Vec<ModelHit>, WalkCounters)> = (0..height)
         .into_par_iter()
         .map(|j| {
             let mut wc = WalkCounters::default();
             let row = (0..width)
-                .map(|i| trace(&image, &frame, &gen, lo, hi, i, j, &mut wc))
+                .map(|i| trace(&image, &frame, &gen, &bounds, i, j, &mut wc))
                 .collect();
             (row, wc)
         })
@@ -373,21 +380,27 @@ pub fn render_model(
     })
 }
 
-#[allow(clippy::too_many_arguments)]
+/// The octree's box and the model's solid box, in model coordinates (integers).
+struct Bounds {
+    lo: DVec3,
+    hi: DVec3,
+    solid_lo: DVec3,
+    solid_hi: DVec3,
+}
+
 #[inline]
 fn trace(
     image: &SvoImage,
     frame: &ModelFrame,
     gen: &RayGen,
-    lo: DVec3,
-    hi: DVec3,
+    b: &Bounds,
     i: u32,
     j: u32,
     wc: &mut WalkCounters,
 ) -> ModelHit {
     let (o, d) = gen.ray(i, j);
     let (origin, dir) = (o.to_array(), d.to_array());
-    let Some(h) = walk_box(image, lo, hi, o, d, wc) else {
+    let Some(h) = walk_box_clipped(image, b.lo, b.hi, b.solid_lo, b.solid_hi, o, d, wc) else {
         return ModelHit::miss(origin, dir);
     };
     let attr = image.attr(h.attr);
