@@ -276,10 +276,27 @@ fn cycle_model_with_lists_matches_flat_and_elaboration_says_why() {
     assert_eq!(e.datapath.hit_record.instance_bits, 9);
     // A 73-bit record takes two URAM columns: the direction table goes to DRAM, and the
     // printed totals (full − savings) equal the elaborated estimate.
-    assert!(units.contains(&("direction_table", "left out".into())), "{units:?}");
+    assert!(
+        units.contains(&("direction_table", "left out".into())),
+        "{units:?}"
+    );
     assert_eq!(
         e.full.uram288 - e.total_saved().uram288,
         e.elaborated.uram288,
+        "{:?} {:?}",
+        e.full,
+        e.elaborated
+    );
+    // The list memory is the scheme's price: the elaborated BRAM36 is the full pipeline's
+    // less the savings, plus the lists' own count (units::tile_list::bram36_count, by hand:
+    // two copies of 32,768 words of 8 × 16-bit ids and of the offset table).
+    let f = &e.hardware.frame;
+    let lists =
+        rtl_model::units::tile_list::bram36_count(&tl, e.hardware.sphere_units, f.width, f.height);
+    assert!(lists >= 2 * 116, "{lists} BRAM36 for the lists");
+    assert_eq!(
+        e.full.bram36 - e.total_saved().bram36 + lists,
+        e.elaborated.bram36,
         "{:?} {:?}",
         e.full,
         e.elaborated

@@ -221,10 +221,19 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
         cfg.hardware
             .validate_for(&cfg.datapath)
             .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
-        let r = cfg
+        let mut r = cfg
             .hardware
             .resources(&cfg.datapath)
             .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
+        if let Some(tl) = cfg.elaboration.as_ref().and_then(|e| e.two_level) {
+            let (hw, f) = (&cfg.hardware, &cfg.hardware.frame);
+            r.push(rtl_model::units::tile_list::resource_item(
+                &tl,
+                hw.sphere_units,
+                f.width,
+                f.height,
+            ));
+        }
         Some(r)
     } else {
         None

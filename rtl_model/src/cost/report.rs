@@ -108,6 +108,14 @@ pub struct ResourceReport {
 }
 
 impl ResourceReport {
+    /// Adds a component the configuration does not describe itself (the tile-list memory of
+    /// the two-level instance scheme, which elaboration decides per scene) and its use to the
+    /// total.
+    pub fn push(&mut self, item: ResourceItem) {
+        self.used = self.used.saturating_add(item.used);
+        self.items.push(item);
+    }
+
     /// The resources of the items named `names` together (an absent name counts nothing).
     pub fn sum_of(&self, names: &[&str]) -> Resources {
         self.items

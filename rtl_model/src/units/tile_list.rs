@@ -18,6 +18,7 @@
 //! rays test every instance, as without the scheme. Never lossy; counted per frame
 //! ([`ListBudget::flat_tiles`]) and reported.
 
+use crate::cost::report::{ResourceItem, Resources};
 use serde::{Deserialize, Serialize};
 
 /// Configuration of the tile lists.
@@ -191,6 +192,23 @@ pub fn bram36_count(cfg: &TileListConfig, lanes: u32, w: u32, h: u32) -> u64 {
     let lists = crate::units::hit_record::bram36_count(word_bits, u64::from(cfg.capacity_words));
     let offsets = crate::units::hit_record::bram36_count(cfg.offset_word_bits(), cfg.tiles(w, h));
     2 * (lists + offsets)
+}
+
+/// The unit's line of the resource estimate (`cost::report::ResourceReport::push`): its
+/// [`bram36_count`] for a `w`×`h` frame on `lanes` sphere lanes.
+pub fn resource_item(cfg: &TileListConfig, lanes: u32, w: u32, h: u32) -> ResourceItem {
+    ResourceItem::new(
+        "instance_lists",
+        1,
+        Resources::bram36(bram36_count(cfg, lanes, w, h)),
+        format!(
+            "per-tile instance lists, {} tiles of {} px, {} list words of {} ids, double-buffered",
+            cfg.tiles(w, h),
+            cfg.tile,
+            cfg.capacity_words,
+            lanes.max(1)
+        ),
+    )
 }
 
 /// Bytes the host writes per frame: the used list words and the offset table.

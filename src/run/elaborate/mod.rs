@@ -20,6 +20,7 @@ use analyse::SceneFacts;
 use plan::Decision;
 use rtl_model::cycle::hw_config::{HwConfig, Resources};
 use rtl_model::datapath::DatapathConfig;
+use rtl_model::units::tile_list;
 use serde::Serialize;
 use thiserror::Error;
 
@@ -58,7 +59,7 @@ pub struct Elaboration {
     pub use_hit_buffer: bool,
     /// The two-level instance scheme's list memory, when kept (`instances.rs`).
     #[serde(skip)]
-    pub two_level: Option<rtl_model::units::tile_list::TileListConfig>,
+    pub two_level: Option<tile_list::TileListConfig>,
 }
 
 /// Elaborates `scene` (as it will run: resolution, frames and `depth` overridden) against the
@@ -75,7 +76,17 @@ pub fn elaborate(
     let bad = ElaborateError::Hardware;
     p.hardware.validate_for(&p.datapath).map_err(bad)?;
     let full = hw.resources(dp).map_err(bad)?;
-    let elaborated = p.hardware.resources(&p.datapath).map_err(bad)?;
+    let mut elaborated = p.hardware.resources(&p.datapath).map_err(bad)?;
+    if let Some(tl) = &p.two_level {
+        // The list memory is the scheme's price; the hardware configuration does not carry it.
+        let f = &p.hardware.frame;
+        elaborated.push(tile_list::resource_item(
+            tl,
+            p.hardware.sphere_units,
+            f.width,
+            f.height,
+        ));
+    }
     savings::fill(&mut p, facts.coordinate_range_m, hw, dp, &full, &elaborated);
     Ok(Elaboration {
         applied: true,
