@@ -9,7 +9,11 @@
 use rtl_model::cost::direction_error_bound;
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::units::cordic::{self, CordicConfig};
-use rtl_model::units::keyframe::{matrix_error_bound, KeyframeConfig};
+use rtl_model::units::keyframe::{angle_error_bound, matrix_error_bound, KeyframeConfig};
+use rtl_model::units::rotation::{
+    composed_bound, incremental_pose_error_bound, reorthonormalised_bound,
+    steady_state_orthonormality_bound, RotationConfig,
+};
 use rtl_model::units::{hit_record, raygen, reciprocal, sqrt, transform, walker};
 
 fn p2(e: i32) -> f64 {
@@ -161,5 +165,54 @@ fn pose_bounds_match_the_hand_derivation() {
         "keyframe matrix entry",
         matrix_error_bound(&KeyframeConfig::default(), 0.0),
         6.0 * e_c + p2(-31),
+    );
+}
+
+#[test]
+fn animation_bounds_match_the_hand_derivation() {
+    let tau = std::f64::consts::TAU;
+    let k = KeyframeConfig::default();
+    // Interpolated angle (turns → radians): base sQ0.48 and step sQ16.48 rounded to nearest
+    // (2^−49 each), the output angle code with 32 fraction bits of a turn (2^−33); integer
+    // keys make k exact. 1,000 frames: τ·(2^−49 + 1000·2^−49 + 2^−33) = 7.426e-10 rad.
+    agrees(
+        "keyframe angle (1000 frames)",
+        angle_error_bound(&k, 1000.0, 0.01, true),
+        tau * (1001.0 * p2(-49) + p2(-33)),
+    );
+    // A fractional key adds k's quantisation (uQ24.8 nearest, 2^−9) times |step| (0.01 turn).
+    agrees(
+        "keyframe angle (k inexact)",
+        angle_error_bound(&k, 1000.0, 0.01, false),
+        tau * (1001.0 * p2(-49) + 0.01 * p2(-9) + p2(-33)),
+    );
+    // Incremental rotation, ΔR and R in sQ2.30 nearest (e = 2^−31), C with 60 fraction bits
+    // (2^−61, negligible here). Rounding a rotation: η = 2√3·e + 3e² = 1.6133e-9.
+    let r = RotationConfig::default();
+    let e = p2(-31);
+    let eta = 2.0 * 3f64.sqrt() * e + 3.0 * e * e;
+    // R·ΔR from an exact R: η (ΔR) + 0 + η (the product's rounding) = 2η.
+    agrees(
+        "rotation composed (exact R)",
+        composed_bound(&r, 0.0),
+        2.0 * eta,
+    );
+    // One Newton–Schulz step from 2·10⁻⁶: ¾(3·2·10⁻⁶)² = 2.7e-11 left, plus η.
+    agrees(
+        "rotation re-orthonormalised",
+        reorthonormalised_bound(&r, 2e-6),
+        eta + 0.75 * (6e-6f64).powi(2),
+    );
+    // The steady state: composing takes η to 5η = 8.07e-9, one step squares that away
+    // (¾(3·5η)² ≈ 4e-16) and leaves η: the fixed point is η to 0.5 %.
+    let steady = steady_state_orthonormality_bound(&r);
+    agrees("rotation steady state", steady, eta);
+    // Pose error after n frames: per frame δ = 3e + 6e + 4.5·(5η) = 4.049e-8, carried by
+    // (1 + η)^n: at 1,000 frames (1 + η)^1000·(3e + 1000·δ) = 4.049e-5.
+    let delta = 9.0 * e + 4.5 * 5.0 * eta;
+    agrees(
+        "rotation pose (1000 frames)",
+        incremental_pose_error_bound(&r, 1000),
+        (1.0 + eta).powi(1000) * (3.0 * e + 1000.0 * delta),
     );
 }

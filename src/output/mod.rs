@@ -5,6 +5,7 @@ pub mod atomic;
 pub mod config_text;
 pub mod dump;
 pub mod figure;
+pub mod model_dump;
 pub mod png;
 pub mod report;
 pub mod text;

@@ -284,7 +284,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
             ),
             None => None,
         };
-        Some(CycleRun::new(
+        let mut run = CycleRun::new(
             &cfg.hardware,
             &cfg.datapath,
             &assets,
@@ -296,7 +296,10 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
                 log_limit: cfg.transaction_log.as_ref().map_or(0, |(_, n)| *n),
                 ..CycleOptions::default()
             },
-        )?)
+        )?;
+        // The two-level instance scheme, when elaboration keeps it (docs/instances.md §7).
+        run.set_two_level(cfg.elaboration.as_ref().and_then(|e| e.two_level));
+        Some(run)
     } else {
         None
     };

@@ -7,6 +7,7 @@
 
 pub mod drift;
 pub mod fuzz;
+pub mod instances;
 pub mod stress;
 pub mod sweep;
 pub mod synthesis;

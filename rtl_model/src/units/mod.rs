@@ -13,5 +13,6 @@ pub mod rotation;
 pub mod sorter;
 pub mod sphere;
 pub mod sqrt;
+pub mod tile_list;
 pub mod transform;
 pub mod walker;

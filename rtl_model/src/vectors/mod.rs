@@ -95,6 +95,7 @@ pub fn unit_tables(
             count,
             seed,
         ),
+        stage::build(&stage::tile_list::TileListStage::new(), &[], count, seed),
         stage::build(
             &stage::sphere::SphereStage::new(dp),
             &captured.sphere,

@@ -13,6 +13,8 @@ mod datapath;
 mod drift;
 mod fuzz;
 mod hardware;
+mod instances;
+mod render;
 mod run;
 mod stress;
 mod sweep;
@@ -57,10 +59,17 @@ enum Command {
     /// every input must end in a result or a clear error; panics and hangs are saved and
     /// fail the run (docs/fuzz.md).
     Fuzz(fuzz::FuzzArgs),
+    /// Frame rate against instance count for the flat and the two-level instance scheme
+    /// (1 … 10,000 instances, still and moving camera), the functional models' speed and the
+    /// hit buffer's reuse (docs/instances.md); writes instances.md, .json and .png.
+    Instances(instances::InstancesArgs),
     /// Write HDL test vectors of every stage ($readmemh hex, JSON manifests, SystemVerilog
     /// packages) from adversarial cases, a real frame and seeded random stimulus
     /// (docs/vectors.md).
     Vectors(vectors::VectorsArgs),
+    /// Render a bare MagicaVoxel model with the reference walk and a camera in the model's own
+    /// voxel coordinates (z up); print where it sits in the octree (docs/render.md).
+    Render(render::RenderArgs),
     /// Stiff and extreme cases against the f64 reference, with a verdict each
     /// (docs/stability.md).
     Stress(stress::StressArgs),
@@ -111,7 +120,9 @@ fn main() -> ExitCode {
         Some(Command::Hardware(a)) => hardware::hardware_command(a),
         Some(Command::Drift(a)) => drift::drift_command(a),
         Some(Command::Fuzz(a)) => fuzz::fuzz_command(a),
+        Some(Command::Instances(a)) => instances::instances_command(a),
         Some(Command::Vectors(a)) => vectors::vectors_command(a),
+        Some(Command::Render(a)) => render::render_command(a),
         Some(Command::Stress(a)) => stress::stress_command(a),
         Some(Command::Sweep(a)) => sweep::sweep_command(a),
         None => run::run_command(cli.run),

@@ -46,6 +46,7 @@ use super::stages::raygen::Raygen;
 use super::stages::record::Record;
 use super::stages::sorter::Sorter;
 use super::stages::sphere::Sphere;
+use super::stages::tile_list::TilePasses;
 use super::stages::transform::Transform;
 use super::stages::walkers::Walkers;
 use super::stages::write::Write;
@@ -230,6 +231,7 @@ impl<'f> Pipeline<'f> {
             hw.walker_pool.walkers * hw.walker_pool.contexts_per_walker + hw.fifos.root_to_dispatch;
         let fifos = Fifos::new(hw, ray_slots, start)?;
         let instances = frame.plan.instances();
+        let tiles = TilePasses::of(frame.plan, hw);
         // Rays keep their whole stamp history only while the transaction log wants more.
         let track = log.len() < log_limit;
         machine.mem.reset_stats();
@@ -242,7 +244,7 @@ impl<'f> Pipeline<'f> {
             log,
             fifos,
             raygen: Raygen::new(hw, track),
-            sphere: Sphere::new(hw, instances),
+            sphere: Sphere::new(hw, instances).with_tiles(tiles),
             sorter: Sorter::new(hw, instances),
             check: Check::new(hw),
             transform: Transform::new(hw),

@@ -38,6 +38,8 @@ pub struct CycleRun {
     model: CycleModel,
     buffer: FixedBuffer,
     instance_asset: Vec<usize>,
+    /// The two-level instance scheme's list memory, when used (`set_two_level`).
+    two_level: Option<rtl_model::units::tile_list::TileListConfig>,
 }
 
 /// One frame's results.
@@ -75,7 +77,14 @@ impl CycleRun {
             model: CycleModel::new(hw, layout, width, height, opts)?,
             buffer: FixedBuffer::new(width, height),
             instance_asset: instance_asset.to_vec(),
+            two_level: None,
         })
+    }
+
+    /// Uses the two-level instance scheme with list memory `tl` from the next frame on
+    /// (`None`: the flat scheme). The records do not change; the sphere stage's passes do.
+    pub fn set_two_level(&mut self, tl: Option<rtl_model::units::tile_list::TileListConfig>) {
+        self.two_level = tl;
     }
 
     /// The functional model's buffer after the last frame (equal to the cycle model's).
@@ -99,7 +108,11 @@ impl CycleRun {
     ) -> Result<CycleFrameResult, CycleRunError> {
         let start = Instant::now();
         let mut host_ov = overflow_table();
-        let plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?;
+        let mut plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?;
+        if let Some(tl) = &self.two_level {
+            let lanes = self.model.config().sphere_units;
+            crate::models::fixed::cull::install_lists(&mut plan, input, tl, lanes);
+        }
         let (w, h) = (self.buffer.width, self.buffer.height);
         let feed = RowFeed::new(h as usize);
         let FixedBuffer {

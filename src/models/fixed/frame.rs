@@ -138,7 +138,8 @@ fn render_row<P: PixelObserver>(
     for (i, rec) in records.iter_mut().enumerate() {
         // Ray generation: the pixel's direction table entry.
         let d = table[j * width + i];
-        plan.pixel(d, rec, &mut c, &mut cands, obs);
+        let p = (j * width + i) as u32;
+        plan.pixel_at(Some(p), d, rec, &mut c, &mut cands, obs);
     }
     c
 }
@@ -168,7 +169,7 @@ fn frame_stats(rows: &[PixelCounters], w: u32, h: u32, start: Instant) -> FixedS
 
 /// Runs a prepared frame (`FramePlan::new` already updated `buffer`'s direction table and
 /// previous state) over every pixel, in parallel over rows.
-fn render_planned(plan: &FramePlan<'_>, buffer: &mut FixedBuffer) -> FixedStats {
+pub(crate) fn render_planned(plan: &FramePlan<'_>, buffer: &mut FixedBuffer) -> FixedStats {
     let start = Instant::now();
     let (w, h) = (buffer.width, buffer.height);
     let table = &buffer.dir_table;

@@ -9,6 +9,7 @@
 
 pub mod accuracy;
 pub mod bound;
+pub mod cull;
 pub mod explain;
 pub mod frame;
 pub mod plan;

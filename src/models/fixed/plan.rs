@@ -12,6 +12,7 @@
 
 use super::frame::{FixedBuffer, FixedError, FixedRecord};
 use super::trace::{NoPixelObserver, PixelObserver};
+use crate::models::reference::cull::TileLists;
 use crate::models::reference::hit_buffer::Dirty;
 use crate::models::reference::ray::primary_ray;
 use crate::models::reference::{FrameInput, SphereCount};
@@ -136,6 +137,9 @@ pub struct FramePlan<'a> {
     miss: [(HitRecordFields, u128); 3],
     t_fmt: Format,
     key_fmt: Format,
+    /// The two-level scheme's per-tile instance lists, when used (`super::cull`); `None`
+    /// tests every instance (the flat scheme).
+    pub lists: Option<TileLists>,
 }
 
 const SPHERE_SIG: SphereSignals = SphereSignals {
@@ -264,6 +268,7 @@ impl<'a> FramePlan<'a> {
             miss,
             t_fmt: cfg.walker.t,
             key_fmt: cfg.sorter.key,
+            lists: None,
         })
     }
 
@@ -290,19 +295,33 @@ impl<'a> FramePlan<'a> {
     /// Sphere tests of direction `d` against every instance: the candidates (entry key,
     /// instance) in instance order, unsorted.
     pub fn candidates(&self, d: [i64; 3], out: &mut Vec<(i64, u16)>, c: &mut PixelCounters) {
-        self.candidates_observed(d, out, c, &mut NoPixelObserver);
+        self.candidates_observed(None, d, out, c, &mut NoPixelObserver);
     }
 
     /// [`FramePlan::candidates`], reporting each test to `obs`.
+    /// With `pixel` given and the two-level lists present, only that pixel's tile's instances
+    /// (ascending, so the candidates come out in the same order as from every instance).
     fn candidates_observed<P: PixelObserver>(
         &self,
+        pixel: Option<u32>,
         d: [i64; 3],
         out: &mut Vec<(i64, u16)>,
         c: &mut PixelCounters,
         obs: &mut P,
     ) {
         out.clear();
-        for (k, inst) in self.insts.iter().enumerate() {
+        let listed = match (&self.lists, pixel) {
+            (Some(l), Some(p)) => Some(l.list(p)),
+            _ => None,
+        };
+        let tested = listed.map_or(self.insts.len(), <[u16]>::len);
+        let every = 0..self.insts.len() as u16;
+        let ids: &mut dyn Iterator<Item = u16> = match listed {
+            Some(l) => &mut l.iter().copied(),
+            None => &mut every.clone(),
+        };
+        for k in ids {
+            let inst = &self.insts[usize::from(k)];
             let sphere = &inst.host.sphere;
             let hit = sphere_test(
                 self.origin,
@@ -312,13 +331,13 @@ impl<'a> FramePlan<'a> {
                 &mut c.ov,
                 SPHERE_SIG,
             );
-            obs.on_sphere(k as u16, self.origin, d, sphere, hit);
+            obs.on_sphere(k, self.origin, d, sphere, hit);
             if let Some(s) = hit {
-                out.push((s.t_enter, k as u16));
+                out.push((s.t_enter, k));
             }
         }
-        c.tests += self.insts.len() as u64;
-        c.culled += (self.insts.len() - out.len()) as u64;
+        c.tests += tested as u64;
+        c.culled += (tested - out.len()) as u64;
     }
 
     /// The sorter: candidates front to back.
@@ -511,7 +530,21 @@ impl<'a> FramePlan<'a> {
         cands: &mut Vec<(i64, u16)>,
         obs: &mut P,
     ) {
-        self.candidates_observed(d, cands, c, obs);
+        self.pixel_at(None, d, rec, c, cands, obs);
+    }
+
+    /// [`FramePlan::pixel`] for pixel `p` (raster order), whose tile's list selects the
+    /// sphere tests when the two-level lists are present.
+    pub fn pixel_at<P: PixelObserver>(
+        &self,
+        p: Option<u32>,
+        d: [i64; 3],
+        rec: &mut FixedRecord,
+        c: &mut PixelCounters,
+        cands: &mut Vec<(i64, u16)>,
+        obs: &mut P,
+    ) {
+        self.candidates_observed(p, d, cands, c, obs);
         let spheres = SphereCount::from_count(cands.len());
         obs.on_candidates(cands);
         self.sort(cands, c);

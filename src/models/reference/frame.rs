@@ -2,6 +2,7 @@
 //! check, transform and walk, with early termination. Rows run in parallel; the result and
 //! the counters do not depend on the thread count.
 
+use super::cull::{reference_keep_radius, BinSphere, TileLists};
 use super::hit_buffer::{Dirty, HitBuffer};
 use super::octree::Octree;
 use super::ray::{primary_ray, Ray};
@@ -60,6 +61,8 @@ struct FrameCtx<'a> {
     insts: Vec<Inst<'a>>,
     dirty: Dirty,
     opts: RenderOptions,
+    /// The two-level scheme's per-tile lists, when used (`cull.rs`).
+    lists: Option<TileLists>,
 }
 
 /// Per-row scratch and counters (one per worker task, merged at the end).
@@ -99,18 +102,40 @@ fn walk_any(
 }
 
 /// Traces one ray. `prev` is the pixel's last record; reuse only if allowed.
-fn trace(ray: &Ray, ctx: &FrameCtx<'_>, prev: &HitRecord, row: &mut RowState) -> HitRecord {
-    let FrameCtx { insts, dirty, opts } = ctx;
+fn trace(ray: &Ray, p: u32, ctx: &FrameCtx<'_>, prev: &HitRecord, row: &mut RowState) -> HitRecord {
+    let FrameCtx {
+        insts,
+        dirty,
+        opts,
+        lists,
+    } = ctx;
     let opts = *opts;
     let RowState { cands, st, wc } = row;
     cands.clear();
-    for (i, inst) in insts.iter().enumerate() {
+    let mut test = |i: usize, inst: &Inst<'_>| {
         if let Some(t) = sphere_entry(ray.origin, ray.dir, inst.pose.centre, inst.radius) {
             cands.push((t, i as u16));
         }
-    }
-    st.sphere_tests += insts.len() as u64;
-    st.spheres_culled += (insts.len() - cands.len()) as u64;
+    };
+    let tested = match lists {
+        // Two-level: only this tile's instances, ascending, so the candidates come out in
+        // the same order as from the flat loop.
+        Some(l) => {
+            let list = l.list(p);
+            for &i in list {
+                test(usize::from(i), &insts[usize::from(i)]);
+            }
+            list.len()
+        }
+        None => {
+            for (i, inst) in insts.iter().enumerate() {
+                test(i, inst);
+            }
+            insts.len()
+        }
+    };
+    st.sphere_tests += tested as u64;
+    st.spheres_culled += (tested - cands.len()) as u64;
     let spheres = SphereCount::from_count(cands.len());
     if cands.is_empty() {
         return HitRecord::MISS;
@@ -185,12 +210,34 @@ pub fn render_frame(
     render_frame_with_progress(input, buffer, opts, &AtomicU64::new(0))
 }
 
+/// [`render_frame`] with the two-level scheme: per-tile instance lists of `tile`-pixel tiles
+/// select each ray's sphere tests (`cull.rs`); the records are the flat scheme's.
+pub fn render_frame_two_level(
+    input: &FrameInput<'_>,
+    buffer: &mut HitBuffer,
+    opts: RenderOptions,
+    tile: u32,
+    rows_done: &AtomicU64,
+) -> FrameStats {
+    render_frame_inner(input, buffer, opts, Some(tile), rows_done)
+}
+
 /// [`render_frame`], adding one to `rows_done` as each image row completes (for progress
 /// display from another thread).
 pub fn render_frame_with_progress(
     input: &FrameInput<'_>,
     buffer: &mut HitBuffer,
     opts: RenderOptions,
+    rows_done: &AtomicU64,
+) -> FrameStats {
+    render_frame_inner(input, buffer, opts, None, rows_done)
+}
+
+fn render_frame_inner(
+    input: &FrameInput<'_>,
+    buffer: &mut HitBuffer,
+    opts: RenderOptions,
+    tile: Option<u32>,
     rows_done: &AtomicU64,
 ) -> FrameStats {
     let start = Instant::now();
@@ -222,7 +269,27 @@ pub fn render_frame_with_progress(
         }
     };
     let cam = input.state.camera;
-    let ctx = FrameCtx { insts, dirty, opts };
+    let lists = tile.map(|t| {
+        let spheres: Vec<BinSphere> = insts
+            .iter()
+            .map(|inst| BinSphere {
+                centre: inst.pose.centre,
+                keep_radius: reference_keep_radius(
+                    inst.radius,
+                    (inst.pose.centre - cam.position).length(),
+                ),
+                behind_slack: 0.0,
+                everywhere: false,
+            })
+            .collect();
+        TileLists::build(&cam, w, h, t, &spheres)
+    });
+    let ctx = FrameCtx {
+        insts,
+        dirty,
+        opts,
+        lists,
+    };
     let rows: Vec<RowState> = buffer
         .records
         .par_chunks_mut(w as usize)
@@ -234,7 +301,8 @@ pub fn render_frame_with_progress(
             };
             for (i, rec) in records.iter_mut().enumerate() {
                 let ray = primary_ray(&cam, w, h, i as u32, j as u32);
-                *rec = trace(&ray, &ctx, rec, &mut row);
+                let p = j as u32 * w + i as u32;
+                *rec = trace(&ray, p, &ctx, rec, &mut row);
             }
             row.st.rays = records.len() as u64;
             rows_done.fetch_add(1, Ordering::Relaxed);

@@ -6,6 +6,7 @@
 //! ([`walk`]) → early termination → [`record::HitRecord`]. [`frame`] runs a whole frame.
 //! Nothing here shares code with the oracles in `tests/`.
 
+pub mod cull;
 pub mod frame;
 pub mod hit_buffer;
 pub mod octree;
@@ -15,7 +16,9 @@ pub mod sphere;
 pub mod stats;
 pub mod walk;
 
-pub use frame::{render_frame, render_frame_with_progress, FrameInput, RenderOptions};
+pub use frame::{
+    render_frame, render_frame_two_level, render_frame_with_progress, FrameInput, RenderOptions,
+};
 pub use hit_buffer::HitBuffer;
 pub use record::{HitRecord, SphereCount};
 pub use stats::FrameStats;

@@ -171,8 +171,97 @@ pub fn walk_visiting<T: Octree, V: FnMut(u8, [u32; 3])>(
     cnt: &mut WalkCounters,
     visit: &mut V,
 ) -> Option<WalkHit<T::Leaf>> {
-    let lo = (-half).to_array();
-    let hi = half.to_array();
+    walk_box_visiting(tree, -half, half, o, d, cnt, visit)
+}
+
+/// [`walk`] for an octree occupying the box [lo, hi] instead of [−half, half]: `sim render`
+/// walks a bare model in its own voxel coordinates, where the box is
+/// [base, base + 2^depth] and the ray needs no translation (so a ray lying in a voxel plane
+/// stays exactly in it). With lo = −half and hi = half this is [`walk`], operation for
+/// operation.
+pub fn walk_box<T: Octree>(
+    tree: &T,
+    lo: DVec3,
+    hi: DVec3,
+    o: DVec3,
+    d: DVec3,
+    cnt: &mut WalkCounters,
+) -> Option<WalkHit<T::Leaf>> {
+    walk_box_visiting(tree, lo, hi, o, d, cnt, &mut |_, _| {})
+}
+
+/// [`walk_box`], calling `visit(level, coords)` for every node it enters.
+pub fn walk_box_visiting<T: Octree, V: FnMut(u8, [u32; 3])>(
+    tree: &T,
+    lo: DVec3,
+    hi: DVec3,
+    o: DVec3,
+    d: DVec3,
+    cnt: &mut WalkCounters,
+    visit: &mut V,
+) -> Option<WalkHit<T::Leaf>> {
+    walk_core::<T, V, false>(tree, lo, hi, [lo, hi], o, d, cnt, visit)
+}
+
+/// [`walk_box`] clipped to `solid` = [solid_lo, solid_hi], a box holding every leaf (for
+/// `sim render`, the model's solid box): a ray that misses it is rejected before the walk,
+/// and a node whose t-interval does not overlap the ray's t-interval in it is skipped without
+/// a fetch. The hit is bit-identical to [`walk_box`]'s (t, voxel, level, leaf, face); only the
+/// counters (fewer steps and fetches) differ.
+///
+/// Precondition (for exactness): every plane coordinate the walk computes is exact, i.e. `lo`,
+/// `hi`, `solid_lo` and `solid_hi` are integers of magnitude below 2^52 with hi − lo the
+/// same power of two on every axis (the octree's cells then have integer or half-integer
+/// planes), and `solid` lies inside [lo, hi] on voxel planes. Why the result cannot change:
+/// in the mirrored frame each t the walk compares is fl(fl(p − o)·(1/d)) for a plane p, and
+/// that expression is non-decreasing in p (rounding is monotone and 1/d > 0). A leaf lies
+/// inside `solid` and inside each of its ancestors, so per axis its t0 is ≥ the solid box's
+/// and the ancestor's, its t1 ≤ both; hence if the walk enters a leaf (max t0 < min t1,
+/// min t1 > 0), then max(max t0(node), t0_solid) ≤ max t0(leaf) < min t1(leaf) ≤
+/// min(min t1(node), t1_solid) for the leaf and every ancestor, and the ray passes the solid
+/// box test too. On a zero axis the walk enters only cells whose half-open interval holds the
+/// origin (mid-plane rule, §3.3), so a ray whose origin is outside the solid box's half-open
+/// interval enters no leaf. Skipping only subtrees that hold no enterable leaf keeps the order
+/// of the rest, so the first leaf reached — the hit — is the same, with the same t0/t1.
+#[allow(clippy::too_many_arguments)]
+pub fn walk_box_clipped<T: Octree>(
+    tree: &T,
+    lo: DVec3,
+    hi: DVec3,
+    solid_lo: DVec3,
+    solid_hi: DVec3,
+    o: DVec3,
+    d: DVec3,
+    cnt: &mut WalkCounters,
+) -> Option<WalkHit<T::Leaf>> {
+    walk_core::<T, _, true>(
+        tree,
+        lo,
+        hi,
+        [solid_lo, solid_hi],
+        o,
+        d,
+        cnt,
+        &mut |_, _| {},
+    )
+}
+
+/// The walk; with `CLIP`, clipped to `solid` as [`walk_box_clipped`] says (without, `solid`
+/// is unused and the walk is the unclipped one, operation for operation).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
+    tree: &T,
+    lo: DVec3,
+    hi: DVec3,
+    solid: [DVec3; 2],
+    o: DVec3,
+    d: DVec3,
+    cnt: &mut WalkCounters,
+    visit: &mut V,
+) -> Option<WalkHit<T::Leaf>> {
+    let lo = lo.to_array();
+    let hi = hi.to_array();
     let (o, d) = (o.to_array(), d.to_array());
     let mut rf = RayFrame {
         o: [0.0; 3],
@@ -210,6 +299,35 @@ pub fn walk_visiting<T: Octree, V: FnMut(u8, [u32; 3])>(
     }
     if !(max3(t0) < min3(t1) && min3(t1) > 0.0) {
         return None;
+    }
+    // The ray's t-interval in the solid box, in the mirrored frame (see `walk_box_clipped`).
+    let (mut ts0, mut ts1) = (f64::NEG_INFINITY, f64::INFINITY);
+    if CLIP {
+        let (s_lo, s_hi) = (solid[0].to_array(), solid[1].to_array());
+        let mut s0 = [0.0; 3];
+        let mut s1 = [0.0; 3];
+        for k in 0..3 {
+            // Exact under the precondition: integers below 2^52.
+            let (a, b) = if rf.a & (4 >> k) != 0 {
+                (lo[k] + hi[k] - s_hi[k], lo[k] + hi[k] - s_lo[k])
+            } else {
+                (s_lo[k], s_hi[k])
+            };
+            if rf.zero[k] {
+                if !(a <= rf.o[k] && rf.o[k] < b) {
+                    return None;
+                }
+                s0[k] = f64::NEG_INFINITY;
+                s1[k] = f64::INFINITY;
+            } else {
+                s0[k] = (a - rf.o[k]) * rf.inv[k];
+                s1[k] = (b - rf.o[k]) * rf.inv[k];
+            }
+        }
+        (ts0, ts1) = (max3(s0), min3(s1));
+        if !(ts0 < ts1 && ts1 > 0.0) {
+            return None;
+        }
     }
     let mut stack = [Frame::<T::Node>::default(); MAX_DEPTH as usize + 1];
     cnt.fetches += 1;
@@ -252,6 +370,11 @@ pub fn walk_visiting<T: Octree, V: FnMut(u8, [u32; 3])>(
         let enter = max3(ct0);
         let exit = min3(ct1);
         if !(enter < exit && exit > 0.0) {
+            continue;
+        }
+        // ts1 > 0 here, so min(exit, ts1) > 0 already holds; no t is NaN (finite planes and
+        // 1/d, or ±∞ on zero axes), so ≥ is the negation of <.
+        if CLIP && enter.max(ts0) >= exit.min(ts1) {
             continue;
         }
         let real = c ^ rf.a;

@@ -9,6 +9,7 @@
 //! them byte for byte.
 
 pub mod analyse;
+pub mod instances;
 pub mod plan;
 pub mod print;
 pub mod savings;
@@ -55,6 +56,9 @@ pub struct Elaboration {
     /// Whether the elaborated pipeline reads its hit buffer.
     #[serde(skip)]
     pub use_hit_buffer: bool,
+    /// The two-level instance scheme's list memory, when kept (`instances.rs`).
+    #[serde(skip)]
+    pub two_level: Option<rtl_model::units::tile_list::TileListConfig>,
 }
 
 /// Elaborates `scene` (as it will run: resolution, frames and `depth` overridden) against the
@@ -82,6 +86,7 @@ pub fn elaborate(
         hardware: p.hardware,
         datapath: p.datapath,
         use_hit_buffer: p.use_hit_buffer,
+        two_level: p.two_level,
     })
 }
 
@@ -94,6 +99,7 @@ impl Elaboration {
             d.applied = false;
         }
         self.elaborated = self.full;
+        self.two_level = None;
         self
     }
 

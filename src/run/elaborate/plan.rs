@@ -73,6 +73,8 @@ pub struct Plan {
     pub use_hit_buffer: bool,
     /// The decisions, in pipeline order.
     pub decisions: Vec<Decision>,
+    /// The two-level instance scheme's list memory, when kept (`super::instances`).
+    pub two_level: Option<rtl_model::units::tile_list::TileListConfig>,
 }
 
 fn decision(unit: &str, action: Action, reason: String) -> Decision {
@@ -284,11 +286,15 @@ pub fn plan(facts: &SceneFacts, hw: &HwConfig, dp: &DatapathConfig, use_hit_buff
         )
     });
 
+    // The two-level instance scheme (and the id width many instances need).
+    let (more, two_level) = super::instances::decide(facts, &mut out_hw, &mut out_dp);
+    ds.extend(more);
     Plan {
         hardware: out_hw,
         datapath: out_dp,
         use_hit_buffer: use_hit_buffer && !hb_unused,
         decisions: ds,
+        two_level,
     }
 }
 

@@ -112,6 +112,8 @@ pub fn fill(
             "position_format" if !d.applied && d.action != super::plan::Action::Kept => {
                 narrowing_saving(hw, dp, range_m)
             }
+            // The instance scheme's decisions carry their own (`super::instances`).
+            "instance_lists" | "instance_bits" | "direction_table" => d.saved,
             _ => Saving::default(),
         };
     }

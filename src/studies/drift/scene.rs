@@ -91,5 +91,6 @@ pub fn drift_scene(frames: u32, width: u32, height: u32, depth: u8) -> SceneFile
             pivot: [0.0; 3],
             keys: vec![key(0.0, 0.0), key(last, SPIN_DEG_PER_FRAME * last)],
         }],
+        crowds: Vec::new(),
     }
 }

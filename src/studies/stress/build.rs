@@ -157,6 +157,7 @@ pub fn case(
                 }],
             })
             .collect(),
+        crowds: Vec::new(),
     };
     let scene =
         Scene::from_file(file, "<stress case>", Path::new(".")).map_err(|e| e.to_string())?;

@@ -25,7 +25,11 @@ pub struct SceneFile {
     /// Named assets: each becomes one SVO.
     pub assets: Vec<AssetSpec>,
     /// Placed, animated copies of assets.
+    #[serde(default)]
     pub instances: Vec<InstanceSpec>,
+    /// Procedural crowds the loader expands into more instances (`super::crowd`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub crowds: Vec<super::crowd::CrowdSpec>,
 }
 
 fn default_background() -> [u8; 3] {

@@ -4,6 +4,7 @@
 //! the renderers never see a NaN, a zero scale or a degenerate camera.
 
 mod animate;
+pub mod crowd;
 mod default_scene;
 pub mod format;
 
@@ -75,11 +76,24 @@ impl Scene {
     }
 
     /// Validates an already parsed scene.
-    pub fn from_file(file: SceneFile, origin: &str, base_dir: &Path) -> Result<Self, SceneError> {
+    pub fn from_file(
+        mut file: SceneFile,
+        origin: &str,
+        base_dir: &Path,
+    ) -> Result<Self, SceneError> {
         let bad = |what: String| SceneError::Invalid {
             origin: origin.to_string(),
             message: what,
         };
+        // Crowd blocks become ordinary instances, validated below like hand-written ones.
+        for (i, crowd) in std::mem::take(&mut file.crowds).into_iter().enumerate() {
+            crowd
+                .validate(&file, file.instances.len())
+                .map_err(|e| bad(format!("crowds[{i}]: {e}")))?;
+            let frames = file.frames;
+            let first = file.instances.len();
+            file.instances.extend(crowd.expand(frames, first));
+        }
         let (w, h) = file.resolution;
         check_resolution(w, h).map_err(bad)?;
         if file.frames == 0 || file.frames > MAX_FRAMES {

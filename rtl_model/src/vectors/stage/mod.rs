@@ -10,6 +10,7 @@ pub mod reciprocal;
 pub mod sorter;
 pub mod sphere;
 pub mod sqrt;
+pub mod tile_list;
 pub mod transform;
 pub mod walker;
 
@@ -110,5 +111,6 @@ mod tests {
         all_fit(&transform::TransformStage::new(&dp));
         all_fit(&reciprocal::ReciprocalStage::new(&dp));
         all_fit(&hit_record::HitRecordStage::new(&dp));
+        all_fit(&tile_list::TileListStage::new());
     }
 }

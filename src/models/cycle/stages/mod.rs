@@ -22,6 +22,7 @@ pub mod raygen;
 pub mod record;
 pub mod sorter;
 pub mod sphere;
+pub mod tile_list;
 pub mod transform;
 pub mod walkers;
 pub mod write;

@@ -18,6 +18,8 @@ pub struct Sphere {
     pipe: UnitPipe<Stamped<Ray>>,
     /// Initiation intervals a ray occupies the lanes for.
     passes: u64,
+    /// The two-level scheme's per-tile passes, replacing `passes` when present.
+    tiles: Option<super::tile_list::TilePasses>,
 }
 
 impl Sphere {
@@ -40,7 +42,14 @@ impl Sphere {
                 u.sphere.ii.max(u.sqrt.ii),
             ),
             passes,
+            tiles: None,
         }
+    }
+
+    /// The stage reading per-tile instance lists (`tile_list.rs`) when `tiles` is given.
+    pub fn with_tiles(mut self, tiles: Option<super::tile_list::TilePasses>) -> Self {
+        self.tiles = tiles;
+        self
     }
 
     /// One cycle: the ready ray leaves into `out`, the next one enters from `input`.
@@ -57,7 +66,11 @@ impl Sphere {
         if input.valid() && self.pipe.can_accept(now) {
             if let Some(mut ray) = input.try_pop().map_err(internal)? {
                 ray.enter(id::SPHERE, now);
-                self.pipe.accept(now, ray, self.passes, 0);
+                let (passes, extra) = match &self.tiles {
+                    Some(t) => (t.passes(ray.payload.pixel), t.latency),
+                    None => (self.passes, 0),
+                };
+                self.pipe.accept(now, ray, passes, extra);
             }
         }
         Ok(self

@@ -58,11 +58,13 @@
 //! guard and the guarded `dot_vox` parse), `graph.rs` (step 2: the scene-graph walk and voxel
 //! placement), `transform.rs` (the `_t` / `_r` decoding and the integer affine maps it makes),
 //! `surface.rs` (steps 3 to 6: axes, colours, surface leaves, normals and upscaling) on top of
-//! `occupancy.rs` (the solid-cell set), and `error.rs` ([`VoxError`]). This file holds the
+//! `occupancy.rs` (the solid-cell set), and `error.rs` ([`VoxError`]). `model_frame.rs` (public)
+//! maps the loaded leaves back to the file's own voxel indices for `sim render`. This file holds the
 //! public API and the limits.
 
 mod error;
 mod graph;
+pub mod model_frame;
 mod occupancy;
 mod parse;
 mod surface;
@@ -102,6 +104,14 @@ pub struct VoxAsset {
     pub models: usize,
     /// Distinct solid voxels of the composed model, before the interior was dropped.
     pub voxels: usize,
+    /// Smallest corner of the solid bounding box in our axes, in composed file voxels before
+    /// the shift to 0 (step 3); [`model_frame`] turns it back into MagicaVoxel indices.
+    pub solid_min: [i64; 3],
+    /// Leaves between the octree's corner and the shifted bounding box, per axis in our axes
+    /// (the centring offset of step 3).
+    pub offset: [u64; 3],
+    /// Leaves per file voxel along each axis, `k = 2^(depth − needed depth)` (step 6).
+    pub upscale: u64,
 }
 
 /// Loads a `.vox` file as surface leaves; `depth: None` picks the smallest depth that holds

@@ -200,6 +200,9 @@ pub(super) fn build(
         grid_dims: dims.map(|d| d as u32),
         models,
         voxels,
+        solid_min: lo,
+        offset,
+        upscale: k,
     })
 }
 
