@@ -4,8 +4,9 @@
 //! reason; LUTs and flip-flops are within 10 % of the calibrated estimate (a changed RTL
 //! needs its calibration in `rtl_model/src/cost/fabric.rs` updated); every unit has timed
 //! stages. Results are cached in the target folder by a hash of the script, the unit's line,
-//! its files and the Yosys version, so only changed units are synthesised again (all of them,
-//! two at a time, take about 3 minutes on two cores).
+//! its files and the Yosys version, so only changed units are synthesised again (all ten, two
+//! workers, took 754 s uncached on the loaded 2-core machine, the sorter alone one worker's
+//! whole run; about 1 s from the cache).
 //!
 //! Without `yosys` the test prints why and skips; with `CI=true` a missing `yosys` fails
 //! (`.ci/run` installs the Debian package yosys).
@@ -50,7 +51,7 @@ fn every_unit_matches_the_estimate_or_its_recorded_reason() {
         text::synthesis_text(&hw, &dp, &units, &o.rule, hw.clock_mhz)
     );
     println!("wall time {:.1} s", t0.elapsed().as_secs_f64());
-    assert!(units.len() >= 6, "units.tsv lists {} units", units.len());
+    assert!(units.len() >= 10, "units.tsv lists {} units", units.len());
     let bad = text::dsp_mismatches(&hw, &dp, &units);
     assert!(bad.is_empty(), "{}", bad.join("\n"));
     for u in &units {

@@ -10,8 +10,7 @@
 //! default the estimate therefore equals synthesis by construction; elsewhere it is linear in
 //! the widths, which is first order (a multiplier's partial-product adders grow with the
 //! product of its operand widths). LUTs here are what Vivado reports as CLB LUTs: logic
-//! LUTs, shift registers (SRL16E/SRLC32E) and LUT-RAM. Units without RTL (the sorter) get a
-//! structural count instead, marked uncalibrated.
+//! LUTs, shift registers (SRL16E/SRLC32E) and LUT-RAM.
 
 use crate::cycle::hw_config::HwConfig;
 use crate::datapath::DatapathConfig;
@@ -26,8 +25,8 @@ pub mod calibration {
     /// `svo_sphere` without its square root: (4330 + 1025 SRL) − sqrt's 2078 LUT,
     /// 2130 − 1531 FF.
     pub const SPHERE: (u64, u64) = (3277, 599);
-    /// `svo_transform`: 3560 LUT + 1233 SRL, 1576 FF.
-    pub const TRANSFORM: (u64, u64) = (4793, 1576);
+    /// `svo_transform`: 3500 LUT + 1233 SRL, 1582 FF.
+    pub const TRANSFORM: (u64, u64) = (4733, 1582);
     /// `svo_reciprocal`: 1106 LUT + 215 SRL, 309 FF.
     pub const RECIPROCAL: (u64, u64) = (1321, 309);
     /// `svo_walker_root`: 3476 LUT, 5208 FF.
@@ -35,6 +34,17 @@ pub mod calibration {
     /// `svo_walker` (one context, its 21-frame stack in 50 RAM32M16): 6389 + 400 LUT,
     /// 2072 FF.
     pub const WALKER: (u64, u64) = (6789, 2072);
+    /// `svo_raygen` (three direction and three position converters, svo_f64_to_fixed):
+    /// 7677 LUT + 50 SRL, 1084 FF.
+    pub const RAYGEN: (u64, u64) = (7727, 1084);
+    /// `svo_sorter` (8-lane network, MAX_KEYS = 32: its input copy, merge and two run
+    /// buffers in flip-flops with their read multiplexers): 35877 LUT + 96 SRL, 5665 FF.
+    pub const SORTER: (u64, u64) = (35973, 5665);
+    /// `svo_hit_pack` (72-bit word): 105 LUT, 74 FF.
+    pub const HIT_PACK: (u64, u64) = (105, 74);
+    /// `svo_hit_check` (72-bit word; the unpacked fields are wires into the output
+    /// register): 12 LUT, 145 FF.
+    pub const HIT_CHECK: (u64, u64) = (12, 145);
 }
 
 /// LUTs and flip-flops.
@@ -55,7 +65,7 @@ pub struct FabricItem {
     pub instances: u64,
     /// One instance.
     pub per_instance: Fabric,
-    /// Whether the figure is calibrated on the unit's synthesis (false: structural only).
+    /// Whether the figure is calibrated on the unit's synthesis (every unit with RTL is).
     pub calibrated: bool,
     /// The formula, as printed.
     pub formula: String,
@@ -109,6 +119,20 @@ fn widths(name: &str, dp: &DatapathConfig) -> Option<(u64, u64)> {
             let b = 9 * (w(k.t) + 1) + 3 * (w(k.pos) + 1);
             (b, b)
         }
+        "raygen" => {
+            // Each converter decodes a 64-bit float into its code: the float's part is fixed.
+            let r = &dp.raygen;
+            let b = 3 * (64 + w(r.dir)) + 3 * (64 + w(r.pos));
+            (b, b)
+        }
+        "sorter" => {
+            let s = sorter::resources(&dp.sorter, dp.hit_record.instance_bits);
+            (s.comparator_bits, s.register_bits)
+        }
+        "hit_pack" | "hit_check" => {
+            let b = u64::from(dp.hit_record.word_bits());
+            (b, b)
+        }
         _ => return None,
     })
 }
@@ -122,13 +146,16 @@ fn formula(name: &str) -> &'static str {
         "reciprocal" => "W = 2·iterations·(2G+2) + output + input; G mantissa bits",
         "walker_root" => "W = 6(pos+2+inv) + 6(t+1) + 3 pos",
         "walker" => "W = 9(t+1) + 3(pos+1); per walker as the one-context RTL walker",
+        "raygen" => "W = 3(64+dir) + 3(64+pos)",
+        "sorter" => "W = comparators × compare bits (LUT), network register bits (FF)",
+        "hit_pack" | "hit_check" => "W = record word bits",
         _ => "",
     }
 }
 
-/// One instance of a unit with RTL (`sqrt`, `sphere` without its square root, `transform`,
-/// `reciprocal`, `walker_root`, `walker` with one context) with datapath `dp`; `None` for a
-/// name without RTL.
+/// One instance of a unit with RTL (`sqrt`, `sphere` without its square root, `sorter`,
+/// `transform`, `reciprocal`, `walker_root`, `walker` with one context, `raygen`, `hit_check`,
+/// `hit_pack`) with datapath `dp`; `None` for a name without RTL.
 pub fn unit_fabric(name: &str, dp: &DatapathConfig) -> Option<Fabric> {
     let cal = match name {
         "sqrt" => calibration::SQRT,
@@ -137,6 +164,10 @@ pub fn unit_fabric(name: &str, dp: &DatapathConfig) -> Option<Fabric> {
         "reciprocal" => calibration::RECIPROCAL,
         "walker_root" => calibration::WALKER_ROOT,
         "walker" => calibration::WALKER,
+        "raygen" => calibration::RAYGEN,
+        "sorter" => calibration::SORTER,
+        "hit_pack" => calibration::HIT_PACK,
+        "hit_check" => calibration::HIT_CHECK,
         _ => return None,
     };
     let (wl, wf) = widths(name, dp)?;
@@ -170,7 +201,9 @@ impl HwConfig {
     /// One instance of the RTL unit `name` as the estimate prices it: `sphere` with its
     /// square root (the RTL instantiates it), `walker` as one context with its stack of
     /// `walker_pool.stack_depth` frames (the RTL walker is one context), the others as their
-    /// component of [`HwConfig::resources`]. `None` for a name without RTL.
+    /// component of [`HwConfig::resources`]; `sorter`, `raygen`, `hit_check` and `hit_pack`
+    /// with no DSP48E2 or RAM (the resource estimate gives them none). `None` for a name
+    /// without RTL.
     pub fn unit_estimate(&self, name: &str, dp: &DatapathConfig) -> Option<UnitEstimate> {
         use crate::units::{sqrt, transform, walker};
         let sq_dsp = u64::from(sqrt::dsp48e2_count(&sphere::sqrt_config(&dp.sphere)));
@@ -201,6 +234,7 @@ impl HwConfig {
                 u64::from(walker::root_dsp48e2_count(&dp.walker)),
                 0,
             ),
+            "raygen" | "sorter" | "hit_pack" | "hit_check" => (unit_fabric(name, dp)?, 0, 0),
             "walker" => {
                 let bits = self.stack_frame_bits(dp);
                 let frames = u64::from(self.walker_pool.stack_depth);
@@ -219,12 +253,12 @@ impl HwConfig {
 
     /// LUTs and flip-flops per unit of this configuration with datapath `dp` (the model of
     /// this module), with the part's LUTs; an error when either configuration is invalid.
-    /// Counted: sphere lanes, their square roots, the sorter (structural: per
-    /// compare-exchange two word multiplexers and a comparator, 3 LUTs per compared bit, and
-    /// its pipeline registers), transform, reciprocal and walker-root units, and each walker
-    /// as the RTL walker (its step logic and one context; the registers of its other
-    /// contexts are not counted). Not counted: FIFOs, the hit-record and ray-generation
-    /// logic, the memory controller and host interface.
+    /// Counted: sphere lanes, their square roots, the sorter, transform, reciprocal and
+    /// walker-root units, each walker as the RTL walker (its step logic and one context; the
+    /// registers of its other contexts are not counted), and the hit-buffer check and pack.
+    /// Not counted: FIFOs, ray generation (the host writes the direction table; `svo_raygen`
+    /// is priced by [`HwConfig::unit_estimate`] only, for a design that fills it on chip),
+    /// the memory controller and host interface.
     pub fn fabric(&self, dp: &DatapathConfig) -> Result<Vec<FabricItem>, String> {
         self.validate()?;
         dp.validate().map_err(|m| format!("datapath: {m}"))?;
@@ -242,27 +276,13 @@ impl HwConfig {
         };
         push("sphere", self.sphere_units);
         push("sqrt", self.sphere_units);
+        push("sorter", 1);
         push("transform", self.transform_units);
         push("reciprocal", self.reciprocal_units);
         push("walker_root", self.walker_root_units);
         push("walker", self.walker_pool.walkers);
-        let s = sorter::resources(&dp.sorter, dp.hit_record.instance_bits);
-        items.insert(
-            2,
-            FabricItem {
-                name: "sorter",
-                instances: 1,
-                per_instance: Fabric {
-                    lut: 3 * s.comparator_bits,
-                    ff: s.register_bits,
-                },
-                calibrated: false,
-                formula: format!(
-                    "structural, no RTL: 3 LUT × {} comparators × {} bits; {} register bits",
-                    s.comparators, s.compare_bits, s.register_bits
-                ),
-            },
-        );
+        push("hit_check", 1);
+        push("hit_pack", 1);
         Ok(items)
     }
 }
@@ -280,6 +300,8 @@ mod tests {
         wide.transform.pos.width += 8;
         let g = unit_fabric("transform", &wide).unwrap();
         assert!(g.lut > f.lut && g.ff > f.ff);
-        assert!(unit_fabric("sorter", &dp).is_none());
+        assert!(unit_fabric("node_memory", &dp).is_none());
+        let s = unit_fabric("sorter", &dp).unwrap();
+        assert_eq!((s.lut, s.ff), calibration::SORTER);
     }
 }

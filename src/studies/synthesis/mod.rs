@@ -8,7 +8,8 @@
 //! estimate it is allowed and the recorded reason); each unit is synthesised by
 //! `testbench/synth/synth.sh UNIT` into a cache folder keyed by a hash of the script, the unit's
 //! line, its RTL files and parameter files and the Yosys version, so an unchanged unit is not
-//! synthesised again. Two units run at a time.
+//! synthesised again. Two units run at a time, each worker taking the next unit of the list
+//! when its last one is done.
 
 pub mod netlist;
 pub mod text;
@@ -237,28 +238,30 @@ pub fn synthesise(o: &SynthOptions) -> Result<Vec<UnitSynthesis>, SynthError> {
         .filter(|u| o.units.is_empty() || o.units.contains(&u.name))
         .collect();
     std::fs::create_dir_all(&o.cache).map_err(io(&o.cache))?;
-    let jobs = o.jobs.max(1);
-    let mut results: BTreeMap<usize, Result<UnitSynthesis, SynthError>> = BTreeMap::new();
-    for (chunk_i, chunk) in todo.chunks(jobs).enumerate() {
-        let got: Vec<Result<UnitSynthesis, SynthError>> = std::thread::scope(|s| {
-            let hs: Vec<_> = chunk
-                .iter()
-                .map(|u| s.spawn(|| synthesise_one(o, u, &version)))
-                .collect();
-            hs.into_iter()
-                .map(|h| {
-                    h.join().unwrap_or_else(|_| {
-                        Err(SynthError::Netlist {
-                            unit: "?".into(),
-                            message: "the synthesis thread panicked".into(),
-                        })
-                    })
-                })
-                .collect()
-        });
-        for (i, r) in got.into_iter().enumerate() {
-            results.insert(chunk_i * jobs + i, r);
+    // A work queue, not chunks of `jobs`: a worker takes the next unit as soon as its last
+    // one is done, so one slow unit (the walker, the sorter) does not leave a core idle.
+    let jobs = o.jobs.max(1).min(todo.len().max(1));
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let results: std::sync::Mutex<BTreeMap<usize, Result<UnitSynthesis, SynthError>>> =
+        std::sync::Mutex::new(BTreeMap::new());
+    std::thread::scope(|s| {
+        for _ in 0..jobs {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(u) = todo.get(i) else { break };
+                let r = synthesise_one(o, u, &version);
+                if let Ok(mut m) = results.lock() {
+                    m.insert(i, r);
+                }
+            });
         }
+    });
+    let results = results.into_inner().unwrap_or_else(|p| p.into_inner());
+    if results.len() != todo.len() {
+        return Err(SynthError::Netlist {
+            unit: "?".into(),
+            message: "a synthesis thread panicked".into(),
+        });
     }
     results.into_values().collect()
 }
