@@ -21,7 +21,8 @@ fn stdout_without_wall(s: &str) -> String {
                 .rfind(' ')
                 .filter(|&k| body[k + 1..].chars().all(|c| c.is_ascii_digit()))
                 .map_or(body, |k| &body[..k]);
-            format!("{cut}{scene}")
+            // The wall time is right-aligned: its padding depends on its own width.
+            format!("{}{scene}", cut.trim_end())
         })
         .collect::<Vec<_>>()
         .join("\n")
