@@ -27,6 +27,7 @@ fn config(scene: Scene) -> RunConfig {
         datapath: Default::default(),
         hardware: Default::default(),
         cross_check: false,
+        sample: None,
         vcd: None,
         transaction_log: None,
         elaboration: None,

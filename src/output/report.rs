@@ -202,6 +202,10 @@ pub struct CycleSummary {
     pub bound: String,
     /// The configuration's resources against the part.
     pub resources: rtl_model::cycle::hw_config::ResourceReport,
+    /// Sampled timing (`--sample`): the run's estimate and its 95 % interval; `cycles` and
+    /// the frame rates above are then estimates too (docs/cycle-model.md §3.5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampled: Option<crate::models::cycle::sample::SampledSummary>,
 }
 
 impl CycleSummary {
@@ -241,6 +245,13 @@ impl CycleSummary {
             sim_cycles_per_s: cycles as f64 / wall_s.max(1e-9),
             bound,
             resources,
+            sampled: crate::models::cycle::sample::SampledSummary::of(
+                &frames
+                    .iter()
+                    .filter_map(|f| f.sampled.as_ref())
+                    .collect::<Vec<_>>(),
+                hw.clock_mhz,
+            ),
         }
     }
 }

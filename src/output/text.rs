@@ -69,6 +69,22 @@ pub fn frame_lines(f: &FrameReport, frames: u32, clock_mhz: u32) -> String {
             f.reference_wall_s.unwrap_or(0.0) * 1e3
         );
     }
+    if let Some(sm) = f.cycle.as_ref().and_then(|c| c.sampled.as_ref()) {
+        let _ = write!(
+            s,
+            "\n           SAMPLED (1 band in {} of {} rows, {} of {} bands timed): cycles ≈ {:.0} (95% CI {:.0}–{:.0})  ≈ {:.1} fps (95% CI {:.1}–{:.1})",
+            sm.period,
+            sm.band_rows,
+            sm.bands_timed,
+            sm.bands,
+            sm.cycles_estimate,
+            sm.cycles_low,
+            sm.cycles_high,
+            f64::from(clock_mhz) * 1e6 / sm.cycles_estimate.max(1.0),
+            sm.fps_low,
+            sm.fps_high
+        );
+    }
     if let Some(c) = &f.cycle {
         let _ = write!(
             s,
@@ -97,7 +113,27 @@ fn walker_cycles(c: &CycleFrame) -> f64 {
 pub fn cycle_tables(c: &CycleFrame) -> String {
     let mut s = String::new();
     let cyc = c.cycles.max(1) as f64;
-    let _ = writeln!(s, "last frame, per stage (% of {} cycles):", c.cycles);
+    match &c.sampled {
+        // Sampled timing: the rows cover the cycles simulated, not the estimate.
+        Some(sm) => {
+            let cyc = sm.cycles_simulated.max(1) as f64;
+            let _ = writeln!(
+                s,
+                "last frame, SAMPLED: per stage (% of the {} cycles simulated for {} of {} pixels):",
+                sm.cycles_simulated, sm.pixels_timed, sm.pixels
+            );
+            return stage_tables(s, c, cyc);
+        }
+        None => {
+            let _ = writeln!(s, "last frame, per stage (% of {} cycles):", c.cycles);
+        }
+    }
+    stage_tables(s, c, cyc)
+}
+
+/// The stage, walker, FIFO, memory and bound lines of [`cycle_tables`] after its header;
+/// `cyc` is the cycles the stage rows cover.
+fn stage_tables(mut s: String, c: &CycleFrame, cyc: f64) -> String {
     let _ = writeln!(
         s,
         "  {:<11} {:>7} {:>8} {:>14} {:>6} {:>12}",
@@ -195,6 +231,13 @@ pub fn summary(s: &Summary) -> String {
         s.walker_steps,
         s.build_s
     );
+    if let Some(sm) = s.cycle.as_ref().and_then(|c| c.sampled.as_ref()) {
+        let _ = write!(
+            t,
+            "\ncycle model, SAMPLED timing (estimates; {}): {:.0} cycles (95% CI {:.0}–{:.0}) = {:.1} fps (95% CI {:.1}–{:.1})",
+            sm.method, sm.cycles_estimate, sm.cycles_low, sm.cycles_high, sm.fps, sm.fps_low, sm.fps_high
+        );
+    }
     if let Some(c) = &s.cycle {
         let _ = write!(
             t,

@@ -61,6 +61,8 @@ pub struct RunConfig {
     pub hardware: HwConfig,
     /// Re-execute every stage of the cycle model and compare with the functional model.
     pub cross_check: bool,
+    /// Cycle model: sampled timing (`--sample`; docs/cycle-model.md §3.5).
+    pub sample: Option<crate::models::cycle::sample::SampleConfig>,
     /// Waveforms of the cycle model.
     pub vcd: Option<VcdRequest>,
     /// Stage stamps of the first N records of the cycle model, written as JSON lines here.
@@ -301,6 +303,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
             (w, h),
             CycleOptions {
                 cross_check: cfg.cross_check,
+                sample: cfg.sample,
                 waves,
                 log_limit: cfg.transaction_log.as_ref().map_or(0, |(_, n)| *n),
                 ..CycleOptions::default()

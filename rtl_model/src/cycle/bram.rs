@@ -175,6 +175,14 @@ impl<T: Clone> Bram<T> {
     pub fn peek(&self, addr: usize) -> Option<&T> {
         self.data.get(addr)
     }
+
+    /// Sets `addr` at once, without a port or a cycle: functional warming between the timed
+    /// parts of a sampled frame (docs/cycle-model.md §3.5), never in a timed cycle.
+    pub fn poke(&mut self, addr: usize, value: T) -> Result<(), BramError> {
+        self.check_addr(addr)?;
+        self.data[addr] = value;
+        Ok(())
+    }
 }
 
 impl<T: Clone> Commit for Bram<T> {

@@ -41,12 +41,120 @@ pub struct BenchArgs {
     /// full-trace frame and write scaling.csv and scaling.png into DIR.
     #[arg(long, value_name = "DIR")]
     scaling: Option<PathBuf>,
+    /// With `--model cycle`: validate sampled timing (docs/cycle-model.md §3.5) at RATE
+    /// against the full model on the matrix of cases (the scene given; moving camera; 1, 8,
+    /// 64 walkers; a 16 KiB cache; an external hit buffer; DRAM latency 240; and
+    /// scenes/vox_traffic.ron when the shared models are present): per frame the full fps,
+    /// the estimate, its 95 % interval, the error and the wall-time ratio.
+    #[arg(long, value_name = "RATE")]
+    sample_validate: Option<f64>,
+    /// Rows per band of --sample-validate.
+    #[arg(long, value_name = "ROWS", default_value_t = svo_sim::models::cycle::sample::DEFAULT_BAND_ROWS)]
+    sample_band: u32,
+}
+
+/// `sim bench --model cycle --sample-validate RATE`: the validation matrix.
+fn sample_validate(a: &BenchArgs, scene: &Scene, assets: &[Asset], rate: f64) -> Result<()> {
+    use svo_sim::models::cycle::sample::SampleConfig;
+    use svo_sim::models::cycle::validate::compare;
+    let dp = load_datapath(a.datapath.as_deref())?;
+    let base = load_hardware(a.hw.as_deref())?;
+    let cfg = SampleConfig::from_rate(rate, a.sample_band, None, 0).map_err(anyhow::Error::msg)?;
+    let with = |f: &dyn Fn(&mut rtl_model::cycle::hw_config::HwConfig)| {
+        let mut h = base.clone();
+        f(&mut h);
+        h
+    };
+    let mut cases: Vec<(String, rtl_model::cycle::hw_config::HwConfig, bool)> = vec![
+        ("still camera, 32 walkers".into(), base.clone(), true),
+        ("moving camera (no reuse)".into(), base.clone(), false),
+    ];
+    for n in [1u32, 8, 64] {
+        cases.push((
+            format!("{n} walkers"),
+            with(&|h| h.walker_pool.walkers = n),
+            true,
+        ));
+    }
+    cases.push((
+        "16 KiB 2-way cache".into(),
+        with(&|h| {
+            h.node_memory.cache.size_bytes = 16384;
+            h.node_memory.cache.ways = 2;
+        }),
+        true,
+    ));
+    cases.push((
+        "external hit buffer".into(),
+        with(&|h| h.hit_buffer.placement = rtl_model::cycle::hw_config::Placement::External),
+        true,
+    ));
+    cases.push((
+        "DRAM latency 240".into(),
+        with(&|h| h.node_memory.dram.latency = 240),
+        true,
+    ));
+    println!(
+        "sampled timing at rate {rate} (1 band in {} of {} rows) against the full model:",
+        cfg.period, cfg.band_rows
+    );
+    println!(
+        "  {:<34} {:>5} {:>9} {:>9} {:>19} {:>8} {:>7}",
+        "case", "frame", "full fps", "est fps", "95% CI fps", "error", "wall"
+    );
+    let clock = |hw: &rtl_model::cycle::hw_config::HwConfig| f64::from(hw.clock_mhz) * 1e6;
+    let (mut worst, mut missed) = (0.0f64, 0u32);
+    let mut print = |name: &str,
+                     hw: &rtl_model::cycle::hw_config::HwConfig,
+                     rows: &[svo_sim::models::cycle::validate::SampleCheck]| {
+        for r in rows {
+            let c = clock(hw);
+            worst = worst.max(r.error().abs());
+            missed += u32::from(!r.covered());
+            println!(
+                "  {:<34} {:>5} {:>9.2} {:>9.2} {:>8.2}–{:<10.2} {:>+7.2}% {:>6.2}×{}",
+                name,
+                r.frame,
+                c / r.full_cycles.max(1) as f64,
+                c / r.estimate.max(1.0),
+                c / r.high.max(1.0),
+                c / r.low.max(1.0),
+                100.0 * r.error(),
+                r.sampled_s / r.full_s.max(1e-9),
+                if r.covered() { "" } else { "  OUTSIDE" }
+            );
+        }
+    };
+    for (name, hw, reuse) in &cases {
+        let rows = compare(scene, assets, &dp, hw, *reuse, cfg)?;
+        print(name, hw, &rows);
+    }
+    let vox = std::path::Path::new("scenes/vox_traffic.ron");
+    match Scene::load(vox) {
+        Ok(mut v) => {
+            let (w, h) = scene.file.resolution;
+            v.set_resolution(w, h)?;
+            v.set_frames(scene.file.frames)?;
+            let va = build(&v, None, svo_sim::world::assets::Materialise::Auto)?;
+            let rows = compare(&v, &va, &dp, &base, true, cfg)?;
+            print("vox_traffic", &base, &rows);
+        }
+        Err(e) => println!("  vox_traffic skipped: {e}"),
+    }
+    println!(
+        "  worst error {:.2}%; full figure outside the interval in {missed} frame(s)",
+        100.0 * worst
+    );
+    Ok(())
 }
 
 /// `sim bench --model cycle`: both cameras, then the optional scaling sweep.
 fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[Asset]) -> Result<()> {
     let dp = load_datapath(a.datapath.as_deref())?;
     let hw = load_hardware(a.hw.as_deref())?;
+    if let Some(rate) = a.sample_validate {
+        return sample_validate(a, scene, assets, rate);
+    }
     if let Some(dir) = &a.scaling {
         if !dir.is_dir() {
             anyhow::bail!("--scaling {}: not a folder", dir.display());

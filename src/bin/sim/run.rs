@@ -6,6 +6,7 @@ use crate::args::{parse_window, ModelArg, SceneArgs};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
+use svo_sim::models::cycle::sample::SampleConfig;
 use svo_sim::models::cycle::waves::WaveWindow;
 use svo_sim::models::reference::RenderOptions;
 use svo_sim::output::text;
@@ -95,6 +96,23 @@ pub struct RunArgs {
     /// then exits non-zero, so a script cannot take saturated results for good ones.
     #[arg(long)]
     allow_saturation: bool,
+    /// Cycle model: sampled timing. Time one band of rows in 1/RATE (RATE in (0, 0.5];
+    /// documented default 0.125) cycle by cycle, keep the caches and the hit buffer warm
+    /// functionally in between, and report each frame's cycles and fps as an estimate with a
+    /// 95 % confidence interval (docs/cycle-model.md §3.5). Off by default: every cycle is
+    /// simulated.
+    #[arg(long, value_name = "RATE", conflicts_with_all = ["vcd", "transaction_log"])]
+    sample: Option<f64>,
+    /// Rows per band of --sample.
+    #[arg(long, value_name = "ROWS", default_value_t = svo_sim::models::cycle::sample::DEFAULT_BAND_ROWS, requires = "sample")]
+    sample_band: u32,
+    /// Rows run in detail before each timed band of --sample (default: twice what the
+    /// pipeline holds, docs/cycle-model.md §3.5).
+    #[arg(long, value_name = "ROWS", requires = "sample")]
+    sample_warm: Option<u32>,
+    /// Seed of the sample's random start (--sample).
+    #[arg(long, value_name = "N", default_value_t = 0, requires = "sample")]
+    sample_seed: u64,
 }
 
 impl RunArgs {
@@ -144,6 +162,23 @@ impl RunArgs {
             datapath: load_datapath(self.datapath.as_deref())?,
             hardware: load_hardware(self.hw.as_deref())?,
             cross_check: self.cross_check,
+            sample: match self.sample {
+                Some(rate) => {
+                    if self.model != ModelArg::Cycle {
+                        anyhow::bail!("--sample times the cycle model: use it with --model cycle");
+                    }
+                    Some(
+                        SampleConfig::from_rate(
+                            rate,
+                            self.sample_band,
+                            self.sample_warm,
+                            self.sample_seed,
+                        )
+                        .map_err(anyhow::Error::msg)?,
+                    )
+                }
+                None => None,
+            },
             vcd: self.vcd()?,
             transaction_log: self.transaction_log.clone().map(|p| (p, self.log_count)),
             progress_every: (!self.quiet).then(|| std::time::Duration::from_secs(2)),

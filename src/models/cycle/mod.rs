@@ -13,8 +13,10 @@ pub mod layout;
 pub mod model;
 pub mod pipeline;
 pub mod runner;
+pub mod sample;
 mod stages;
 pub mod stats;
+pub mod validate;
 pub mod waves;
 
 pub use layout::SceneLayout;

@@ -8,6 +8,7 @@
 
 use super::layout::SceneLayout;
 use super::pipeline::Pipeline;
+use super::sample::{SampleConfig, Sampler};
 use super::stages::{FrameInputs, FrameSetup};
 use super::stats::CycleFrame;
 use super::waves::PipelineWaves;
@@ -73,6 +74,10 @@ pub struct CycleOptions {
     /// Step every cycle, also those in which nothing can move (off: idle cycles are taken at
     /// once, with the same report; docs/cycle-model.md §3.3). For the comparison test.
     pub step_every_cycle: bool,
+    /// Sampled timing (`--sample`): time a systematic sample of row bands and estimate each
+    /// frame's cycles with a confidence interval (docs/cycle-model.md §3.5). `None`: every
+    /// cycle of every frame is simulated.
+    pub sample: Option<SampleConfig>,
 }
 
 /// The parts of the machine that keep their state across frames (cache lines, hit-buffer
@@ -104,6 +109,7 @@ pub struct CycleModel {
     pub log: Vec<(u32, Vec<StageStamp>)>,
     log_limit: usize,
     step_every_cycle: bool,
+    sample: Option<SampleConfig>,
     /// Cycles run so far, and of those the ones idle-cycle skipping took at once.
     cycles_run: u64,
     cycles_skipped: u64,
@@ -144,6 +150,7 @@ impl CycleModel {
             log: Vec::new(),
             log_limit: opts.log_limit,
             step_every_cycle: opts.step_every_cycle,
+            sample: opts.sample,
             cycles_run: 0,
             cycles_skipped: 0,
         })
@@ -196,6 +203,10 @@ impl CycleModel {
             self.log_limit,
             !self.step_every_cycle,
         )?;
+        if let Some(cfg) = self.sample {
+            let s = Sampler::plan(cfg, &self.hw, self.frame, self.width, self.height);
+            pipeline = pipeline.with_sampler(s);
+        }
         while !pipeline.done() {
             pipeline.step()?;
         }
@@ -203,8 +214,25 @@ impl CycleModel {
         pipeline.check_hit_buffer()?;
         self.frame += 1;
         self.cycles_skipped += pipeline.skipped();
-        let report = pipeline.report(wall.elapsed().as_secs_f64());
+        let sampler = pipeline.take_sampler();
+        let work = match (&sampler, self.sample) {
+            (Some(_), Some(cfg)) => super::sample::band_work(pipeline.rows(), cfg.band_rows),
+            _ => Vec::new(),
+        };
+        let start = pipeline.start();
+        let mut report = pipeline.report(wall.elapsed().as_secs_f64());
         self.cycles_run += report.cycles;
+        if let Some(s) = sampler {
+            let pixels = u64::from(self.width) * u64::from(self.height);
+            let est = s.finish(
+                start,
+                start + report.cycles,
+                self.hw.clock_mhz,
+                pixels,
+                &work,
+            )?;
+            report.set_sampled(&self.hw, pixels, est);
+        }
         Ok(report)
     }
 }

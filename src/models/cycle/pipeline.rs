@@ -40,6 +40,7 @@
 //! ([`Pipeline::check_hit_buffer`]).
 
 use super::model::{CycleError, Machine};
+use super::sample::{warm_gap, Sampler};
 use super::stages::check::Check;
 use super::stages::passthrough::PassThrough;
 use super::stages::raygen::Raygen;
@@ -210,6 +211,8 @@ pub struct Pipeline<'f> {
     last_progress: (u64, u64),
     /// Cycles without progress after which the frame is reported stuck.
     stuck_limit: u64,
+    /// Sampled timing: the frame's timed segments (docs/cycle-model.md §3.5).
+    sampler: Option<Sampler>,
 }
 
 impl<'f> Pipeline<'f> {
@@ -262,7 +265,52 @@ impl<'f> Pipeline<'f> {
             start,
             last_progress: (start, 0),
             stuck_limit: 1_000_000 + 100 * u64::from(hw.node_memory.dram.latency),
+            sampler: None,
         })
+    }
+
+    /// Times only the segments of `sampler`; the pixels between them are applied
+    /// functionally once the pipeline has drained (docs/cycle-model.md §3.5).
+    pub fn with_sampler(mut self, sampler: Sampler) -> Self {
+        let (from, to) = sampler.first_segment();
+        self.raygen.jump(from, to);
+        self.sampler = Some(sampler);
+        self
+    }
+
+    /// The trace's rows received so far (all of them after the frame).
+    pub fn rows(&self) -> &[&'f crate::models::fixed::trace::RowTrace] {
+        self.frame.rows()
+    }
+
+    /// The cycle the frame started at.
+    pub fn start(&self) -> u64 {
+        self.start
+    }
+
+    /// The sampler, if the frame is sampled (taken for its estimate after the frame).
+    pub fn take_sampler(&mut self) -> Option<Sampler> {
+        self.sampler.take()
+    }
+
+    /// Sampled timing after the edge: once ray generation reached the end of its segment and
+    /// every pixel before it is written (nothing in flight: no walk, no node read, no MSHR),
+    /// the pixels up to the next segment are applied functionally and generation moves on.
+    fn next_segment(&mut self) -> Result<(), CycleError> {
+        let at = self.raygen.next_pixel();
+        let done = self.done();
+        let Some(s) = self.sampler.as_mut() else {
+            return Ok(());
+        };
+        if at != s.segment_end() || self.counts.written != at || done || !self.machine.mem.is_idle()
+        {
+            return Ok(());
+        }
+        if let Some((gap, end)) = s.advance() {
+            warm_gap(&mut self.frame, self.machine, &mut self.counts, gap)?;
+            self.raygen.jump(gap.1, end);
+        }
+        Ok(())
     }
 
     /// Whether every pixel has been written.
@@ -338,6 +386,10 @@ impl<'f> Pipeline<'f> {
         self.sample_waves(now);
         self.edge()?;
         self.watch(now)?;
+        if let Some(s) = self.sampler.as_mut() {
+            s.written(self.counts.written, now);
+            self.next_segment()?;
+        }
         if self.skip {
             self.skip_idle(now)?;
         }

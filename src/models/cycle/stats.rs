@@ -167,6 +167,11 @@ pub struct CycleFrame {
     pub bound: Bound,
     /// Wall time of the cycle simulation (without the functional model), seconds.
     pub sim_wall_s: f64,
+    /// Sampled timing (`--sample`): `cycles`, `fps_at_clock` and `rays_per_cycle` are then
+    /// estimates, this says how they were drawn and gives their 95 % interval; the stage, FIFO,
+    /// pool and memory figures cover the timed segments only (docs/cycle-model.md §3.5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampled: Option<super::sample::SampledCycles>,
 }
 
 impl CycleFrame {
@@ -217,7 +222,27 @@ impl CycleFrame {
             ops_per_pixel: OpCounts::default(),
             bound,
             sim_wall_s,
+            sampled: None,
         }
+    }
+
+    /// Turns the report of a sampled frame into its estimate: `cycles`, `fps_at_clock` and
+    /// `rays_per_cycle` from the estimated cycles of `pixels` pixels, the sample in
+    /// `sampled`. The rest keeps the timed segments' figures.
+    pub fn set_sampled(&mut self, hw: &HwConfig, pixels: u64, est: super::sample::SampledCycles) {
+        let c = est.cycles_estimate.max(1.0);
+        self.cycles = c.round() as u64;
+        self.fps_at_clock = f64::from(hw.clock_mhz) * 1e6 / c;
+        self.rays_per_cycle = pixels as f64 / c;
+        // The limit from what was simulated: the timed pixels over the cycles simulated.
+        self.bound = bound_of(
+            hw,
+            &self.stages,
+            &self.walkers,
+            est.cycles_simulated,
+            est.pixels_timed,
+        );
+        self.sampled = Some(est);
     }
 }
 

@@ -275,6 +275,24 @@ impl NodeMemory {
         Ok(RequestId(id))
     }
 
+    /// Functional warming (sampled timing, docs/cycle-model.md §3.5): the cache's tags take
+    /// the read of `addr` as if it had been served — an on-chip read changes nothing, a cached
+    /// read that hits becomes most recently used, one that misses installs its line at once —
+    /// with no cycle, port, MSHR, DRAM transfer or statistic. Only between timed parts, with
+    /// nothing outstanding (a fill in flight would install its line later).
+    pub fn warm(&mut self, kind: FetchKind, addr: u32) {
+        if kind != FetchKind::Attr && self.layout.is_onchip(addr) {
+            return;
+        }
+        if kind == FetchKind::Attr && !self.cfg.cache.attr_cached {
+            return;
+        }
+        let line = line_of(kind, addr, self.line_bytes);
+        if !self.tags.touch(line) {
+            self.tags.install(line);
+        }
+    }
+
     /// A lower bound on the first cycle at or after [`now`](Self::now) in which a read not yet
     /// returned can complete, or `None` when nothing is outstanding. Completions already
     /// computed give their own cycle; a request not yet served may complete as early as the

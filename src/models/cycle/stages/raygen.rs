@@ -21,6 +21,8 @@ pub struct Raygen {
     next_pixel: u64,
     /// Whether rays keep their whole stamp history (only a transaction log reads it).
     track: bool,
+    /// Pixels from here on wait (sampled timing: the end of the timed segment).
+    limit: u64,
 }
 
 impl Raygen {
@@ -38,7 +40,15 @@ impl Raygen {
             pipe: UnitPipe::new(u.latency_cycles, u.ii),
             next_pixel: 0,
             track,
+            limit: u64::MAX,
         }
+    }
+
+    /// Sampled timing (docs/cycle-model.md §3.5): the next pixel to generate is `next`, and
+    /// generation stops before `limit` until moved on again.
+    pub fn jump(&mut self, next: u64, limit: u64) {
+        self.next_pixel = next;
+        self.limit = limit;
     }
 
     /// Pixels generated so far.
@@ -59,7 +69,7 @@ impl Raygen {
         let pushed = hand_on(&mut self.pipe, id::RAYGEN, out, now)?;
         counts.passed[0] += u64::from(pushed);
         let pixels = counts.pixels;
-        if self.next_pixel < pixels && self.pipe.can_accept(now) {
+        if self.next_pixel < pixels.min(self.limit) && self.pipe.can_accept(now) {
             let width = u64::from(frame.setup.width);
             frame.need_row((self.next_pixel / width) as usize)?;
             let pixel = u32::try_from(self.next_pixel).map_err(internal)?;

@@ -1,0 +1,681 @@
+//! Sampled timing (`--sample RATE`): a systematic sample of row bands is timed cycle by cycle,
+//! the rest of the frame only warms the machine functionally, and the frame's cycles are
+//! estimated with a 95 % confidence interval (docs/cycle-model.md §3.5).
+//!
+//! Pipeline position: inside `model::CycleModel::run_frame`. The plan ([`Sampler::plan`])
+//! splits the frame into bands of `band_rows` rows; the first and last bands and every
+//! `period`-th band in between (from a seeded start) are *timed*. Each timed band is run
+//! through the pipeline together with `warm_rows` rows before it (detailed warming, so the
+//! FIFOs, ray slots, walker contexts and MSHRs hold the rays they would hold in a full run)
+//! and one pixel after it. Ray generation stops at the end of such a segment, the pipeline
+//! drains, and the pixels up to the next segment are applied functionally
+//! ([`warm_gap`]): their hit-buffer words are written into the BRAM and every node read of
+//! their walks goes through the cache's tags (LRU order, line installs), with no cycle.
+//!
+//! What is measured: `t_b`, the cycle in which ray generation accepts the first pixel of band
+//! `b`. In a full run the frame's cycles telescope, `C = Σ_b (t_{b+1} − t_b)` with `t_0` the
+//! frame's start and `t_B` its end, so each band has an increment `y_b = t_{b+1} − t_b`. A
+//! timed band measures its `y_b` (the extra pixel gives `t_{b+1}`); the estimator and its
+//! interval are in [`Estimate::of`].
+
+use super::model::{CycleError, Machine};
+use super::stages::{internal, FrameCounts, FrameInputs};
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::svo::FetchKind;
+use serde::Serialize;
+
+/// Options of sampled timing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleConfig {
+    /// One band in `period` (between the first and the last band) is timed: the sampling
+    /// rate is 1/`period`.
+    pub period: u32,
+    /// Rows per band.
+    pub band_rows: u32,
+    /// Rows run in detail before each timed band (`None`: [`SampleConfig::warm_rows_for`]).
+    pub warm_rows: Option<u32>,
+    /// Seed of the systematic sample's random start (mixed with the frame number).
+    pub seed: u64,
+}
+
+/// The documented default: one band in 8.
+pub const DEFAULT_RATE: f64 = 0.125;
+/// The documented default band height, rows.
+pub const DEFAULT_BAND_ROWS: u32 = 4;
+
+impl SampleConfig {
+    /// From a rate in (0, 0.5]: the period is the nearest integer to 1/rate.
+    pub fn from_rate(
+        rate: f64,
+        band_rows: u32,
+        warm_rows: Option<u32>,
+        seed: u64,
+    ) -> Result<Self, String> {
+        if !(rate > 0.0 && rate <= 0.5) {
+            return Err(format!(
+                "--sample {rate}: the rate must be above 0 and at most 0.5 (without --sample every band is timed)"
+            ));
+        }
+        if band_rows == 0 {
+            return Err("--sample-band must be at least 1 row".into());
+        }
+        let period = (1.0 / rate).round();
+        if period > f64::from(u32::MAX) {
+            return Err(format!("--sample {rate}: the rate is too small"));
+        }
+        Ok(Self {
+            period: period as u32,
+            band_rows,
+            warm_rows,
+            seed,
+        })
+    }
+
+    /// Rows of detailed warming before a timed band: enough rows to hold twice every ray the
+    /// pipeline can hold at once (FIFOs, ray slots and the unit pipes' latencies), so that when
+    /// ray generation reaches the band every queue holds rays of this frame's rows before it.
+    pub fn warm_rows_for(&self, hw: &HwConfig, width: u32) -> u32 {
+        if let Some(w) = self.warm_rows {
+            return w;
+        }
+        let f = &hw.fifos;
+        let fifos = [
+            f.raygen_to_sphere,
+            f.sphere_to_sorter,
+            f.sorter_to_check,
+            f.check_to_transform,
+            f.transform_to_reciprocal,
+            f.reciprocal_to_root,
+            f.root_to_dispatch,
+            f.walker_to_record,
+            f.record_to_write,
+        ]
+        .iter()
+        .map(|&d| u64::from(d))
+        .sum::<u64>();
+        let slots = u64::from(hw.walker_pool.walkers * hw.walker_pool.contexts_per_walker);
+        let u = &hw.units;
+        let pipes = [
+            u.raygen.latency_cycles,
+            u.sphere.latency_cycles + u.sqrt.latency_cycles,
+            u.sorter.latency_cycles,
+            hw.hit_buffer_read_cycles() + u.hit_unpack.latency_cycles,
+        ]
+        .iter()
+        .map(|&l| u64::from(l))
+        .sum::<u64>();
+        let rays = 2 * (fifos + slots + pipes);
+        rays.div_ceil(u64::from(width.max(1))) as u32
+    }
+}
+
+/// A band whose increment is measured.
+#[derive(Clone, Copy, Debug)]
+struct Band {
+    /// Band index.
+    index: u32,
+    /// Its first pixel.
+    first: u64,
+    /// The first pixel of the next band (`None` for the last band: the frame's end).
+    next: Option<u64>,
+    /// First and last band: timed in every frame (not part of the sample).
+    certain: bool,
+}
+
+/// The sample of one frame while it runs: the timed segments, where the pipeline is, and
+/// the cycles at which ray generation accepted the bands' first pixels.
+pub struct Sampler {
+    cfg: SampleConfig,
+    width: u32,
+    warm_rows: u32,
+    bands_total: u32,
+    start_offset: u32,
+    bands: Vec<Band>,
+    /// Pixel ranges [from, to) run through the pipeline, in order, disjoint.
+    segments: Vec<(u64, u64)>,
+    /// The segment ray generation is in.
+    seg: usize,
+    /// Cycle at which the count of written pixels reached each mark (sorted).
+    marks: Vec<(u64, Option<u64>)>,
+    /// The first mark not yet reached.
+    next_mark: usize,
+    /// Pixels applied functionally.
+    warmed: u64,
+}
+
+impl Sampler {
+    /// The plan of frame `frame` of `width`×`height` pixels on `hw`.
+    pub fn plan(cfg: SampleConfig, hw: &HwConfig, frame: u32, width: u32, height: u32) -> Self {
+        let w = u64::from(width);
+        let rows = cfg.band_rows.max(1);
+        let nb = height.div_ceil(rows).max(1);
+        let warm_rows = cfg.warm_rows_for(hw, width);
+        let k = cfg.period.max(1);
+        let start_offset =
+            (splitmix(cfg.seed ^ (u64::from(frame) << 32 | 0x5a5a)) % u64::from(k)) as u32;
+        let mut bands = Vec::new();
+        let mut segments: Vec<(u64, u64)> = Vec::new();
+        for b in 0..nb {
+            let certain = b == 0 || b + 1 == nb;
+            if !certain && (b - 1) % k != start_offset {
+                continue;
+            }
+            let r0 = b * rows;
+            let r1 = ((b + 1) * rows).min(height);
+            let first = u64::from(r0) * w;
+            let next = (r1 < height).then(|| u64::from(r1) * w);
+            bands.push(Band {
+                index: b,
+                first,
+                next,
+                certain,
+            });
+            let from = u64::from(r0.saturating_sub(warm_rows)) * w;
+            let to = u64::from((r1 + warm_rows).min(height)) * w;
+            match segments.last_mut() {
+                Some(last) if from <= last.1 => last.1 = last.1.max(to),
+                _ => segments.push((from, to)),
+            }
+        }
+        let mut marks: Vec<(u64, Option<u64>)> = bands
+            .iter()
+            .flat_map(|b| [Some(b.first), b.next])
+            .flatten()
+            .map(|p| (p, None))
+            .collect();
+        marks.sort_unstable_by_key(|m| m.0);
+        marks.dedup_by_key(|m| m.0);
+        Self {
+            cfg,
+            width,
+            warm_rows,
+            bands_total: nb,
+            start_offset,
+            bands,
+            segments,
+            seg: 0,
+            marks,
+            next_mark: 0,
+            warmed: 0,
+        }
+    }
+
+    /// The first segment: (first pixel, end).
+    pub fn first_segment(&self) -> (u64, u64) {
+        self.segments.first().copied().unwrap_or((0, 0))
+    }
+
+    /// End of the segment ray generation is in.
+    #[inline]
+    pub fn segment_end(&self) -> u64 {
+        self.segments.get(self.seg).map_or(u64::MAX, |s| s.1)
+    }
+
+    /// After the edge ending cycle `now`, `written` pixels have been written: every mark
+    /// reached is stamped `now + 1` (the cycle in which the count is first seen).
+    #[inline]
+    pub fn written(&mut self, written: u64, now: u64) {
+        while let Some(m) = self.marks.get_mut(self.next_mark) {
+            if m.0 > written {
+                break;
+            }
+            m.1 = Some(now + 1);
+            self.next_mark += 1;
+        }
+    }
+
+    /// After the pipeline drained at the end of a segment: the gap to the next one
+    /// (from, to) and the next segment's end, or `None` after the last segment.
+    pub fn advance(&mut self) -> Option<((u64, u64), u64)> {
+        let end = self.segments.get(self.seg)?.1;
+        self.seg += 1;
+        let next = *self.segments.get(self.seg)?;
+        self.warmed += next.0 - end;
+        Some(((end, next.0), next.1))
+    }
+
+    fn mark(&self, pixel: u64) -> Result<u64, CycleError> {
+        self.marks
+            .binary_search_by_key(&pixel, |m| m.0)
+            .ok()
+            .and_then(|i| self.marks[i].1)
+            .ok_or_else(|| {
+                CycleError::Internal(format!(
+                    "sampled timing: the written count never reached {pixel} in a timed segment"
+                ))
+            })
+    }
+
+    /// The frame's estimate once it ended: `start` and `end` are its first and last cycles
+    /// (the frame ends when its last pixel is written), `timed_cycles` the cycles simulated.
+    pub fn finish(
+        &self,
+        start: u64,
+        end: u64,
+        clock_mhz: u32,
+        pixels: u64,
+        work: &[f64],
+    ) -> Result<SampledCycles, CycleError> {
+        let mut certain = 0.0f64;
+        let mut ys = Vec::new();
+        let mut xs = Vec::new();
+        for b in &self.bands {
+            let t0 = if b.index == 0 {
+                start
+            } else {
+                self.mark(b.first)?
+            };
+            let t1 = match b.next {
+                Some(n) => self.mark(n)?,
+                None => end,
+            };
+            let y = t1.checked_sub(t0).ok_or_else(|| {
+                internal(format!(
+                    "sampled timing: band {} ends before it starts",
+                    b.index
+                ))
+            })? as f64;
+            if b.certain {
+                certain += y;
+            } else {
+                ys.push(y);
+                xs.push(work.get(b.index as usize).copied().unwrap_or(0.0));
+            }
+        }
+        // The auxiliary: a band's cycles as its work predicts them, z = max(P, x/θ) — the
+        // front end's one pixel per cycle, or the walkers' work at θ work units per cycle,
+        // θ from the sampled bands the walkers held back (y > 1.1·P).
+        let nb = self.bands_total as usize;
+        let p = f64::from(self.cfg.band_rows) * f64::from(self.width);
+        let slow: (f64, f64) = xs
+            .iter()
+            .zip(&ys)
+            .filter(|(_, &y)| y > 1.1 * p)
+            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+        let theta = if slow.1 > 0.0 {
+            slow.0 / slow.1
+        } else {
+            xs.iter().sum::<f64>() / ys.iter().sum::<f64>().max(1.0)
+        }
+        .max(1e-9);
+        let z = |x: f64| p.max(x / theta);
+        let zs: Vec<f64> = xs.iter().map(|&x| z(x)).collect();
+        let middle: Vec<f64> = (1..nb.saturating_sub(1))
+            .map(|b| z(work.get(b).copied().unwrap_or(0.0)))
+            .collect();
+        let est = Estimate::regression(certain, &ys, &zs, &middle);
+        let clock = f64::from(clock_mhz) * 1e6;
+        Ok(SampledCycles {
+            method: "systematic sample of row bands, first and last band always timed".into(),
+            rate: 1.0 / f64::from(self.cfg.period.max(1)),
+            period: self.cfg.period,
+            band_rows: self.cfg.band_rows,
+            warm_rows: self.warm_rows,
+            start_band: self.start_offset + 1,
+            bands: self.bands_total,
+            bands_timed: self.bands.len() as u32,
+            pixels,
+            pixels_timed: pixels - self.warmed,
+            cycles_simulated: end - start,
+            cycles_estimate: est.total,
+            cycles_std_error: est.std_error,
+            confidence: 0.95,
+            degrees_of_freedom: est.df,
+            cycles_low: est.low,
+            cycles_high: est.high,
+            fps_low: clock / est.high.max(1.0),
+            fps_high: clock / est.low.max(1.0),
+        })
+    }
+}
+
+/// The frame's cycles as estimated from the sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimate {
+    /// Estimated cycles.
+    pub total: f64,
+    /// Its standard error.
+    pub std_error: f64,
+    /// Degrees of freedom of the t quantile (sampled bands − 1; 0 when no interval).
+    pub df: u32,
+    /// 95 % interval.
+    pub low: f64,
+    /// 95 % interval.
+    pub high: f64,
+}
+
+impl Estimate {
+    /// The estimate from the certain bands' cycles `certain` and the sampled bands'
+    /// increments `ys` (in band order), sampled with period `k`:
+    /// `T = certain + k·Σ y` (each band had probability 1/k: the Horvitz–Thompson estimator,
+    /// unbiased over the random start), with the successive-difference variance of a
+    /// systematic sample, `v = k²·n·(1 − 1/k)·Σ_{i≥2} (y_i − y_{i−1})² / (2(n − 1))`
+    /// (Wolter, *Introduction to Variance Estimation*, 2nd ed., §8.2, estimator v₂), and
+    /// `T ± t_{0.975, n−1}·√v`. With fewer than two sampled bands there is no interval
+    /// (the bounds are the estimate).
+    pub fn of(certain: f64, ys: &[f64], k: u32) -> Self {
+        let kf = f64::from(k.max(1));
+        let n = ys.len();
+        let total = certain + kf * ys.iter().sum::<f64>();
+        if n < 2 {
+            return Self {
+                total,
+                std_error: 0.0,
+                df: 0,
+                low: total,
+                high: total,
+            };
+        }
+        let nf = n as f64;
+        let sd2 = ys.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / (2.0 * (nf - 1.0));
+        let v = kf * kf * nf * (1.0 - 1.0 / kf) * sd2;
+        let se = v.sqrt();
+        let t = t_975(n as u32 - 1);
+        Self {
+            total,
+            std_error: se,
+            df: n as u32 - 1,
+            low: total - t * se,
+            high: total + t * se,
+        }
+    }
+}
+
+impl Estimate {
+    /// The regression estimator on the functional model's work (docs/cycle-model.md §3.5):
+    /// with `ys` the sampled bands' increments, `xs` their work and `population` the work of
+    /// every middle band (known: the functional model ran them all), M = |population|,
+    /// `T = certain + M·(ȳ + b·(X̄ − x̄))`, b the least-squares slope of y on x in the sample.
+    /// Residuals eᵢ = yᵢ − ȳ − b(xᵢ − x̄); variance `M²·(1 − n/M)/n · s²`, s² the larger of
+    /// Σeᵢ²/(n − 2) and the successive-difference Σ(eᵢ − eᵢ₋₁)²/(2(n − 1)) (the second keeps
+    /// what a trend along the frame leaves in the residuals); `T ± t_{0.975, n−2}·√v`. Fewer
+    /// than three sampled bands, or no spread in x: [`Estimate::of`]'s expansion estimator
+    /// with period M/n.
+    pub fn regression(certain: f64, ys: &[f64], xs: &[f64], population: &[f64]) -> Self {
+        let n = ys.len();
+        let m = population.len() as f64;
+        let nf = n as f64;
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / (v.len().max(1) as f64);
+        let (ym, xm) = (mean(ys), mean(xs));
+        let sxx: f64 = xs.iter().map(|x| (x - xm).powi(2)).sum();
+        if n < 3 || xs.len() != n || sxx <= 0.0 {
+            let k = if n == 0 {
+                1
+            } else {
+                (m / nf).round().max(1.0) as u32
+            };
+            return Self::of(certain, ys, k);
+        }
+        let sxy: f64 = xs.iter().zip(ys).map(|(x, y)| (x - xm) * (y - ym)).sum();
+        let b = sxy / sxx;
+        let total = certain + m * (ym + b * (mean(population) - xm));
+        let e: Vec<f64> = xs
+            .iter()
+            .zip(ys)
+            .map(|(x, y)| y - ym - b * (x - xm))
+            .collect();
+        let srs = e.iter().map(|r| r * r).sum::<f64>() / (nf - 2.0);
+        let sd = e.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / (2.0 * (nf - 1.0));
+        let f = (nf / m).min(1.0);
+        let v = m * m * (1.0 - f) / nf * srs.max(sd);
+        let se = v.sqrt();
+        let t = t_975(n as u32 - 2);
+        Self {
+            total,
+            std_error: se,
+            df: n as u32 - 2,
+            low: total - t * se,
+            high: total + t * se,
+        }
+    }
+}
+
+/// The work of each band of `band_rows` rows in the functional model's trace: per pixel that
+/// walks, its walks' issue slots plus their node and attribute reads (what the walker pool
+/// spends its cycles on), the auxiliary variable of [`Estimate::regression`].
+pub fn band_work(rows: &[&crate::models::fixed::trace::RowTrace], band_rows: u32) -> Vec<f64> {
+    let mut out = Vec::new();
+    for band in rows.chunks(band_rows.max(1) as usize) {
+        let mut w = 0u64;
+        for r in band {
+            for pw in &r.pixels {
+                if pw.reused {
+                    continue;
+                }
+                for tw in r.walks_of(pw) {
+                    for &o in r.ops_of(tw) {
+                        w += if o >> 32 == 0 { o & 0xffff_ffff } else { 1 };
+                    }
+                }
+            }
+        }
+        out.push(w as f64);
+    }
+    out
+}
+
+/// The 0.975 quantile of Student's t with `df` degrees of freedom: tabulated to 30, then the
+/// Cornish–Fisher expansion around the normal quantile (error below 1e-4 there).
+pub fn t_975(df: u32) -> f64 {
+    const T: [f64; 30] = [
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
+        2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,
+        2.052, 2.048, 2.045, 2.042,
+    ];
+    match df {
+        0 => f64::INFINITY,
+        1..=30 => T[df as usize - 1],
+        _ => {
+            let z = 1.959_963_985_f64;
+            let v = f64::from(df);
+            z + (z.powi(3) + z) / (4.0 * v)
+                + (5.0 * z.powi(5) + 16.0 * z.powi(3) + 3.0 * z) / (96.0 * v * v)
+        }
+    }
+}
+
+/// The sample's description and estimate in a frame's report (`cycle.sampled`,
+/// docs/report.md).
+#[derive(Clone, Debug, Serialize)]
+pub struct SampledCycles {
+    /// How the sample was drawn.
+    pub method: String,
+    /// Sampling rate of the middle bands (1/period).
+    pub rate: f64,
+    /// One band in `period` timed.
+    pub period: u32,
+    /// Rows per band.
+    pub band_rows: u32,
+    /// Rows run in detail before each timed band.
+    pub warm_rows: u32,
+    /// The first sampled middle band (the systematic sample's start).
+    pub start_band: u32,
+    /// Bands in the frame.
+    pub bands: u32,
+    /// Bands timed (sampled ones and the first and last).
+    pub bands_timed: u32,
+    /// Pixels in the frame.
+    pub pixels: u64,
+    /// Pixels that went through the pipeline (timed bands and their warming).
+    pub pixels_timed: u64,
+    /// Cycles simulated (timed segments and their drains).
+    pub cycles_simulated: u64,
+    /// The frame's estimated cycles (the report's `cycles` is this, rounded).
+    pub cycles_estimate: f64,
+    /// Its standard error.
+    pub cycles_std_error: f64,
+    /// Confidence of the interval.
+    pub confidence: f64,
+    /// Degrees of freedom of its t quantile.
+    pub degrees_of_freedom: u32,
+    /// Interval of the cycles.
+    pub cycles_low: f64,
+    /// Interval of the cycles.
+    pub cycles_high: f64,
+    /// Interval of the frame rate at the clock.
+    pub fps_low: f64,
+    /// Interval of the frame rate at the clock.
+    pub fps_high: f64,
+}
+
+/// Applies pixels `from..to` functionally (no cycle): each pixel's hit-buffer word is written
+/// into the BRAM, each node and attribute read of its walks (relocated to its asset) goes
+/// through the cache's tags, and the frame's counts take the pixel as written.
+pub fn warm_gap(
+    frame: &mut FrameInputs<'_>,
+    machine: &mut Machine,
+    counts: &mut FrameCounts,
+    (from, to): (u64, u64),
+) -> Result<(), CycleError> {
+    let width = u64::from(frame.setup.width.max(1));
+    for p in from..to {
+        frame.need_row((p / width) as usize)?;
+        let pixel = u32::try_from(p).map_err(internal)?;
+        let (row, pw, i) = frame.trace_at(pixel)?;
+        let word = row
+            .words
+            .get(i)
+            .copied()
+            .ok_or_else(|| internal(format!("row of pixel {p} has no word {i}")))?;
+        machine.bram.poke(p as usize, word).map_err(internal)?;
+        counts.written += 1;
+        if pw.reused {
+            counts.reused += 1;
+            continue;
+        }
+        let cands = row.candidates_of(pw);
+        if cands.is_empty() {
+            continue;
+        }
+        counts.walks_entered += 1;
+        if usize::from(pw.walk_len) < cands.len() {
+            counts.early += 1;
+        }
+        for (c, tw) in row.walks_of(pw).iter().enumerate() {
+            let k = cands.get(c).map_or(0, |&(_, k)| usize::from(k));
+            let asset = frame.instance_asset.get(k).copied().unwrap_or(0);
+            let nb = frame.layout.node_base.get(asset).copied().unwrap_or(0);
+            let ab = frame.layout.attr_base.get(asset).copied().unwrap_or(0);
+            for &o in row.ops_of(tw) {
+                let a = o as u32;
+                match o >> 32 {
+                    0 => {}
+                    1 => machine.mem.warm(FetchKind::Node, a.wrapping_add(nb)),
+                    2 => machine.mem.warm(FetchKind::Far, a.wrapping_add(nb)),
+                    _ => machine.mem.warm(FetchKind::Attr, a.wrapping_add(ab)),
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// SplitMix64: the sample's start from its seed.
+fn splitmix(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49eb_133e_b111);
+    x ^ (x >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn estimate_of_a_constant_sample_is_exact() {
+        let e = Estimate::of(100.0, &[10.0, 10.0, 10.0, 10.0], 4);
+        assert_eq!(e.total, 260.0);
+        assert_eq!((e.low, e.high), (260.0, 260.0));
+    }
+
+    #[test]
+    fn estimate_by_hand() {
+        // y = 1, 3, 2 with k = 2: T = 5 + 2·6 = 17; s² = (4 + 1)/(2·2) = 1.25;
+        // v = 4·3·0.5·1.25 = 7.5; t(2) = 4.303.
+        let e = Estimate::of(5.0, &[1.0, 3.0, 2.0], 2);
+        assert_eq!(e.total, 17.0);
+        assert!((e.std_error - 7.5f64.sqrt()).abs() < 1e-12);
+        assert!((e.high - (17.0 + 4.303 * 7.5f64.sqrt())).abs() < 1e-9);
+        assert_eq!(e.df, 2);
+    }
+
+    #[test]
+    fn t_quantile_is_continuous_past_the_table() {
+        assert!((t_975(30) - 2.042).abs() < 1e-3);
+        assert!((t_975(31) - 2.0395).abs() < 1e-3);
+        assert!((t_975(1000) - 1.9623).abs() < 1e-3);
+    }
+
+    #[test]
+    fn plan_covers_first_and_last_band_and_every_kth() {
+        let hw = HwConfig::default();
+        let cfg = SampleConfig {
+            period: 4,
+            band_rows: 2,
+            warm_rows: Some(1),
+            seed: 7,
+        };
+        let s = Sampler::plan(cfg, &hw, 0, 10, 40);
+        // 20 bands: 0, 19 and every 4th of 1..=18 from the start.
+        let mid: Vec<u32> = s
+            .bands
+            .iter()
+            .filter(|b| !b.certain)
+            .map(|b| b.index)
+            .collect();
+        assert!(mid.windows(2).all(|w| w[1] - w[0] == 4));
+        assert!(mid.len() >= 4);
+        assert_eq!(s.bands.first().map(|b| b.index), Some(0));
+        assert_eq!(s.bands.last().map(|b| b.index), Some(19));
+        // Segments are ordered and disjoint, start at 0 and end at the last pixel.
+        assert_eq!(s.segments.first().map(|x| x.0), Some(0));
+        assert_eq!(s.segments.last().map(|x| x.1), Some(400));
+        assert!(s.segments.windows(2).all(|w| w[0].1 < w[1].0));
+    }
+}
+
+/// The sampled estimate of a whole run (the report's `summary.sampled`): frames are sampled
+/// independently, so their cycles' variances add; the run's interval has half-width
+/// √Σ hᵢ², hᵢ each frame's half-width (each frame's t quantile kept, which is conservative).
+#[derive(Clone, Debug, Serialize)]
+pub struct SampledSummary {
+    /// How each frame was sampled.
+    pub method: String,
+    /// Estimated cycles over all frames.
+    pub cycles_estimate: f64,
+    /// 95 % interval.
+    pub cycles_low: f64,
+    /// 95 % interval.
+    pub cycles_high: f64,
+    /// Frames per second at the clock from the estimate.
+    pub fps: f64,
+    /// 95 % interval.
+    pub fps_low: f64,
+    /// 95 % interval.
+    pub fps_high: f64,
+}
+
+impl SampledSummary {
+    /// Of the sampled frames `frames` at `clock_mhz`; `None` when no frame was sampled.
+    pub fn of(frames: &[&SampledCycles], clock_mhz: u32) -> Option<Self> {
+        let first = frames.first()?;
+        let total: f64 = frames.iter().map(|f| f.cycles_estimate).sum();
+        let half = frames
+            .iter()
+            .map(|f| ((f.cycles_high - f.cycles_low) / 2.0).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let rate = frames.len() as f64 * f64::from(clock_mhz) * 1e6;
+        let (low, high) = (total - half, total + half);
+        Some(Self {
+            method: first.method.clone(),
+            cycles_estimate: total,
+            cycles_low: low,
+            cycles_high: high,
+            fps: rate / total.max(1.0),
+            fps_low: rate / high.max(1.0),
+            fps_high: rate / low.max(1.0),
+        })
+    }
+}

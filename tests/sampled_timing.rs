@@ -1,0 +1,67 @@
+//! Sampled timing (`--sample`, docs/cycle-model.md §3.5): on small cases — the default car
+//! with a still and a moving camera, and the small machine of the golden reports — the full
+//! model's cycles lie in every frame's 95 % interval, and the sample plan is deterministic
+//! (the same seed gives the same estimate).
+
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::datapath::DatapathConfig;
+use svo_sim::models::cycle::sample::SampleConfig;
+use svo_sim::models::cycle::validate::compare;
+use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
+use svo_sim::world::scene::Scene;
+
+fn small_hw() -> HwConfig {
+    let text = std::fs::read_to_string("tests/golden/small_hw.ron").unwrap();
+    ron::from_str(&text).unwrap()
+}
+
+#[test]
+fn full_cycles_lie_in_the_sampled_interval() {
+    let mut scene = Scene::default_car().unwrap();
+    scene.set_resolution(320, 192).unwrap();
+    scene.set_frames(2).unwrap();
+    let depths = effective_depths(&scene, Some(8)).unwrap();
+    let assets = build_assets(&scene, &depths, Materialise::Auto).unwrap();
+    let dp = DatapathConfig::default();
+    let mut hw_small = small_hw();
+    hw_small.frame = HwConfig::default().frame;
+    // 320 wide: bands of 2 rows, one in 4, 2 rows of warming.
+    let cfg = SampleConfig {
+        period: 4,
+        band_rows: 2,
+        warm_rows: Some(2),
+        seed: 3,
+    };
+    for (name, hw, reuse) in [
+        ("default hardware, still camera", HwConfig::default(), true),
+        (
+            "default hardware, moving camera",
+            HwConfig::default(),
+            false,
+        ),
+        ("small machine, still camera", hw_small, true),
+    ] {
+        let rows = compare(&scene, &assets, &dp, &hw, reuse, cfg).unwrap();
+        for r in &rows {
+            println!(
+                "{name}, frame {}: full {} estimate {:.0} [{:.0}, {:.0}] error {:+.2}%",
+                r.frame,
+                r.full_cycles,
+                r.estimate,
+                r.low,
+                r.high,
+                100.0 * r.error()
+            );
+            assert!(
+                r.covered(),
+                "{name}, frame {}: full cycles outside the interval",
+                r.frame
+            );
+            assert!(r.high > r.low, "{name}: an interval of zero width");
+        }
+        let again = compare(&scene, &assets, &dp, &hw, reuse, cfg).unwrap();
+        for (a, b) in rows.iter().zip(&again) {
+            assert_eq!((a.estimate, a.low, a.high), (b.estimate, b.low, b.high));
+        }
+    }
+}
