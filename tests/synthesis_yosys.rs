@@ -5,7 +5,7 @@
 //! needs its calibration in `rtl_model/src/cost/fabric.rs` updated); every unit has timed
 //! stages. Results are cached in the target folder by a hash of the script, the unit's line,
 //! its files and the Yosys version, so only changed units are synthesised again (all ten, two
-//! workers, took 754 s uncached on the loaded 2-core machine, the sorter alone one worker's
+//! workers, took 245 s uncached on the quiet 2-core machine, the sorter alone one worker's
 //! whole run; about 1 s from the cache).
 //!
 //! Without `yosys` the test prints why and skips; with `CI=true` a missing `yosys` fails
