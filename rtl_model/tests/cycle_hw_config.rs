@@ -115,7 +115,7 @@ fn unit_latencies_equal_the_unit_functions() {
         u.transform.latency_cycles,
         transform::latency_cycles(&dp.transform)
     );
-    assert_eq!(u.transform.latency_cycles, 8);
+    assert_eq!(u.transform.latency_cycles, 9);
     assert_eq!(
         u.walker_root.latency_cycles,
         walker::root_latency_cycles(&dp.walker)
