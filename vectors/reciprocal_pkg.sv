@@ -4,7 +4,7 @@
 package reciprocal_vectors_pkg;
   localparam int WORD_BITS = 89;  // bits per row
   localparam int DEPTH = 317;  // rows
-  localparam int LATENCY = 23;  // cycles, the model's default configuration
+  localparam int LATENCY = 26;  // cycles, the model's default configuration
   localparam int II = 1;  // initiation interval, cycles
   localparam int ADVERSARIAL_FIRST = 0;
   localparam int ADVERSARIAL_COUNT = 285;

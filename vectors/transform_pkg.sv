@@ -4,7 +4,7 @@
 package transform_vectors_pkg;
   localparam int WORD_BITS = 845;  // bits per row
   localparam int DEPTH = 92;  // rows
-  localparam int LATENCY = 8;  // cycles, the model's default configuration
+  localparam int LATENCY = 9;  // cycles, the model's default configuration
   localparam int II = 1;  // initiation interval, cycles
   localparam int ADVERSARIAL_FIRST = 0;
   localparam int ADVERSARIAL_COUNT = 60;

@@ -8,18 +8,22 @@
 // entries in uQ0.10 (loaded from reciprocal_seed.hex, which `sim vectors` generates from the
 // model), 2 iterations.
 //
-// Stages (rtl_model units::reciprocal::latency_cycles, 23 cycles, II = 1):
+// Stages (rtl_model units::reciprocal::latency_cycles, 26 cycles, II = 1; every stage within
+// the clock rule at 300 MHz, docs/cycle-model.md §1.5):
 //   1        sign (the code's, or sign_negative for code 0), a = |d|, zero = a <= 2^9
-//   2        leading-zero count, normalise: m = {32 normalised bits, 0} (uQ1.32), idx = the
-//            8 bits after the leading one
-//   3        y0 = ROM[idx] (uQ0.10; its value in uQ1.32 is y0 * 2^22)
-//   4..12    iteration 1: P = m*y (4), q = 2 - floor(P) (1), Y = y*q (4), y = floor(Y); the
+//   2        leading-zero count lz of a
+//   3        normalise: m = {32 normalised bits, 0} (uQ1.32), idx = the 8 bits after the
+//            leading one
+//   4        y0 = ROM[idx] (uQ0.10; its value in uQ1.32 is y0 * 2^22)
+//   5..13    iteration 1: P = m*y (4), q = 2 - floor(P) (1), Y = y*q (4), y = floor(Y); the
 //            seed enters its two products as the 10-bit code (33 x 10 and 10 x 33 bits), the
 //            shift by 22 folded into the truncations, so they are narrow multipliers
-//   13..21   iteration 2, the same on 33-bit y (33 x 33 bits)
-//   22       +-y * 2^(lead - 30) to 30 fraction bits: a left shift, or a right shift of up to
-//            3 bits rounded half to even
-//   23       saturate to 52 bits (flagged); zero components give +-max
+//   14..22   iteration 2, the same on 33-bit y (33 x 33 bits)
+//   23       sign: code = +-y
+//   24       denormalise: code * 2^(lead - 30) to 30 fraction bits, a left shift, or a right
+//            shift of up to 3 bits with its round-half-to-even increment decided
+//   25       the increment added
+//   26       saturate to 52 bits (flagged); zero components give +-max
 `timescale 1ns/1ps
 `default_nettype none
 module svo_reciprocal #(
@@ -40,7 +44,7 @@ module svo_reciprocal #(
     localparam G = 32;                   // mantissa fraction bits (output fraction bits + 2)
     localparam SEED = 10;                // seed code bits, uQ0.10
     localparam PROD = 4;                 // cycles of one multi-slice DSP product
-    localparam LATENCY = 23;
+    localparam LATENCY = 26;
 
     reg [9:0] rom [0:255];               // seed entries, uQ0.10
     initial if (SEED_FILE != "") $readmemh(SEED_FILE, rom);
@@ -59,7 +63,8 @@ module svo_reciprocal #(
         zero1 <= a_now <= 32'd512;                            // |d| <= 2^-21
     end
 
-    // ---- Stage 2: normalise. ---------------------------------------------------------------
+    // ---- Stage 2: leading-zero count. ----------------------------------------------------
+    // Its own stage: the count and the 32-bit shift by it are too deep for one cycle.
     function [5:0] lzc32(input [31:0] v);
         integer i;
         begin
@@ -68,91 +73,126 @@ module svo_reciprocal #(
                 if (v[i]) lzc32 = 6'd31 - i[5:0];
         end
     endfunction
-    wire [5:0]  lz      = lzc32(a1);
-    wire [31:0] norm    = a1 << lz;
-    reg  [G:0]  m2;
-    reg  [7:0]  idx2;
-    reg  [4:0]  lead2;
+    reg  [5:0]  lz2;
+    reg  [31:0] a2;
     reg         neg2, zero2, flushed2;
     always @(posedge clk) begin
-        m2       <= {norm, 1'b0};
-        idx2     <= norm[30:23];
-        lead2    <= 5'd31 - lz[4:0];
+        lz2      <= lzc32(a1);
+        a2       <= a1;
         neg2     <= neg1;
         zero2    <= zero1;
         flushed2 <= zero1 && (a1 != 32'd0);
     end
 
-    // ---- Stage 3: seed ROM (registered read). --------------------------------------------
-    reg [SEED-1:0] y3;
-    reg [G:0]      m3;
+    // ---- Stage 3: normalise. ---------------------------------------------------------------
+    wire [31:0] norm    = a2 << lz2;
+    reg  [G:0]  m3;
+    reg  [7:0]  idx3;
+    reg  [4:0]  lead3;
+    reg         neg3, zero3, flushed3;
     always @(posedge clk) begin
-        y3 <= rom[idx2];                                      // uQ0.10 (= y0 * 2^22 in uQ1.32)
-        m3 <= m2;
+        m3       <= {norm, 1'b0};
+        idx3     <= norm[30:23];
+        lead3    <= 5'd31 - lz2[4:0];
+        neg3     <= neg2;
+        zero3    <= zero2;
+        flushed3 <= flushed2;
     end
 
-    // ---- Stages 4..21: two Newton-Raphson iterations. ------------------------------------
-    wire [G:0] y12, y21;
-    wire [G:0] m12;
+    // ---- Stage 4: seed ROM (registered read). --------------------------------------------
+    reg [SEED-1:0] y4;
+    reg [G:0]      m4;
+    always @(posedge clk) begin
+        y4 <= rom[idx3];                                      // uQ0.10 (= y0 * 2^22 in uQ1.32)
+        m4 <= m3;
+    end
+
+    // ---- Stages 5..22: two Newton-Raphson iterations. ------------------------------------
+    wire [G:0] y13, y22;
+    wire [G:0] m13;
     // The last iteration's m output is not needed (only y goes on); the port stays so that
     // both iterations are one module.
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [G:0] m21;
+    wire [G:0] m22;
     /* verilator lint_on UNUSEDSIGNAL */
     svo_newton_step #(.G(G), .YW(SEED), .YF(SEED), .PROD(PROD)) it1 (
-        .clk(clk), .m_in(m3), .y_in(y3), .m_out(m12), .y_out(y12));
+        .clk(clk), .m_in(m4), .y_in(y4), .m_out(m13), .y_out(y13));
     svo_newton_step #(.G(G), .YW(G + 1), .YF(G), .PROD(PROD)) it2 (
-        .clk(clk), .m_in(m12), .y_in(y12), .m_out(m21), .y_out(y21));
-    wire [4:0] lead21;
-    wire       neg21, zero21, flushed21;
-    svo_delay #(.W(8), .D(19)) side21 (
-        .clk(clk), .rst(1'b0), .d({lead2, neg2, zero2, flushed2}),
-        .q({lead21, neg21, zero21, flushed21}));
+        .clk(clk), .m_in(m13), .y_in(y13), .m_out(m22), .y_out(y22));
+    wire [4:0] lead22;
+    wire       neg22, zero22, flushed22;
+    svo_delay #(.W(8), .D(19)) side22 (
+        .clk(clk), .rst(1'b0), .d({lead3, neg3, zero3, flushed3}),
+        .q({lead22, neg22, zero22, flushed22}));
 
-    // ---- Stage 22: denormalise and round. -------------------------------------------------
-    wire signed [G+1:0] code = neg21 ? -$signed({1'b0, y21}) : $signed({1'b0, y21});
-    reg  signed [57:0] val22;
-    reg                neg22, zero22, flushed22;
+    // ---- Stage 23: sign. --------------------------------------------------------------------
+    reg  signed [G+1:0] code23;
+    reg         [4:0]   lead23;
+    reg                 neg23, zero23, flushed23;
+    always @(posedge clk) begin
+        code23    <= neg22 ? -$signed({1'b0, y22}) : $signed({1'b0, y22});
+        lead23    <= lead22;
+        neg23     <= neg22;
+        zero23    <= zero22;
+        flushed23 <= flushed22;
+    end
+
+    // ---- Stage 24: denormalise; the rounding increment decided. ----------------------------
     reg         [1:0]  s;
     reg  signed [G+1:0] fl;
     reg         [2:0]  rem, half;
     always @(*) begin
         s    = 2'd0;
-        fl   = code;
+        fl   = code23;
         rem  = 3'd0;
         half = 3'd0;
-        if (lead21 > 5'd28) begin
-            s    = lead21[1:0];                               // lead21 - 28 = 1..3 (28 = 0 mod 4)
-            fl   = code >>> s;
-            rem  = code[2:0] & ((3'd1 << s) - 3'd1);
+        if (lead23 > 5'd28) begin
+            s    = lead23[1:0];                               // lead - 28 = 1..3 (28 = 0 mod 4)
+            fl   = code23 >>> s;
+            rem  = code23[2:0] & ((3'd1 << s) - 3'd1);
             half = 3'd1 << (s - 2'd1);
         end
     end
-    wire up = (lead21 > 5'd28) && ((rem > half) || (rem == half && fl[0]));
+    wire up = (lead23 > 5'd28) && ((rem > half) || (rem == half && fl[0]));
+    reg  signed [57:0] sh24;
+    reg                up24, neg24, zero24, flushed24;
     always @(posedge clk) begin
-        if (lead21 > 5'd28)
-            val22 <= $signed({{(56 - G){fl[G+1]}}, fl} + {57'd0, up});
+        if (lead23 > 5'd28)
+            sh24 <= $signed({{(56 - G){fl[G+1]}}, fl});
         else
-            val22 <= $signed({{(56 - G){code[G+1]}}, code} << (5'd28 - lead21));
-        neg22     <= neg21;
-        zero22    <= zero21;
-        flushed22 <= flushed21;
+            sh24 <= $signed({{(56 - G){code23[G+1]}}, code23} << (5'd28 - lead23));
+        up24      <= up;
+        neg24     <= neg23;
+        zero24    <= zero23;
+        flushed24 <= flushed23;
     end
 
-    // ---- Stage 23: saturate; zero components. --------------------------------------------
+    // ---- Stage 25: the increment added. -------------------------------------------------
+    // A separate stage: the 58-bit carry chain after the shift and the decision would not
+    // fit one cycle.
+    reg  signed [57:0] val25;
+    reg                neg25, zero25, flushed25;
+    always @(posedge clk) begin
+        val25     <= sh24 + $signed({57'd0, up24});
+        neg25     <= neg24;
+        zero25    <= zero24;
+        flushed25 <= flushed24;
+    end
+
+    // ---- Stage 26: saturate; zero components. --------------------------------------------
     localparam signed [57:0] MAX = 58'sd2251799813685247;   //  2^51 - 1
     localparam signed [57:0] MIN = -58'sd2251799813685248;  // -2^51
-    wire sat_hi = val22 > MAX;
-    wire sat_lo = val22 < MIN;
+    wire sat_hi = val25 > MAX;
+    wire sat_lo = val25 < MIN;
     always @(posedge clk) begin
-        out_zero     <= zero22;
-        out_negative <= neg22;
-        out_flushed  <= flushed22;
-        if (zero22) begin
-            out_inv <= neg22 ? 52'h8_0000_0000_0001 : 52'h7_ffff_ffff_ffff;
+        out_zero     <= zero25;
+        out_negative <= neg25;
+        out_flushed  <= flushed25;
+        if (zero25) begin
+            out_inv <= neg25 ? 52'h8_0000_0000_0001 : 52'h7_ffff_ffff_ffff;
             out_ov  <= 1'b0;
         end else begin
-            out_inv <= sat_hi ? 52'h7_ffff_ffff_ffff : sat_lo ? 52'h8_0000_0000_0000 : val22[51:0];
+            out_inv <= sat_hi ? 52'h7_ffff_ffff_ffff : sat_lo ? 52'h8_0000_0000_0000 : val25[51:0];
             out_ov  <= sat_hi | sat_lo;
         end
     end

@@ -25,10 +25,10 @@ pub mod calibration {
     /// `svo_sphere` without its square root: (4330 + 1025 SRL) − sqrt's 2078 LUT,
     /// 2130 − 1531 FF.
     pub const SPHERE: (u64, u64) = (3277, 599);
-    /// `svo_transform`: 3500 LUT + 1233 SRL, 1582 FF.
-    pub const TRANSFORM: (u64, u64) = (4733, 1582);
-    /// `svo_reciprocal`: 1106 LUT + 215 SRL, 309 FF.
-    pub const RECIPROCAL: (u64, u64) = (1321, 309);
+    /// `svo_transform` (9 stages): 3522 LUT + 1233 SRL, 1820 FF.
+    pub const TRANSFORM: (u64, u64) = (4755, 1820);
+    /// `svo_reciprocal` (26 stages): 891 LUT + 216 SRL, 442 FF.
+    pub const RECIPROCAL: (u64, u64) = (1107, 442);
     /// `svo_walker_root`: 3476 LUT, 5208 FF.
     pub const WALKER_ROOT: (u64, u64) = (3476, 5208);
     /// `svo_walker` (one context, its 21-frame stack in 50 RAM32M16): 6389 + 400 LUT,

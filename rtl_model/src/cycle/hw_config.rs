@@ -133,7 +133,7 @@ pub struct UnitTimings {
     pub sorter: UnitTiming,
     /// Transform into an instance's frame (`units::transform::latency_cycles`, 8 by default).
     pub transform: UnitTiming,
-    /// One reciprocal 1/d: `units::reciprocal::latency_cycles`, 23 by default.
+    /// One reciprocal 1/d: `units::reciprocal::latency_cycles`, 26 by default.
     pub reciprocal: UnitTiming,
     /// Root slabs of a walk, t = (±e − o)·(1/|d|) on three axes and the entry test
     /// (`units::walker::root_latency_cycles`, 8 by default).

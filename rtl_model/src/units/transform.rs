@@ -202,11 +202,13 @@ pub fn dsp48e2_count(cfg: &TransformConfig) -> u32 {
 }
 
 /// Latency of the transform unit, as stages: o − c (1); the 18 products in parallel (one
-/// product); the dot sum (p_x + p_y) + p_z (2); rounding and saturation (1). 8 for the
-/// default.
+/// product); the dot sum (p_x + p_y) + p_z (2); the rounding increment and the saturation
+/// decided on the floor (1); the increment added and saturated (1) — two stages so that
+/// every stage of `svo_transform.v` meets the clock rule at 300 MHz (docs/cycle-model.md
+/// §1.5). 9 for the default.
 pub fn latency_cycles(cfg: &TransformConfig) -> u32 {
     let [rel, dir] = products(cfg);
-    1 + rel.latency_cycles().max(dir.latency_cycles()) + 2 + 1
+    1 + rel.latency_cycles().max(dir.latency_cycles()) + 2 + 2
 }
 
 /// Latency of a transform unit without products (no instance rotates, the hardware's

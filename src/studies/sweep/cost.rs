@@ -23,14 +23,14 @@ mod tests {
         let hw = HwConfig::for_datapath(&dp);
         assert_eq!(hw, HwConfig::default());
         let c = cost(&dp, &hw).unwrap();
-        // docs/cycle-model.md: sphere 15 + sqrt 32, transform 8, reciprocal 23, root 8.
+        // docs/cycle-model.md: sphere 15 + sqrt 32, transform 9, reciprocal 26, root 8.
         assert_eq!(
             c.latency,
             UnitLatencies {
                 sphere: 15,
                 sqrt: 32,
-                transform: 8,
-                reciprocal: 23,
+                transform: 9,
+                reciprocal: 26,
                 walker_root: 8
             }
         );

@@ -308,6 +308,6 @@ mod tests {
             neg_zero > 0 && sat > 0,
             "-0 cases {neg_zero}, saturations {sat}"
         );
-        assert_eq!(st.latency, 8);
+        assert_eq!(st.latency, 9);
     }
 }
