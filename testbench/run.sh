@@ -20,6 +20,10 @@
 # WALKER_ARGS adds plusargs to those runs (e.g. "+first=0 +count=2000"); WALKER_LATENCIES
 # chooses the runs (default "0 1 2"). Its Verilator build uses the folder's own packages (its
 # memory images differ per table), so it is cached per vector folder's packages.
+# The frame (tb_frame.sv, not in the default list: run it by name) chains every unit over the
+# folder's end-to-end frame (frame_*.hex) with the image bases of walker.json; FRAME_ARGS adds
+# plusargs (e.g. "+model_cycles=N +latency=3", the cycle model's frame cycles to meet). Its
+# Verilator build, like the walker's, uses the folder's own packages.
 # Needs iverilog and vvp (apt-get install iverilog), or verilator 5 (apt-get install verilator).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -103,6 +107,8 @@ verilator_build() {
     local pkgs=("$pkg")
     if [ "$u" = walker ]; then
         pkgs=("$vec/walker_pkg.sv" "$vec/walker_visits_pkg.sv")
+    elif [ "$u" = frame ]; then
+        pkgs=("${frame_pkgs[@]}")
     else
         sed -E -e "s/^( *localparam int DEPTH = )[0-9]+;.*/\1$capacity;  \/\/ capacity (run.sh)/" \
             -e '/^ *localparam int [A-Z]+_(FIRST|COUNT) = /d' "$vec/${u}_pkg.sv" >"$pkg"
@@ -129,10 +135,23 @@ verilator_build() {
     echo "$dir/Vtb_$u"
 }
 
+# The frame's packages, and the plusargs of its images' memory bases (walker.json's
+# parameters.images, whose keys are written sorted: attr_base, index, node_base).
+frame_pkgs=("$vec/frame_pixels_pkg.sv" "$vec/frame_instances_pkg.sv" "$vec/frame_camera_pkg.sv"
+    "$vec/walker_pkg.sv")
+frame_bases() {
+    sed -n '/"images": \[/,/^    \]/p' "$vec/walker.json" | awk -F': ' '
+        /"attr_base"/ { a = $2 + 0 }
+        /"index"/ { i = $2 + 0 }
+        /"node_base"/ { printf "+nb%d=%d +ab%d=%d ", i, $2 + 0, i, a }'
+}
+
 status=0
 for u in "${units[@]}"; do
     echo "== $u ($sim): testbench/tb/tb_$u.sv, vectors $vec/$u.hex"
-    if [ ! -f "$here/tb/tb_$u.sv" ] || [ ! -f "$vec/${u}_pkg.sv" ]; then
+    pkg0="$vec/${u}_pkg.sv"
+    if [ "$u" = frame ]; then pkg0="$vec/frame_pixels_pkg.sv"; fi
+    if [ ! -f "$here/tb/tb_$u.sv" ] || [ ! -f "$pkg0" ]; then
         echo "run.sh: no testbench or package for unit '$u'" >&2
         status=1
         continue
@@ -143,12 +162,18 @@ for u in "${units[@]}"; do
         pkgs+=("$vec/walker_visits_pkg.sv")
         runs=()
         for k in ${WALKER_LATENCIES:-0 1 2}; do runs+=("+latency=$k ${WALKER_ARGS:-}"); done
+    elif [ "$u" = frame ]; then
+        pkgs=("${frame_pkgs[@]}")
+        runs=("$(frame_bases) ${FRAME_ARGS:-}")
     fi
     if [ "$sim" = icarus ]; then
         # -Wno-sensitivity-entire-array: the walker's @* blocks read small per-axis arrays whole.
         iverilog -g2012 -Wall -Wno-sensitivity-entire-array -I "$here/tb" -o "$build/tb_$u" \
             "${pkgs[@]}" "$here"/rtl/*.v "$here/tb/tb_$u.sv"
         cmd=(vvp -n "$build/tb_$u" "+vectors=$vec")
+    elif [ "$u" = frame ]; then
+        bin="$(verilator_build "$u")" || { status=1; continue; }
+        cmd=("$bin" "+vectors=$vec")
     else
         rows="$(grep -cv -e '^//' -e '^$' "$vec/$u.hex" || true)"
         depth="$(sed -nE 's/^ *localparam int DEPTH = ([0-9]+);.*/\1/p' "$vec/${u}_pkg.sv")"

@@ -521,3 +521,179 @@ fn one_corrupted_walker_value_is_exactly_one_failure() {
         "the failure does not name row {row} and steps:\n{text}"
     );
 }
+
+/// The hardware of the end-to-end frame (tb_frame.sv): one walker with one context, and every
+/// node read and attribute read taking `FRAME_MEM_LATENCY` cycles (the on-chip store and the
+/// cache at 3; DRAM at 2, so an attribute miss plus its beat is 3), as the testbench's node
+/// memory. Every other parameter (unit latencies, FIFO depths, the hit buffer) is the default.
+const FRAME_HW: &str = "(walker_pool: (walkers: 1, contexts_per_walker: 1), node_memory: (onchip: (levels: 21, max_bytes: 16777216, latency: 3), cache: (hit_latency: 3), dram: (latency: 2)))";
+const FRAME_MEM_LATENCY: u64 = 3;
+
+/// The cycle model's cycles for frame 0 of the default scene at this size and depth on
+/// `FRAME_HW`, from `sim --report-json` (the test's own run of the model).
+fn model_frame_cycles(t: &Tmp, width: &str, height: &str, depth: &str) -> u64 {
+    let hw = t.dir.join("frame_hw.ron");
+    std::fs::write(&hw, FRAME_HW).expect("write the frame's hardware RON");
+    let rep = t.p(&format!("frame_{width}x{height}_report.json"));
+    let hw = hw.display().to_string();
+    let args = [
+        "--width",
+        width,
+        "--height",
+        height,
+        "--depth",
+        depth,
+        "--frames",
+        "1",
+        "--hw",
+        &hw,
+        "--no-prune",
+        "--report-json",
+        &rep,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&rep).expect("read the report"))
+            .expect("parse the report");
+    j["frames"][0]["cycles"]
+        .as_u64()
+        .unwrap_or_else(|| panic!("no frames[0].cycles in the report of sim {args:?}"))
+}
+
+/// One frame run: (pixels equal, pixels, RTL cycles, passed, failed, everything printed).
+fn frame_run(sim: &str, dir: &Path, args: &str) -> (u64, u64, u64, u64, u64, String) {
+    let out = Command::new("bash")
+        .arg(repo().join("testbench/run.sh"))
+        .args(["--sim", sim])
+        .env("SIM_CACHE", sim_cache())
+        .env("FRAME_ARGS", args)
+        .arg(dir)
+        .arg("frame")
+        .output()
+        .expect("run testbench/run.sh");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let nums = |l: &str| -> Vec<u64> {
+        l.split(|c: char| !c.is_ascii_digit())
+            .filter_map(|s| s.parse().ok())
+            .collect()
+    };
+    let summary = text.lines().find(|l| l.starts_with("frame: ")).map(nums);
+    let last = text
+        .lines()
+        .rev()
+        .find(|l| l.ends_with(" failed") && l.contains(" passed, "))
+        .map(nums);
+    match (summary, last) {
+        (Some(s), Some(l)) if s.len() >= 3 && l.len() == 2 => (s[0], s[1], s[2], l[0], l[1], text),
+        _ => panic!("frame ({sim}): no \"frame: …\" and \"N passed, N failed\" lines:\n{text}"),
+    }
+}
+
+/// The end-to-end frame in both simulators: every pixel's hit-buffer word (and candidates,
+/// walks, hit, t, voxel) equals frame_pixels.hex and the frame takes the cycle model's cycles
+/// exactly. Verilator runs the 32 × 24 frame at depth 5 (about 2 s once built),
+/// Icarus the golden set's 16 × 10 frame at depth 4 (Icarus runs this top at a few hundred
+/// cycles a second, so the 32 × 24 frame would take minutes there).
+#[test]
+fn frame_end_to_end_matches_pixels_and_model_cycles() {
+    let sims = simulators();
+    if sims.is_empty() {
+        return;
+    }
+    let t = Tmp::new("rtl_frame");
+    let golden = repo().join("vectors");
+    let mut jobs: Vec<(&str, PathBuf, u64)> = Vec::new();
+    for &sim in &sims {
+        if sim == "icarus" {
+            jobs.push((sim, golden.clone(), model_frame_cycles(&t, "16", "10", "4")));
+        } else {
+            let args = [
+                "vectors",
+                "--out",
+                &t.p("v32"),
+                "--count",
+                "32",
+                "--seed",
+                SEED,
+                "--width",
+                "32",
+                "--height",
+                "24",
+                "--depth",
+                "5",
+            ];
+            let r = run_sim(&args, None, Duration::from_secs(300));
+            assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+            jobs.push((
+                sim,
+                t.dir.join("v32"),
+                model_frame_cycles(&t, "32", "24", "5"),
+            ));
+        }
+    }
+    let results: Vec<_> = std::thread::scope(|s| {
+        let handles: Vec<_> = jobs
+            .iter()
+            .map(|(sim, dir, model)| {
+                s.spawn(move || {
+                    let start = std::time::Instant::now();
+                    let args = format!("+model_cycles={model} +latency={FRAME_MEM_LATENCY}");
+                    let r = frame_run(sim, dir, &args);
+                    (*sim, *model, r, start.elapsed().as_secs_f64())
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("frame thread"))
+            .collect()
+    });
+    for (sim, model, (equal, pixels, rtl, passed, failed, text), secs) in results {
+        println!(
+            "frame {sim}: {equal}/{pixels} pixels equal, RTL {rtl} cycles, model {model} cycles, {passed} passed, {failed} failed, {secs:.1} s (build included)"
+        );
+        assert_eq!((equal, failed), (pixels, 0), "frame ({sim}):\n{text}");
+        assert_eq!(rtl, model, "frame ({sim}): RTL cycles:\n{text}");
+        assert_eq!(passed, pixels + 1, "frame ({sim}):\n{text}");
+    }
+}
+
+/// One bit of one pixel's expected hit-buffer word flipped: exactly that pixel fails.
+#[test]
+fn one_corrupted_frame_pixel_is_exactly_one_failure() {
+    if !icarus() {
+        return;
+    }
+    let golden = repo().join("vectors");
+    let t = Tmp::new("corrupt_frame");
+    for e in std::fs::read_dir(&golden).expect("list the golden set") {
+        let p = e.expect("a golden file").path();
+        if p.is_file() {
+            std::fs::copy(&p, t.dir.join(p.file_name().expect("a file name")))
+                .expect("copy a golden file");
+        }
+    }
+    let m = manifest(&t.dir, "frame_pixels");
+    let (off, w, _) = field(&m, "word");
+    let mut r = rows(&t.dir, "frame_pixels");
+    let pixels = r.len() as u64;
+    let row = 77usize.min(r.len() - 1);
+    r[row] = flip(&r[row], off + w / 3);
+    let text = std::fs::read_to_string(t.dir.join("frame_pixels.hex")).expect("hex");
+    let header: Vec<&str> = text.lines().take_while(|l| l.starts_with("//")).collect();
+    let body = [header.join("\n"), r.join("\n")].join("\n") + "\n";
+    std::fs::write(t.dir.join("frame_pixels.hex"), body).expect("write the corrupted rows");
+    let (equal, _, _, passed, failed, text) =
+        frame_run("icarus", &t.dir, &format!("+latency={FRAME_MEM_LATENCY}"));
+    println!("frame: one bit of pixel {row}'s word flipped: {equal}/{pixels} equal, {passed} passed, {failed} failed");
+    assert_eq!((passed, failed), (pixels - 1, 1), "{text}");
+    assert!(
+        text.contains(&format!("pixel {row}: word")),
+        "the failure does not name pixel {row}'s word:\n{text}"
+    );
+}

@@ -14,7 +14,7 @@ module svo_delay #(
     input  wire         clk,
     input  wire         rst,
     input  wire [W-1:0] d,
-    output wire [W-1:0] q
+    output reg  [W-1:0] q
 );
     reg [W-1:0] r [0:D-1];
     integer i;
@@ -26,6 +26,9 @@ module svo_delay #(
             for (i = 1; i < D; i = i + 1) r[i] <= r[i-1];
         end
     end
-    assign q = r[D-1];
+    // A combinational read rather than `assign q = r[D-1]`: in the end-to-end top
+    // (tb_frame.sv), Icarus 12 never re-evaluated that continuous assignment of an array word
+    // for some instances (q stayed x while r[D-1] was 0); the always block reads the same word.
+    always @* q = r[D-1];
 endmodule
 `default_nettype wire
