@@ -43,14 +43,19 @@ pub struct BenchArgs {
     scaling: Option<PathBuf>,
     /// With `--model cycle`: validate sampled timing (docs/cycle-model.md §3.5) at RATE
     /// against the full model on the matrix of cases (the scene given; moving camera; 1, 8,
-    /// 64 walkers; a 16 KiB cache; an external hit buffer; DRAM latency 240; and
-    /// scenes/vox_traffic.ron when the shared models are present): per frame the full fps,
-    /// the estimate, its 95 % interval, the error and the wall-time ratio.
+    /// 64 walkers; a 16 KiB cache; an external hit buffer; DRAM latency 240;
+    /// scenes/vox_traffic.ron when the shared models are present; scenes/moving_camera.ron):
+    /// per frame the full fps, the estimate, its 95 % interval, the error and the wall-time
+    /// ratio.
     #[arg(long, value_name = "RATE")]
     sample_validate: Option<f64>,
     /// Rows per band of --sample-validate.
     #[arg(long, value_name = "ROWS", default_value_t = svo_sim::models::cycle::sample::DEFAULT_BAND_ROWS)]
     sample_band: u32,
+    /// Rows of detailed warming of --sample-validate, fixed (default: sized per band in rays
+    /// that walk, docs/cycle-model.md §3.5).
+    #[arg(long, value_name = "ROWS", requires = "sample_validate")]
+    sample_warm: Option<u32>,
 }
 
 /// `sim bench --model cycle --sample-validate RATE`: the validation matrix.
@@ -59,7 +64,8 @@ fn sample_validate(a: &BenchArgs, scene: &Scene, assets: &[Asset], rate: f64) ->
     use svo_sim::models::cycle::validate::compare;
     let dp = load_datapath(a.datapath.as_deref())?;
     let base = load_hardware(a.hw.as_deref())?;
-    let cfg = SampleConfig::from_rate(rate, a.sample_band, None, 0).map_err(anyhow::Error::msg)?;
+    let cfg = SampleConfig::from_rate(rate, a.sample_band, a.sample_warm, 0)
+        .map_err(anyhow::Error::msg)?;
     let with = |f: &dyn Fn(&mut rtl_model::cycle::hw_config::HwConfig)| {
         let mut h = base.clone();
         f(&mut h);
@@ -129,17 +135,29 @@ fn sample_validate(a: &BenchArgs, scene: &Scene, assets: &[Asset], rate: f64) ->
         let rows = compare(scene, assets, &dp, hw, *reuse, cfg)?;
         print(name, hw, &rows);
     }
-    let vox = std::path::Path::new("scenes/vox_traffic.ron");
-    match Scene::load(vox) {
-        Ok(mut v) => {
+    for (name, file) in [
+        ("vox_traffic", "scenes/vox_traffic.ron"),
+        ("moving_camera", "scenes/moving_camera.ron"),
+    ] {
+        // A scene of the shared models is skipped with the reason when they are missing
+        // (`../shared/data` is not part of the repository).
+        let loaded = Scene::load(std::path::Path::new(file)).and_then(|mut v| {
             let (w, h) = scene.file.resolution;
             v.set_resolution(w, h)?;
             v.set_frames(scene.file.frames)?;
+            Ok(v)
+        });
+        let built = loaded.map_err(anyhow::Error::from).and_then(|v| {
             let va = build(&v, None, svo_sim::world::assets::Materialise::Auto)?;
-            let rows = compare(&v, &va, &dp, &base, true, cfg)?;
-            print("vox_traffic", &base, &rows);
+            Ok((v, va))
+        });
+        match built {
+            Ok((v, va)) => {
+                let rows = compare(&v, &va, &dp, &base, true, cfg)?;
+                print(name, &base, &rows);
+            }
+            Err(e) => println!("  {name} skipped: {e:#}"),
         }
-        Err(e) => println!("  vox_traffic skipped: {e}"),
     }
     println!(
         "  worst error {:.2}%; full figure outside the interval in {missed} frame(s)",

@@ -106,8 +106,9 @@ pub struct RunArgs {
     /// Rows per band of --sample.
     #[arg(long, value_name = "ROWS", default_value_t = svo_sim::models::cycle::sample::DEFAULT_BAND_ROWS, requires = "sample")]
     sample_band: u32,
-    /// Rows run in detail before each timed band of --sample (default: twice what the
-    /// pipeline holds, docs/cycle-model.md §3.5).
+    /// Rows run in detail before and after each timed band of --sample (default: sized
+    /// per band from the trace until the stretch holds twice what the pipeline holds in rays
+    /// that walk, docs/cycle-model.md §3.5).
     #[arg(long, value_name = "ROWS", requires = "sample")]
     sample_warm: Option<u32>,
     /// Seed of the sample's random start (--sample).

@@ -205,7 +205,7 @@ impl CycleModel {
         )?;
         if let Some(cfg) = self.sample {
             let s = Sampler::plan(cfg, &self.hw, self.frame, self.width, self.height);
-            pipeline = pipeline.with_sampler(s);
+            pipeline = pipeline.with_sampler(s)?;
         }
         while !pipeline.done() {
             pipeline.step()?;

@@ -40,7 +40,7 @@
 //! ([`Pipeline::check_hit_buffer`]).
 
 use super::model::{CycleError, Machine};
-use super::sample::{warm_gap, Sampler};
+use super::sample::{walking_in_row, warm_gap, Sampler};
 use super::stages::check::Check;
 use super::stages::passthrough::PassThrough;
 use super::stages::raygen::Raygen;
@@ -271,11 +271,13 @@ impl<'f> Pipeline<'f> {
 
     /// Times only the segments of `sampler`; the pixels between them are applied
     /// functionally once the pipeline has drained (docs/cycle-model.md §3.5).
-    pub fn with_sampler(mut self, sampler: Sampler) -> Self {
-        let (from, to) = sampler.first_segment();
-        self.raygen.jump(from, to);
+    pub fn with_sampler(mut self, mut sampler: Sampler) -> Result<Self, CycleError> {
+        let next = sampler.next_planned(&mut |j| walking_of(&mut self.frame, j))?;
+        if let Some((from, to)) = next {
+            self.raygen.jump(from, to);
+        }
         self.sampler = Some(sampler);
-        self
+        Ok(self)
     }
 
     /// The trace's rows received so far (all of them after the frame).
@@ -306,9 +308,10 @@ impl<'f> Pipeline<'f> {
         {
             return Ok(());
         }
-        if let Some((gap, end)) = s.advance() {
-            warm_gap(&mut self.frame, self.machine, &mut self.counts, gap)?;
-            self.raygen.jump(gap.1, end);
+        let next = s.next_planned(&mut |j| walking_of(&mut self.frame, j))?;
+        if let Some((from, to)) = next {
+            warm_gap(&mut self.frame, self.machine, &mut self.counts, (at, from))?;
+            self.raygen.jump(from, to);
         }
         Ok(())
     }
@@ -600,4 +603,14 @@ impl<'f> Pipeline<'f> {
             sim_wall_s,
         )
     }
+}
+
+/// The pixels of row `j` that walk, from the trace (waiting for the row if need be): what
+/// sizes sampled timing's detailed warming.
+fn walking_of(frame: &mut FrameInputs<'_>, j: u32) -> Result<u64, CycleError> {
+    frame.need_row(j as usize)?;
+    let row = frame.rows().get(j as usize).copied().ok_or_else(|| {
+        CycleError::Internal(format!("sampled timing: row {j} of the trace is missing"))
+    })?;
+    Ok(walking_in_row(row))
 }

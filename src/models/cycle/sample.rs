@@ -5,24 +5,28 @@
 //! Pipeline position: inside `model::CycleModel::run_frame`. The plan ([`Sampler::plan`])
 //! splits the frame into bands of `band_rows` rows; the first and last bands and every
 //! `period`-th band in between (from a seeded start) are *timed*. Each timed band is run
-//! through the pipeline together with `warm_rows` rows before it (detailed warming, so the
-//! FIFOs, ray slots, walker contexts and MSHRs hold the rays they would hold in a full run)
-//! and one pixel after it. Ray generation stops at the end of such a segment, the pipeline
-//! drains, and the pixels up to the next segment are applied functionally
-//! ([`warm_gap`]): their hit-buffer words are written into the BRAM and every node read of
-//! their walks goes through the cache's tags (LRU order, line installs), with no cycle.
+//! through the pipeline inside a segment that reaches back before it and on after it until the
+//! stretch holds enough rays that walk ([`Warming`]: detailed warming, so the FIFOs, ray
+//! slots, walker contexts and MSHRs hold the rays they would hold in a full run); segments are
+//! planned one at a time from the functional trace's rows ([`Sampler::next_planned`]). Ray
+//! generation stops at the end of a segment, the pipeline drains, and the pixels up to the
+//! next segment are applied functionally ([`warm_gap`]): their hit-buffer words are written
+//! into the BRAM and every node read of their walks goes through the cache's tags (LRU order,
+//! line installs), with no cycle.
 //!
-//! What is measured: `t_b`, the cycle in which ray generation accepts the first pixel of band
-//! `b`. In a full run the frame's cycles telescope, `C = Σ_b (t_{b+1} − t_b)` with `t_0` the
-//! frame's start and `t_B` its end, so each band has an increment `y_b = t_{b+1} − t_b`. A
-//! timed band measures its `y_b` (the extra pixel gives `t_{b+1}`); the estimator and its
-//! interval are in [`Estimate::of`].
+//! What is measured: `t_b`, the cycle at which the count of written pixels first reaches the
+//! first pixel of band `b`. In a full run the frame's cycles telescope, `C = Σ_b (t_{b+1} −
+//! t_b)` with `t_0` the frame's start and `t_B` its end, so each band has an increment
+//! `y_b = t_{b+1} − t_b`. A timed band measures its `y_b` (the warming after it gives
+//! `t_{b+1}`); the estimator and its interval are in [`Estimate::of`].
 
-use super::model::{CycleError, Machine};
-use super::stages::{internal, FrameCounts, FrameInputs};
+use super::model::CycleError;
+use super::stages::internal;
 use rtl_model::cycle::hw_config::HwConfig;
-use rtl_model::svo::FetchKind;
 use serde::Serialize;
+
+mod warm;
+pub use warm::{pipeline_capacity, walking_in_row, warm_gap, Warming, WARM_CAP_FACTOR};
 
 /// Options of sampled timing.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,7 +36,7 @@ pub struct SampleConfig {
     pub period: u32,
     /// Rows per band.
     pub band_rows: u32,
-    /// Rows run in detail before each timed band (`None`: [`SampleConfig::warm_rows_for`]).
+    /// Rows run in detail before each timed band (`None`: sized in rays that walk, [`SampleConfig::warming_for`]).
     pub warm_rows: Option<u32>,
     /// Seed of the systematic sample's random start (mixed with the frame number).
     pub seed: u64,
@@ -71,41 +75,29 @@ impl SampleConfig {
         })
     }
 
-    /// Rows of detailed warming before a timed band: enough rows to hold twice every ray the
-    /// pipeline can hold at once (FIFOs, ray slots and the unit pipes' latencies), so that when
-    /// ray generation reaches the band every queue holds rays of this frame's rows before it.
-    pub fn warm_rows_for(&self, hw: &HwConfig, width: u32) -> u32 {
+    /// Detailed warming around a timed band (docs/cycle-model.md §3.5): `(min_rows,
+    /// walking, max_rows)`. The stretch before a band (and the tail after it) grows row by row
+    /// until it has at least `min_rows` rows and holds `walking` rays that walk, but no more than
+    /// `max_rows` rows. `min_rows` holds twice every ray the pipeline can hold at once (FIFOs,
+    /// ray slots and the unit pipes' latencies); `walking` is that same count in rays that
+    /// walk, since the queue to be warmed is the rays waiting for walkers, and where few
+    /// pixels walk (hit-buffer reuse, sparse scenes) it spans many more rows; `max_rows` is
+    /// [`WARM_CAP_FACTOR`] times `min_rows`. `--sample-warm ROWS` fixes all three to ROWS rows.
+    pub fn warming_for(&self, hw: &HwConfig, width: u32) -> Warming {
         if let Some(w) = self.warm_rows {
-            return w;
+            return Warming {
+                min_rows: w,
+                walking: 0,
+                max_rows: w,
+            };
         }
-        let f = &hw.fifos;
-        let fifos = [
-            f.raygen_to_sphere,
-            f.sphere_to_sorter,
-            f.sorter_to_check,
-            f.check_to_transform,
-            f.transform_to_reciprocal,
-            f.reciprocal_to_root,
-            f.root_to_dispatch,
-            f.walker_to_record,
-            f.record_to_write,
-        ]
-        .iter()
-        .map(|&d| u64::from(d))
-        .sum::<u64>();
-        let slots = u64::from(hw.walker_pool.walkers * hw.walker_pool.contexts_per_walker);
-        let u = &hw.units;
-        let pipes = [
-            u.raygen.latency_cycles,
-            u.sphere.latency_cycles + u.sqrt.latency_cycles,
-            u.sorter.latency_cycles,
-            hw.hit_buffer_read_cycles() + u.hit_unpack.latency_cycles,
-        ]
-        .iter()
-        .map(|&l| u64::from(l))
-        .sum::<u64>();
-        let rays = 2 * (fifos + slots + pipes);
-        rays.div_ceil(u64::from(width.max(1))) as u32
+        let rays = 2 * pipeline_capacity(hw);
+        let min_rows = rays.div_ceil(u64::from(width.max(1))) as u32;
+        Warming {
+            min_rows,
+            walking: rays,
+            max_rows: min_rows.saturating_mul(WARM_CAP_FACTOR),
+        }
     }
 }
 
@@ -120,6 +112,8 @@ struct Band {
     next: Option<u64>,
     /// First and last band: timed in every frame (not part of the sample).
     certain: bool,
+    /// Its rows [r0, r1).
+    rows: (u32, u32),
 }
 
 /// The sample of one frame while it runs: the timed segments, where the pipeline is, and
@@ -127,14 +121,18 @@ struct Band {
 pub struct Sampler {
     cfg: SampleConfig,
     width: u32,
-    warm_rows: u32,
+    height: u32,
+    warming: Warming,
+    /// The most rows of detailed warming before a timed band so far.
+    warm_rows_max: u32,
     bands_total: u32,
     start_offset: u32,
     bands: Vec<Band>,
-    /// Pixel ranges [from, to) run through the pipeline, in order, disjoint.
+    /// Pixel ranges [from, to) run through the pipeline, in order, disjoint: planned one at a
+    /// time ([`Sampler::next_planned`]), since their warming depends on the trace's rows.
     segments: Vec<(u64, u64)>,
-    /// The segment ray generation is in.
-    seg: usize,
+    /// The first timed band not yet in a segment.
+    next_band: usize,
     /// Cycle at which the count of written pixels reached each mark (sorted).
     marks: Vec<(u64, Option<u64>)>,
     /// The first mark not yet reached.
@@ -149,12 +147,11 @@ impl Sampler {
         let w = u64::from(width);
         let rows = cfg.band_rows.max(1);
         let nb = height.div_ceil(rows).max(1);
-        let warm_rows = cfg.warm_rows_for(hw, width);
+        let warming = cfg.warming_for(hw, width);
         let k = cfg.period.max(1);
         let start_offset =
             (splitmix(cfg.seed ^ (u64::from(frame) << 32 | 0x5a5a)) % u64::from(k)) as u32;
         let mut bands = Vec::new();
-        let mut segments: Vec<(u64, u64)> = Vec::new();
         for b in 0..nb {
             let certain = b == 0 || b + 1 == nb;
             if !certain && (b - 1) % k != start_offset {
@@ -169,13 +166,8 @@ impl Sampler {
                 first,
                 next,
                 certain,
+                rows: (r0, r1),
             });
-            let from = u64::from(r0.saturating_sub(warm_rows)) * w;
-            let to = u64::from((r1 + warm_rows).min(height)) * w;
-            match segments.last_mut() {
-                Some(last) if from <= last.1 => last.1 = last.1.max(to),
-                _ => segments.push((from, to)),
-            }
         }
         let mut marks: Vec<(u64, Option<u64>)> = bands
             .iter()
@@ -188,27 +180,95 @@ impl Sampler {
         Self {
             cfg,
             width,
-            warm_rows,
+            height,
+            warming,
+            warm_rows_max: 0,
             bands_total: nb,
             start_offset,
             bands,
-            segments,
-            seg: 0,
+            segments: Vec::new(),
+            next_band: 0,
             marks,
             next_mark: 0,
             warmed: 0,
         }
     }
 
-    /// The first segment: (first pixel, end).
-    pub fn first_segment(&self) -> (u64, u64) {
-        self.segments.first().copied().unwrap_or((0, 0))
+    /// Plans the next segment and returns it (from, to), or `None` after the last one.
+    /// `walking(j)` is the number of pixels of row `j` that walk ([`walking_in_row`]). The
+    /// segment starts [`Warming`] rows before its first timed band (never before the previous
+    /// segment's end) and ends after the warming tail of its last one; a timed band whose
+    /// warming would reach back to the segment's end joins it.
+    pub fn next_planned(
+        &mut self,
+        walking: &mut dyn FnMut(u32) -> Result<u64, CycleError>,
+    ) -> Result<Option<(u64, u64)>, CycleError> {
+        let Some(first) = self.bands.get(self.next_band).copied() else {
+            return Ok(None);
+        };
+        let floor = self
+            .segments
+            .last()
+            .map_or(0, |s| (s.1 / u64::from(self.width)) as u32);
+        let from = self.warm_back(first.rows.0, floor, walking)?;
+        let mut to = self.warm_forward(first.rows.1, walking)?;
+        self.next_band += 1;
+        while let Some(b) = self.bands.get(self.next_band).copied() {
+            if self.warm_back(b.rows.0, to, walking)? > to {
+                break;
+            }
+            to = to.max(self.warm_forward(b.rows.1, walking)?);
+            self.next_band += 1;
+        }
+        let w = u64::from(self.width);
+        let seg = (u64::from(from) * w, u64::from(to) * w);
+        if let Some(last) = self.segments.last() {
+            self.warmed += seg.0 - last.1;
+        } else {
+            self.warmed += seg.0;
+        }
+        self.segments.push(seg);
+        Ok(Some(seg))
+    }
+
+    /// The first row of the detailed warming before a band starting at row `r0`, not before
+    /// row `floor`; records the rows used.
+    fn warm_back(
+        &mut self,
+        r0: u32,
+        floor: u32,
+        walking: &mut dyn FnMut(u32) -> Result<u64, CycleError>,
+    ) -> Result<u32, CycleError> {
+        let wm = self.warming;
+        let (mut j, mut held) = (r0, 0u64);
+        while j > floor && (r0 - j < wm.min_rows || held < wm.walking) && r0 - j < wm.max_rows {
+            j -= 1;
+            held += walking(j)?;
+        }
+        self.warm_rows_max = self.warm_rows_max.max(r0 - j);
+        Ok(j)
+    }
+
+    /// The end row of the warming tail after a band ending at row `r1`.
+    fn warm_forward(
+        &self,
+        r1: u32,
+        walking: &mut dyn FnMut(u32) -> Result<u64, CycleError>,
+    ) -> Result<u32, CycleError> {
+        let wm = self.warming;
+        let (mut j, mut held) = (r1, 0u64);
+        while j < self.height && (j - r1 < wm.min_rows || held < wm.walking) && j - r1 < wm.max_rows
+        {
+            held += walking(j)?;
+            j += 1;
+        }
+        Ok(j)
     }
 
     /// End of the segment ray generation is in.
     #[inline]
     pub fn segment_end(&self) -> u64 {
-        self.segments.get(self.seg).map_or(u64::MAX, |s| s.1)
+        self.segments.last().map_or(u64::MAX, |s| s.1)
     }
 
     /// After the edge ending cycle `now`, `written` pixels have been written: every mark
@@ -222,16 +282,6 @@ impl Sampler {
             m.1 = Some(now + 1);
             self.next_mark += 1;
         }
-    }
-
-    /// After the pipeline drained at the end of a segment: the gap to the next one
-    /// (from, to) and the next segment's end, or `None` after the last segment.
-    pub fn advance(&mut self) -> Option<((u64, u64), u64)> {
-        let end = self.segments.get(self.seg)?.1;
-        self.seg += 1;
-        let next = *self.segments.get(self.seg)?;
-        self.warmed += next.0 - end;
-        Some(((end, next.0), next.1))
     }
 
     fn mark(&self, pixel: u64) -> Result<u64, CycleError> {
@@ -310,7 +360,9 @@ impl Sampler {
             rate: 1.0 / f64::from(self.cfg.period.max(1)),
             period: self.cfg.period,
             band_rows: self.cfg.band_rows,
-            warm_rows: self.warm_rows,
+            warm_rows: self.warm_rows_max,
+            warm_rows_min: self.warming.min_rows,
+            warm_walking_rays: self.warming.walking,
             start_band: self.start_offset + 1,
             bands: self.bands_total,
             bands_timed: self.bands.len() as u32,
@@ -486,8 +538,12 @@ pub struct SampledCycles {
     pub period: u32,
     /// Rows per band.
     pub band_rows: u32,
-    /// Rows run in detail before each timed band.
+    /// The most rows run in detail before a timed band (its warming; the same after it).
     pub warm_rows: u32,
+    /// Rows of warming at least.
+    pub warm_rows_min: u32,
+    /// Rays that walk the warming holds at least (0: `--sample-warm` fixed it in rows).
+    pub warm_walking_rays: u64,
     /// The first sampled middle band (the systematic sample's start).
     pub start_band: u32,
     /// Bands in the frame.
@@ -518,121 +574,12 @@ pub struct SampledCycles {
     pub fps_high: f64,
 }
 
-/// Applies pixels `from..to` functionally (no cycle): each pixel's hit-buffer word is written
-/// into the BRAM, each node and attribute read of its walks (relocated to its asset) goes
-/// through the cache's tags, and the frame's counts take the pixel as written.
-pub fn warm_gap(
-    frame: &mut FrameInputs<'_>,
-    machine: &mut Machine,
-    counts: &mut FrameCounts,
-    (from, to): (u64, u64),
-) -> Result<(), CycleError> {
-    let width = u64::from(frame.setup.width.max(1));
-    for p in from..to {
-        frame.need_row((p / width) as usize)?;
-        let pixel = u32::try_from(p).map_err(internal)?;
-        let (row, pw, i) = frame.trace_at(pixel)?;
-        let word = row
-            .words
-            .get(i)
-            .copied()
-            .ok_or_else(|| internal(format!("row of pixel {p} has no word {i}")))?;
-        machine.bram.poke(p as usize, word).map_err(internal)?;
-        counts.written += 1;
-        if pw.reused {
-            counts.reused += 1;
-            continue;
-        }
-        let cands = row.candidates_of(pw);
-        if cands.is_empty() {
-            continue;
-        }
-        counts.walks_entered += 1;
-        if usize::from(pw.walk_len) < cands.len() {
-            counts.early += 1;
-        }
-        for (c, tw) in row.walks_of(pw).iter().enumerate() {
-            let k = cands.get(c).map_or(0, |&(_, k)| usize::from(k));
-            let asset = frame.instance_asset.get(k).copied().unwrap_or(0);
-            let nb = frame.layout.node_base.get(asset).copied().unwrap_or(0);
-            let ab = frame.layout.attr_base.get(asset).copied().unwrap_or(0);
-            for &o in row.ops_of(tw) {
-                let a = o as u32;
-                match o >> 32 {
-                    0 => {}
-                    1 => machine.mem.warm(FetchKind::Node, a.wrapping_add(nb)),
-                    2 => machine.mem.warm(FetchKind::Far, a.wrapping_add(nb)),
-                    _ => machine.mem.warm(FetchKind::Attr, a.wrapping_add(ab)),
-                }
-            }
-        }
-    }
-    Ok(())
-}
-
 /// SplitMix64: the sample's start from its seed.
 fn splitmix(mut x: u64) -> u64 {
     x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
     x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49eb_133e_b111);
     x ^ (x >> 31)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn estimate_of_a_constant_sample_is_exact() {
-        let e = Estimate::of(100.0, &[10.0, 10.0, 10.0, 10.0], 4);
-        assert_eq!(e.total, 260.0);
-        assert_eq!((e.low, e.high), (260.0, 260.0));
-    }
-
-    #[test]
-    fn estimate_by_hand() {
-        // y = 1, 3, 2 with k = 2: T = 5 + 2·6 = 17; s² = (4 + 1)/(2·2) = 1.25;
-        // v = 4·3·0.5·1.25 = 7.5; t(2) = 4.303.
-        let e = Estimate::of(5.0, &[1.0, 3.0, 2.0], 2);
-        assert_eq!(e.total, 17.0);
-        assert!((e.std_error - 7.5f64.sqrt()).abs() < 1e-12);
-        assert!((e.high - (17.0 + 4.303 * 7.5f64.sqrt())).abs() < 1e-9);
-        assert_eq!(e.df, 2);
-    }
-
-    #[test]
-    fn t_quantile_is_continuous_past_the_table() {
-        assert!((t_975(30) - 2.042).abs() < 1e-3);
-        assert!((t_975(31) - 2.0395).abs() < 1e-3);
-        assert!((t_975(1000) - 1.9623).abs() < 1e-3);
-    }
-
-    #[test]
-    fn plan_covers_first_and_last_band_and_every_kth() {
-        let hw = HwConfig::default();
-        let cfg = SampleConfig {
-            period: 4,
-            band_rows: 2,
-            warm_rows: Some(1),
-            seed: 7,
-        };
-        let s = Sampler::plan(cfg, &hw, 0, 10, 40);
-        // 20 bands: 0, 19 and every 4th of 1..=18 from the start.
-        let mid: Vec<u32> = s
-            .bands
-            .iter()
-            .filter(|b| !b.certain)
-            .map(|b| b.index)
-            .collect();
-        assert!(mid.windows(2).all(|w| w[1] - w[0] == 4));
-        assert!(mid.len() >= 4);
-        assert_eq!(s.bands.first().map(|b| b.index), Some(0));
-        assert_eq!(s.bands.last().map(|b| b.index), Some(19));
-        // Segments are ordered and disjoint, start at 0 and end at the last pixel.
-        assert_eq!(s.segments.first().map(|x| x.0), Some(0));
-        assert_eq!(s.segments.last().map(|x| x.1), Some(400));
-        assert!(s.segments.windows(2).all(|w| w[0].1 < w[1].0));
-    }
 }
 
 /// The sampled estimate of a whole run (the report's `summary.sampled`): frames are sampled
@@ -679,3 +626,6 @@ impl SampledSummary {
         })
     }
 }
+
+#[cfg(test)]
+mod tests;
