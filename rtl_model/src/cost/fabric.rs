@@ -22,9 +22,9 @@ use crate::units::{reciprocal, sorter, sphere};
 pub mod calibration {
     /// `svo_sqrt` N = 64: 2020 LUT + 58 SRL, 1531 FF.
     pub const SQRT: (u64, u64) = (2078, 1531);
-    /// `svo_sphere` without its square root: (4330 + 1025 SRL) − sqrt's 2078 LUT,
-    /// 2130 − 1531 FF.
-    pub const SPHERE: (u64, u64) = (3277, 599);
+    /// `svo_sphere` (16 stages and the root's 32) without its square root: (4326 + 1025
+    /// SRL) − sqrt's 2078 LUT, 2216 − 1531 FF.
+    pub const SPHERE: (u64, u64) = (3273, 685);
     /// `svo_transform` (9 stages): 3522 LUT + 1233 SRL, 1820 FF.
     pub const TRANSFORM: (u64, u64) = (4755, 1820);
     /// `svo_reciprocal` (26 stages): 891 LUT + 216 SRL, 442 FF.
