@@ -29,8 +29,9 @@ pub mod calibration {
     pub const TRANSFORM: (u64, u64) = (4755, 1820);
     /// `svo_reciprocal` (26 stages): 891 LUT + 216 SRL, 442 FF.
     pub const RECIPROCAL: (u64, u64) = (1107, 442);
-    /// `svo_walker_root`: 3476 LUT, 5208 FF.
-    pub const WALKER_ROOT: (u64, u64) = (3476, 5208);
+    /// `svo_walker_root` (each product as six 27 × 18 tiles and their adder tree): 3079
+    /// LUT, 6228 FF.
+    pub const WALKER_ROOT: (u64, u64) = (3079, 6228);
     /// `svo_walker` (one context, its 21-frame stack in 50 RAM32M16): 6389 + 400 LUT,
     /// 2072 FF.
     pub const WALKER: (u64, u64) = (6789, 2072);
