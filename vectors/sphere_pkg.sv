@@ -4,7 +4,7 @@
 package sphere_vectors_pkg;
   localparam int WORD_BITS = 573;  // bits per row
   localparam int DEPTH = 87;  // rows
-  localparam int LATENCY = 47;  // cycles, the model's default configuration
+  localparam int LATENCY = 48;  // cycles, the model's default configuration
   localparam int II = 1;  // initiation interval, cycles
   localparam int ADVERSARIAL_FIRST = 0;
   localparam int ADVERSARIAL_COUNT = 55;

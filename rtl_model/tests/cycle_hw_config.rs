@@ -110,7 +110,7 @@ fn unit_latencies_equal_the_unit_functions() {
     assert_eq!(u.reciprocal.latency_cycles, 26);
     // Units whose stage count is built from their products (`fixed::Products`).
     assert_eq!(u.sphere.latency_cycles, sphere::latency_cycles(&dp.sphere));
-    assert_eq!(u.sphere.latency_cycles, 15);
+    assert_eq!(u.sphere.latency_cycles, 16);
     assert_eq!(
         u.transform.latency_cycles,
         transform::latency_cycles(&dp.transform)

@@ -9,20 +9,22 @@
 // configuration, units::sphere::SphereUnit; its square is a constant too, so the lane spends
 // no multiplier on it, as the resource estimate counts); they arrive with each transaction.
 //
-// Stages (rtl_model cycle::hw_config::sphere_latency_cycles + the square root: 15 + 32 = 47
-// cycles, II = 1):
+// Stages (rtl_model units::sphere::latency_cycles + the square root: 16 + 32 = 48 cycles,
+// II = 1):
 //   1        l = c - o (exact, 41 bits); far = some |l_k| > reach (kept, t_enter 0, flagged)
 //   2..5     l_k * d_k and l_k * l_k (one DSP product: 4 cycles)
 //   6, 7     the dot sums, (p0 + p1) + p2
 //   8        t_ca = floor(l.d) into sQ10.24, saturated
 //   9..12    t_ca^2 (48 fraction bits)
-//   13       p2 = l.l - t_ca^2 (64 fraction bits: t_ca^2 shifted up by 16); cull iff p2 > T
-//            (at the same scale);
-//            radicand = floor((T - max(p2, 0)) / 2^16) in uQ16.48; inside iff l.l <= inside
-//   14..45   svo_sqrt: root = floor(sqrt(radicand)), uQ8.24
-//   46       behind iff t_ca + dt + root < 0 (culled); t = t_ca - dt - root (24 fraction bits,
+//   13       p2 = l.l - t_ca^2 (64 fraction bits: t_ca^2 shifted up by 16); inside iff
+//            l.l <= inside; far by length iff l.l > reach^2
+//   14       cull iff p2 > T (at the same scale); radicand = floor((T - max(p2, 0)) / 2^16)
+//            in uQ16.48. Stages 13 and 14 were one (two 86-bit carry chains in series, 25
+//            logic levels, 4.35 ns): split for 300 MHz (docs/cycle-model.md §1.5)
+//   15..46   svo_sqrt: root = floor(sqrt(radicand)), uQ8.24
+//   47       behind iff t_ca + dt + root < 0 (culled); t = t_ca - dt - root (24 fraction bits,
 //            those of t_ca and of the root alike)
-//   47       decide in the model's order: far, culled, behind, inside, else
+//   48       decide in the model's order: far, culled, behind, inside, else
 //            t_enter = floor(max(t, 0) / 2^2), saturated to 32 bits (flagged)
 `timescale 1ns/1ps
 `default_nettype none
@@ -46,7 +48,7 @@ module svo_sphere (
 );
     localparam PROD = 4;       // cycles of one DSP product
     localparam ROOT = 32;      // square-root stages
-    localparam LATENCY = 15 + ROOT;
+    localparam LATENCY = 16 + ROOT;
 
     svo_delay #(.W(1), .D(LATENCY), .RESET(1)) valid_line (
         .clk(clk), .rst(rst), .d(in_valid), .q(out_valid));
@@ -136,66 +138,80 @@ module svo_sphere (
     svo_delay #(.W(84 + 34), .D(PROD)) side12 (
         .clk(clk), .rst(1'b0), .d({l2_8, tca8}), .q({l2_12, tca12}));
 
-    // ---- Stage 13: p2, cull, radicand, inside. -----------------------------------------
-    wire signed [85:0] p2  = $signed({2'b00, l2_12}) - $signed({3'b000, tca2[66:0], 16'b0});
-    wire signed [85:0] thr = $signed({6'b0, thr13, 16'b0});
-    wire signed [85:0] p2_pos = (p2 < 0) ? 86'sd0 : p2;
-    wire signed [85:0] room = thr - p2_pos;
-    wire cull_now = p2 > thr;
-    wire [63:0] radicand_now = (room < 0) ? 64'd0 : room[79:16];
+    // ---- Stage 13: p2, inside, far by length. ------------------------------------------
+    wire signed [85:0] p2_now = $signed({2'b00, l2_12}) - $signed({3'b000, tca2[66:0], 16'b0});
     wire inside_now = {2'b00, l2_12} <= {6'b0, ins13, 16'b0};
-    reg  [63:0] radicand13;
-    reg         cull13, inside13, far13r;
+    reg  signed [85:0] p2_13;
+    reg  [63:0] thr13r;
+    reg         inside13, far13r;
     reg  signed [33:0] tca13, dt13r;
     always @(posedge clk) begin
-        radicand13 <= radicand_now;
-        cull13     <= cull_now;
-        inside13   <= inside_now;
+        p2_13    <= p2_now;
+        thr13r   <= thr13;
+        inside13 <= inside_now;
         // Beyond the reach by length (exact l.l against reach^2), not only by component:
         // along a diagonal every |l_k| can be within the reach while |l| is not.
-        far13r     <= far13 || (l2_12 > {4'b0, reach2_13});
-        tca13      <= tca12;
-        dt13r      <= $signed(dt13);
+        far13r   <= far13 || (l2_12 > {4'b0, reach2_13});
+        tca13    <= tca12;
+        dt13r    <= $signed(dt13);
     end
 
-    // ---- Stages 14..45: the square root. -------------------------------------------------
+    // ---- Stage 14: cull, radicand. ---------------------------------------------------------
+    wire signed [85:0] thr = $signed({6'b0, thr13r, 16'b0});
+    wire signed [85:0] p2_pos = (p2_13 < 0) ? 86'sd0 : p2_13;
+    wire signed [85:0] room = thr - p2_pos;
+    wire cull_now = p2_13 > thr;
+    wire [63:0] radicand_now = (room < 0) ? 64'd0 : room[79:16];
+    reg  [63:0] radicand14;
+    reg         cull14, inside14, far14;
+    reg  signed [33:0] tca14, dt14;
+    always @(posedge clk) begin
+        radicand14 <= radicand_now;
+        cull14     <= cull_now;
+        inside14   <= inside13;
+        far14      <= far13r;
+        tca14      <= tca13;
+        dt14       <= dt13r;
+    end
+
+    // ---- Stages 15..46: the square root. -------------------------------------------------
     wire [31:0] root;
     /* verilator lint_off UNUSEDSIGNAL */
     wire        root_valid;  // unused: the valid line above carries validity
     /* verilator lint_on UNUSEDSIGNAL */
     svo_sqrt #(.N(64)) sqrt_unit (
-        .clk(clk), .rst(rst), .in_valid(1'b1), .in_x(radicand13),
+        .clk(clk), .rst(rst), .in_valid(1'b1), .in_x(radicand14),
         .out_valid(root_valid), .out_root(root));
-    wire        far45, cull45, inside45;
-    wire signed [33:0] tca45, dt45;
-    svo_delay #(.W(3 + 34 + 34), .D(ROOT)) side45 (
-        .clk(clk), .rst(1'b0), .d({far13r, cull13, inside13, tca13, dt13r}),
-        .q({far45, cull45, inside45, tca45, dt45}));
+    wire        far46, cull46, inside46;
+    wire signed [33:0] tca46, dt46;
+    svo_delay #(.W(3 + 34 + 34), .D(ROOT)) side46 (
+        .clk(clk), .rst(1'b0), .d({far14, cull14, inside14, tca14, dt14}),
+        .q({far46, cull46, inside46, tca46, dt46}));
 
-    // ---- Stage 46: behind, t. ------------------------------------------------------------
+    // ---- Stage 47: behind, t. ------------------------------------------------------------
     wire signed [35:0] root_f = $signed({4'b0, root});            // uQ8.24, as t_ca
-    reg  signed [35:0] t46;
-    reg                behind46, far46, cull46, inside46;
+    reg  signed [35:0] t47;
+    reg                behind47, far47, cull47, inside47;
     always @(posedge clk) begin
-        behind46 <= ($signed({{2{tca45[33]}}, tca45}) + $signed({{2{dt45[33]}}, dt45}) + root_f) < 0;
-        t46      <= $signed({{2{tca45[33]}}, tca45}) - $signed({{2{dt45[33]}}, dt45}) - root_f;
-        far46    <= far45;
-        cull46   <= cull45;
-        inside46 <= inside45;
+        behind47 <= ($signed({{2{tca46[33]}}, tca46}) + $signed({{2{dt46[33]}}, dt46}) + root_f) < 0;
+        t47      <= $signed({{2{tca46[33]}}, tca46}) - $signed({{2{dt46[33]}}, dt46}) - root_f;
+        far47    <= far46;
+        cull47   <= cull46;
+        inside47 <= inside46;
     end
 
-    // ---- Stage 47: decide. ---------------------------------------------------------------
-    wire [33:0] t_q   = (t46 < 0) ? 34'd0 : t46[35:2];      // max(t, 0), 24 -> 22 fraction bits, floor
+    // ---- Stage 48: decide. ---------------------------------------------------------------
+    wire [33:0] t_q   = (t47 < 0) ? 34'd0 : t47[35:2];      // max(t, 0), 24 -> 22 fraction bits, floor
     wire        t_sat = t_q > 34'h0_ffff_ffff;
     always @(posedge clk) begin
-        out_ov_reach   <= far46;
+        out_ov_reach   <= far47;
         out_ov_t_enter <= 1'b0;
         out_t_enter    <= 32'd0;
-        if (far46) begin
+        if (far47) begin
             out_hit <= 1'b1;
-        end else if (cull46 || behind46) begin
+        end else if (cull47 || behind47) begin
             out_hit <= 1'b0;
-        end else if (inside46) begin
+        end else if (inside47) begin
             out_hit <= 1'b1;
         end else begin
             out_hit        <= 1'b1;

@@ -22,21 +22,22 @@ use crate::units::{reciprocal, sorter, sphere};
 pub mod calibration {
     /// `svo_sqrt` N = 64: 2020 LUT + 58 SRL, 1531 FF.
     pub const SQRT: (u64, u64) = (2078, 1531);
-    /// `svo_sphere` without its square root: (4330 + 1025 SRL) − sqrt's 2078 LUT,
-    /// 2130 − 1531 FF.
-    pub const SPHERE: (u64, u64) = (3277, 599);
+    /// `svo_sphere` (16 stages and the root's 32) without its square root: (4326 + 1025
+    /// SRL) − sqrt's 2078 LUT, 2216 − 1531 FF.
+    pub const SPHERE: (u64, u64) = (3273, 685);
     /// `svo_transform` (9 stages): 3522 LUT + 1233 SRL, 1820 FF.
     pub const TRANSFORM: (u64, u64) = (4755, 1820);
     /// `svo_reciprocal` (26 stages): 891 LUT + 216 SRL, 442 FF.
     pub const RECIPROCAL: (u64, u64) = (1107, 442);
-    /// `svo_walker_root`: 3476 LUT, 5208 FF.
-    pub const WALKER_ROOT: (u64, u64) = (3476, 5208);
+    /// `svo_walker_root` (each product as six 27 × 18 tiles and their adder tree): 3079
+    /// LUT, 6228 FF.
+    pub const WALKER_ROOT: (u64, u64) = (3079, 6228);
     /// `svo_walker` (one context, its 21-frame stack in 50 RAM32M16): 6389 + 400 LUT,
     /// 2072 FF.
     pub const WALKER: (u64, u64) = (6789, 2072);
-    /// `svo_raygen` (three direction and three position converters, svo_f64_to_fixed):
-    /// 7677 LUT + 50 SRL, 1084 FF.
-    pub const RAYGEN: (u64, u64) = (7727, 1084);
+    /// `svo_raygen` (three direction and three position converters, svo_f64_to_fixed, the
+    /// align in two stages): 1980 LUT + 50 SRL, 1168 FF.
+    pub const RAYGEN: (u64, u64) = (2030, 1168);
     /// `svo_sorter` (8-lane network, MAX_KEYS = 32: its input copy, merge and two run
     /// buffers in flip-flops with their read multiplexers): 35877 LUT + 96 SRL, 5665 FF.
     pub const SORTER: (u64, u64) = (35973, 5665);

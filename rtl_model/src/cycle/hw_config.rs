@@ -122,7 +122,7 @@ pub struct UnitTimings {
     /// (`HitBuffer::read_latency_cycles`).
     pub raygen: UnitTiming,
     /// Sphere test up to the square root's radicand, and the entry subtraction after it
-    /// (`units::sphere::latency_cycles`, 15 by default); the square root itself is `sqrt`.
+    /// (`units::sphere::latency_cycles`, 16 by default); the square root itself is `sqrt`.
     pub sphere: UnitTiming,
     /// Square root of the sphere unit (digit recurrence, one stage per root digit):
     /// `units::sqrt::latency_cycles` of `units::sphere::sqrt_config` of the sphere formats, 32.
@@ -131,7 +131,7 @@ pub struct UnitTimings {
     /// `network_ii` = 1. Rays with more candidates than lanes take the extra chunks and merge
     /// passes of `units::sorter::sort_timing` on top.
     pub sorter: UnitTiming,
-    /// Transform into an instance's frame (`units::transform::latency_cycles`, 8 by default).
+    /// Transform into an instance's frame (`units::transform::latency_cycles`, 9 by default).
     pub transform: UnitTiming,
     /// One reciprocal 1/d: `units::reciprocal::latency_cycles`, 26 by default.
     pub reciprocal: UnitTiming,

@@ -394,12 +394,14 @@ pub fn dsp48e2_count(s: &SphereConfig) -> u32 {
 
 /// Latency of the sphere lane apart from its square root, as stages: l = c − o (1); l·d and
 /// l·l in parallel (one product); the two dot sums (p_x + p_y) + p_z (2); rounding t_ca (1);
-/// t_ca² (one product); p² = l·l − t_ca² and T − p² (1); then after the root, t_ca − Δt − √
-/// and the clamp at 0 (2). 15 for the default (products of 4 cycles).
+/// t_ca² (one product); p² = l·l − t_ca² (1); T − max(p², 0) and the cull test (1) — two
+/// stages, each one carry chain, so that every stage of `svo_sphere.v` meets the clock rule at
+/// 300 MHz (docs/cycle-model.md §1.5); then after the root, t_ca − Δt − √ and the clamp at 0
+/// (2). 16 for the default (products of 4 cycles).
 pub fn latency_cycles(s: &SphereConfig) -> u32 {
     let [ld, ll, tca2] = products(s);
     let dots = ld.latency_cycles().max(ll.latency_cycles());
-    1 + dots + 2 + 1 + tca2.latency_cycles() + 1 + 2
+    1 + dots + 2 + 1 + tca2.latency_cycles() + 2 + 2
 }
 
 /// The square-root unit the sphere test uses: its radicand is the sphere's `sq` format and

@@ -23,11 +23,11 @@ mod tests {
         let hw = HwConfig::for_datapath(&dp);
         assert_eq!(hw, HwConfig::default());
         let c = cost(&dp, &hw).unwrap();
-        // docs/cycle-model.md: sphere 15 + sqrt 32, transform 9, reciprocal 26, root 8.
+        // docs/cycle-model.md: sphere 16 + sqrt 32, transform 9, reciprocal 26, root 8.
         assert_eq!(
             c.latency,
             UnitLatencies {
-                sphere: 15,
+                sphere: 16,
                 sqrt: 32,
                 transform: 9,
                 reciprocal: 26,

@@ -399,6 +399,6 @@ mod tests {
             kept > 100 && culled > 100 && reach >= 2,
             "{kept} {culled} {reach}"
         );
-        assert_eq!(st.timing.latency_cycles, 47);
+        assert_eq!(st.timing.latency_cycles, 48);
     }
 }
