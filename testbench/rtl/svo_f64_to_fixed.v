@@ -40,15 +40,22 @@ module svo_f64_to_fixed #(
     reg        [52:0] s1_m;
     reg         [5:0] s1_r;              // min(rsh, 56)
     wire [10:0] e = in_x[62:52];
-    wire [10:0] e1 = (e == 11'd0) ? 11'd1 : e;
-    wire signed [12:0] rsh = C - $signed({2'b00, e1});
+    // rsh and its clamp are functions of the input evaluated inside the register's block,
+    // not continuous assigns: a testbench that drives in_x with a blocking assignment at the
+    // clock edge (tb_frame.sv) then gives the same result in Icarus and Verilator.
+    function automatic signed [12:0] rsh_of(input [10:0] ex);
+        rsh_of = C - $signed({2'b00, (ex == 11'd0) ? 11'd1 : ex});
+    endfunction
+    function automatic [5:0] clamp_of(input signed [12:0] r);
+        clamp_of = (r > 13'sd56) ? 6'd56 : r[5:0];
+    endfunction
     always @(posedge clk) begin
         s1_sign <= in_x[63];
         s1_nan  <= (e == 11'h7ff) && (in_x[51:0] != 52'd0);
         s1_inf  <= (e == 11'h7ff) && (in_x[51:0] == 52'd0);
         s1_m    <= {e != 11'd0, in_x[51:0]};
-        s1_big  <= rsh <= 13'sd0;
-        s1_r    <= (rsh > 13'sd56) ? 6'd56 : rsh[5:0];
+        s1_big  <= rsh_of(e) <= 13'sd0;
+        s1_r    <= clamp_of(rsh_of(e));
     end
 
     // Stage 2: coarse shift by 8*(rsh / 8). Of {M, 56'd0} >> rsh only bits 55 (the guard)
