@@ -87,31 +87,35 @@ struct Outcome {
     text: String,
 }
 
+/// `bash testbench/run.sh ARGS` with `SIM_CACHE` and the given environment: (stdout, stdout
+/// then stderr as one text).
+fn run_sh(args: &[&str], env: &[(&str, &str)]) -> (String, String) {
+    let out = Command::new("bash")
+        .arg(repo().join("testbench/run.sh"))
+        .args(args)
+        .env("SIM_CACHE", sim_cache())
+        .envs(env.iter().copied())
+        .output()
+        .expect("run testbench/run.sh");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let text = format!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    (stdout, text)
+}
+
+/// The numbers of a line, in order ("12 passed, 0 failed" → [12, 0]).
+fn numbers(l: &str) -> Vec<u64> {
+    l.split(|c: char| !c.is_ascii_digit())
+        .filter_map(|s| s.parse().ok())
+        .collect()
+}
+
 /// `testbench/run.sh --sim SIM DIR UNIT`, parsed: the closing "N passed, N failed" line and
 /// the measured latency the testbench reports.
 fn run_testbench(sim: &str, dir: &Path, unit: &str) -> Outcome {
-    let out = Command::new("bash")
-        .arg(repo().join("testbench/run.sh"))
-        .args(["--sim", sim])
-        .arg(dir)
-        .arg(unit)
-        .env("SIM_CACHE", sim_cache())
-        .output()
-        .expect("run testbench/run.sh");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let last = String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .last()
-        .unwrap_or("")
-        .to_string();
-    let nums: Vec<u64> = last
-        .split(|c: char| !c.is_ascii_digit())
-        .filter_map(|s| s.parse().ok())
-        .collect();
+    let d = dir.to_string_lossy();
+    let (stdout, text) = run_sh(&["--sim", sim, &d, unit], &[]);
+    let last = stdout.lines().last().unwrap_or("");
+    let nums = numbers(last);
     assert!(
         last.ends_with(" failed") && last.contains(" passed, ") && nums.len() == 2,
         "{unit} ({sim}): the testbench did not close with \"N passed, N failed\":\n{text}"
@@ -353,35 +357,20 @@ fn walker_runs(
     latencies: &str,
     args: &str,
 ) -> (Vec<(u64, u64, u64, u64)>, String) {
-    let out = Command::new("bash")
-        .arg(repo().join("testbench/run.sh"))
-        .args(["--sim", sim])
-        .env("SIM_CACHE", sim_cache())
-        .arg(dir)
-        .arg("walker")
-        .env("WALKER_LATENCIES", latencies)
-        .env("WALKER_ARGS", args)
-        .output()
-        .expect("run testbench/run.sh");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
+    let d = dir.to_string_lossy();
+    let (_, text) = run_sh(
+        &["--sim", sim, &d, "walker"],
+        &[("WALKER_LATENCIES", latencies), ("WALKER_ARGS", args)],
     );
-    let nums = |l: &str| -> Vec<u64> {
-        l.split(|c: char| !c.is_ascii_digit())
-            .filter_map(|s| s.parse().ok())
-            .collect()
-    };
     let mut runs = Vec::new();
     let mut pending: Option<(u64, u64)> = None;
     for l in text.lines() {
         if let Some(rest) = l.split("memory latency ").nth(1) {
-            let lat = nums(rest)[0];
-            let timed = nums(l.split("): ").nth(1).unwrap_or(""))[0];
+            let lat = numbers(rest)[0];
+            let timed = numbers(l.split("): ").nth(1).unwrap_or(""))[0];
             pending = Some((lat, timed));
         } else if l.ends_with(" failed") && l.contains(" passed, ") {
-            let n = nums(l);
+            let n = numbers(l);
             let (lat, timed) = pending.take().unwrap_or((0, 0));
             runs.push((lat, n[0], n[1], timed));
         }
@@ -563,31 +552,14 @@ fn model_frame_cycles(t: &Tmp, width: &str, height: &str, depth: &str) -> u64 {
 
 /// One frame run: (pixels equal, pixels, RTL cycles, passed, failed, everything printed).
 fn frame_run(sim: &str, dir: &Path, args: &str) -> (u64, u64, u64, u64, u64, String) {
-    let out = Command::new("bash")
-        .arg(repo().join("testbench/run.sh"))
-        .args(["--sim", sim])
-        .env("SIM_CACHE", sim_cache())
-        .env("FRAME_ARGS", args)
-        .arg(dir)
-        .arg("frame")
-        .output()
-        .expect("run testbench/run.sh");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let nums = |l: &str| -> Vec<u64> {
-        l.split(|c: char| !c.is_ascii_digit())
-            .filter_map(|s| s.parse().ok())
-            .collect()
-    };
-    let summary = text.lines().find(|l| l.starts_with("frame: ")).map(nums);
+    let d = dir.to_string_lossy();
+    let (_, text) = run_sh(&["--sim", sim, &d, "frame"], &[("FRAME_ARGS", args)]);
+    let summary = text.lines().find(|l| l.starts_with("frame: ")).map(numbers);
     let last = text
         .lines()
         .rev()
         .find(|l| l.ends_with(" failed") && l.contains(" passed, "))
-        .map(nums);
+        .map(numbers);
     match (summary, last) {
         (Some(s), Some(l)) if s.len() >= 3 && l.len() == 2 => (s[0], s[1], s[2], l[0], l[1], text),
         _ => panic!("frame ({sim}): no \"frame: …\" and \"N passed, N failed\" lines:\n{text}"),

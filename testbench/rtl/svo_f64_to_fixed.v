@@ -41,8 +41,9 @@ module svo_f64_to_fixed #(
     reg         [5:0] s1_r;              // min(rsh, 56)
     wire [10:0] e = in_x[62:52];
     // rsh and its clamp are functions of the input evaluated inside the register's block,
-    // not continuous assigns: a testbench that drives in_x with a blocking assignment at the
-    // clock edge (tb_frame.sv) then gives the same result in Icarus and Verilator.
+    // not continuous assigns of in_x: in the end-to-end frame (tb_frame.sv, whose step task
+    // writes the inputs at the falling edge) Verilator 5.006 registered a stale rsh from such
+    // assigns (0 / 768 pixels), while Icarus and the unit testbench did not. Same logic either way.
     function automatic signed [12:0] rsh_of(input [10:0] ex);
         rsh_of = C - $signed({2'b00, (ex == 11'd0) ? 11'd1 : ex});
     endfunction

@@ -23,6 +23,7 @@
 use super::model::CycleError;
 use super::stages::internal;
 use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::vectors::rng::Rng;
 use serde::Serialize;
 
 mod warm;
@@ -150,7 +151,7 @@ impl Sampler {
         let warming = cfg.warming_for(hw, width);
         let k = cfg.period.max(1);
         let start_offset =
-            (splitmix(cfg.seed ^ (u64::from(frame) << 32 | 0x5a5a)) % u64::from(k)) as u32;
+            Rng::new(cfg.seed ^ (u64::from(frame) << 32 | 0x5a5a)).below(u64::from(k)) as u32;
         let mut bands = Vec::new();
         for b in 0..nb {
             let certain = b == 0 || b + 1 == nb;
@@ -421,12 +422,16 @@ impl Estimate {
         let nf = n as f64;
         let sd2 = ys.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / (2.0 * (nf - 1.0));
         let v = kf * kf * nf * (1.0 - 1.0 / kf) * sd2;
-        let se = v.sqrt();
-        let t = t_975(n as u32 - 1);
+        Self::with_interval(total, v.sqrt(), n as u32 - 1)
+    }
+
+    /// `total ± t_{0.975, df}·se`.
+    fn with_interval(total: f64, se: f64, df: u32) -> Self {
+        let t = t_975(df);
         Self {
             total,
             std_error: se,
-            df: n as u32 - 1,
+            df,
             low: total - t * se,
             high: total + t * se,
         }
@@ -470,15 +475,7 @@ impl Estimate {
         let sd = e.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / (2.0 * (nf - 1.0));
         let f = (nf / m).min(1.0);
         let v = m * m * (1.0 - f) / nf * srs.max(sd);
-        let se = v.sqrt();
-        let t = t_975(n as u32 - 2);
-        Self {
-            total,
-            std_error: se,
-            df: n as u32 - 2,
-            low: total - t * se,
-            high: total + t * se,
-        }
+        Self::with_interval(total, v.sqrt(), n as u32 - 2)
     }
 }
 
@@ -572,14 +569,6 @@ pub struct SampledCycles {
     pub fps_low: f64,
     /// Interval of the frame rate at the clock.
     pub fps_high: f64,
-}
-
-/// SplitMix64: the sample's start from its seed.
-fn splitmix(mut x: u64) -> u64 {
-    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49eb_133e_b111);
-    x ^ (x >> 31)
 }
 
 /// The sampled estimate of a whole run (the report's `summary.sampled`): frames are sampled

@@ -15,7 +15,7 @@
 //! conservative (`models::reference::cull`, `tests/two_level.rs`).
 
 use super::analyse::SceneFacts;
-use super::plan::{Action, Decision};
+use super::plan::{decision, Action, Decision};
 use super::savings::Saving;
 use rtl_model::cycle::hw_config::{HwConfig, Placement};
 use rtl_model::datapath::DatapathConfig;
@@ -28,17 +28,6 @@ pub fn instance_bits_for(n: u64) -> u8 {
         b += 1;
     }
     b
-}
-
-fn decision(unit: &str, action: Action, reason: String) -> Decision {
-    let applied = !matches!(action, Action::Kept | Action::CouldNarrow);
-    Decision {
-        unit: unit.into(),
-        action,
-        reason,
-        applied,
-        saved: Saving::default(),
-    }
 }
 
 /// The scheme's decisions for `facts`, changing `hw` and `dp` where the scene needs it;

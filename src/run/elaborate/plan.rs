@@ -77,7 +77,8 @@ pub struct Plan {
     pub two_level: Option<rtl_model::units::tile_list::TileListConfig>,
 }
 
-fn decision(unit: &str, action: Action, reason: String) -> Decision {
+/// A decision before its saving is priced; applied unless it keeps the unit as it is.
+pub(super) fn decision(unit: &str, action: Action, reason: String) -> Decision {
     let applied = !matches!(action, Action::Kept | Action::CouldNarrow);
     Decision {
         unit: unit.into(),

@@ -262,18 +262,24 @@ pub struct SpeedRow {
     pub fixed_two_level: f64,
 }
 
-/// Measures [`SpeedRow`] (best of `reps`).
-pub fn speed(case: &CrowdCase, reps: u32) -> Result<SpeedRow, String> {
-    let b = build(case)?;
-    let (w, h) = case.size;
-    let rays = f64::from(w) * f64::from(h);
-    let dp = DatapathConfig {
+/// The default datapath with 16-bit instance ids in the hit record, so that the fixed models
+/// can name every instance of the largest crowd (10,000) without an id overflow.
+fn wide_ids_datapath() -> DatapathConfig {
+    DatapathConfig {
         hit_record: rtl_model::units::hit_record::HitRecordConfig {
             instance_bits: 16,
             ..Default::default()
         },
         ..DatapathConfig::default()
-    };
+    }
+}
+
+/// Measures [`SpeedRow`] (best of `reps`).
+pub fn speed(case: &CrowdCase, reps: u32) -> Result<SpeedRow, String> {
+    let b = build(case)?;
+    let (w, h) = case.size;
+    let rays = f64::from(w) * f64::from(h);
+    let dp = wide_ids_datapath();
     let tl = TileListConfig::default();
     let input = FrameInput {
         scene: &b.scene,
@@ -364,13 +370,7 @@ pub fn binning(case: &CrowdCase) -> Result<BinRow, String> {
     use crate::models::reference::cull::TileLists;
     let b = build(case)?;
     let (w, h) = case.size;
-    let dp = DatapathConfig {
-        hit_record: rtl_model::units::hit_record::HitRecordConfig {
-            instance_bits: 16,
-            ..Default::default()
-        },
-        ..DatapathConfig::default()
-    };
+    let dp = wide_ids_datapath();
     let tl = TileListConfig::default();
     let input = FrameInput {
         scene: &b.scene,

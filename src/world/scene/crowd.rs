@@ -7,6 +7,7 @@
 //! if written by hand, so a renderer never sees the block.
 
 use super::format::{InstanceKey, InstanceSpec, SceneFile};
+use rtl_model::vectors::rng::Rng;
 use serde::{Deserialize, Serialize};
 
 /// Largest crowd (instance ids are 16 bits; 65,535 means "none").
@@ -47,26 +48,6 @@ fn one() -> f64 {
 
 fn default_turn() -> f64 {
     3.0
-}
-
-/// SplitMix64: a small, seedable, portable generator (the same crowd on every machine).
-struct Mix(u64);
-
-impl Mix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
 }
 
 impl CrowdSpec {
@@ -129,16 +110,17 @@ impl CrowdSpec {
     /// area with a uniform heading; a moving one goes `speed` metres per frame along its
     /// heading and turns at its own rate; two keys, frame 0 and the scene's last frame.
     pub fn expand(&self, frames: u32, first: usize) -> Vec<InstanceSpec> {
-        let mut rng = Mix(self.seed);
+        // splitmix64, the generator of the vectors: the same crowd on every machine.
+        let mut rng = Rng::new(self.seed);
         let last = f64::from(frames.saturating_sub(1).max(1));
         let [cx, cy, cz] = self.centre;
         (0..self.count)
             .map(|k| {
-                let model = &self.models[(rng.next() % self.models.len() as u64) as usize];
+                let model = &self.models[(rng.below(self.models.len() as u64)) as usize];
                 let x = cx + rng.range(-0.5, 0.5) * self.area.0;
                 let z = cz + rng.range(-0.5, 0.5) * self.area.1;
                 let heading = rng.range(0.0, 360.0);
-                let moves = rng.unit() < self.moving;
+                let moves = rng.range(0.0, 1.0) < self.moving;
                 let speed = rng.range(self.speed.0, self.speed.1);
                 let turn = rng.range(-1.0, 1.0) * self.turn_deg;
                 let s = [self.scale; 3];
