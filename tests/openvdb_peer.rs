@@ -431,8 +431,8 @@ fn reference_walk_agrees_with_openvdb() {
     let Some(peer) = build_peer() else {
         return;
     };
-    // Benchmark mode (docs/render.md §7): larger images, best of 3 for the peer, and the
-    // sim binary of SVO_SIM_BIN (e.g. target/release/sim) if given.
+    // Benchmark mode (docs/render.md §7): larger images, best of 3 trace times for both
+    // tracers, and the sim binary of SVO_SIM_BIN (e.g. target/release/sim) if given.
     let bench = std::env::var("SVO_PEER_BENCH").as_deref() == Ok("1");
     let sim_bin = std::env::var("SVO_SIM_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_sim").into());
     let sim = sim_bin.as_str();
@@ -498,6 +498,8 @@ fn reference_walk_agrees_with_openvdb() {
                 &h,
                 "--threads",
                 "2",
+                "--repeat",
+                repeat,
             ]);
             if cam.ortho {
                 c.args(["--ortho", &cam.value.to_string()]);

@@ -47,6 +47,10 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Trace the image this many times and report the fastest (for benchmarks: the OpenVDB
+    /// peer takes its best of the same count); the records are those of one trace.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    repeat: u32,
 }
 
 fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
@@ -144,7 +148,7 @@ pub fn render_command(a: RenderArgs) -> Result<()> {
         up: a.up,
         projection,
     };
-    let r = render_model(&a.model, &camera, a.width, a.height)?;
+    let r = render_model(&a.model, &camera, a.width, a.height, a.repeat)?;
     println!("{}", summary(&a, &r));
     let png = match &a.out {
         Some(_) => {

@@ -34,6 +34,13 @@ pub trait Octree: Sync {
     fn root(&self) -> Self::Node;
     /// Child `label` (x = 4, y = 2, z = 1) of `node`.
     fn child(&self, node: &Self::Node, label: u8) -> Child<Self::Node, Self::Leaf>;
+    /// False only if child `label` is certainly [`Child::Empty`]: a cheap test the walker
+    /// makes before the child's t-interval (an image reads one descriptor bit; an implicit
+    /// tree, where emptiness costs an SDF evaluation, always says it may).
+    #[inline]
+    fn may_have_child(&self, _node: &Self::Node, _label: u8) -> bool {
+        true
+    }
     /// A leaf's colour and normal.
     fn attr(&self, leaf: Self::Leaf) -> LeafAttr;
 }
@@ -75,6 +82,11 @@ impl Octree for SvoImage {
                 desc: self.nodes()[addr as usize],
             }),
         }
+    }
+
+    #[inline]
+    fn may_have_child(&self, node: &ImageNode, label: u8) -> bool {
+        ChildDescriptor::unpack(node.desc).valid & (1 << label) != 0
     }
 
     #[inline]

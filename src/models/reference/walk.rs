@@ -91,9 +91,12 @@ fn first_child(t0: [f64; 3], tm: [f64; 3]) -> u8 {
 /// 8 when the ray leaves the parent.
 #[inline]
 fn next_child(c: u8, t1: [f64; 3]) -> u8 {
-    let bit = if t1[0] <= t1[1] && t1[0] <= t1[2] {
+    // Branch-free: the exit axis is data-dependent and mispredicts often.
+    let x = t1[0] <= t1[1] && t1[0] <= t1[2];
+    let y = !x && t1[1] <= t1[2];
+    let bit = if x {
         4
-    } else if t1[1] <= t1[2] {
+    } else if y {
         2
     } else {
         1
@@ -136,7 +139,10 @@ impl RayFrame {
         };
         // (2m + 1) is an exact integer and size / 2^(level+1) an exact power-of-two scaling,
         // so the plane coordinate is rounded once in the product and once in the sum.
-        let centre = self.lo[k] + f64::from(2 * mirrored + 1) * (self.size[k] / f64::from(2 * n));
+        // size · 2^−(level+1) by a multiplication: the same correctly rounded value as the
+        // division by 2^(level+1) (both scale by an exact power of two), without its latency.
+        let scale = f64::from_bits((1022 - u64::from(level)) << 52);
+        let centre = self.lo[k] + f64::from(2 * mirrored + 1) * (self.size[k] * scale);
         if self.zero[k] {
             if self.o[k] < centre {
                 f64::INFINITY
@@ -200,7 +206,8 @@ pub fn walk_box_visiting<T: Octree, V: FnMut(u8, [u32; 3])>(
     cnt: &mut WalkCounters,
     visit: &mut V,
 ) -> Option<WalkHit<T::Leaf>> {
-    walk_core::<T, V, false>(tree, lo, hi, [lo, hi], o, d, cnt, visit)
+    let mut stack = [Frame::default(); STACK_FRAMES];
+    walk_core::<T, V, false>(tree, lo, hi, [lo, hi], o, d, cnt, visit, &mut stack)
 }
 
 /// [`walk_box`] clipped to `solid` = [solid_lo, solid_hi], a box holding every leaf (for
@@ -234,16 +241,58 @@ pub fn walk_box_clipped<T: Octree>(
     d: DVec3,
     cnt: &mut WalkCounters,
 ) -> Option<WalkHit<T::Leaf>> {
-    walk_core::<T, _, true>(
-        tree,
-        lo,
-        hi,
-        [solid_lo, solid_hi],
-        o,
-        d,
-        cnt,
-        &mut |_, _| {},
-    )
+    WalkStack::new().walk_box_clipped(tree, lo, hi, solid_lo, solid_hi, o, d, cnt)
+}
+
+/// Frames a walk's stack needs: the root and one per level.
+const STACK_FRAMES: usize = MAX_DEPTH as usize + 1;
+
+/// A walk's stack, kept between walks: a walk writes only the frames it uses, so a caller
+/// that traces many rays (`sim render`, one per worker row) does not clear
+/// [`STACK_FRAMES`] frames (about 2 KB) for every ray.
+pub struct WalkStack<N> {
+    frames: Vec<Frame<N>>,
+}
+
+impl<N: Copy + Default> Default for WalkStack<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<N: Copy + Default> WalkStack<N> {
+    /// A stack for octrees of any depth up to `MAX_DEPTH`.
+    pub fn new() -> Self {
+        Self {
+            frames: vec![Frame::default(); STACK_FRAMES],
+        }
+    }
+
+    /// [`walk_box_clipped`] on this stack.
+    #[allow(clippy::too_many_arguments)]
+    pub fn walk_box_clipped<T: Octree<Node = N>>(
+        &mut self,
+        tree: &T,
+        lo: DVec3,
+        hi: DVec3,
+        solid_lo: DVec3,
+        solid_hi: DVec3,
+        o: DVec3,
+        d: DVec3,
+        cnt: &mut WalkCounters,
+    ) -> Option<WalkHit<T::Leaf>> {
+        walk_core::<T, _, true>(
+            tree,
+            lo,
+            hi,
+            [solid_lo, solid_hi],
+            o,
+            d,
+            cnt,
+            &mut |_, _| {},
+            &mut self.frames,
+        )
+    }
 }
 
 /// The walk; with `CLIP`, clipped to `solid` as [`walk_box_clipped`] says (without, `solid`
@@ -259,6 +308,7 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
     d: DVec3,
     cnt: &mut WalkCounters,
     visit: &mut V,
+    stack: &mut [Frame<T::Node>],
 ) -> Option<WalkHit<T::Leaf>> {
     let lo = lo.to_array();
     let hi = hi.to_array();
@@ -329,7 +379,6 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
             return None;
         }
     }
-    let mut stack = [Frame::<T::Node>::default(); MAX_DEPTH as usize + 1];
     cnt.fetches += 1;
     cnt.max_stack = cnt.max_stack.max(1);
     let mut f = Frame {
@@ -367,6 +416,11 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
             }
         }
         top.next = next_child(c, ct1);
+        let real = c ^ rf.a;
+        // An empty child is skipped whatever its interval: test the cheap bit first.
+        if !tree.may_have_child(&top.node, real) {
+            continue;
+        }
         let enter = max3(ct0);
         let exit = min3(ct1);
         if !(enter < exit && exit > 0.0) {
@@ -377,7 +431,6 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
         if CLIP && enter.max(ts0) >= exit.min(ts1) {
             continue;
         }
-        let real = c ^ rf.a;
         let child = tree.child(&top.node, real);
         if matches!(child, Child::Empty) {
             continue;
