@@ -172,6 +172,8 @@ fn bad_inputs_fail_cleanly_and_write_nothing() {
         (with(&model, &["--fov", "inf"]), "fov = inf"),
         (with(&model, &["--ortho", "0"]), "--ortho 0"),
         (with(&model, &["--ortho", "-3"]), "--ortho -3"),
+        (with(&model, &["--repeat", "0"]), "--repeat 0"),
+        (with(&model, &["--repeat", "101"]), "--repeat 101"),
         (with(&model, &["--width", "0"]), "image size 0x480"),
         (with(&model, &["--width", "20000"]), "image size 20000x480"),
         (
@@ -222,4 +224,52 @@ fn bad_inputs_fail_cleanly_and_write_nothing() {
     let r = sim(&with(&model, &["--dump-hits", &t.p("no/such/hits.bin")]));
     assert!(!r.ok && r.stderr.contains("does not exist"), "{}", r.stderr);
     assert!(!Path::new(&t.p("no")).exists());
+}
+
+/// `--repeat N` traces the image N times for a best-of-N time: the dump and the counts are
+/// those of a single trace, byte for byte.
+#[test]
+fn repeated_trace_gives_the_same_records() {
+    let t = Tmp::new("render_repeat");
+    let model = t.write(
+        "few.vox",
+        vox_bytes(&[[1, 2, 1], [2, 2, 1], [1, 3, 2], [0, 0, 0]]),
+    );
+    let mut outs = Vec::new();
+    for n in ["1", "3"] {
+        let dump = t.p(&format!("hits{n}.bin"));
+        let r = sim(&strings(&[
+            "render",
+            &model,
+            "--eye",
+            "7.3,-5.1,4.2",
+            "--look",
+            "0,0,0",
+            "--width",
+            "33",
+            "--height",
+            "17",
+            "--threads",
+            "2",
+            "--repeat",
+            n,
+            "--dump-hits",
+            &dump,
+        ]));
+        assert!(r.ok, "{}", r.stderr);
+        let counts = r
+            .stdout
+            .lines()
+            .last()
+            .and_then(|l| l.split(" walk steps").next())
+            .unwrap_or_default()
+            .to_string();
+        outs.push((std::fs::read(&dump).expect("dump"), counts));
+    }
+    assert!(outs[0].1.contains("hits"), "{}", outs[0].1);
+    assert_eq!(outs[0].1, outs[1].1, "hit and step counts");
+    assert!(
+        outs[0].0 == outs[1].0,
+        "the dumps of --repeat 1 and 3 differ"
+    );
 }
