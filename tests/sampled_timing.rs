@@ -65,3 +65,29 @@ fn full_cycles_lie_in_the_sampled_interval() {
         }
     }
 }
+
+/// Rate 1 (`--sample 1`) times every band in one segment: the estimate is the full model's
+/// cycles exactly, the reference against which a sample's bands are compared band by band.
+#[test]
+fn every_band_timed_is_the_full_run() {
+    let mut scene = Scene::default_car().unwrap();
+    scene.set_resolution(160, 96).unwrap();
+    scene.set_frames(2).unwrap();
+    let depths = effective_depths(&scene, Some(7)).unwrap();
+    let assets = build_assets(&scene, &depths, Materialise::Auto).unwrap();
+    let cfg = SampleConfig::from_rate(1.0, 2, None, 0).unwrap();
+    assert_eq!(cfg.period, 1);
+    let dp = DatapathConfig::default();
+    for reuse in [true, false] {
+        let rows = compare(&scene, &assets, &dp, &HwConfig::default(), reuse, cfg).unwrap();
+        for r in &rows {
+            println!(
+                "frame {} (reuse {reuse}): full {} every band timed {}",
+                r.frame, r.full_cycles, r.estimate
+            );
+            assert_eq!(r.estimate, r.full_cycles as f64, "frame {}", r.frame);
+        }
+    }
+    assert!(SampleConfig::from_rate(1.01, 2, None, 0).is_err());
+    assert!(SampleConfig::from_rate(0.0, 2, None, 0).is_err());
+}

@@ -96,7 +96,8 @@ pub struct RunArgs {
     /// then exits non-zero, so a script cannot take saturated results for good ones.
     #[arg(long)]
     allow_saturation: bool,
-    /// Cycle model: sampled timing. Time one band of rows in 1/RATE (RATE in (0, 0.5];
+    /// Cycle model: sampled timing. Time one band of rows in 1/RATE (RATE in (0, 1], 1 times
+    /// every band: the full model's cycles with each band's increment in the report;
     /// documented default 0.125) cycle by cycle, keep the caches and the hit buffer warm
     /// functionally in between, and report each frame's cycles and fps as an estimate with a
     /// 95 % confidence interval (docs/cycle-model.md §3.5). Off by default: every cycle is

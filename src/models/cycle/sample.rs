@@ -49,16 +49,19 @@ pub const DEFAULT_RATE: f64 = 0.125;
 pub const DEFAULT_BAND_ROWS: u32 = 4;
 
 impl SampleConfig {
-    /// From a rate in (0, 0.5]: the period is the nearest integer to 1/rate.
+    /// From a rate in (0, 1]: the period is the nearest integer to 1/rate. Rate 1 times
+    /// every band in one segment, so its estimate is the full model's cycles exactly, with
+    /// every band's increment in the report (`band_cycles`): the reference a sample's bands
+    /// are compared with band by band.
     pub fn from_rate(
         rate: f64,
         band_rows: u32,
         warm_rows: Option<u32>,
         seed: u64,
     ) -> Result<Self, String> {
-        if !(rate > 0.0 && rate <= 0.5) {
+        if !(rate > 0.0 && rate <= 1.0) {
             return Err(format!(
-                "--sample {rate}: the rate must be above 0 and at most 0.5 (without --sample every band is timed)"
+                "--sample {rate}: the rate must be above 0 and at most 1 (1 times every band)"
             ));
         }
         if band_rows == 0 {
@@ -310,6 +313,7 @@ impl Sampler {
         let mut certain = 0.0f64;
         let mut ys = Vec::new();
         let mut xs = Vec::new();
+        let mut band_cycles = Vec::with_capacity(self.bands.len());
         for b in &self.bands {
             let t0 = if b.index == 0 {
                 start
@@ -325,7 +329,9 @@ impl Sampler {
                     "sampled timing: band {} ends before it starts",
                     b.index
                 ))
-            })? as f64;
+            })?;
+            band_cycles.push([u64::from(b.index), y]);
+            let y = y as f64;
             if b.certain {
                 certain += y;
             } else {
@@ -378,6 +384,7 @@ impl Sampler {
             cycles_high: est.high,
             fps_low: clock / est.high.max(1.0),
             fps_high: clock / est.low.max(1.0),
+            band_cycles,
         })
     }
 }
@@ -569,6 +576,9 @@ pub struct SampledCycles {
     pub fps_low: f64,
     /// Interval of the frame rate at the clock.
     pub fps_high: f64,
+    /// Every timed band as `[index, cycles]` (its increment y_b), in band order: the first,
+    /// the sampled ones and the last.
+    pub band_cycles: Vec<[u64; 2]>,
 }
 
 /// The sampled estimate of a whole run (the report's `summary.sampled`): frames are sampled
