@@ -213,6 +213,13 @@ pub struct Pipeline<'f> {
     stuck_limit: u64,
     /// Sampled timing: the frame's timed segments (docs/cycle-model.md §3.5).
     sampler: Option<Sampler>,
+    /// Sampled timing: the walk queue (`check_to_transform`) as the last segment's ray
+    /// generation ended, once recorded.
+    carry: Option<usize>,
+    /// Sampled timing: the transform waits until the walk queue holds this many rays (or is
+    /// full, or generation reaches this pixel), so a segment starts with the backlog the last
+    /// one ended with (docs/cycle-model.md §3.5).
+    hold: Option<(usize, u64)>,
 }
 
 impl<'f> Pipeline<'f> {
@@ -266,6 +273,8 @@ impl<'f> Pipeline<'f> {
             last_progress: (start, 0),
             stuck_limit: 1_000_000 + 100 * u64::from(hw.node_memory.dram.latency),
             sampler: None,
+            carry: None,
+            hold: None,
         })
     }
 
@@ -312,6 +321,9 @@ impl<'f> Pipeline<'f> {
         if let Some((from, to)) = next {
             warm_gap(&mut self.frame, self.machine, &mut self.counts, (at, from))?;
             self.raygen.jump(from, to);
+            // The backlog the last segment ended with: the walk queue refills before the
+            // transform starts (or until the band's first pixel is generated).
+            self.hold = self.carry.take().map(|q| (q, s.segment_band()));
         }
         Ok(())
     }
@@ -359,15 +371,27 @@ impl<'f> Pipeline<'f> {
         st[S_RECIP] = self
             .recip
             .eval(&mut f.tr_rc, &mut f.rc_rt, more_walks, now)?;
-        st[S_TRANSFORM] = self.transform.eval(
-            &mut f.loop_back,
-            &mut f.ck_tr,
-            &mut f.tr_rc,
-            &mut self.slots,
-            &self.frame,
-            more_walks,
-            now,
-        )?;
+        if let Some((target, until)) = self.hold {
+            if f.ck_tr.occupancy() >= target
+                || !f.ck_tr.ready()
+                || self.raygen.next_pixel() >= until
+            {
+                self.hold = None;
+            }
+        }
+        st[S_TRANSFORM] = if self.hold.is_some() {
+            StageState::Starved
+        } else {
+            self.transform.eval(
+                &mut f.loop_back,
+                &mut f.ck_tr,
+                &mut f.tr_rc,
+                &mut self.slots,
+                &self.frame,
+                more_walks,
+                now,
+            )?
+        };
         st[S_CHECK] = self.check.eval(
             &mut f.so_ck,
             &mut f.ck_tr,
@@ -390,6 +414,10 @@ impl<'f> Pipeline<'f> {
         self.edge()?;
         self.watch(now)?;
         if let Some(s) = self.sampler.as_mut() {
+            // The walk queue as generation reaches the segment's end, before the drain.
+            if self.carry.is_none() && self.raygen.next_pixel() == s.segment_end() {
+                self.carry = Some(self.fifos.ck_tr.occupancy());
+            }
             s.written(self.counts.written, now);
             self.next_segment()?;
         }
