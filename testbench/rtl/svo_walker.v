@@ -24,9 +24,11 @@
 //       centre c_g; every wide comparison in parallel, registered as bits (a_*): the 9 pairs
 //       t0_a < t1_b (max t0 < min t1 holds iff all do), t1_b > 0 (min t1 > 0 iff all are),
 //       the 3 pairs of t1 (next child, table 3), the 3 pairs of t0 (entry axis) and t0_k > 0;
-//       the child's valid/leaf bits, its slot (popcount), the group base address, the step
-//       limit and the stack-overflow tests. A pop (f_next = 8) is decided here and loads the
-//       parent from the stack in this cycle.
+//       the child's valid/leaf bits, its slot (selected from f_pc, the frame's counts of valid
+//       children below each label, registered from the descriptor as it arrives and then
+//       every cycle from f_desc), the group base address, the step limit and the
+//       stack-overflow tests. A pop (f_next = 8) is decided here and loads the parent from the
+//       stack in this cycle (its g and d updated beside it).
 //   X + 2 (the first S_HOLD cycle, stage B, b_dec set): those bits make the decision — the
 //       next child, steps, the visit, the request (address = base + slot), pend, the
 //       outcome fields (max(entry, 0) is the t0 selected by the entry-axis bits) — and what
