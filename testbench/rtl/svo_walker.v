@@ -35,11 +35,11 @@
 //       follows the hold; the remaining STEP_LATENCY - 3 hold cycles only wait.
 //   The child's midpoints and first child are not in the step: c_tm is registered every
 //       cycle from c_t0/c_t1 (or, on a zero axis, from c_g) and c_first every cycle from
-//       c_t0/c_tm, so they are ready two cycles after stage A (X + 3), before the descriptor
-//       can arrive (request in X + STEP_LATENCY >= X + 3, data at least one cycle later); the
-//       root's c_tm is registered in the accept cycle D from the inputs and its c_first in
-//       D + 1, before its descriptor (request D + 1, data >= D + 2). The descriptor's arrival
-//       copies c_* into f_*.
+//       c_t0/c_tm: c_tm at the end of X + 2, c_first at the end of X + 3, so both are there
+//       when the descriptor can first arrive (request in X + STEP_LATENCY >= X + 3, data at
+//       least one cycle later); the root's c_tm is registered in the accept cycle D from the
+//       inputs and its c_first in D + 1, before its descriptor (request D + 1, data
+//       >= D + 2). The descriptor's arrival copies c_* into f_*.
 //
 // Arithmetic as the model: children by the midpoints tm = floor((t0 + t1)/2) (halves plus the
 // carry of the low bits); zero axes take +inf / -inf from the origin's side of the node's
