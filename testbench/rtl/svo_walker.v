@@ -6,32 +6,57 @@
 // Pipeline position: after svo_walker_root (the root slabs) and the dispatcher; its result
 // goes to the record stage. It reads the SVO memory image (docs/svo-format.md) through one
 // read port with valid/ready; every read returns mem_resp_valid with the data some cycles
-// later (any latency, one read outstanding: the context waits for each).
+// later (any latency of at least one cycle, one read outstanding: the context waits for each).
 //
 // Timing (what the model counts, and so what walker.hex's cycles_* predict):
 //   accept (cycle D)        the root descriptor is requested in D + 1 (a root miss leaves in
 //                           D + 1 with no read);
-//   an issue slot (cycle X) is a child examined or a stack pop: the slot's logic runs in
-//                           X + 1 (COMP) from the top frame's registers, its result is held
-//                           STEP_LATENCY - 2 more cycles, and its successor comes in
+//   an issue slot (cycle X) is a child examined or a stack pop; its successor comes in
 //                           X + STEP_LATENCY: the next slot, a read request, or the result;
 //   a read's data (cycle C) a descriptor pushes the child's frame and issues its first slot
 //                           in C; a far word requests the child's slot in C; a leaf slot
 //                           requests the attribute record in C; the attribute record is the
 //                           result, out_valid in C.
-// The step's logic is evaluated in one cycle and then held: synthesis retimes it across the
-// STEP_LATENCY - 1 registers of the hold.
+// Where the registers are (Yosys does not retime, so the RTL places them; each stage fits
+// 300 MHz by docs/cycle-model.md §1.5's rule):
+//   X + 1 (S_COMP, stage A) from the top frame's registers f_* only: the child's t0/t1 (the
+//       cc-multiplexers), registered into c_t0/c_t1 with its coordinates, level and zero-axis
+//       centre c_g; every wide comparison in parallel, registered as bits (a_*): the 9 pairs
+//       t0_a < t1_b (max t0 < min t1 holds iff all do), t1_b > 0 (min t1 > 0 iff all are),
+//       the 3 pairs of t1 (next child, table 3), the 3 pairs of t0 (entry axis) and t0_k > 0;
+//       the child's valid/leaf bits, its slot (selected from f_pc, the frame's counts of valid
+//       children below each label, registered from the descriptor as it arrives and then
+//       every cycle from f_desc), the group base address, the step limit and the
+//       stack-overflow tests. A pop (f_next = 8) is decided here and loads the parent from the
+//       stack in this cycle (its g and d updated beside it).
+//   X + 2 (the first S_HOLD cycle, stage B, b_dec set): those bits make the decision — the
+//       next child, steps, the visit, the request (address = base + slot), pend, the
+//       outcome fields (max(entry, 0) is the t0 selected by the entry-axis bits) — and what
+//       follows the hold; the remaining STEP_LATENCY - 3 hold cycles only wait.
+//   The child's midpoints and first child are not in the step: c_tm is registered every
+//       cycle from c_t0/c_t1 (or, on a zero axis, from c_g) and c_first every cycle from
+//       c_t0/c_tm: c_tm at the end of X + 2, c_first at the end of X + 3, so both are there
+//       when the descriptor can first arrive (request in X + STEP_LATENCY >= X + 3, data at
+//       least one cycle later); the root's c_tm is registered in the accept cycle D from the
+//       inputs and its c_first in D + 1, before its descriptor (request D + 1, data
+//       >= D + 2). The descriptor's arrival copies c_* into f_*.
 //
 // Arithmetic as the model: children by the midpoints tm = floor((t0 + t1)/2) (halves plus the
 // carry of the low bits); zero axes take +inf / -inf from the origin's side of the node's
-// centre plane -e + ((2m + 1)·2e) >> (level + 1) (m the mirrored coordinate); child order by
-// Revelles' tables 1-3 (first child from the midpoints crossed before the entry, next child
-// from the exit plane, ties x, y, z); a child is entered when max(t0) < min(t1) and
-// min(t1) > 0. Negative axes are mirrored (label ^ a). Steps count children examined, fetches
-// the root and each node descended into; a walk that examines more than MAX_STEPS children
-// stops with outcome 2. A descent that would need more than STACK_DEPTH frames stops with
-// outcome 3 (stack overflow; the model's stack never overflows at its default depth, so the
-// vectors never expect it).
+// centre plane: +inf iff ox < floor(-e + (2m + 1)·e / 2^level) (m the mirrored coordinate).
+// The walker keeps that centre exactly, without a product: g = centre - (ox + 1), in
+// F = STACK_DEPTH fraction bits (a frame's level is at most STACK_DEPTH - 1, its children's
+// centres need level + 1 fraction bits), so +inf iff g >= 0 (ox + 1 <= centre iff
+// ox < floor(centre), ox an integer). The root's centre is 0 (g = ~ox); a child's is its
+// parent's ± e / 2^(level + 1), + when the child's mirrored bit (= cc's bit) is 1; the top
+// frame keeps d = e / 2^(level + 1) (f_d, halved on a descent, doubled on a pop) and a pop
+// takes g back by ∓ 2d from the popped child's bit. Child order by Revelles' tables 1-3
+// (first child from the midpoints crossed before the entry, next child from the exit plane,
+// ties x, y, z); a child is entered when max(t0) < min(t1) and min(t1) > 0. Negative axes are
+// mirrored (label ^ a). Steps count children examined, fetches the root and each node
+// descended into; a walk that examines more than MAX_STEPS children stops with outcome 2. A
+// descent that would need more than STACK_DEPTH frames stops with outcome 3 (stack overflow;
+// the model's stack never overflows at its default depth, so the vectors never expect it).
 //
 // Widths from walker_pkg.sv: POS_W (walker.pos, the origin after mirroring is POS_W + 1 bits),
 // T_W (walker.t; t values carry one more bit for the +-inf sentinels). The memory word is 64
@@ -90,7 +115,8 @@ module svo_walker #(
     localparam signed [TI-1:0] NEG_INF = {1'b1, {(TI-1){1'b0}}};
     localparam signed [TI-1:0] POS_INF = {1'b0, {(TI-1){1'b1}}};
     localparam signed [TI-1:0] T_ZERO = {TI{1'b0}};
-    localparam MW = POS_W + 24;                    // (2m + 1)·2e
+    localparam F = STACK_DEPTH;                    // fraction bits of a zero axis's centre
+    localparam GW = POS_W + 2 + F;                 // g = centre - (ox + 1) and d, signed
     localparam FW = 9*TI + 32 + 32 + 4 + 5 + 60;   // a stack frame
     localparam HOLD = STEP_LATENCY - 2;
     localparam SPW = $clog2(STACK_DEPTH) + 1;     // stack pointer bits (0 .. STACK_DEPTH - 1)
@@ -105,10 +131,9 @@ module svo_walker #(
     reg [1:0] pend;
     reg [1:0] act;                                 // what follows the hold
     reg [7:0] hold_left;
+    reg       b_dec;                               // stage B decides in this S_HOLD cycle
 
     // The walk's constants.
-    reg signed [POS_W:0]   w_o [0:2];
-    reg signed [POS_W-1:0] w_half [0:2];
     reg [2:0]  w_zero;
     reg [2:0]  w_a;                                // mirror mask: bit 2 - k for axis k
     reg [31:0] w_attr_base;
@@ -121,21 +146,35 @@ module svo_walker #(
     reg [3:0]  f_next;
     reg [4:0]  f_level;
     reg [19:0] f_c [0:2];
+    reg signed [GW-1:0] f_g [0:2];                 // zero axes: centre - (ox + 1)
+    reg signed [GW-1:0] f_d [0:2];                 // zero axes: e / 2^(level + 1)
+    reg [2:0]  f_pc [0:7];                         // f_pc[r]: valid children below label r
 
     // Frames below the top.
     reg [FW-1:0] stk [0:STACK_DEPTH-2];
     reg [SPW-1:0] sp;                              // frames in stk
 
-    // The child being read.
+    // The child being examined (stage A) and then read.
     reg signed [TI-1:0] c_t0 [0:2];
     reg signed [TI-1:0] c_t1 [0:2];
     reg signed [TI-1:0] c_tm [0:2];
+    reg signed [GW-1:0] c_g [0:2];
     reg [3:0]  c_first;
     reg [4:0]  c_level;
     reg [19:0] c_c [0:2];
     reg [31:0] c_addr;
+    reg [31:0] c_fa;                               // parent address + slot (far escape)
     reg        c_leaf, c_root;
-    reg [3:0]  c_slot;                             // popcount of the lower valid bits
+
+    // Stage A's results.
+    reg [8:0]  a_lt;                               // bit 3a + b: t0_a < t1_b
+    reg [2:0]  a_pos;                              // t1_b > 0
+    reg        a_n01, a_n02, a_n12;                // t1_0 <= t1_1, t1_0 <= t1_2, t1_1 <= t1_2
+    reg        a_e01, a_e02, a_e12;                // t0_0 >= t0_1, t0_0 >= t0_2, t0_1 >= t0_2
+    reg [2:0]  a_t0pos;                            // t0_k > 0
+    reg        a_valid, a_leaf, a_far, a_lim, a_ovf;
+    reg [3:0]  a_slot;                             // popcount of the lower valid bits
+    reg [31:0] a_base;                             // parent address + child pointer
 
     reg [31:0] req_addr;
     reg        req_attr;
@@ -143,112 +182,77 @@ module svo_walker #(
     reg [63:0] attr_data;
 
     // ---- Combinational helpers ----------------------------------------------------------
-    function automatic signed [TI-1:0] max3(input signed [TI-1:0] a, input signed [TI-1:0] b,
-                                            input signed [TI-1:0] c);
-        reg signed [TI-1:0] m;
+    // floor((a + b)/2) of two t codes: the halves plus the carry of the low bits.
+    function automatic signed [TI-1:0] mid_t(input signed [TI-1:0] a, input signed [TI-1:0] b);
+        mid_t = (a >>> 1) + (b >>> 1) + $signed({{(TI-1){1'b0}}, a[0] & b[0]});
+    endfunction
+    // Valid children with a label below r, for every r (a child's slot in its group): from
+    // the descriptor's valid mask. Full adders in logic, so each count is a LUT function of
+    // at most 7 bits and no carry chain.
+    function automatic [2:0] popcount7(input [6:0] v);
+        reg s1, c1, s2, c2, c3;
         begin
-            m = a;
-            if (b > m) m = b;
-            if (c > m) m = c;
-            max3 = m;
+            s1 = v[0] ^ v[1] ^ v[2];
+            c1 = (v[0] & v[1]) | (v[0] & v[2]) | (v[1] & v[2]);
+            s2 = v[3] ^ v[4] ^ v[5];
+            c2 = (v[3] & v[4]) | (v[3] & v[5]) | (v[4] & v[5]);
+            popcount7[0] = s1 ^ s2 ^ v[6];
+            c3 = (s1 & s2) | (s1 & v[6]) | (s2 & v[6]);
+            popcount7[1] = c1 ^ c2 ^ c3;
+            popcount7[2] = (c1 & c2) | (c1 & c3) | (c2 & c3);
         end
     endfunction
-    function automatic signed [TI-1:0] min3(input signed [TI-1:0] a, input signed [TI-1:0] b,
-                                            input signed [TI-1:0] c);
-        reg signed [TI-1:0] m;
+    function automatic [23:0] prefix_counts(input [6:0] valid);   // labels 0..6
+        integer r;
         begin
-            m = a;
-            if (b < m) m = b;
-            if (c < m) m = c;
-            min3 = m;
-        end
-    endfunction
-    // Midpoint of one axis for the node at `level` with real coordinate `c`: `zero` the
-    // axis's zero flag, `mir` its mirror bit, `half` and `o` its half extent and mirrored
-    // origin.
-    function automatic signed [TI-1:0] mid(input zero, input mir, input signed [POS_W-1:0] half,
-                                           input signed [POS_W:0] o, input signed [TI-1:0] a,
-                                           input signed [TI-1:0] b, input [4:0] level,
-                                           input [19:0] c);
-        reg [20:0] m;
-        reg signed [MW-1:0] e, centre, ox;
-        begin
-            if (!zero) begin
-                mid = (a >>> 1) + (b >>> 1) + $signed({{(TI-1){1'b0}}, a[0] & b[0]});
-            end else begin
-                if (mir) m = ((21'd1 << level) - 21'd1) - {1'b0, c};
-                else m = {1'b0, c};
-                e = {{(MW-POS_W){1'b0}}, half};
-                centre = -e + (($signed({1'b0, m, 1'b1}) * (e <<< 1)) >>> (level + 5'd1));
-                ox = {{(MW-POS_W-1){o[POS_W]}}, o};
-                mid = (ox < centre) ? POS_INF : NEG_INF;
-            end
+            for (r = 0; r < 8; r = r + 1)
+                prefix_counts[3*r +: 3] = popcount7(valid & ~(7'h7f << r));
         end
     endfunction
     wire taking = in_valid && in_ready;
     wire [2:0] in_a = {in_neg[0], in_neg[1], in_neg[2]};
 
-    function automatic [3:0] first_child(input signed [TI-1:0] t0x, input signed [TI-1:0] t0y,
-                                         input signed [TI-1:0] t0z, input signed [TI-1:0] tmx,
-                                         input signed [TI-1:0] tmy, input signed [TI-1:0] tmz);
-        reg signed [TI-1:0] en;
-        begin
-            en = max3(t0x, t0y, t0z);
-            first_child = {1'b0, tmx < en, tmy < en, tmz < en};
-        end
-    endfunction
-
-    // ---- The step (COMP): everything from the top frame --------------------------------
+    // ---- Stage A (S_COMP): everything from the top frame --------------------------------
     wire [2:0]  cc = f_next[2:0];
+    wire        popping = f_next[3];               // f_next = 8
     reg signed [TI-1:0] s_t0 [0:2];
     reg signed [TI-1:0] s_t1 [0:2];
-    reg signed [TI-1:0] s_enter, s_exit;
-    reg [3:0]  s_next;
+    reg signed [GW-1:0] s_g [0:2];                 // the child's g (a step) or the parent's (a pop)
+    reg signed [GW-1:0] s_y;
+    reg        s_neg;
     reg [2:0]  s_real;
-    reg        s_valid, s_leaf, s_in;
-    reg [3:0]  s_slot;
     reg [19:0] s_c [0:2];
-    integer k;
+    reg [8:0]  s_lt;
+    integer k, b;
     always @* begin
         for (k = 0; k < 3; k = k + 1) begin
             s_t0[k] = cc[2-k] ? f_tm[k] : f_t0[k];
             s_t1[k] = cc[2-k] ? f_t1[k] : f_tm[k];
         end
-        if (s_t1[0] <= s_t1[1] && s_t1[0] <= s_t1[2])
-            s_next = cc[2] ? 4'd8 : {1'b0, cc | 3'b100};
-        else if (s_t1[1] <= s_t1[2])
-            s_next = cc[1] ? 4'd8 : {1'b0, cc | 3'b010};
-        else
-            s_next = cc[0] ? 4'd8 : {1'b0, cc | 3'b001};
-        s_enter = max3(s_t0[0], s_t0[1], s_t0[2]);
-        s_exit = min3(s_t1[0], s_t1[1], s_t1[2]);
-        s_in = s_enter < s_exit && s_exit > T_ZERO;
+        for (k = 0; k < 3; k = k + 1)
+            for (b = 0; b < 3; b = b + 1)
+                s_lt[3*k + b] = s_t0[k] < s_t1[b];
         s_real = cc ^ w_a;
-        s_valid = f_desc[8 + s_real];
-        s_leaf = f_desc[{2'b00, s_real}];
-        s_slot = 4'd0;
-        for (k = 0; k < 8; k = k + 1)
-            if (k < s_real && f_desc[8 + k]) s_slot = s_slot + 4'd1;
         for (k = 0; k < 3; k = k + 1) s_c[k] = {f_c[k][18:0], s_real[2-k]};
+        // A step: g ± d (+ when cc's bit is 1). A pop: the popped child's bit b (its
+        // coordinate's low bit, unmirrored) gives the parent's g = g ∓ 2d.
+        for (k = 0; k < 3; k = k + 1) begin
+            s_y = popping ? f_d[k] <<< 1 : f_d[k];
+            s_neg = popping ? f_c[k][0] ^ w_a[2-k] : !cc[2-k];
+            s_g[k] = f_g[k] + (s_y ^ {GW{s_neg}}) + {{(GW-1){1'b0}}, s_neg};
+        end
     end
 
-    // The entered child's midpoints and first child, and the root's (from the inputs, in
-    // the accept cycle).
-    reg signed [TI-1:0] s_tm [0:2];
-    reg signed [TI-1:0] r_tm [0:2];
-    reg [3:0] s_first, r_first;
-    always @* begin
-        for (k = 0; k < 3; k = k + 1) begin
-            s_tm[k] = mid(w_zero[k], w_a[2-k], w_half[k], w_o[k], s_t0[k], s_t1[k],
-                          f_level + 5'd1, s_c[k]);
-            r_tm[k] = mid(in_zero[k], in_a[2-k], in_half[k*POS_W +: POS_W],
-                          in_o[k*(POS_W+1) +: POS_W+1], in_t0[k*TI +: TI], in_t1[k*TI +: TI],
-                          5'd0, 20'd0);
-        end
-        s_first = first_child(s_t0[0], s_t0[1], s_t0[2], s_tm[0], s_tm[1], s_tm[2]);
-        r_first = first_child(in_t0[0 +: TI], in_t0[TI +: TI], in_t0[2*TI +: TI],
-                              r_tm[0], r_tm[1], r_tm[2]);
-    end
+    // ---- Stage B (the first S_HOLD cycle): the decision from stage A's bits -------------
+    wire        b_in = &a_lt && &a_pos;
+    wire        b_enter = b_in && a_valid;
+    wire [2:0]  b_bit = a_n01 && a_n02 ? 3'b100 : a_n12 ? 3'b010 : 3'b001;
+    wire [3:0]  b_next = (cc & b_bit) != 3'b000 ? 4'd8 : {1'b0, cc | b_bit};
+    wire [1:0]  b_axis = a_e01 && a_e02 ? 2'd0 : a_e12 ? 2'd1 : 2'd2;
+    wire [1:0]  b_act = a_lim ? A_OUT : !b_enter ? A_ISSUE
+                      : (!a_leaf && a_ovf) ? A_OUT : A_REQ;
+    wire [1:0]  act_now = b_dec ? b_act : act;
+    wire [31:0] b_slot_addr = a_base + {28'd0, a_slot};
 
     // A configuration this RTL cannot time as the model: elaboration fails on the missing
     // module.
@@ -263,7 +267,7 @@ module svo_walker #(
 
     // ---- Ports ----------------------------------------------------------------------------
     wire resp = st == S_MEMW && mem_resp_valid;
-    wire [31:0] far_slot = f_addr + mem_resp_data[31:0] + {28'd0, c_slot};
+    wire [31:0] far_slot = c_fa + mem_resp_data[31:0];
     // A far word's child slot and a leaf's attribute record are requested in the cycle the
     // word arrives.
     wire chain = resp && (pend == P_FAR || pend == P_LEAF);
@@ -275,12 +279,27 @@ module svo_walker #(
     assign out_attr_data = st == S_OUT ? attr_data : mem_resp_data;
     assign in_ready = st == S_IDLE || (out_valid && out_ready);
 
+    wire [23:0] pc_next = prefix_counts(resp && pend == P_DESC ? mem_resp_data[14:8]
+                                                               : f_desc[14:8]);
+
     // ---- The sequencer -------------------------------------------------------------------
     integer j;
     always @(posedge clk) begin
         visit_valid <= 1'b0;
+        // The child's midpoints and first child, every cycle from the child's registers
+        // (a zero axis from the sign of its g; the root's midpoints come from the inputs).
+        for (j = 0; j < 3; j = j + 1)
+            c_tm[j] <= !w_zero[j] ? mid_t(c_t0[j], c_t1[j])
+                     : c_g[j][GW-1] ? NEG_INF : POS_INF;
+        for (j = 0; j < 3; j = j + 1)
+            c_first[2-j] <= c_tm[j] < c_t0[0] || c_tm[j] < c_t0[1] || c_tm[j] < c_t0[2];
+        c_first[3] <= 1'b0;
+        // The top frame's prefix counts, every cycle from f_desc (a pop's parent has them
+        // before its next slot, three cycles on) and from the descriptor as it arrives.
+        for (j = 0; j < 8; j = j + 1) f_pc[j] <= pc_next[3*j +: 3];
         if (rst) begin
             st <= S_IDLE;
+            b_dec <= 1'b0;
         end else begin
             // The result leaves.
             if (out_valid && out_ready) begin
@@ -307,6 +326,8 @@ module svo_walker #(
                         f_t1[j] <= c_t1[j];
                         f_tm[j] <= c_tm[j];
                         f_c[j] <= c_c[j];
+                        f_g[j] <= c_g[j];
+                        f_d[j] <= f_d[j] >>> 1;
                     end
                     f_addr <= c_addr;
                     f_desc <= mem_resp_data[31:0];
@@ -333,86 +354,115 @@ module svo_walker #(
             end
             S_ISSUE: st <= S_COMP;
             S_COMP: begin
+                // Stage A.
                 st <= S_HOLD;
                 hold_left <= HOLD - 1;
-                act <= A_ISSUE;
-                if (f_next == 4'd8) begin
-                    // A pop.
+                if (popping) begin
+                    b_dec <= 1'b0;
                     if (sp == {SPW{1'b0}}) begin
                         out_outcome <= 2'd0;
                         act <= A_OUT;
                     end else begin
+                        act <= A_ISSUE;
                         {f_t0[0], f_t0[1], f_t0[2], f_t1[0], f_t1[1], f_t1[2], f_tm[0],
                          f_tm[1], f_tm[2], f_addr, f_desc, f_next, f_level, f_c[0], f_c[1],
                          f_c[2]} <= stk[sp_below];
                         sp <= sp - 1'b1;
-                    end
-                end else if (steps + 32'd1 > MAX_STEPS) begin
-                    steps <= steps + 32'd1;
-                    out_outcome <= 2'd2;
-                    act <= A_OUT;
-                end else begin
-                    steps <= steps + 32'd1;
-                    f_next <= s_next;
-                    if (s_in && s_valid) begin
-                        visit_valid <= 1'b1;
-                        visit_level <= f_level + 5'd1;
-                        visit_coords <= {s_c[2], s_c[1], s_c[0]};
                         for (j = 0; j < 3; j = j + 1) begin
-                            c_t0[j] <= s_t0[j];
-                            c_t1[j] <= s_t1[j];
-                            c_tm[j] <= s_tm[j];
-                            c_c[j] <= s_c[j];
+                            f_g[j] <= s_g[j];
+                            f_d[j] <= f_d[j] <<< 1;
                         end
-                        c_first <= s_first;
-                        c_level <= f_level + 5'd1;
-                        c_leaf <= s_leaf;
-                        c_root <= 1'b0;
-                        c_slot <= s_slot;
-                        req_attr <= 1'b0;
-                        if (s_leaf) begin
-                            out_outcome <= 2'd1;
-                            out_t <= s_enter > T_ZERO ? s_enter[T_W-1:0] : {T_W{1'b0}};
-                            out_voxel <= {s_c[2], s_c[1], s_c[0]};
-                            out_level <= f_level + 5'd1;
-                            out_entry_axis <= (s_t0[0] >= s_t0[1] && s_t0[0] >= s_t0[2]) ? 2'd0
-                                            : (s_t0[1] >= s_t0[2]) ? 2'd1 : 2'd2;
-                        end else begin
-                            fetches <= fetches + 32'd1;
-                        end
-                        act <= A_REQ;
-                        if (!s_leaf && {{(32-SPW){1'b0}}, sp} + 32'd1 >= STACK_DEPTH) begin
-                            out_outcome <= 2'd3;
-                            act <= A_OUT;
-                        end else if (f_desc[16]) begin
-                            pend <= P_FAR;
-                            req_addr <= f_addr + {17'd0, f_desc[31:17]};
-                        end else begin
-                            pend <= s_leaf ? P_LEAF : P_DESC;
-                            req_addr <= f_addr + {17'd0, f_desc[31:17]} + {28'd0, s_slot};
-                            c_addr <= f_addr + {17'd0, f_desc[31:17]} + {28'd0, s_slot};
+                    end
+                end else begin
+                    b_dec <= 1'b1;
+                    for (j = 0; j < 3; j = j + 1) begin
+                        c_t0[j] <= s_t0[j];
+                        c_t1[j] <= s_t1[j];
+                        c_c[j] <= s_c[j];
+                        c_g[j] <= s_g[j];
+                        a_pos[j] <= s_t1[j] > T_ZERO;
+                        a_t0pos[j] <= s_t0[j] > T_ZERO;
+                    end
+                    c_level <= f_level + 5'd1;
+                    c_leaf <= f_desc[{2'b00, s_real}];
+                    c_root <= 1'b0;
+                    a_lt <= s_lt;
+                    a_n01 <= s_t1[0] <= s_t1[1];
+                    a_n02 <= s_t1[0] <= s_t1[2];
+                    a_n12 <= s_t1[1] <= s_t1[2];
+                    a_e01 <= s_t0[0] >= s_t0[1];
+                    a_e02 <= s_t0[0] >= s_t0[2];
+                    a_e12 <= s_t0[1] >= s_t0[2];
+                    a_valid <= f_desc[8 + s_real];
+                    a_leaf <= f_desc[{2'b00, s_real}];
+                    a_far <= f_desc[16];
+                    a_slot <= {1'b0, f_pc[s_real]};
+                    a_base <= f_addr + {17'd0, f_desc[31:17]};
+                    a_lim <= steps + 32'd1 > MAX_STEPS;
+                    a_ovf <= {{(32-SPW){1'b0}}, sp} + 32'd1 >= STACK_DEPTH;
+                end
+            end
+            S_HOLD: begin
+                if (b_dec) begin
+                    // Stage B.
+                    b_dec <= 1'b0;
+                    steps <= steps + 32'd1;
+                    if (a_lim) begin
+                        out_outcome <= 2'd2;
+                    end else begin
+                        f_next <= b_next;
+                        if (b_enter) begin
+                            visit_valid <= 1'b1;
+                            visit_level <= c_level;
+                            visit_coords <= {c_c[2], c_c[1], c_c[0]};
+                            c_fa <= f_addr + {28'd0, a_slot};
+                            req_attr <= 1'b0;
+                            if (a_leaf) begin
+                                out_outcome <= 2'd1;
+                                out_t <= a_t0pos[b_axis] ? c_t0[b_axis][T_W-1:0] : {T_W{1'b0}};
+                                out_voxel <= {c_c[2], c_c[1], c_c[0]};
+                                out_level <= c_level;
+                                out_entry_axis <= b_axis;
+                            end else begin
+                                fetches <= fetches + 32'd1;
+                            end
+                            if (!a_leaf && a_ovf) begin
+                                out_outcome <= 2'd3;
+                            end else if (a_far) begin
+                                pend <= P_FAR;
+                                req_addr <= a_base;
+                            end else begin
+                                pend <= a_leaf ? P_LEAF : P_DESC;
+                                req_addr <= b_slot_addr;
+                                c_addr <= b_slot_addr;
+                            end
                         end
                     end
                 end
-            end
-            S_HOLD: if (hold_left == 8'd0) begin
-                st <= act == A_ISSUE ? S_ISSUE : act == A_REQ ? S_REQ : S_OUT;
-            end else begin
-                hold_left <= hold_left - 8'd1;
+                act <= act_now;
+                if (hold_left == 8'd0) begin
+                    st <= act_now == A_ISSUE ? S_ISSUE : act_now == A_REQ ? S_REQ : S_OUT;
+                end else begin
+                    hold_left <= hold_left - 8'd1;
+                end
             end
             default: ;
             endcase
             // A new walk (possibly in the cycle the previous result leaves).
             if (taking) begin
                 for (j = 0; j < 3; j = j + 1) begin
-                    w_o[j] <= in_o[j*(POS_W+1) +: POS_W+1];
-                    w_half[j] <= in_half[j*POS_W +: POS_W];
                     c_t0[j] <= in_t0[j*TI +: TI];
                     c_t1[j] <= in_t1[j*TI +: TI];
-                    c_tm[j] <= r_tm[j];
+                    // The root's centre is 0: +inf iff ox < 0; g = -(ox + 1) = ~ox, and the
+                    // d of a level above the root, e, halved when the root becomes the top.
+                    c_tm[j] <= !in_zero[j] ? mid_t(in_t0[j*TI +: TI], in_t1[j*TI +: TI])
+                             : in_o[j*(POS_W+1) + POS_W] ? POS_INF : NEG_INF;
+                    c_g[j] <= {~{{(GW-F-POS_W-1){in_o[j*(POS_W+1) + POS_W]}},
+                                 in_o[j*(POS_W+1) +: POS_W+1]}, {F{1'b0}}};
+                    f_d[j] <= {{(GW-F-POS_W){in_half[j*POS_W + POS_W-1]}},
+                               in_half[j*POS_W +: POS_W], {F{1'b0}}};
                     c_c[j] <= 20'd0;
                 end
-                c_first <= r_first;
                 w_zero <= in_zero;
                 w_a <= in_a;
                 w_attr_base <= in_attr_base;

@@ -32,9 +32,10 @@ pub mod calibration {
     /// `svo_walker_root` (each product as six 27 × 18 tiles and their adder tree): 3079
     /// LUT, 6228 FF.
     pub const WALKER_ROOT: (u64, u64) = (3079, 6228);
-    /// `svo_walker` (one context, its 21-frame stack in 50 RAM32M16): 6389 + 400 LUT,
-    /// 2072 FF.
-    pub const WALKER: (u64, u64) = (6789, 2072);
+    /// `svo_walker` (one context, its 21-frame stack in 50 RAM32M16; the step in two
+    /// register stages, zero-axis centres kept incrementally, no product): 4781 + 400 LUT,
+    /// 2503 FF.
+    pub const WALKER: (u64, u64) = (5181, 2503);
     /// `svo_raygen` (three direction and three position converters, svo_f64_to_fixed, the
     /// align in two stages): 1980 LUT + 50 SRL, 1168 FF.
     pub const RAYGEN: (u64, u64) = (2030, 1168);
