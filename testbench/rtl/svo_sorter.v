@@ -11,11 +11,20 @@
 //
 // Network: the model's BEST_8 network by layers, one register per layer (6 cycles, II = 1);
 // lanes at or above the count carry an invalid bit above t that sorts them last. A ray of
-// C = ceil(count / 8) > 1 chunks issues chunk k on cycle k from a register copy of the ray,
-// writes the sorted chunks into run buffer A, then merges neighbouring runs (8, 16, ...)
+// C = ceil(count / 8) > 1 chunks issues chunk k on cycle k from a shift-register copy of the
+// ray, writes the sorted chunks into run buffer A, then merges neighbouring runs (8, 16, ...)
 // from one buffer into the other, one key per cycle, until one run is left: each pass takes
-// one setup cycle (the head compare's register, MERGE_LATENCY) and count cycles; on equal
-// keys the left run goes first, as the model's merge.
+// one setup cycle (MERGE_LATENCY) and count cycles; on equal keys the left run goes first,
+// as the model's merge.
+//
+// Placed for 300 MHz (docs/cycle-model.md §1.5; Yosys does not retime): no stage reads a
+// buffer through a multiplexer and compares in the same cycle. The merger keeps both run
+// heads and their successors in registers, compares the heads, writes the winner and refills
+// the winner's successor from a pointer register (a read straight into a register); the next
+// pair's keys are read ahead, the next pass's first keys captured as they are written. The
+// count's consequences (chunks, in_ready's hold) are a table over in_count, in_ready is a
+// register, and every variable index is a multiplexer or a decoder on a register, never a
+// product (no DSP48E2).
 //
 // Timing, the cycle model's (`units::sorter::pipe_cost` in a `UnitPipe` of latency 6; the
 // sorter's vector rows carry it per ray as `cycles` and `busy`):
@@ -48,8 +57,10 @@ module svo_sorter #(
     localparam KB = KW + IW;             // key bits in the ports
     localparam SKW = KB + 1;             // sort key {invalid, t, id}
     localparam PW = 7;                   // pointer bits: 0..MAX_KEYS and one beyond
+    localparam NCH = MAX_KEYS / N;       // chunks of a full ray
+    localparam LW = (MAX_KEYS > 32) ? 6 : 5;  // lane index bits of the read multiplexers
     // The model's BEST_8 network: layer l, comparator p as {i, j} at [(4l + p)*6 +: 6];
-    // unused slots are (0, 0), a compare of a lane with itself, which never swaps.
+    // unused slots are (0, 0).
     localparam [6*4*6-1:0] PAIRS = {
         6'o12, 6'o34, 6'o56, 6'o00,      // layer 5: (1,2) (3,4) (5,6)
         6'o14, 6'o36, 6'o00, 6'o00,      // layer 4: (1,4) (3,6)
@@ -58,72 +69,121 @@ module svo_sorter #(
         6'o04, 6'o15, 6'o26, 6'o37,      // layer 1
         6'o02, 6'o13, 6'o46, 6'o57       // layer 0
     };
-
-    // Counts: chunks C (an empty ray is one empty issue) and merge passes P.
-    wire [CW-1:0] cnt_in = (in_count > MAX_KEYS[CW-1:0]) ? MAX_KEYS[CW-1:0] : in_count;
-    wire [CW-1:0] chunks_in = (cnt_in + N[CW-1:0] - 1'b1) / N[CW-1:0];
-    function [3:0] clog2c(input [CW-1:0] c);   // ceil(log2 c), 0 for c <= 1
-        integer b;
+    // The lane lane q meets in layer l (q itself when it has no comparator there).
+    function integer partner(input integer l, input integer q);
+        integer p, a, b;
         begin
-            clog2c = 4'd0;
-            for (b = 0; b < CW; b = b + 1)
-                if ((c - 1'b1) >> b != 0) clog2c = b[3:0] + 4'd1;
-            if (c <= 1) clog2c = 4'd0;
+            partner = q;
+            for (p = 0; p < 4; p = p + 1) begin
+                a = {29'd0, PAIRS[(4*l + p)*6 + 3 +: 3]};
+                b = {29'd0, PAIRS[(4*l + p)*6 +: 3]};
+                if (a != b && a == q) partner = b;
+                if (a != b && b == q) partner = a;
+            end
         end
     endfunction
-    wire [3:0]  passes_in = clog2c(chunks_in);
-    wire [15:0] occupancy = (chunks_in <= 1) ? 16'd1 :
-                            {{(16 - CW){1'b0}}, chunks_in} + {12'd0, passes_in} * ({10'd0, cnt_in} + 16'd1);
 
-    // Input: one ray per in_ready; in_ready falls for occupancy - 1 cycles after an accept.
+    // What a ray's count decides, a table over every in_count (constants: a small ROM
+    // of LUTs, no arithmetic on the input): {in_ready's hold after the accept, occupancy - 1
+    // (16 bits); the chunks C (4 bits, 1 for an empty ray)}, occupancy = 1 for C = 1, else
+    // C + P*(count + 1) with P = ceil(log2 C) merge passes.
+    localparam CT = 1 << CW;
+    function [19:0] count_info(input integer c);
+        integer cnt, ch, p, b;
+        /* verilator lint_off UNUSEDSIGNAL */
+        integer occ;                     // below 2^16: only its low 16 bits are read
+        /* verilator lint_on UNUSEDSIGNAL */
+        reg [15:0] occ16;
+        begin
+            cnt = (c > MAX_KEYS) ? MAX_KEYS : c;
+            ch = (cnt + N - 1) / N;
+            if (ch == 0) ch = 1;
+            p = 0;
+            for (b = 0; b < 8; b = b + 1)
+                if ((1 << b) < ch) p = b + 1;
+            occ = (ch <= 1) ? 1 : ch + p * (cnt + 1);
+            occ16 = occ[15:0];
+            count_info = {occ16 - 16'd1, ch[3:0]};
+        end
+    endfunction
+    function [CT*32-1:0] info_table(input integer unused);
+        integer c;
+        begin
+            info_table = {CT*32{1'b0}};
+            for (c = 0; c < CT; c = c + 1)
+                info_table[c*32 +: 32] = {12'd0, count_info(c)};
+        end
+    endfunction
+    localparam [CT*32-1:0] INFO = info_table(0);
+    wire [19:0]   info    = INFO[{in_count, 5'd0} +: 20];
+    wire [15:0]   hold_in = info[19:4];
+    wire [3:0]    nchunks_in = info[3:0];
+    wire [CW-1:0] cnt_in  = (in_count > MAX_KEYS[CW-1:0]) ? MAX_KEYS[CW-1:0] : in_count;
+
+    // Input: one ray per in_ready; in_ready falls for occupancy - 1 cycles after an accept
+    // (a register: ready = (hold == 0) of the next cycle).
     reg  [15:0] hold;
-    wire        accept = in_valid && in_ready;
-    assign in_ready = (hold == 16'd0);
+    reg         ready_q;
+    wire        accept = in_valid && ready_q;
+    assign in_ready = ready_q;
     always @(posedge clk) begin
-        if (rst) hold <= 16'd0;
-        else if (accept) hold <= occupancy - 16'd1;
-        else if (hold != 16'd0) hold <= hold - 16'd1;
+        if (rst) begin
+            hold <= 16'd0;
+            ready_q <= 1'b1;
+        end else if (accept) begin
+            hold <= hold_in;
+            ready_q <= (hold_in == 16'd0);
+        end else begin
+            if (hold != 16'd0) hold <= hold - 16'd1;
+            ready_q <= (hold <= 16'd1);
+        end
     end
 
-    // The ray as sort keys: {invalid, t, id}, lanes at or above the count invalid.
+    // The ray as sort keys: {invalid, t, id}, lanes at or above the count invalid
+    // (k < cnt_in is in_count > k for every lane k < MAX_KEYS).
     function [MAX_KEYS*SKW-1:0] to_sort(input [MAX_KEYS*KB-1:0] keys, input [CW-1:0] cnt);
         integer k;
         begin
             for (k = 0; k < MAX_KEYS; k = k + 1)
-                to_sort[k*SKW +: SKW] = (k < cnt) ?
+                to_sort[k*SKW +: SKW] = (k < {{(32 - CW){1'b0}}, cnt}) ?
                     {1'b0, keys[k*KB +: KW], keys[k*KB + KW +: IW]} : {1'b1, {KB{1'b0}}};
         end
     endfunction
 
-    // Feeder: chunks 1..C-1 of a merged ray, one per cycle after the accept.
+    // Feeder: chunks 1..C-1 of a merged ray, one per cycle after the accept, from a shift
+    // register (chunk 1 at the bottom); `feeding` is a register, so the network's input
+    // multiplexer has no logic before it.
     reg [MAX_KEYS*SKW-1:0] f_keys;
     reg [CW-1:0]           f_count;
     reg [3:0]              f_next, f_chunks;
-    wire [MAX_KEYS*SKW-1:0] in_sort = to_sort(in_keys, cnt_in);
-    wire feeding = (f_next < f_chunks);
+    reg                    feeding;
+    wire [MAX_KEYS*SKW-1:0] in_sort = to_sort(in_keys, in_count);
     always @(posedge clk) begin
         if (rst) begin
-            f_next <= 4'd0;
-            f_chunks <= 4'd0;
+            feeding <= 1'b0;
         end else if (accept) begin
-            f_keys   <= in_sort;
+            f_keys   <= in_sort >> (N*SKW);
             f_count  <= cnt_in;
             f_next   <= 4'd1;
-            f_chunks <= (chunks_in == 0) ? 4'd1 : chunks_in[3:0];
+            f_chunks <= nchunks_in;
+            feeding  <= (nchunks_in > 4'd1);
         end else if (feeding) begin
-            f_next <= f_next + 4'd1;
+            f_keys   <= f_keys >> (N*SKW);
+            f_next   <= f_next + 4'd1;
+            feeding  <= (f_next + 4'd1 < f_chunks);
         end
     end
 
-    // Network input: chunk 0 at the accept, then the feeder's chunks.
+    // Network input: chunk 0 at the accept, then the feeder's chunks (an accept never falls
+    // in a feeding cycle: in_ready is low for C - 1 + P*(count + 1) cycles after it).
     wire          n_valid = accept || feeding;
-    wire [N*SKW-1:0] n_keys  = accept ? in_sort[0 +: N*SKW] : f_keys[f_next*N*SKW +: N*SKW];
-    wire [CW-1:0] n_count = accept ? cnt_in : f_count;
-    wire [3:0]    n_chunk = accept ? 4'd0 : f_next;
-    wire [3:0]    n_nch   = accept ? ((chunks_in == 0) ? 4'd1 : chunks_in[3:0]) : f_chunks;
+    wire [N*SKW-1:0] n_keys  = feeding ? f_keys[0 +: N*SKW] : in_sort[0 +: N*SKW];
+    wire [CW-1:0] n_count = feeding ? f_count : cnt_in;
+    wire [3:0]    n_chunk = feeding ? f_next : 4'd0;
+    wire [3:0]    n_nch   = feeding ? f_chunks : nchunks_in;
 
     // The network: layer l's compare-exchanges, then its register.
-    genvar l;
+    genvar l, q;
     generate
         for (l = 0; l < D; l = l + 1) begin : layer
             wire [N*SKW-1:0] k_in;
@@ -138,20 +198,18 @@ module svo_sorter #(
                 assign c_in = layer[l-1].c_q;  assign ch_in = layer[l-1].ch_q;
                 assign nch_in = layer[l-1].nch_q;
             end
-            reg [N*SKW-1:0] k_ce;
-            reg [SKW-1:0]   a, b;
-            reg [5:0]       pair;
-            integer p;
-            always @* begin
-                k_ce = k_in;
-                for (p = 0; p < 4; p = p + 1) begin
-                    pair = PAIRS[(4*l + p)*6 +: 6];
-                    a = k_ce[pair[5:3]*SKW +: SKW];
-                    b = k_ce[pair[2:0]*SKW +: SKW];
-                    if (a > b) begin
-                        k_ce[pair[5:3]*SKW +: SKW] = b;
-                        k_ce[pair[2:0]*SKW +: SKW] = a;
-                    end
+            wire [N*SKW-1:0] k_ce;
+            for (q = 0; q < N; q = q + 1) begin : ce
+                localparam integer P = partner(l, q);
+                localparam integer LO = (P < q) ? P : q;
+                localparam integer HI = (P < q) ? q : P;
+                if (P == q) begin : pass
+                    assign k_ce[q*SKW +: SKW] = k_in[q*SKW +: SKW];
+                end else begin : cmp
+                    wire [SKW-1:0] a = k_in[LO*SKW +: SKW];
+                    wire [SKW-1:0] b = k_in[HI*SKW +: SKW];
+                    wire           swap = a > b;
+                    assign k_ce[q*SKW +: SKW] = ((q == LO) == swap) ? b : a;
                 end
             end
             reg [N*SKW-1:0] k_q;
@@ -176,34 +234,80 @@ module svo_sorter #(
     wire             net_run    = net_v && (net_nch != 4'd1);
     wire             net_last   = net_run && (net_ch == net_nch - 4'd1);
 
-    // Run buffers and the merger.
-    localparam [PW:0] N1 = N;
+    // Run buffers and the merger. The merge never reads and compares in one cycle: the two
+    // run heads (hi = src[i], hj = src[j]) and their successors (ni = src[i+1],
+    // nj = src[j+1]) are registers; a step compares the heads, writes the winner at o, and
+    // shifts the winner's run: its head takes the successor, the successor is read from src at
+    // the index + 2 (a pointer register i2 / j2 straight into the register). The next pair's
+    // heads and successors are read ahead into pf_* (from re and nxj, the next pair's indices;
+    // a pair before the last of a pass is 2*run >= 16 steps, time enough); the next pass's are
+    // captured while this pass writes them (c_*: indices 0, 1, sj, sj + 1), so its setup
+    // cycle (MERGE_LATENCY) only copies registers. Pass 1's heads are chunks 0 and 1 as the
+    // network delivers them (the previous ray's merge ended 2 cycles before chunk 0 arrives).
+    localparam [PW+2:0] N1 = N;
+    localparam [PW-1:0] TWO = 2;
     reg [MAX_KEYS*SKW-1:0] buf_a, buf_b;
     reg          merging, setup, src_b, m_done;
-    reg [PW-1:0] i, j, le, re, o, run;
+    reg [PW-1:0] i, j, le, re, o, run, i2, j2;
     reg [CW-1:0] m_count;
+    reg          li, rj, pe, last, fin;  // i < le, j < re, o + 1 == re, re == count, final pass
+    reg [SKW-1:0] hi, ni, hj, nj;
+    reg [PW-1:0] nxj, nxre, pfa, pfb, pfc, pfd;
+    reg [SKW-1:0] pf_hi, pf_ni, pf_hj, pf_nj;
+    reg [PW-1:0] sj, sre;
+    reg [SKW-1:0] c_hi, c_ni, c_hj, c_nj;
     wire [MAX_KEYS*SKW-1:0] src = src_b ? buf_b : buf_a;
-    wire [PW-1:0] i_rd = (i < MAX_KEYS) ? i : {PW{1'b0}};
-    wire [PW-1:0] j_rd = (j < MAX_KEYS) ? j : {PW{1'b0}};
-    wire [SKW-1:0] ki = src[i_rd*SKW +: SKW];
-    wire [SKW-1:0] kj = src[j_rd*SKW +: SKW];
-    wire take_left = (i < le) && ((j >= re) || (ki <= kj));
-    wire [SKW-1:0] k_out = take_left ? ki : kj;
-    wire [PW-1:0] cnt_p = {{(PW - CW){1'b0}}, m_count};
-    wire [PW-1:0] cnt_n = {{(PW - CW){1'b0}}, net_c};
-    wire [PW:0]   run2 = {run, 1'b0};
-    wire [PW:0]   run4 = {run, 1'b0} << 1;
-    wire [PW:0]   re_r  = {1'b0, re} + {1'b0, run};
-    wire [PW:0]   re_2r = {1'b0, re} + run2;
-    wire          pair_end = (o + 1'b1 == re);
-    wire          pass_end = pair_end && (re == cnt_p);
-    function [PW-1:0] min_p(input [PW:0] x, input [PW-1:0] y);
-        min_p = (x < {1'b0, y}) ? x[PW-1:0] : y;
+    // One key of b at index x: a multiplexer tree on x's low LW bits (an index beyond the
+    // keys reads some lane; the merge never uses such a read).
+    function [SKW-1:0] pick(input [MAX_KEYS*SKW-1:0] b, input [PW-1:0] x);
+        reg [(1 << LW)*SKW-1:0] t;
+        integer s, k;
+        begin
+            t = {((1 << LW)*SKW){1'b0}};
+            t[MAX_KEYS*SKW-1:0] = b;
+            for (s = 0; s < LW; s = s + 1)
+                for (k = 0; k < ((1 << LW) >> (s + 1)); k = k + 1)
+                    t[k*SKW +: SKW] = x[s] ? t[(2*k + 1)*SKW +: SKW] : t[2*k*SKW +: SKW];
+            pick = t[0 +: SKW];
+        end
     endfunction
+    function [PW-1:0] min_p(input [PW+2:0] x, input [PW-1:0] y);
+        min_p = (x < {3'b000, y}) ? x[PW-1:0] : y;
+    endfunction
+    wire [PW-1:0]  cnt_p = {{(PW - CW){1'b0}}, m_count};
+    wire [PW-1:0]  cnt_n = {{(PW - CW){1'b0}}, net_c};
+    wire [PW+2:0]  run_w = {3'b000, run};
+    wire [PW+2:0]  re_w  = {3'b000, re};
+    wire [PW-1:0]  p1_j  = min_p(N1, cnt_n);         // pass 1: j = le
+    wire [PW-1:0]  p1_re = min_p(N1 << 1, cnt_n);    // pass 1: re
+    wire           take_left = li && (!rj || (hi <= hj));
+    wire [SKW-1:0] k_out = take_left ? hi : hj;
+    wire           pass_end = pe && last;
+    integer c, w;
     always @(posedge clk) begin
         m_done <= 1'b0;
-        if (net_run)                     // sorted chunk k to run k of buffer A
-            buf_a[net_ch*N*SKW +: N*SKW] <= net_k;
+        // The next pair's indices and keys, read ahead (src does not change within a pass).
+        nxj   <= min_p(re_w + run_w, cnt_p);
+        nxre  <= min_p(re_w + (run_w << 1), cnt_p);
+        pfa   <= re;
+        pfb   <= re + 1'b1;
+        pfc   <= nxj;
+        pfd   <= nxj + 1'b1;
+        pf_hi <= pick(src, pfa);
+        pf_ni <= pick(src, pfb);
+        pf_hj <= pick(src, pfc);
+        pf_nj <= pick(src, pfd);
+        // Sorted chunk k to run k of buffer A; chunks 0 and 1 are pass 1's first pair.
+        for (c = 0; c < NCH; c = c + 1)
+            if (net_run && net_ch == c[3:0]) buf_a[c*N*SKW +: N*SKW] <= net_k;
+        if (net_run && net_ch == 4'd0) begin
+            hi <= net_k[0 +: SKW];
+            ni <= net_k[SKW +: SKW];
+        end
+        if (net_run && net_ch == 4'd1) begin
+            hj <= net_k[0 +: SKW];
+            nj <= net_k[SKW +: SKW];
+        end
         if (rst) begin
             merging <= 1'b0;
             setup   <= 1'b0;
@@ -213,38 +317,91 @@ module svo_sorter #(
             m_count <= net_c;
             run     <= N1[PW-1:0];
             i       <= {PW{1'b0}};
-            j       <= min_p(N1, cnt_n);
-            le      <= min_p(N1, cnt_n);
-            re      <= min_p(N1 << 1, cnt_n);
+            j       <= p1_j;
+            le      <= p1_j;
+            re      <= p1_re;
             o       <= {PW{1'b0}};
+            i2      <= 2;
+            j2      <= p1_j + TWO;
+            li      <= 1'b1;
+            rj      <= (p1_j < p1_re);
+            pe      <= (p1_re == 1);
+            last    <= (p1_re == cnt_n);
+            sj      <= min_p(N1 << 1, cnt_n);
+            sre     <= min_p(N1 << 2, cnt_n);
+            fin     <= ((N1 << 1) >= {3'b000, cnt_n});
         end else if (setup) begin        // setup of the next pass: runs twice as long
             setup   <= 1'b0;
             merging <= 1'b1;
             src_b   <= !src_b;
-            run     <= run2[PW-1:0];
+            run     <= {run[PW-2:0], 1'b0};
             i       <= {PW{1'b0}};
-            j       <= min_p(run2, cnt_p);
-            le      <= min_p(run2, cnt_p);
-            re      <= min_p(run4, cnt_p);
+            j       <= sj;
+            le      <= sj;
+            re      <= sre;
             o       <= {PW{1'b0}};
+            i2      <= 2;
+            j2      <= sj + TWO;
+            li      <= 1'b1;
+            rj      <= (sj < sre);
+            pe      <= (sre == 1);
+            last    <= (sre == cnt_p);
+            hi      <= c_hi;
+            ni      <= c_ni;
+            hj      <= c_hj;
+            nj      <= c_nj;
+            sj      <= min_p(run_w << 2, cnt_p);
+            sre     <= min_p(run_w << 3, cnt_p);
+            fin     <= ((run_w << 2) >= {3'b000, cnt_p});
         end else if (merging) begin      // one key per cycle
-            if (src_b) buf_a[o*SKW +: SKW] <= k_out;
-            else       buf_b[o*SKW +: SKW] <= k_out;
-            if (take_left) i <= i + 1'b1; else j <= j + 1'b1;
+            for (w = 0; w < MAX_KEYS; w = w + 1)
+                if (o == w[PW-1:0]) begin
+                    if (src_b) buf_a[w*SKW +: SKW] <= k_out;
+                    else       buf_b[w*SKW +: SKW] <= k_out;
+                end
+            if (o == 0) c_hi <= k_out;
+            if (o == 1) c_ni <= k_out;
+            if (o == sj) c_hj <= k_out;
+            if (o == sj + 1'b1) c_nj <= k_out;
             o <= o + 1'b1;
             if (pass_end) begin
                 merging <= 1'b0;
-                if (run2 >= {1'b0, cnt_p}) begin   // one run left: the result
+                if (fin) begin           // one run left: the result
                     m_done <= 1'b1;
                     src_b  <= !src_b;
                 end else begin
                     setup <= 1'b1;
                 end
-            end else if (pair_end) begin          // the next pair of runs
-                i  <= re;
-                j  <= min_p(re_r, cnt_p);
-                le <= min_p(re_r, cnt_p);
-                re <= min_p(re_2r, cnt_p);
+            end else if (pe) begin       // the next pair of runs
+                i    <= re;
+                j    <= nxj;
+                le   <= nxj;
+                re   <= nxre;
+                i2   <= re + TWO;
+                j2   <= nxj + TWO;
+                hi   <= pf_hi;
+                ni   <= pf_ni;
+                hj   <= pf_hj;
+                nj   <= pf_nj;
+                li   <= (re < nxj);
+                rj   <= (nxj < nxre);
+                pe   <= (re + 1'b1 == nxre);
+                last <= (nxre == cnt_p);
+            end else begin
+                if (take_left) begin
+                    i  <= i + 1'b1;
+                    i2 <= i2 + 1'b1;
+                    hi <= ni;
+                    ni <= pick(src, i2);
+                    li <= (i + 1'b1 < le);
+                end else begin
+                    j  <= j + 1'b1;
+                    j2 <= j2 + 1'b1;
+                    hj <= nj;
+                    nj <= pick(src, j2);
+                    rj <= (j + 1'b1 < re);
+                end
+                pe <= (o + TWO == re);
             end
         end
     end
