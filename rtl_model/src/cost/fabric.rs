@@ -22,13 +22,13 @@ use crate::units::{reciprocal, sorter, sphere};
 pub mod calibration {
     /// `svo_sqrt` N = 64: 2020 LUT + 58 SRL, 1531 FF.
     pub const SQRT: (u64, u64) = (2078, 1531);
-    /// `svo_sphere` (16 stages and the root's 32) without its square root: (4326 + 1025
+    /// `svo_sphere` (16 stages and the root's 32) without its square root: (4325 + 1025
     /// SRL) − sqrt's 2078 LUT, 2216 − 1531 FF.
-    pub const SPHERE: (u64, u64) = (3273, 685);
-    /// `svo_transform` (9 stages): 3522 LUT + 1233 SRL, 1820 FF.
-    pub const TRANSFORM: (u64, u64) = (4755, 1820);
-    /// `svo_reciprocal` (26 stages): 891 LUT + 216 SRL, 442 FF.
-    pub const RECIPROCAL: (u64, u64) = (1107, 442);
+    pub const SPHERE: (u64, u64) = (3272, 685);
+    /// `svo_transform` (9 stages): 3518 LUT + 1233 SRL, 1820 FF.
+    pub const TRANSFORM: (u64, u64) = (4751, 1820);
+    /// `svo_reciprocal` (26 stages): 894 LUT + 216 SRL, 442 FF.
+    pub const RECIPROCAL: (u64, u64) = (1110, 442);
     /// `svo_walker_root` (each product as six 27 × 18 tiles and their adder tree): 3079
     /// LUT, 6228 FF.
     pub const WALKER_ROOT: (u64, u64) = (3079, 6228);
@@ -37,8 +37,9 @@ pub mod calibration {
     /// 2503 FF.
     pub const WALKER: (u64, u64) = (5181, 2503);
     /// `svo_raygen` (three direction and three position converters, svo_f64_to_fixed, the
-    /// align in two stages): 1980 LUT + 50 SRL, 1168 FF.
-    pub const RAYGEN: (u64, u64) = (2030, 1168);
+    /// align in two stages, the shift decided in the decode stage's register block): 1954
+    /// LUT + 50 SRL, 1168 FF.
+    pub const RAYGEN: (u64, u64) = (2004, 1168);
     /// `svo_sorter` (8-lane network, MAX_KEYS = 32: its input copy, merge and two run
     /// buffers in flip-flops with their read multiplexers; placed for 300 MHz, the merge's
     /// heads and successors in registers): 13460 LUT + 95 SRL, 5897 FF.
