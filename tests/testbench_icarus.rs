@@ -518,14 +518,18 @@ fn one_corrupted_walker_value_is_exactly_one_failure() {
 const FRAME_HW: &str = "(walker_pool: (walkers: 1, contexts_per_walker: 1), node_memory: (onchip: (levels: 21, max_bytes: 16777216, latency: 3), cache: (hit_latency: 3), dram: (latency: 2)))";
 const FRAME_MEM_LATENCY: u64 = 3;
 
-/// The cycle model's cycles for frame 0 of the default scene at this size and depth on
-/// `FRAME_HW`, from `sim --report-json` (the test's own run of the model).
-fn model_frame_cycles(t: &Tmp, width: &str, height: &str, depth: &str) -> u64 {
+/// The cycle model's cycles for frame 0 of `scene` (`None`: the default) at this size and
+/// depth on `FRAME_HW`, from `sim --report-json` (the test's own run of the model).
+fn model_frame_cycles(t: &Tmp, scene: Option<&str>, width: &str, height: &str, depth: &str) -> u64 {
     let hw = t.dir.join("frame_hw.ron");
     std::fs::write(&hw, FRAME_HW).expect("write the frame's hardware RON");
-    let rep = t.p(&format!("frame_{width}x{height}_report.json"));
+    let rep = t.p(&format!(
+        "frame_{width}x{height}_{}_report.json",
+        scene.is_some()
+    ));
     let hw = hw.display().to_string();
-    let args = [
+    let scene = scene.map(|s| repo().join(s).display().to_string());
+    let mut args = vec![
         "--width",
         width,
         "--height",
@@ -540,6 +544,9 @@ fn model_frame_cycles(t: &Tmp, width: &str, height: &str, depth: &str) -> u64 {
         "--report-json",
         &rep,
     ];
+    if let Some(p) = &scene {
+        args.extend(["--scene", p.as_str()]);
+    }
     let r = run_sim(&args, None, Duration::from_secs(300));
     assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
     let j: serde_json::Value =
@@ -570,7 +577,9 @@ fn frame_run(sim: &str, dir: &Path, args: &str) -> (u64, u64, u64, u64, u64, Str
 /// walks, hit, t, voxel) equals frame_pixels.hex and the frame takes the cycle model's cycles
 /// exactly. Verilator runs the 32 × 24 frame at depth 5 (about 2 s once built),
 /// Icarus the golden set's 16 × 10 frame at depth 4 (Icarus runs this top at a few hundred
-/// cycles a second, so the 32 × 24 frame would take minutes there).
+/// cycles a second, so the 32 × 24 frame would take minutes there) and scenes/moving_camera.ron
+/// at 16 × 10 (3 instances in the 8 lanes; 135 of its pixels have no candidate and take the
+/// frame's miss word).
 #[test]
 fn frame_end_to_end_matches_pixels_and_model_cycles() {
     let sims = simulators();
@@ -582,7 +591,21 @@ fn frame_end_to_end_matches_pixels_and_model_cycles() {
     let mut jobs: Vec<(&str, PathBuf, u64)> = Vec::new();
     for &sim in &sims {
         if sim == "icarus" {
-            jobs.push((sim, golden.clone(), model_frame_cycles(&t, "16", "10", "4")));
+            jobs.push((
+                sim,
+                golden.clone(),
+                model_frame_cycles(&t, None, "16", "10", "4"),
+            ));
+            let (mc, out) = ("scenes/moving_camera.ron", t.p("mc"));
+            let scene = repo().join(mc).display().to_string();
+            let args = [
+                "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16",
+                "--height", "10", "--depth", "4", "--scene", &scene,
+            ];
+            let r = run_sim(&args, None, Duration::from_secs(300));
+            assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+            let cycles = model_frame_cycles(&t, Some(mc), "16", "10", "4");
+            jobs.push((sim, t.dir.join("mc"), cycles));
         } else {
             let args = [
                 "vectors",
@@ -604,7 +627,7 @@ fn frame_end_to_end_matches_pixels_and_model_cycles() {
             jobs.push((
                 sim,
                 t.dir.join("v32"),
-                model_frame_cycles(&t, "32", "24", "5"),
+                model_frame_cycles(&t, None, "32", "24", "5"),
             ));
         }
     }
@@ -627,7 +650,7 @@ fn frame_end_to_end_matches_pixels_and_model_cycles() {
     });
     for (sim, model, (equal, pixels, rtl, passed, failed, text), secs) in results {
         println!(
-            "frame {sim}: {equal}/{pixels} pixels equal, RTL {rtl} cycles, model {model} cycles, {passed} passed, {failed} failed, {secs:.1} s (build included)"
+            "frame {sim} ({pixels} pixels): {equal}/{pixels} pixels equal, RTL {rtl} cycles, model {model} cycles, {passed} passed, {failed} failed, {secs:.1} s (build included)"
         );
         assert_eq!((equal, failed), (pixels, 0), "frame ({sim}):\n{text}");
         assert_eq!(rtl, model, "frame ({sim}): RTL cycles:\n{text}");

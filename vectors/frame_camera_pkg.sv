@@ -2,7 +2,7 @@
 // (manifest: frame_camera.json). Slice a row as row[<FIELD>_LSB +: <FIELD>_WIDTH].
 `timescale 1ns/1ps
 package frame_camera_vectors_pkg;
-  localparam int WORD_BITS = 168;  // bits per row
+  localparam int WORD_BITS = 240;  // bits per row
   localparam int DEPTH = 1;  // rows
   localparam int CAPTURED_FIRST = 0;
   localparam int CAPTURED_COUNT = 1;
@@ -36,4 +36,9 @@ package frame_camera_vectors_pkg;
   localparam int INSTANCES_SIGNED = 0;
   localparam int INSTANCES_FRAC = 0;
   localparam int INSTANCES_IS_OUTPUT = 0;
+  localparam int MISS_WORD_LSB = 168;  // input
+  localparam int MISS_WORD_WIDTH = 72;
+  localparam int MISS_WORD_SIGNED = 0;
+  localparam int MISS_WORD_FRAC = 0;
+  localparam int MISS_WORD_IS_OUTPUT = 0;
 endpackage

@@ -20,6 +20,11 @@
 // as an f64); the hit-buffer read is HB_READ cycles (svo_delay) before svo_hit_check. The
 // control's pipe capacities are the units' own LATENCY (hierarchical references).
 //
+// The frame may have fewer instances than the 8 sphere lanes (the unused lanes' hits are
+// masked). A pixel without candidates is written with the frame's miss word
+// (frame_camera.hex `miss_word`, the model's record of a ray that pierced no sphere): the
+// check stage writes it without a walk, as the model's check stage does.
+//
 // The record's normal is the one field the model computes in f64 on the host path
 // (`FramePlan::finish`: R·diag(1/scale)·n, normalised, octahedral, 8 bits); the testbench
 // computes it with `real` from the programmed axes and half extents (tb_frame_host.svh).
@@ -57,7 +62,9 @@ module tb_frame;
     reg rst = 1'b1;
 
     reg [PB-1:0] pix [0:NPIX-1];
-    reg [IB-1:0] inst [0:NINST-1];
+    // At least one row per lane (the lanes beyond the frame's instances read zeros, and
+    // their hits are masked by lane_used).
+    reg [IB-1:0] inst [0:(NINST > LANES ? NINST : LANES)-1];
     reg [CB-1:0] cam [0:0];
     reg [31:0]   nodes [0:NODE_WORDS-1];
     reg [63:0]   attrs [0:(ATTR_RECORDS > 0 ? ATTR_RECORDS : 1)-1];
@@ -74,6 +81,8 @@ module tb_frame;
         n_reports = n_reports + 1;
     endtask
 
+    // The word a pixel without candidates gets: the check stage writes it without a walk.
+    wire [71:0] miss_word = cam[0][frame_camera_vectors_pkg::MISS_WORD_LSB +: 72];
     wire [3*40-1:0] cam_o = {cam[0][frame_camera_vectors_pkg::O_Z_LSB +: 40],
                              cam[0][frame_camera_vectors_pkg::O_Y_LSB +: 40],
                              cam[0][frame_camera_vectors_pkg::O_X_LSB +: 40]};
@@ -115,6 +124,8 @@ module tb_frame;
     reg [15:0] sp_in_pixel;
     wire [3*32-1:0] sp_d = ray_dir[sp_in_pixel];
     wire [LANES-1:0] sp_out_valid, sp_hit;
+    // Lanes with an instance: a frame of fewer instances than lanes leaves the rest unused.
+    wire [LANES-1:0] lane_used = LANES'((64'd1 << NINST) - 64'd1);
     wire [31:0] sp_t [0:LANES-1];
     genvar gl;
     generate
@@ -361,7 +372,7 @@ module tb_frame;
             reg [LANES*32-1:0] tt;
             for (int l = 0; l < LANES; l++) tt[l*32 +: 32] = sp_t[l];
             sp_res.push_back(sp_fly.pop_front());
-            sp_res_hit.push_back(sp_hit);
+            sp_res_hit.push_back(sp_hit & lane_used);   // lanes beyond the instances hold none
             sp_res_t.push_back(tt);
         end
         if (so_out_valid) begin
@@ -546,8 +557,8 @@ module tb_frame;
             if (ck_res_reuse[0] || n_cands[p] == 0) begin
                 if (!rec_pushed && o_rc_wr < D_RC_WR) begin
                     q_rc_wr.push_back(p);
-                    q_rc_wr_word.push_back(ck_res_reuse[0] ? ck_res_word[0] : 72'h0);
-                    if (!ck_res_reuse[0]) report($sformatf("pixel %0d: no candidates (miss word path not built)", p));
+                    // A ray without candidates takes the frame's miss word (a host constant).
+                    q_rc_wr_word.push_back(ck_res_reuse[0] ? ck_res_word[0] : miss_word);
                     pix_walks[p] = 0; pix_hit[p] = 0;
                     pop_check();
                 end
@@ -623,7 +634,8 @@ module tb_frame;
             if ($value$plusargs($sformatf("ab%0d=%%d", i), junk)) ab[i] = junk;
         end
         $readmemh({dir, "/frame_pixels.hex"}, pix);
-        $readmemh({dir, "/frame_instances.hex"}, inst);
+        for (int k = 0; k < LANES; k++) inst[k] = '0;
+        $readmemh({dir, "/frame_instances.hex"}, inst, 0, NINST - 1);
         $readmemh({dir, "/frame_camera.hex"}, cam);
         $readmemh({dir, "/walker_nodes.hex"}, nodes);
         $readmemh({dir, "/walker_attrs.hex"}, attrs);
@@ -633,7 +645,8 @@ module tb_frame;
         $readmemh({dir, "/reciprocal_seed.hex"}, recip[2].u_recip.rom);
         for (int p = 0; p < NPIX; p++) hitbuf[p] = '0;
         for (int s = 0; s < SLOTS; s++) slot_free[s] = 1;
-        if (cam[0][frame_camera_vectors_pkg::INSTANCES_LSB +: 16] != LANES || NINST != LANES)
+        if (cam[0][frame_camera_vectors_pkg::INSTANCES_LSB +: 16] != NINST || NINST > LANES
+            || NINST < 1)
             $fatal(1, "tb_frame: the frame has %0d instances; this top has %0d sphere lanes", NINST, LANES);
         repeat (64) @(posedge clk);   // longer than every unit's latency: no X valid bit left
         rst = 1'b0;

@@ -56,10 +56,12 @@ pub struct FramePixel {
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
-/// The camera table (one row), the instance table and the pixel table of a frame.
+/// The camera table (one row: the camera, the frame's size and the word of a pixel without
+/// candidates), the instance table and the pixel table of a frame.
 pub fn frame_tables(
     dp: &DatapathConfig,
     origin: [i64; 3],
+    miss_word: u128,
     size: (u32, u32),
     instances: &[FrameInstance],
     pixels: &[FramePixel],
@@ -76,6 +78,12 @@ pub fn frame_tables(
     cl.uint("width", Input, 16, "frame width, pixels");
     cl.uint("height", Input, 16, "frame height, pixels");
     cl.uint("instances", Input, 16, "rows of frame_instances.hex");
+    cl.uint(
+        "miss_word",
+        Input,
+        dp.hit_record.word_bits(),
+        "the hit-buffer word of a pixel without candidates: the check stage writes it without a walk (a constant of the frame, from the host)",
+    );
     let mut cam = VectorTable::new(
         "frame_camera",
         "the frame's camera position and size (one row)",
@@ -86,6 +94,7 @@ pub fn frame_tables(
         u(u64::from(size.0)),
         u(u64::from(size.1)),
         u(instances.len() as u64),
+        miss_word,
     ]);
     cam.push_block(Origin::Captured, vec![cl.pack(&v)]);
 

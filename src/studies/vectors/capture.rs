@@ -14,6 +14,7 @@ use crate::models::fixed::plan::{FramePlan, PixelCounters};
 use crate::models::fixed::trace::PixelObserver;
 use crate::models::reference::ray::primary_ray;
 use crate::models::reference::FrameInput;
+use crate::models::reference::SphereCount;
 use crate::world::assets::Asset;
 use crate::world::scene::{FrameState, Scene};
 use rtl_model::datapath::{overflow_table, DatapathConfig};
@@ -36,6 +37,9 @@ pub struct FrameCapture {
     pub captured: Captured,
     /// Camera position codes.
     pub origin: [i64; 3],
+    /// The hit-buffer word of a pixel without candidates (a constant of the frame: the
+    /// check stage writes it without a walk).
+    pub miss_word: u128,
     /// What the host programs per instance.
     pub instances: Vec<FrameInstance>,
     /// Every pixel in raster order.
@@ -205,9 +209,11 @@ pub fn capture_frame(
             })
         })
         .collect();
+    let miss_word = plan.finish(None, SphereCount::None, &mut c).word;
     Ok(FrameCapture {
         captured: rec.cap,
         origin: plan.origin,
+        miss_word,
         instances,
         pixels: rec.pixels,
     })

@@ -190,6 +190,7 @@ pub fn generate(opts: &VectorsOptions) -> Result<VectorSet, VectorsError> {
     tables.extend(frame_tables(
         &dp,
         cap.origin,
+        cap.miss_word,
         (opts.width, opts.height),
         &cap.instances,
         &cap.pixels,
