@@ -7,7 +7,7 @@ use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
 use svo_sim::models::cycle::sample::SampleConfig;
 use svo_sim::models::cycle::validate::compare;
-use svo_sim::world::assets::{build_assets, effective_depths, Materialise};
+use svo_sim::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use svo_sim::world::scene::Scene;
 
 fn small_hw() -> HwConfig {
@@ -15,13 +15,19 @@ fn small_hw() -> HwConfig {
     ron::from_str(&text).unwrap()
 }
 
+/// The default car, two frames at `w`×`h`, its deepest asset at `depth`.
+fn car(w: u32, h: u32, depth: u8) -> (Scene, Vec<Asset>) {
+    let mut scene = Scene::default_car().unwrap();
+    scene.set_resolution(w, h).unwrap();
+    scene.set_frames(2).unwrap();
+    let depths = effective_depths(&scene, Some(depth)).unwrap();
+    let assets = build_assets(&scene, &depths, Materialise::Auto).unwrap();
+    (scene, assets)
+}
+
 #[test]
 fn full_cycles_lie_in_the_sampled_interval() {
-    let mut scene = Scene::default_car().unwrap();
-    scene.set_resolution(320, 192).unwrap();
-    scene.set_frames(2).unwrap();
-    let depths = effective_depths(&scene, Some(8)).unwrap();
-    let assets = build_assets(&scene, &depths, Materialise::Auto).unwrap();
+    let (scene, assets) = car(320, 192, 8);
     let dp = DatapathConfig::default();
     let mut hw_small = small_hw();
     hw_small.frame = HwConfig::default().frame;
@@ -70,11 +76,7 @@ fn full_cycles_lie_in_the_sampled_interval() {
 /// cycles exactly, the reference against which a sample's bands are compared band by band.
 #[test]
 fn every_band_timed_is_the_full_run() {
-    let mut scene = Scene::default_car().unwrap();
-    scene.set_resolution(160, 96).unwrap();
-    scene.set_frames(2).unwrap();
-    let depths = effective_depths(&scene, Some(7)).unwrap();
-    let assets = build_assets(&scene, &depths, Materialise::Auto).unwrap();
+    let (scene, assets) = car(160, 96, 7);
     let cfg = SampleConfig::from_rate(1.0, 2, None, 0).unwrap();
     assert_eq!(cfg.period, 1);
     let dp = DatapathConfig::default();

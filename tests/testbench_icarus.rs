@@ -20,7 +20,7 @@ use rtl_model::vectors::RTL_UNITS;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
-use vector_files::{field, flip, manifest, repo, rows, Tmp};
+use vector_files::{corrupt_field, manifest, repo, Tmp};
 
 /// The units of fixed or per-ray timing, which `run_testbench` and the shared tests handle; the
 /// walker (per-row cycles at three memory latencies, its own memory images) has the tests at
@@ -326,16 +326,7 @@ fn one_corrupted_expected_value_is_exactly_one_failure() {
         ] {
             std::fs::copy(golden.join(&name), t.dir.join(&name)).expect("copy a golden file");
         }
-        let m = manifest(&t.dir, unit);
-        let (off, w, _) = field(&m, out_field);
-        let mut r = rows(&t.dir, unit);
-        let depth = r.len() as u64;
-        let row = row.min(r.len() - 1);
-        r[row] = flip(&r[row], off + w / 2);
-        let text = std::fs::read_to_string(t.dir.join(format!("{unit}.hex"))).expect("hex");
-        let header: Vec<&str> = text.lines().take_while(|l| l.starts_with("//")).collect();
-        let body = [header.join("\n"), r.join("\n")].join("\n") + "\n";
-        std::fs::write(t.dir.join(format!("{unit}.hex")), body).expect("write the corrupted rows");
+        let (row, depth) = corrupt_field(&t.dir, unit, out_field, row, |w| w / 2);
         let o = run_testbench("icarus", &t.dir, unit);
         println!(
             "{unit}: one bit of {out_field} in row {row} flipped: {} passed, {} failed",
@@ -491,16 +482,7 @@ fn one_corrupted_walker_value_is_exactly_one_failure() {
     ] {
         std::fs::copy(golden.join(name), t.dir.join(name)).expect("copy a golden file");
     }
-    let m = manifest(&t.dir, "walker");
-    let (off, w, _) = field(&m, "steps");
-    let mut r = rows(&t.dir, "walker");
-    let depth = r.len() as u64;
-    let row = 100usize.min(r.len() - 1);
-    r[row] = flip(&r[row], off + w / 4);
-    let text = std::fs::read_to_string(t.dir.join("walker.hex")).expect("hex");
-    let header: Vec<&str> = text.lines().take_while(|l| l.starts_with("//")).collect();
-    let body = [header.join("\n"), r.join("\n")].join("\n") + "\n";
-    std::fs::write(t.dir.join("walker.hex"), body).expect("write the corrupted rows");
+    let (row, depth) = corrupt_field(&t.dir, "walker", "steps", 100, |w| w / 4);
     let (runs, text) = walker_runs("icarus", &t.dir, "0", "");
     println!("walker: one bit of steps in row {row} flipped: {runs:?}");
     assert_eq!(runs.len(), 1, "{text}");
@@ -673,16 +655,7 @@ fn one_corrupted_frame_pixel_is_exactly_one_failure() {
                 .expect("copy a golden file");
         }
     }
-    let m = manifest(&t.dir, "frame_pixels");
-    let (off, w, _) = field(&m, "word");
-    let mut r = rows(&t.dir, "frame_pixels");
-    let pixels = r.len() as u64;
-    let row = 77usize.min(r.len() - 1);
-    r[row] = flip(&r[row], off + w / 3);
-    let text = std::fs::read_to_string(t.dir.join("frame_pixels.hex")).expect("hex");
-    let header: Vec<&str> = text.lines().take_while(|l| l.starts_with("//")).collect();
-    let body = [header.join("\n"), r.join("\n")].join("\n") + "\n";
-    std::fs::write(t.dir.join("frame_pixels.hex"), body).expect("write the corrupted rows");
+    let (row, pixels) = corrupt_field(&t.dir, "frame_pixels", "word", 77, |w| w / 3);
     let (equal, _, _, passed, failed, text) =
         frame_run("icarus", &t.dir, &format!("+latency={FRAME_MEM_LATENCY}"));
     println!("frame: one bit of pixel {row}'s word flipped: {equal}/{pixels} equal, {passed} passed, {failed} failed");

@@ -120,3 +120,26 @@ pub fn flip(row: &str, i: u32) -> String {
     digits[k] = char::from_digit(nibble, 16).expect("nibble");
     digits.into_iter().collect()
 }
+
+/// Inverts bit `bit` of field `name` in row `row` of `dir/table.hex` (clamped to the last
+/// row), rewriting the file with its header kept: a one-bit corruption of one expected value.
+/// Returns (the row corrupted, the table's row count).
+pub fn corrupt_field(
+    dir: &Path,
+    table: &str,
+    name: &str,
+    row: usize,
+    bit: impl Fn(u32) -> u32,
+) -> (usize, u64) {
+    let m = manifest(dir, table);
+    let (off, w, _) = field(&m, name);
+    let mut r = rows(dir, table);
+    let row = row.min(r.len() - 1);
+    r[row] = flip(&r[row], off + bit(w));
+    let p = dir.join(format!("{table}.hex"));
+    let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    let header: Vec<&str> = text.lines().take_while(|l| l.starts_with("//")).collect();
+    let body = [header.join("\n"), r.join("\n")].join("\n") + "\n";
+    std::fs::write(&p, body).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    (row, r.len() as u64)
+}

@@ -241,7 +241,9 @@ pub fn walk_box_clipped<T: Octree>(
     d: DVec3,
     cnt: &mut WalkCounters,
 ) -> Option<WalkHit<T::Leaf>> {
-    WalkStack::new().walk_box_clipped(tree, lo, hi, solid_lo, solid_hi, o, d, cnt)
+    let mut stack = [Frame::default(); STACK_FRAMES];
+    let solid = [solid_lo, solid_hi];
+    walk_core::<T, _, true>(tree, lo, hi, solid, o, d, cnt, &mut |_, _| {}, &mut stack)
 }
 
 /// Frames a walk's stack needs: the root and one per level.
