@@ -7,7 +7,8 @@
 //! frame, agreeing with the binary one; two identical runs give byte-identical PNGs and dumps;
 //! `--no-hit-buffer` changes no pixel and reports no reuse, while the hit buffer reuses pixels
 //! from the second frame on; `--scene scenes/car.ron` renders like the embedded default; and
-//! `sim bench` prints its speed in M rays/s.
+//! `sim bench` prints its speed in M rays/s, and with `--model cycle --sample` the sampled
+//! model's estimates.
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -406,6 +407,49 @@ fn bench_prints_its_speed() {
         &t.dir,
     );
     assert!(r.stdout.contains("M rays/s"), "{}", r.stdout);
+}
+
+/// `sim bench --model cycle --sample RATE` times the sampled cycle model and marks its
+/// cycles as estimates with their interval; the cycle model's options are refused, before
+/// any work, without `--model cycle`.
+#[test]
+fn bench_times_the_sampled_cycle_model() {
+    let t = Tmp::new("bench_sampled");
+    let small = [
+        "--width", "64", "--height", "40", "--frames", "2", "--depth", "6",
+    ];
+    let mut a = vec!["bench", "--model", "cycle", "--sample", "0.25"];
+    a.extend(small);
+    let r = run_ok(&a, &t.dir);
+    for want in [
+        "cycles are estimates",
+        "est cycles",
+        "95% CI",
+        "estimated from a sample",
+    ] {
+        assert!(r.stdout.contains(want), "no {want:?} in\n{}", r.stdout);
+    }
+    for (flag, value) in [("--sample", "0.25"), ("--scaling", "."), ("--hw", "x.ron")] {
+        let mut a = vec!["bench", flag, value];
+        a.extend(small);
+        let r = run_sim(&a, Some(&t.dir), TIMEOUT);
+        assert!(
+            !r.status.success() && r.stderr.contains(flag) && r.stderr.contains("--model cycle"),
+            "bench {flag} without --model cycle: {:?}\n{}",
+            r.status,
+            r.stderr
+        );
+        assert!(!r.stdout.contains("assets built"), "{}", r.stdout);
+    }
+    let mut a = vec!["bench", "--model", "cycle", "--sample", "0"];
+    a.extend(small);
+    let r = run_sim(&a, Some(&t.dir), TIMEOUT);
+    assert!(
+        !r.status.success() && r.stderr.contains("--sample 0"),
+        "{:?}\n{}",
+        r.status,
+        r.stderr
+    );
 }
 
 /// Switches that must never change a record: early termination (a later candidate cannot

@@ -171,10 +171,13 @@ pub fn fixed_speed_total(frames: &[FixedFrameTime], pixels: f64) -> String {
 }
 
 /// The cycle bench's table for one camera: per frame the wall times of the reference, the
-/// cycle model and its functional model, their ratio, the modelled cycles and frame rate.
+/// cycle model and its functional model, their ratio, the modelled cycles and frame rate. A
+/// sampled run (`sim bench --model cycle --sample RATE`) adds the half-width of each
+/// estimate's 95 % interval and the share of the cycles simulated clock by clock.
 pub fn cycle_speed_table(label: &str, frames: &[SpeedFrame], pixels: f64, hw: &HwConfig) -> String {
+    let sampled = frames.iter().any(|f| f.sampled.is_some());
     let mut t = format!("{label}:\n");
-    let _ = writeln!(
+    let _ = write!(
         t,
         "  {:>5} {:>10} {:>10} {:>9} {:>7} {:>10} {:>9} {:>9} {:>10} {:>8}",
         "frame",
@@ -182,14 +185,18 @@ pub fn cycle_speed_table(label: &str, frames: &[SpeedFrame], pixels: f64, hw: &H
         "cycle ms",
         "func ms",
         "ratio",
-        "cycles",
+        if sampled { "est cycles" } else { "cycles" },
         "fps",
         "rays/cyc",
         "M rays/s",
         "bound"
     );
+    if sampled {
+        let _ = write!(t, " {:>9} {:>9}", "95% CI", "timed");
+    }
+    t.push('\n');
     for f in frames {
-        let _ = writeln!(
+        let _ = write!(
             t,
             "  {:>5} {:>10.1} {:>10.1} {:>9.1} {:>7.2} {:>10} {:>9.1} {:>9.3} {:>10.3} {:>8}",
             f.frame,
@@ -203,22 +210,38 @@ pub fn cycle_speed_table(label: &str, frames: &[SpeedFrame], pixels: f64, hw: &H
             pixels / f.cycle_s.max(1e-9) / 1e6,
             f.bound
         );
+        if let Some(s) = &f.sampled {
+            let c = f.cycles.max(1) as f64;
+            let _ = write!(
+                t,
+                " {:>8.2}% {:>8.1}%",
+                100.0 * (s.high - s.low) / 2.0 / c,
+                100.0 * s.simulated_cycles as f64 / c
+            );
+        }
+        t.push('\n');
     }
     let rs: f64 = frames.iter().map(|f| f.reference_s).sum();
     let cs: f64 = frames.iter().map(|f| f.cycle_s).sum();
     let cy: u64 = frames.iter().map(|f| f.cycles).sum();
     let skipped: u64 = frames.iter().map(|f| f.skipped_cycles).sum();
+    // Idle-cycle skipping applies to the cycles simulated clock by clock.
+    let simulated: u64 = frames
+        .iter()
+        .map(|f| f.sampled.map_or(f.cycles, |s| s.simulated_cycles))
+        .sum();
     let n = frames.len() as f64;
     let _ = write!(
         t,
-        "  total: cycle model / reference wall time {:.2}; simulated {:.3} M rays/s, {:.3} M cycles/s; modelled {:.1} fps at {} MHz (slowest frame {:.1}); idle cycles skipped {:.2} % ({skipped} of {cy})",
+        "  total: cycle model / reference wall time {:.2}; {} {:.3} M rays/s, {:.3} M cycles/s; modelled {:.1} fps at {} MHz (slowest frame {:.1}); idle cycles skipped {:.2} % ({skipped} of {simulated} simulated)",
         cs / rs.max(1e-9),
+        if sampled { "estimated from a sample:" } else { "simulated" },
         n * pixels / cs.max(1e-9) / 1e6,
         cy as f64 / cs.max(1e-9) / 1e6,
         n * f64::from(hw.clock_mhz) * 1e6 / cy.max(1) as f64,
         hw.clock_mhz,
         frames.iter().map(|f| f.fps).fold(f64::INFINITY, f64::min),
-        100.0 * skipped as f64 / cy.max(1) as f64
+        100.0 * skipped as f64 / simulated.max(1) as f64,
     );
     t
 }

@@ -6,6 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
 use svo_sim::models::cycle::bench;
+use svo_sim::models::cycle::sample::SampleConfig;
 use svo_sim::run::bench::{
     cycle_speed_table, fixed_speed, fixed_speed_total, reference_speed, reference_speed_text,
     scaling_line, write_scaling,
@@ -47,25 +48,45 @@ pub struct BenchArgs {
     /// scenes/vox_traffic.ron when the shared models are present; scenes/moving_camera.ron):
     /// per frame the full fps, the estimate, its 95 % interval, the error and the wall-time
     /// ratio.
-    #[arg(long, value_name = "RATE")]
+    #[arg(long, value_name = "RATE", conflicts_with = "sample")]
     sample_validate: Option<f64>,
-    /// Rows per band of --sample-validate.
+    /// With `--model cycle`: time the cycle model in sampled mode at RATE (`sim --sample`,
+    /// docs/cycle-model.md §3.5) instead of the full model, against the reference on the same
+    /// frames; the tables add each estimate's 95 % interval and the share of cycles timed.
+    #[arg(long, value_name = "RATE")]
+    sample: Option<f64>,
+    /// Rows per band of --sample or --sample-validate.
     #[arg(long, value_name = "ROWS", default_value_t = svo_sim::models::cycle::sample::DEFAULT_BAND_ROWS)]
     sample_band: u32,
-    /// Rows of detailed warming of --sample-validate, fixed (default: sized per band in rays
-    /// that walk, docs/cycle-model.md §3.5).
-    #[arg(long, value_name = "ROWS", requires = "sample_validate")]
+    /// Rows of detailed warming of --sample or --sample-validate, fixed (default: sized per
+    /// band in rays that walk, docs/cycle-model.md §3.5).
+    #[arg(long, value_name = "ROWS")]
     sample_warm: Option<u32>,
+}
+
+/// The sample of `--sample RATE` or `--sample-validate RATE` (with `--sample-band` and
+/// `--sample-warm`); `None` without a rate.
+fn sample_config(a: &BenchArgs, rate: Option<f64>) -> Result<Option<SampleConfig>> {
+    match rate {
+        Some(r) => Ok(Some(
+            SampleConfig::from_rate(r, a.sample_band, a.sample_warm, 0)
+                .map_err(anyhow::Error::msg)?,
+        )),
+        None if a.sample_warm.is_some() => {
+            anyhow::bail!("--sample-warm needs --sample or --sample-validate")
+        }
+        None => Ok(None),
+    }
 }
 
 /// `sim bench --model cycle --sample-validate RATE`: the validation matrix.
 fn sample_validate(a: &BenchArgs, scene: &Scene, assets: &[Asset], rate: f64) -> Result<()> {
-    use svo_sim::models::cycle::sample::SampleConfig;
     use svo_sim::models::cycle::validate::compare;
     let dp = load_datapath(a.datapath.as_deref())?;
     let base = load_hardware(a.hw.as_deref())?;
-    let cfg = SampleConfig::from_rate(rate, a.sample_band, a.sample_warm, 0)
-        .map_err(anyhow::Error::msg)?;
+    let Some(cfg) = sample_config(a, Some(rate))? else {
+        anyhow::bail!("--sample-validate needs a rate");
+    };
     let with = |f: &dyn Fn(&mut rtl_model::cycle::hw_config::HwConfig)| {
         let mut h = base.clone();
         f(&mut h);
@@ -178,6 +199,15 @@ fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[Asset]) -> Result<()> {
             anyhow::bail!("--scaling {}: not a folder", dir.display());
         }
     }
+    let sample = sample_config(a, a.sample)?;
+    if let Some(s) = &sample {
+        println!(
+            "sampled timing at rate {} (1 band in {}, bands of {} rows): cycles are estimates",
+            1.0 / f64::from(s.period),
+            s.period,
+            s.band_rows
+        );
+    }
     let (w, h) = scene.file.resolution;
     let pixels = f64::from(w) * f64::from(h);
     for (label, hb) in [
@@ -187,7 +217,7 @@ fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[Asset]) -> Result<()> {
             false,
         ),
     ] {
-        let frames = bench::speed(scene, assets, &dp, &hw, hb)?;
+        let frames = bench::speed(scene, assets, &dp, &hw, hb, sample)?;
         println!("{}", cycle_speed_table(label, &frames, pixels, &hw));
     }
     if let Some(dir) = &a.scaling {
@@ -205,6 +235,20 @@ fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[Asset]) -> Result<()> {
 
 /// Runs `sim bench`.
 pub fn run_command(a: BenchArgs) -> Result<()> {
+    if a.model != ModelArg::Cycle {
+        for (given, flag) in [
+            (a.sample.is_some(), "--sample"),
+            (a.sample_validate.is_some(), "--sample-validate"),
+            (a.scaling.is_some(), "--scaling"),
+            (a.hw.is_some(), "--hw"),
+        ] {
+            if given {
+                anyhow::bail!("{flag} applies to the cycle model: add --model cycle");
+            }
+        }
+    }
+    // The sample's options are checked before the assets are built.
+    sample_config(&a, a.sample.or(a.sample_validate))?;
     a.scene.set_threads()?;
     let mut sa = a.scene.clone();
     sa.depth = sa.depth.or(Some(11));

@@ -7,6 +7,7 @@
 //! Everything runs in one process, so the ratios compare like with like on a shared machine.
 
 use super::runner::CycleRun;
+use super::sample::SampleConfig;
 use super::CycleOptions;
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
 use crate::run::parallel::map_in_order;
@@ -40,16 +41,32 @@ pub struct SpeedFrame {
     pub bound: String,
     /// Cycles of the frame taken at once by idle-cycle skipping (docs/cycle-model.md §3.3).
     pub skipped_cycles: u64,
+    /// With sampled timing: the 95 % interval of the estimate (`cycles` is the estimate,
+    /// rounded), and the cycles simulated clock by clock.
+    pub sampled: Option<SampledSpeed>,
+}
+
+/// What a sampled frame of the speed comparison adds (docs/cycle-model.md §3.5).
+#[derive(Clone, Copy, Debug)]
+pub struct SampledSpeed {
+    /// Lower end of the 95 % interval of the frame's cycles.
+    pub low: f64,
+    /// Upper end.
+    pub high: f64,
+    /// Cycles simulated clock by clock (the timed segments with their warming and drains).
+    pub simulated_cycles: u64,
 }
 
 /// Runs every frame of `scene` through the reference and the cycle model (both with or both
-/// without the hit buffer) and times each.
+/// without the hit buffer) and times each; with `sample`, the cycle model times only a
+/// sample of each frame (`--sample`) and reports its estimate.
 pub fn speed(
     scene: &Scene,
     assets: &[Asset],
     dp: &DatapathConfig,
     hw: &HwConfig,
     use_hit_buffer: bool,
+    sample: Option<SampleConfig>,
 ) -> anyhow::Result<Vec<SpeedFrame>> {
     let (w, h) = scene.file.resolution;
     let half: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
@@ -59,7 +76,10 @@ pub fn speed(
         assets,
         &scene.instance_asset,
         (w, h),
-        CycleOptions::default(),
+        CycleOptions {
+            sample,
+            ..CycleOptions::default()
+        },
     )?;
     let mut reference = HitBuffer::new(w, h);
     let opts = RenderOptions {
@@ -82,6 +102,11 @@ pub fn speed(
         let skipped_before = run.model().skipped_cycles().0;
         let r = run.frame(&input, dp, use_hit_buffer)?;
         let skipped_cycles = run.model().skipped_cycles().0 - skipped_before;
+        let sampled = r.cycles.sampled.as_ref().map(|s| SampledSpeed {
+            low: s.cycles_low,
+            high: s.cycles_high,
+            simulated_cycles: s.cycles_simulated,
+        });
         out.push(SpeedFrame {
             frame: f,
             reference_s,
@@ -92,6 +117,7 @@ pub fn speed(
             rays_per_cycle: r.cycles.rays_per_cycle,
             bound: r.cycles.bound.limit.clone(),
             skipped_cycles,
+            sampled,
         });
     }
     Ok(out)
