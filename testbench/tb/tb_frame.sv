@@ -263,21 +263,8 @@ module tb_frame;
         .out_fetches(wk_fetches), .out_attr_data(wk_attr_data), .out_tag(wk_tag),
         .visit_valid(visit_valid), .visit_level(visit_level), .visit_coords(visit_coords));
     // The node memory: a read requested in cycle c is valid in cycle c + L (tb_walker's).
-    always @(posedge clk) begin
-        if (mem_req_valid && left <= 1) begin
-            left <= mem_latency;
-            if (mem_req_attr ? mem_req_addr >= ATTR_RECORDS : mem_req_addr >= NODE_WORDS) begin
-                report($sformatf("read of %s %0d outside the memory",
-                                 mem_req_attr ? "attribute" : "node word", mem_req_addr));
-                mem_resp_data <= 'x;
-            end else begin
-                mem_resp_data <= mem_req_attr ? attrs[mem_req_addr] : {32'd0, nodes[mem_req_addr]};
-            end
-        end else if (left > 0) begin
-            left <= left - 1;
-        end
-    end
-    assign mem_resp_valid = left == 1;   // (an always @* would not run at time 0: x)
+    `define TB_MEM_WHERE ""
+    `include "tb_fixed_latency_mem.svh"
 
     // record: svo_hit_pack.
     reg pk_in_valid = 0, pk_inst_valid;

@@ -89,7 +89,7 @@ module tb_walker;
             // The root's row is still in drive_row (the walker takes one walk at a time).
             wire         in_ready, mem_req_valid, mem_req_attr, out_valid;
             wire [31:0]  mem_req_addr;
-            reg          mem_resp_valid;
+            wire         mem_resp_valid;
             reg  [63:0]  mem_resp_data;
             wire [1:0]   outcome, entry_axis;
             wire [T_WIDTH-1:0] t;
@@ -120,21 +120,8 @@ module tb_walker;
                 .visit_coords(visit_coords));
 
             // The memory: a read requested in cycle c is valid in cycle c + L.
-            always @(posedge clk) begin
-                if (mem_req_valid && left <= 1) begin
-                    left <= mem_latency;
-                    if (mem_req_attr ? mem_req_addr >= ATTR_RECORDS : mem_req_addr >= NODE_WORDS) begin
-                        report($sformatf("row %0d: read of %s %0d outside the memory", drive_tag[gi],
-                                         mem_req_attr ? "attribute" : "node word", mem_req_addr));
-                        mem_resp_data <= 'x;
-                    end else begin
-                        mem_resp_data <= mem_req_attr ? attrs[mem_req_addr] : {32'd0, nodes[mem_req_addr]};
-                    end
-                end else if (left > 0) begin
-                    left <= left - 1;
-                end
-            end
-            always @* mem_resp_valid = left == 1;
+            `define TB_MEM_WHERE $sformatf("row %0d: ", drive_tag[gi])
+            `include "tb_fixed_latency_mem.svh"
 
             // The checker.
             longint accept_cyc;
