@@ -98,7 +98,7 @@ fn sample_validate(a: &BenchArgs, scene: &Scene, assets: &[Asset], rate: f64) ->
     ];
     for n in [1u32, 8, 64] {
         cases.push((
-            format!("{n} walkers"),
+            format!("{n} walker{}", if n == 1 { "" } else { "s" }),
             with(&|h| h.walker_pool.walkers = n),
             true,
         ));
@@ -122,7 +122,7 @@ fn sample_validate(a: &BenchArgs, scene: &Scene, assets: &[Asset], rate: f64) ->
         true,
     ));
     println!(
-        "sampled timing at rate {rate} (1 band in {} of {} rows) against the full model:",
+        "sampled timing at rate {rate} (1 band in {}, bands of {} rows) against the full model:",
         cfg.period, cfg.band_rows
     );
     println!(
