@@ -64,19 +64,10 @@ pub struct BenchArgs {
     sample_warm: Option<u32>,
 }
 
-/// The sample of `--sample RATE` or `--sample-validate RATE` (with `--sample-band` and
-/// `--sample-warm`); `None` without a rate.
-fn sample_config(a: &BenchArgs, rate: Option<f64>) -> Result<Option<SampleConfig>> {
-    match rate {
-        Some(r) => Ok(Some(
-            SampleConfig::from_rate(r, a.sample_band, a.sample_warm, 0)
-                .map_err(anyhow::Error::msg)?,
-        )),
-        None if a.sample_warm.is_some() => {
-            anyhow::bail!("--sample-warm needs --sample or --sample-validate")
-        }
-        None => Ok(None),
-    }
+/// The sample of `--sample RATE` or `--sample-validate RATE`, with `--sample-band` and
+/// `--sample-warm`.
+fn sample_of(a: &BenchArgs, rate: f64) -> Result<SampleConfig> {
+    SampleConfig::from_rate(rate, a.sample_band, a.sample_warm, 0).map_err(anyhow::Error::msg)
 }
 
 /// `sim bench --model cycle --sample-validate RATE`: the validation matrix.
@@ -84,9 +75,7 @@ fn sample_validate(a: &BenchArgs, scene: &Scene, assets: &[Asset], rate: f64) ->
     use svo_sim::models::cycle::validate::compare;
     let dp = load_datapath(a.datapath.as_deref())?;
     let base = load_hardware(a.hw.as_deref())?;
-    let Some(cfg) = sample_config(a, Some(rate))? else {
-        anyhow::bail!("--sample-validate needs a rate");
-    };
+    let cfg = sample_of(a, rate)?;
     let with = |f: &dyn Fn(&mut rtl_model::cycle::hw_config::HwConfig)| {
         let mut h = base.clone();
         f(&mut h);
@@ -199,7 +188,7 @@ fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[Asset]) -> Result<()> {
             anyhow::bail!("--scaling {}: not a folder", dir.display());
         }
     }
-    let sample = sample_config(a, a.sample)?;
+    let sample = a.sample.map(|r| sample_of(a, r)).transpose()?;
     if let Some(s) = &sample {
         println!(
             "sampled timing at rate {} (1 band in {}, bands of {} rows): cycles are estimates",
@@ -248,7 +237,15 @@ pub fn run_command(a: BenchArgs) -> Result<()> {
         }
     }
     // The sample's options are checked before the assets are built.
-    sample_config(&a, a.sample.or(a.sample_validate))?;
+    match a.sample.or(a.sample_validate) {
+        Some(rate) => {
+            sample_of(&a, rate)?;
+        }
+        None if a.sample_warm.is_some() => {
+            anyhow::bail!("--sample-warm needs --sample or --sample-validate")
+        }
+        None => {}
+    }
     a.scene.set_threads()?;
     let mut sa = a.scene.clone();
     sa.depth = sa.depth.or(Some(11));
