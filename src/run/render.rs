@@ -17,8 +17,7 @@ use rayon::prelude::*;
 use rtl_model::svo::{BuildError, SvoImage};
 use thiserror::Error;
 
-use crate::models::reference::octree::ImageNode;
-use crate::models::reference::octree::Octree;
+use crate::models::reference::octree::{ImageNode, Octree};
 use crate::models::reference::ray::primary_ray;
 use crate::models::reference::walk::{WalkCounters, WalkStack};
 use crate::world::assets::vox::model_frame::{load_model_frame, ModelFrame};

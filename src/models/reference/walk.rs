@@ -91,7 +91,8 @@ fn first_child(t0: [f64; 3], tm: [f64; 3]) -> u8 {
 /// 8 when the ray leaves the parent.
 #[inline]
 fn next_child(c: u8, t1: [f64; 3]) -> u8 {
-    // Branch-free: the exit axis is data-dependent and mispredicts often.
+    // Both flags first, then a select the compiler can make without branches: the exit
+    // axis is data-dependent and a branch on it mispredicts often.
     let x = t1[0] <= t1[1] && t1[0] <= t1[2];
     let y = !x && t1[1] <= t1[2];
     let bit = if x {
