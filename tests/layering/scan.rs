@@ -163,7 +163,6 @@ fn tokens(code: &str) -> Vec<(Tok, usize)> {
                 i += 1;
             }
             let word: String = c[start..i].iter().collect();
-            // A raw identifier (r#name) is the name.
             out.push((Tok::Ident(word), line));
         } else if ch == ':' && c.get(i + 1) == Some(&':') {
             out.push((Tok::PathSep, line));
