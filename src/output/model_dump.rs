@@ -1,7 +1,8 @@
 //! `sim render --dump-hits`: every pixel's ray and hit in the model's own voxel coordinates,
 //! so other tools (the OpenVDB peer of `tests/openvdb_peer/`) can compare pixel by pixel.
 //!
-//! Pipeline position: output of `sim render` (`crate::run::render`). Binary format (all
+//! Pipeline position: output of `sim render` (`crate::run::render`; the records are
+//! `crate::models::reference::model_render`'s). Binary format (all
 //! little-endian), documented in `docs/render.md` §5: header (32 bytes): magic `SVOMHIT1`,
 //! u32 version = 1, u32 width, u32 height, u32 record size = 80, u32 projection (0 pinhole,
 //! 1 orthographic), u32 reserved = 0; then per pixel, row-major, an 80-byte record:
@@ -14,7 +15,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::atomic::AtomicFile;
-use crate::run::render::{ModelHit, ModelRender, Projection};
+use crate::models::reference::model_render::{ModelHit, ModelRender, Projection};
 
 /// Magic of the binary format.
 pub const MAGIC: &[u8; 8] = b"SVOMHIT1";

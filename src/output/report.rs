@@ -123,7 +123,7 @@ pub struct Report {
     pub hardware: Option<rtl_model::cycle::hw_config::HwConfig>,
     /// Scene-driven elaboration: facts, decisions, savings (cycle model only).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub elaboration: Option<crate::run::elaborate::Elaboration>,
+    pub elaboration: Option<crate::models::cycle::elaboration::Elaboration>,
 }
 
 /// One frame of the report: the model's counters, and for the fixed-point model its accuracy

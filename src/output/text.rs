@@ -3,29 +3,32 @@
 //!
 //! Pipeline position: after each frame of [`crate::run::run`] (through its progress
 //! callback) and after the run; the JSON report (`output::report`) carries the same numbers.
-//! Each function returns text so that the command line only prints it.
+//! Each function returns text so that the command line only prints it. They take plain
+//! values (the scene, the renderer's switches, [`Destinations`]), not the run's configuration,
+//! so that this layer does not import the run layer (docs/architecture.md §1).
 
 use super::report::{AssetReport, FrameReport, Summary};
 use crate::models::cycle::CycleFrame;
-use crate::models::reference::FrameStats;
-use crate::run::RunConfig;
+use crate::models::reference::{FrameStats, RenderOptions};
+use crate::world::scene::Scene;
 use std::collections::BTreeMap;
 use std::fmt::Write;
+use std::path::Path;
 
 /// The run's opening line: scene, resolution, frames, instances, threads and options.
-pub fn run_header(cfg: &RunConfig, threads: usize) -> String {
-    let (w, h) = cfg.scene.file.resolution;
+pub fn run_header(scene: &Scene, options: &RenderOptions, threads: usize) -> String {
+    let (w, h) = scene.file.resolution;
     let on = |b: bool| if b { "on" } else { "off" };
     format!(
         "sim: {} — {}x{}, {} frames, {} instances, {} threads, hit buffer {}, early termination {}",
-        cfg.scene.origin,
+        scene.origin,
         w,
         h,
-        cfg.scene.file.frames,
-        cfg.scene.file.instances.len(),
+        scene.file.frames,
+        scene.file.instances.len(),
         threads,
-        on(cfg.options.use_hit_buffer),
-        on(cfg.options.early_termination),
+        on(options.use_hit_buffer),
+        on(options.early_termination),
     )
 }
 
@@ -256,22 +259,38 @@ pub fn summary(s: &Summary) -> String {
     t
 }
 
+/// The files a run was asked to write, as plain paths: what [`written`] lists. The run layer
+/// fills it from its configuration (`RunConfig::destinations`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Destinations<'a> {
+    /// Folder of the PNGs (`--out`).
+    pub out_dir: Option<&'a Path>,
+    /// Waveforms of the cycle model.
+    pub vcd: Option<&'a Path>,
+    /// Transaction log of the cycle model.
+    pub transaction_log: Option<&'a Path>,
+    /// JSON report.
+    pub report_json: Option<&'a Path>,
+    /// Hit-record dump.
+    pub dump_hits: Option<&'a Path>,
+}
+
 /// What the run wrote, one `wrote …` line each.
-pub fn written(cfg: &RunConfig, frames: u32) -> String {
+pub fn written(to: &Destinations<'_>, frames: u32) -> String {
     let mut lines = Vec::new();
-    if let Some(dir) = &cfg.out_dir {
+    if let Some(dir) = to.out_dir {
         lines.push(format!("wrote {} PNGs to {}", frames, dir.display()));
     }
-    if let Some(v) = &cfg.vcd {
-        lines.push(format!("wrote waveforms {}", v.path.display()));
+    if let Some(p) = to.vcd {
+        lines.push(format!("wrote waveforms {}", p.display()));
     }
-    if let Some((p, _)) = &cfg.transaction_log {
+    if let Some(p) = to.transaction_log {
         lines.push(format!("wrote transaction log {}", p.display()));
     }
-    if let Some(p) = &cfg.report_json {
+    if let Some(p) = to.report_json {
         lines.push(format!("wrote report {}", p.display()));
     }
-    if let Some(p) = &cfg.dump_hits {
+    if let Some(p) = to.dump_hits {
         lines.push(format!("wrote hit records {}", p.display()));
     }
     lines.join("\n")

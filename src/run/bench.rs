@@ -4,10 +4,10 @@
 //! Pipeline position: beside [`super::frames`]. [`reference_speed`] times the f64 reference
 //! with and without the hit buffer; [`fixed_speed`] times the fixed-point functional model
 //! against the reference frame by frame (best of several runs each); the cycle model's own
-//! bench is `models::cycle::bench`, whose tables [`cycle_speed_table`] and
+//! bench is [`super::cycle_bench`], whose tables [`cycle_speed_table`] and
 //! [`write_scaling`] present.
 
-use crate::models::cycle::bench::{scaling_csv, scaling_plot, ScalePoint, SpeedFrame};
+use super::cycle_bench::{scaling_csv, scaling_plot, ScalePoint, SpeedFrame};
 use crate::models::fixed::{render_frame_fixed, FixedBuffer};
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
 use crate::output::atomic::write_atomic;

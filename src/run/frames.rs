@@ -86,6 +86,18 @@ impl RunConfig {
         self.elaboration = Some(e);
         self
     }
+
+    /// The files this configuration asks for, as the plain paths the output layer lists
+    /// (`output::text::written`).
+    pub fn destinations(&self) -> crate::output::text::Destinations<'_> {
+        crate::output::text::Destinations {
+            out_dir: self.out_dir.as_deref(),
+            vcd: self.vcd.as_ref().map(|v| v.path.as_path()),
+            transaction_log: self.transaction_log.as_ref().map(|(p, _)| p.as_path()),
+            report_json: self.report_json.as_deref(),
+            dump_hits: self.dump_hits.as_deref(),
+        }
+    }
 }
 
 /// The model whose records become the output.

@@ -10,6 +10,7 @@
 
 pub mod bench;
 pub mod config_files;
+pub mod cycle_bench;
 pub mod elaborate;
 pub mod frames;
 pub mod parallel;

@@ -24,6 +24,10 @@ use crate::world::assets::vox::model_frame::{load_model_frame, ModelFrame};
 use crate::world::assets::vox::VoxError;
 use crate::world::scene::Camera;
 
+// The result types live in the models layer so that `output` can write them without
+// importing `run`; re-exported here, where `sim render` and its tests look for them.
+pub use crate::models::reference::model_render::{ModelHit, ModelRender, Projection, MISS_T};
+
 /// Largest image side.
 pub const MAX_SIDE: u32 = 16384;
 /// Largest image, in pixels (records are kept in memory: 2^24 of them take about 1.5 GB).
@@ -32,22 +36,6 @@ pub const MAX_PIXELS: u64 = 1 << 24;
 /// model (an octree side is at most 2^20), and small enough that no ray computation
 /// overflows.
 pub const MAX_COORD: f64 = 1_099_511_627_776.0;
-
-/// How pixels become rays.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Projection {
-    /// Pinhole at the eye with this vertical field of view, degrees in (0, 180).
-    Pinhole {
-        /// Vertical field of view in degrees.
-        vfov_deg: f64,
-    },
-    /// Parallel rays along the view direction from the plane through the eye; the view is
-    /// this wide (voxels) and width·H/W high.
-    Ortho {
-        /// Width of the view in voxels.
-        view_width: f64,
-    },
-}
 
 /// A camera in the model's own voxel coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,66 +124,6 @@ pub enum RenderError {
         #[source]
         source: BuildError,
     },
-}
-
-/// One pixel: its ray and what it hit, in model coordinates.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ModelHit {
-    /// Ray origin.
-    pub origin: [f64; 3],
-    /// Unit ray direction (exact zeros are +0.0).
-    pub dir: [f64; 3],
-    /// A solid voxel was hit.
-    pub hit: bool,
-    /// Ray parameter where the ray enters the voxel (0 if the origin is inside it); −1 on a
-    /// miss.
-    pub t: f64,
-    /// The voxel's index in the model (x, y, z as in the `.vox` file); 0 on a miss.
-    pub voxel: [i32; 3],
-    /// Entry face normal in model axes (−1/0/1, against the ray); 0 on a miss.
-    pub face: [i8; 3],
-    /// The voxel's colour; 0 on a miss.
-    pub rgba: [u8; 4],
-    /// The voxel's attribute normal in model axes, for shading; 0 on a miss.
-    pub normal: [f32; 3],
-    /// The voxel's index in the octree's attribute array; 0 on a miss.
-    pub leaf: u32,
-}
-
-/// The `t` of a miss in [`ModelHit`] and in dumps: every real t is ≥ 0.
-pub const MISS_T: f64 = -1.0;
-
-impl ModelHit {
-    fn miss(origin: [f64; 3], dir: [f64; 3]) -> Self {
-        Self {
-            origin,
-            dir,
-            hit: false,
-            t: MISS_T,
-            voxel: [0; 3],
-            face: [0; 3],
-            rgba: [0; 4],
-            normal: [0.0; 3],
-            leaf: 0,
-        }
-    }
-}
-
-/// A finished render.
-#[derive(Clone, Debug)]
-pub struct ModelRender {
-    /// Where the model sits.
-    pub frame: ModelFrame,
-    /// Image width.
-    pub width: u32,
-    /// Image height.
-    pub height: u32,
-    /// Records, row-major from the top-left pixel.
-    pub hits: Vec<ModelHit>,
-    /// Walk work, summed over all pixels.
-    pub counters: WalkCounters,
-    /// Wall time of ray generation and walks (not loading), seconds.
-    pub trace_seconds: f64,
 }
 
 /// The camera after validation: a basis and how pixels become rays.

@@ -1,11 +1,10 @@
 //! `sim bench`: parses the bench's options and prints the library's speed measurements
-//! (`svo_sim::run::bench`, `svo_sim::models::cycle::bench`).
+//! (`svo_sim::run::bench`, `svo_sim::run::cycle_bench`).
 
 use crate::args::{ModelArg, SceneArgs};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
-use svo_sim::models::cycle::bench;
 use svo_sim::models::cycle::sample::SampleConfig;
 use svo_sim::run::bench::{
     cycle_speed_table, fixed_speed, fixed_speed_total, reference_speed, reference_speed_text,
@@ -13,6 +12,7 @@ use svo_sim::run::bench::{
 };
 use svo_sim::run::build;
 use svo_sim::run::config_files::{load_datapath, load_hardware};
+use svo_sim::run::cycle_bench;
 use svo_sim::world::assets::Asset;
 use svo_sim::world::scene::Scene;
 
@@ -206,7 +206,7 @@ fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[Asset]) -> Result<()> {
             false,
         ),
     ] {
-        let frames = bench::speed(scene, assets, &dp, &hw, hb, sample)?;
+        let frames = cycle_bench::speed(scene, assets, &dp, &hw, hb, sample)?;
         println!("{}", cycle_speed_table(label, &frames, pixels, &hw));
     }
     if let Some(dir) = &a.scaling {
@@ -215,7 +215,8 @@ fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[Asset]) -> Result<()> {
             "  {:<13} {:>6} {:>10} {:>9}  bound",
             "sweep", "value", "cycles", "fps"
         );
-        let pts = bench::scaling(scene, assets, &dp, &hw, |p| println!("{}", scaling_line(p)))?;
+        let pts =
+            cycle_bench::scaling(scene, assets, &dp, &hw, |p| println!("{}", scaling_line(p)))?;
         let [csv, png] = write_scaling(dir, &pts, scene)?;
         println!("wrote {} and {}", csv.display(), png.display());
     }

@@ -207,7 +207,10 @@ pub fn run_command(a: RunArgs) -> Result<()> {
         }
         cfg = cfg.elaborated(e);
     }
-    println!("{}", text::run_header(&cfg, rayon::current_num_threads()));
+    println!(
+        "{}",
+        text::run_header(&cfg.scene, &cfg.options, rayon::current_num_threads())
+    );
     let clock_mhz = cfg.hardware.clock_mhz;
     let out = run(&cfg, |f, n| {
         if !a.quiet {
@@ -221,7 +224,7 @@ pub fn run_command(a: RunArgs) -> Result<()> {
         println!("{}", text::assets_table(&out.report.assets));
     }
     println!("{}", text::summary(&out.report.summary));
-    let written = text::written(&cfg, out.report.summary.frames);
+    let written = text::written(&cfg.destinations(), out.report.summary.frames);
     if !written.is_empty() {
         println!("{written}");
     }

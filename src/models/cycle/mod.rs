@@ -8,7 +8,7 @@
 //! the frame's `pipeline::Pipeline` of `stages`, times the work and checks every decision and
 //! the final hit buffer against it.
 
-pub mod bench;
+pub mod elaboration;
 pub mod layout;
 pub mod model;
 pub mod pipeline;

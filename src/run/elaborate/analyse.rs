@@ -11,49 +11,8 @@ use crate::world::scene::{Camera, Scene};
 use glam::{DMat3, DVec3};
 use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
 use rtl_model::fixed::{from_f64, to_f64};
-use serde::Serialize;
 
-/// What one instance does over the frames.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct InstanceFacts {
-    /// Instance name.
-    pub name: String,
-    /// Its pose (rotation, centre, scale) differs between some two frames.
-    pub moves: bool,
-    /// Its quantised rotation (the `raygen.mat` codes the host writes) is not the identity
-    /// in some frame, so its transform needs the products.
-    pub rotates: bool,
-    /// Some frame scales it by other than (1, 1, 1).
-    pub scaled: bool,
-}
-
-/// Facts of a scene, as the elaboration uses them.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct SceneFacts {
-    /// Frames that will run.
-    pub frames: u32,
-    /// Per instance, in scene order.
-    pub instances: Vec<InstanceFacts>,
-    /// The camera differs (bit for bit) between every two consecutive frames, so no frame
-    /// after the first can reuse a pixel; with one frame this is vacuously true.
-    pub camera_moves_every_frame: bool,
-    /// Octree depth of the deepest asset as built (after `--depth`).
-    pub deepest_asset: u8,
-    /// Largest |coordinate| of any camera position or instance centre over all frames, metres.
-    pub coordinate_range_m: f64,
-}
-
-impl SceneFacts {
-    /// Instances that move in some frame.
-    pub fn moving(&self) -> impl Iterator<Item = &InstanceFacts> {
-        self.instances.iter().filter(|i| i.moves)
-    }
-
-    /// Instances whose transform needs its products in some frame.
-    pub fn rotating(&self) -> impl Iterator<Item = &InstanceFacts> {
-        self.instances.iter().filter(|i| i.rotates)
-    }
-}
+pub use crate::models::cycle::elaboration::{InstanceFacts, SceneFacts};
 
 fn camera_bits(c: &Camera) -> [u64; 13] {
     let v = |x: DVec3| x.to_array().map(f64::to_bits);

@@ -12,55 +12,8 @@ use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::fixed::Format;
 use rtl_model::units::transform;
-use serde::Serialize;
 
-/// What the elaboration does with a unit.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Action {
-    /// Kept as configured.
-    Kept,
-    /// Left out of the pipeline.
-    LeftOut,
-    /// Kept with a smaller size (lanes, frames).
-    Resized {
-        /// Size configured.
-        from: u64,
-        /// Size the scene needs.
-        to: u64,
-    },
-    /// Could be narrowed, but is not (the reason says why).
-    CouldNarrow,
-}
-
-impl Action {
-    /// Short text for the printed table ("resized 8 → 1").
-    pub fn label(&self) -> String {
-        match self {
-            Action::Kept => "kept".into(),
-            Action::LeftOut => "left out".into(),
-            Action::Resized { from, to } => format!("resized {from} → {to}"),
-            Action::CouldNarrow => "could narrow".into(),
-        }
-    }
-}
-
-/// One decision: a unit, what happens to it, why (a fact of the scene) and what it saves.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Decision {
-    /// The unit (`sphere_lanes`, `sorter`, `transform_products`, `scale_path`, `hit_buffer`,
-    /// `walker_stacks`, `position_format`).
-    pub unit: String,
-    /// What the elaboration does with it.
-    pub action: Action,
-    /// The scene fact behind it.
-    pub reason: String,
-    /// Whether the elaborated configuration includes it (false for `could_narrow`, and for
-    /// every decision under `--no-prune`).
-    pub applied: bool,
-    /// What it saves against the full pipeline.
-    pub saved: Saving,
-}
+pub use crate::models::cycle::elaboration::{Action, Decision};
 
 /// The elaborated configuration and the decisions that led to it (savings still zero).
 #[derive(Clone, Debug)]

@@ -13,38 +13,8 @@ use super::plan::{narrowed_positions, position_int_bits, Plan};
 use rtl_model::cycle::hw_config::{HwConfig, ResourceReport, Resources};
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::units::sorter;
-use serde::Serialize;
 
-/// What one decision saves against the full pipeline.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
-pub struct Saving {
-    /// DSP48E2 slices.
-    pub dsp48e2: u64,
-    /// BRAM36 blocks.
-    pub bram36: u64,
-    /// URAM288 blocks.
-    pub uram288: u64,
-    /// Bits of on-chip memory no longer stored (words × word bits, before block rounding).
-    pub ram_bits: u64,
-    /// Compare-exchange elements of the sorting network (LUTs; not in the DSP/RAM estimate).
-    pub comparators: u64,
-    /// Cycles of latency per ray taken off the unit's configured latency.
-    pub latency_cycles: u64,
-}
-
-impl Saving {
-    /// Sum of two savings.
-    pub fn plus(self, o: Self) -> Self {
-        Self {
-            dsp48e2: self.dsp48e2 + o.dsp48e2,
-            bram36: self.bram36 + o.bram36,
-            uram288: self.uram288 + o.uram288,
-            ram_bits: self.ram_bits + o.ram_bits,
-            comparators: self.comparators + o.comparators,
-            latency_cycles: self.latency_cycles + o.latency_cycles,
-        }
-    }
-}
+pub use crate::models::cycle::elaboration::Saving;
 
 /// The saving of an estimate `kept` against `full` (DSP48E2 and blocks; the bit, comparator
 /// and latency fields are the caller's).

@@ -3,14 +3,16 @@
 //! cycles per frame with the number of walkers and with DRAM latency (table, CSV and a PNG
 //! plot).
 //!
-//! Pipeline position: a benchmark, not a test (DESIGN.md: speed targets live in benchmarks).
+//! Pipeline position: a benchmark, not a test (DESIGN.md: speed targets live in benchmarks),
+//! beside [`super::bench`]: it runs the cycle model over a scene's frames and draws a figure,
+//! so it sits in the run layer, above the models it times and the output it draws with.
 //! Everything runs in one process, so the ratios compare like with like on a shared machine.
 
-use super::runner::CycleRun;
-use super::sample::SampleConfig;
-use super::CycleOptions;
+use super::parallel::map_in_order;
+use crate::models::cycle::runner::CycleRun;
+use crate::models::cycle::sample::SampleConfig;
+use crate::models::cycle::CycleOptions;
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
-use crate::run::parallel::map_in_order;
 use crate::world::assets::Asset;
 use crate::world::scene::Scene;
 use plotters::prelude::*;
