@@ -65,6 +65,7 @@
 mod error;
 mod graph;
 pub mod model_frame;
+mod models;
 mod occupancy;
 mod parse;
 mod surface;
@@ -91,6 +92,10 @@ pub const MAX_UPSCALED_LEAVES: u64 = 1 << 26;
 /// file from exhausting memory. The largest sample (`scene_store8.vox`) places 441 118.
 pub const MAX_PLACED_VOXELS: u64 = 1 << 26;
 
+/// Widest `SIZE` axis accepted, in voxels: the side of the deepest octree the SVO builder
+/// takes (`2^MAX_DEPTH`). MagicaVoxel itself writes at most 256 (a voxel index is one byte).
+pub const MAX_SIZE: u64 = 1 << MAX_DEPTH;
+
 /// What was loaded from a `.vox` file.
 #[derive(Clone, Debug)]
 pub struct VoxAsset {
@@ -100,8 +105,13 @@ pub struct VoxAsset {
     pub depth: u8,
     /// Extent of the composed model in (file) voxels, in our axes (x, y up, z).
     pub grid_dims: [u32; 3],
-    /// Model instances (shape nodes, or models of a file without scene graph) composed.
+    /// Model instances (shape nodes, or the one chosen model) composed.
     pub models: usize,
+    /// Models (`SIZE` / `XYZI` pairs) in the file.
+    pub file_models: usize,
+    /// One line for stderr when the loader chose for the user: a file without scene graph
+    /// holding several models (animation frames) loads its model 0 and says so here.
+    pub notice: Option<String>,
     /// Distinct solid voxels of the composed model, before the interior was dropped.
     pub voxels: usize,
     /// Smallest corner of the solid bounding box in our axes, in composed file voxels before
@@ -117,23 +127,82 @@ pub struct VoxAsset {
 /// Loads a `.vox` file as surface leaves; `depth: None` picks the smallest depth that holds
 /// the model. See the module documentation for the conventions.
 pub fn load_vox(path: &Path, depth: Option<u8>) -> Result<VoxAsset, VoxError> {
+    load_vox_model(path, depth, None)
+}
+
+/// Like [`load_vox`], with a choice of model: `Some(i)` loads the file's model `i` alone
+/// (0-based, in file order), untransformed; `None` is the default of step 2.
+pub fn load_vox_model(
+    path: &Path,
+    depth: Option<u8>,
+    model: Option<usize>,
+) -> Result<VoxAsset, VoxError> {
     check_requested_depth(path, depth)?;
     let bytes = std::fs::read(path).map_err(|source| VoxError::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    load_vox_bytes(&bytes, path, depth)
+    load_vox_bytes_model(&bytes, path, depth, model)
 }
 
 /// Like [`load_vox`] for bytes already in memory; `path` only names them in errors.
 pub fn load_vox_bytes(bytes: &[u8], path: &Path, depth: Option<u8>) -> Result<VoxAsset, VoxError> {
+    load_vox_bytes_model(bytes, path, depth, None)
+}
+
+/// Like [`load_vox_model`] for bytes already in memory; `path` only names them in errors.
+pub fn load_vox_bytes_model(
+    bytes: &[u8],
+    path: &Path,
+    depth: Option<u8>,
+    model: Option<usize>,
+) -> Result<VoxAsset, VoxError> {
     check_requested_depth(path, depth)?;
-    let data = parse::parse(bytes, path)?;
-    let scene_error = |message: String| VoxError::Scene {
-        path: path.to_path_buf(),
-        message,
+    let mut data = parse::parse(bytes, path)?;
+    let models = models::read_models(bytes, path)?;
+    if models.len() != data.models.len() {
+        // Both read the same chunks; a difference would shift every shape's model id.
+        return Err(VoxError::Model {
+            path: path.to_path_buf(),
+            message: format!(
+                "the file's chunks give {} models, the .vox parser read {}",
+                models.len(),
+                data.models.len()
+            ),
+        });
+    }
+    data.models = models;
+    let file_models = data.models.len();
+    let (placements, notice) = match model {
+        Some(index) if index >= file_models => {
+            return Err(VoxError::NoSuchModel {
+                path: path.to_path_buf(),
+                index,
+                models: file_models,
+            })
+        }
+        Some(index) => (vec![graph::Placement::alone(index)], None),
+        // Without a scene graph several models are the frames of an animation (MagicaVoxel
+        // 0.98 and earlier), shown one at a time: merging them draws every pose at once.
+        None if data.scenes.is_empty() && file_models > 1 => {
+            let notice = format!(
+                "{}: {file_models} models and no scene graph (animation frames): loaded model 0 \
+                 alone ({} voxels), not all {file_models} merged; choose another with the model \
+                 index (0 to {})",
+                path.display(),
+                data.models[0].voxels.len(),
+                file_models - 1
+            );
+            (vec![graph::Placement::alone(0)], Some(notice))
+        }
+        None => (
+            graph::placements(&data).map_err(|message| VoxError::Scene {
+                path: path.to_path_buf(),
+                message,
+            })?,
+            None,
+        ),
     };
-    let placements = graph::placements(&data).map_err(scene_error)?;
     let total: u64 = placements
         .iter()
         .filter_map(|p| data.models.get(p.model))
@@ -146,7 +215,10 @@ pub fn load_vox_bytes(bytes: &[u8], path: &Path, depth: Option<u8>) -> Result<Vo
         });
     }
     let placed = graph::place_voxels(&data, &placements);
-    surface::build(path, &data, placements.len(), placed, depth)
+    let mut asset = surface::build(path, &data, placements.len(), placed, depth)?;
+    asset.file_models = file_models;
+    asset.notice = notice;
+    Ok(asset)
 }
 
 fn check_requested_depth(path: &Path, depth: Option<u8>) -> Result<(), VoxError> {
