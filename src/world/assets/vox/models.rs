@@ -14,6 +14,8 @@
 
 use std::path::Path;
 
+use rtl_model::svo::MAX_DEPTH;
+
 use super::{VoxError, MAX_SIZE};
 
 /// Chunk header: four-byte id, content size, children size.
@@ -118,7 +120,8 @@ fn read_size(body: &[u8], pos: usize, model: usize) -> Result<[u32; 3], String> 
         if u64::from(v) > MAX_SIZE {
             return Err(format!(
                 "model {model} (SIZE chunk at byte {pos}) is {x} x {y} x {z}: {axis} = {v} is \
-                 above {MAX_SIZE} = 2^MAX_DEPTH, the widest octree the SVO builder takes"
+                 above {MAX_SIZE} = 2^{MAX_DEPTH}, the side of the deepest octree the SVO builder \
+                 takes (depth {MAX_DEPTH})"
             ));
         }
     }
