@@ -351,3 +351,21 @@ fn render_animation_frames_warns_and_draws_model_0() {
     );
     assert!(r.stdout.contains(" 1 solid voxels"), "{ctx}");
 }
+
+#[test]
+fn render_colour_index_zero_is_empty() {
+    let t = Tmp::new("render_colour_index_zero_is_empty");
+    // A row of three voxels, the middle one with colour index 0 (MagicaVoxel: empty).
+    let file = t.write(
+        "index0.vox",
+        vox_file(&[model(
+            [3, 1, 1],
+            &[[0, 0, 0, 1], [1, 0, 0, 0], [2, 0, 0, 2]],
+        )]),
+    );
+    let r = render(&t, &file, &[]);
+    let ctx = format!("stdout:\n{}\nstderr:\n{}", r.stdout, r.stderr);
+    assert!(r.status.success(), "{ctx}");
+    assert!(r.stdout.contains(" 2 solid voxels"), "{ctx}");
+    assert!(r.stdout.contains("(3x1x1 voxels)"), "{ctx}");
+}
