@@ -195,7 +195,12 @@ fn vox_voxel_outside_its_size() {
     vox_case(
         &t,
         "outside.vox",
-        &["model 0", "voxel 1", "(4, 0, 0)", "outside its SIZE 4 x 4 x 4"],
+        &[
+            "model 0",
+            "voxel 1",
+            "(4, 0, 0)",
+            "outside its SIZE 4 x 4 x 4",
+        ],
     );
 }
 
@@ -211,9 +216,16 @@ fn vox_xyzi_count_beyond_its_chunk() {
     let stderr = vox_case(
         &t,
         "count.vox",
-        &["model 0", "declares 2147483647 voxels", "truncated or inconsistent"],
+        &[
+            "model 0",
+            "declares 2147483647 voxels",
+            "truncated or inconsistent",
+        ],
     );
-    assert!(!stderr.contains("no visible voxels"), "wrong reason:\n{stderr}");
+    assert!(
+        !stderr.contains("no visible voxels"),
+        "wrong reason:\n{stderr}"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -268,7 +280,10 @@ fn run_frames_scene(t: &Tmp, extra: &str) -> String {
 fn vox_animation_frames_in_a_scene_warn_once() {
     let t = Tmp::new("vox_animation_frames_in_a_scene_warn_once");
     let stderr = run_frames_scene(&t, "");
-    let warnings: Vec<&str> = stderr.lines().filter(|l| l.starts_with("warning:")).collect();
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect();
     let want = format!(
         "warning: asset \"hull_model\": {}: 2 models and no scene graph (animation frames): \
          loaded model 0 alone (1 voxels), not all 2 merged",
@@ -322,7 +337,12 @@ fn render_model_index_selects_and_refuses() {
     ] {
         assert!(r.stderr.contains(want), "{want:?} missing\n{ctx}");
     }
-    assert!(files_below(&t.dir).iter().all(|p| p.ends_with("frames.vox")), "{ctx}");
+    assert!(
+        files_below(&t.dir)
+            .iter()
+            .all(|p| p.ends_with("frames.vox")),
+        "{ctx}"
+    );
 
     let r = render(&t, &file, &["--model-index", "1"]);
     let ctx = format!("stdout:\n{}\nstderr:\n{}", r.stdout, r.stderr);
@@ -344,7 +364,11 @@ fn render_animation_frames_warns_and_draws_model_0() {
         "warning: {file}: 2 models and no scene graph (animation frames): loaded model 0 alone \
          (1 voxels)"
     );
-    let warnings: Vec<&str> = r.stderr.lines().filter(|l| l.starts_with("warning:")).collect();
+    let warnings: Vec<&str> = r
+        .stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect();
     assert!(
         warnings.len() == 1 && warnings[0].starts_with(&want),
         "expected one line starting {want:?}\n{ctx}"

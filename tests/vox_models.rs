@@ -430,7 +430,12 @@ fn size_above_the_widest_octree_is_refused() {
     expect_model_error(
         err,
         path,
-        &["model 1", "y = 2147483647", "above 1048576", "SIZE chunk at byte 64"],
+        &[
+            "model 1",
+            "y = 2147483647",
+            "above 1048576",
+            "SIZE chunk at byte 64",
+        ],
     );
     // The limit itself is accepted: it only moves the pivot.
     let at_limit = vox_file(&[model([MAX_SIZE as u32, 1, 1], &[[0, 0, 0, 1]])]);
@@ -443,14 +448,22 @@ fn voxel_outside_its_size_is_refused() {
     let path = Path::new("outside.vox");
     let bytes = vox_file(&[
         model([2, 2, 2], &[[1, 1, 1, 1]]),
-        model([2, 3, 2], &[[0, 0, 0, 1], [1, 2, 1, 1], [1, 3, 0, 1], [5, 5, 5, 1]]),
+        model(
+            [2, 3, 2],
+            &[[0, 0, 0, 1], [1, 2, 1, 1], [1, 3, 0, 1], [5, 5, 5, 1]],
+        ),
     ]);
     let err = load_vox_bytes(&bytes, path, None).expect_err("voxel outside SIZE");
     // The first offending voxel of the model that holds it.
     expect_model_error(
         err,
         path,
-        &["model 1", "voxel 2", "(1, 3, 0)", "outside its SIZE 2 x 3 x 2"],
+        &[
+            "model 1",
+            "voxel 2",
+            "(1, 3, 0)",
+            "outside its SIZE 2 x 3 x 2",
+        ],
     );
 }
 
@@ -470,7 +483,11 @@ fn colour_index_zero_is_empty() {
         asset.leaves.coords().map(|(c, a)| (c, a.rgba())).collect();
     row.sort_by_key(|(c, _)| c[0]);
     let xs: Vec<u32> = row.iter().map(|(c, _)| c[0]).collect();
-    assert_eq!(xs, vec![xs[0], xs[0] + 2], "a leaf where the index-0 voxel was");
+    assert_eq!(
+        xs,
+        vec![xs[0], xs[0] + 2],
+        "a leaf where the index-0 voxel was"
+    );
     // File index 1 is RGBA entry 0, file index 2 entry 1: index 0 did not alias index 1.
     let rgb = |e: usize| [palette[e][0], palette[e][1], palette[e][2], 255];
     assert_eq!(row[0].1, rgb(0));
@@ -524,7 +541,12 @@ fn chunk_running_past_main_is_refused() {
     expect_model_error(
         err,
         path,
-        &["\"RGBA\" chunk at byte 64", "declares 1036 bytes", "only 20", "truncated"],
+        &[
+            "\"RGBA\" chunk at byte 64",
+            "declares 1036 bytes",
+            "only 20",
+            "truncated",
+        ],
     );
 }
 
@@ -573,8 +595,14 @@ fn animation_frames_load_the_first_frame_with_a_notice() {
     assert_eq!((asset.models, asset.file_models), (1, 2));
     let notice = asset.notice.expect("a notice naming what was not merged");
     println!("{notice}");
-    assert!(notice.starts_with("frames.vox: 2 models and no scene graph"), "{notice}");
-    assert!(notice.contains("loaded model 0 alone (1 voxels)"), "{notice}");
+    assert!(
+        notice.starts_with("frames.vox: 2 models and no scene graph"),
+        "{notice}"
+    );
+    assert!(
+        notice.contains("loaded model 0 alone (1 voxels)"),
+        "{notice}"
+    );
     assert!(!notice.contains('\n'), "one line: {notice}");
     // One model and no scene graph: nothing to say.
     let single = load_vox_bytes(&vox_file(&[model([1, 1, 1], &[[0, 0, 0, 1]])]), path, None);
@@ -595,7 +623,10 @@ fn scene_graph_files_merge_unless_a_model_is_chosen() {
         shape_node(5, 1),
     ]);
     let merged = load_vox_bytes(&bytes, path, None).unwrap();
-    assert_eq!((merged.voxels, merged.models, merged.file_models), (4, 2, 2));
+    assert_eq!(
+        (merged.voxels, merged.models, merged.file_models),
+        (4, 2, 2)
+    );
     assert_eq!(merged.notice, None, "the scene graph says how to merge");
     // The chosen model alone, untransformed (its translation of 10 is the graph's).
     let one = load_vox_bytes_model(&bytes, path, None, Some(1)).unwrap();

@@ -26,7 +26,6 @@ pub fn assert_names_path(err: &VoxError, path: &Path) {
 // ---------------------------------------------------------------------------------------------
 // Writing `.vox` files
 
-
 /// One RIFF-style chunk.
 pub fn chunk(id: &[u8; 4], content: &[u8], children: &[u8]) -> Vec<u8> {
     let mut out = id.to_vec();
@@ -77,7 +76,12 @@ pub fn dict(pairs: &[(&str, &str)]) -> Vec<u8> {
     out
 }
 
-pub fn transform_node(id: u32, attrs: &[(&str, &str)], child: u32, frame: &[(&str, &str)]) -> Vec<u8> {
+pub fn transform_node(
+    id: u32,
+    attrs: &[(&str, &str)],
+    child: u32,
+    frame: &[(&str, &str)],
+) -> Vec<u8> {
     let mut c = id.to_le_bytes().to_vec();
     c.extend(dict(attrs));
     c.extend(child.to_le_bytes());

@@ -14,12 +14,31 @@
 //!    handling can catch). The parse also runs under `catch_unwind`, so a panic inside
 //!    `dot_vox` becomes [`VoxError::Panicked`]; the default panic hook still prints its message
 //!    (silencing it would mean replacing the process-wide hook, which races with other threads).
-//! 2. **Compose the scene.** Every visible shape instance of the scene graph (`nTRN` / `nGRP` /
+//!
+//!    Then the models (each `XYZI` chunk with the `SIZE` chunk before it, children of `MAIN`,
+//!    in file order: the index a shape node's model id and the model index refer to) are read
+//!    again from the raw bytes, because `dot_vox` loses what the checks need (see `models.rs`).
+//!    Each of these is a [`VoxError::Model`] naming the model's index, the chunk's byte offset
+//!    and the figures: a chunk running past the end of `MAIN` (truncated), an `XYZI` count
+//!    larger than its chunk's bytes can hold, an `XYZI` without a `SIZE` before it, a `SIZE`
+//!    axis above [`MAX_SIZE`] (`2^MAX_DEPTH`, the side of the deepest octree), and a voxel
+//!    outside its model's `SIZE` (the first one, with its number in the chunk). Voxels of
+//!    colour index 0 are left out: MagicaVoxel's index 0 is empty (its palette has 255
+//!    colours, 1 to 255).
+//! 2. **Choose and compose.** With a model index (`model: Some(i)` of a scene's `Vox` source,
+//!    `sim render --model-index i`), model `i` alone is placed untransformed (scene graph
+//!    ignored); an index not below the file's model count is [`VoxError::NoSuchModel`]. Without
+//!    one, a file with no scene graph and several models is a file of **animation frames**
+//!    (MagicaVoxel 0.98 and earlier saved an animation as consecutive `SIZE` / `XYZI` pairs and
+//!    shows one frame at a time; 0.99 added the scene graph for models placed together): its
+//!    model 0 is loaded alone and [`VoxAsset::notice`] says so in one line, which the caller
+//!    prints to stderr as a warning (merging the frames draws every pose at once, a horse with
+//!    extra legs). Otherwise every visible shape instance of the scene graph (`nTRN` / `nGRP` /
 //!    `nSHP`, walked from node 0; node ids are the chunks' order, as MagicaVoxel writes them) is
 //!    placed with the product of the transforms above it (first keyframe: `frames[0]` of a
 //!    transform, `models[0]` of a shape). Transforms with `_hidden = 1`, or on a hidden layer,
-//!    are skipped with their subtree. A file without a scene graph places each model at the
-//!    origin (like an instance with an identity transform). Where instances overlap, the first
+//!    are skipped with their subtree. A file without a scene graph (and so with one model)
+//!    places it at the origin (like an instance with an identity transform). Where instances overlap, the first
 //!    one in scene order keeps the voxel. At most [`MAX_PLACED_VOXELS`] voxels are placed.
 //!
 //!    Placement follows MagicaVoxel: `_t` is the integer translation "x y z"; `_r` is the packed
@@ -39,7 +58,9 @@
 //!    per axis, where k = 2^(depth − needed depth) is the upscaling factor of step 6.
 //! 4. **Colour.** `dot_vox` stores `Voxel::i` as the file's 1-based colour index minus one, and
 //!    its `palette[i]` is the file's `RGBA` entry `i`, which the format defines as the colour of
-//!    index `i + 1`; so `palette[voxel.i]` is the voxel's colour. Files without an `RGBA` chunk
+//!    index `i + 1`; so `palette[voxel.i]` is the voxel's colour. (`dot_vox` computes `i` with
+//!    a saturating subtraction, so file index 0 and 1 both become 0: which is why step 1 reads
+//!    the raw index and drops index 0 before this.) Files without an `RGBA` chunk
 //!    get MagicaVoxel's default palette from `dot_vox`. Alpha is forced to 255 (leaves are
 //!    opaque).
 //! 5. **Surface only.** A voxel with all six face neighbours solid can never be hit by a ray,
@@ -55,7 +76,8 @@
 //!    [`MAX_UPSCALED_LEAVES`] leaves are produced.
 //!
 //! Where each step lives (private sub-modules of this folder): `parse.rs` (step 1: the nesting
-//! guard and the guarded `dot_vox` parse), `graph.rs` (step 2: the scene-graph walk and voxel
+//! guard and the guarded `dot_vox` parse), `models.rs` (step 1: the models read and checked
+//! from the raw chunks), `graph.rs` (step 2: the scene-graph walk and voxel
 //! placement), `transform.rs` (the `_t` / `_r` decoding and the integer affine maps it makes),
 //! `surface.rs` (steps 3 to 6: axes, colours, surface leaves, normals and upscaling) on top of
 //! `occupancy.rs` (the solid-cell set), and `error.rs` ([`VoxError`]). `model_frame.rs` (public)
@@ -187,8 +209,8 @@ pub fn load_vox_bytes_model(
         None if data.scenes.is_empty() && file_models > 1 => {
             let notice = format!(
                 "{}: {file_models} models and no scene graph (animation frames): loaded model 0 \
-                 alone ({} voxels), not all {file_models} merged; choose another with the model \
-                 index (0 to {})",
+                 alone ({} voxels), not all {file_models} merged; choose one with `model: \
+                 Some(N)` in a scene or `sim render --model-index N` (N from 0 to {})",
                 path.display(),
                 data.models[0].voxels.len(),
                 file_models - 1
