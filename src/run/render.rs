@@ -326,11 +326,12 @@ impl RayGen {
 pub const MAX_REPEAT: u32 = 100;
 
 /// Loads the model (the file's model `model` alone if given, see
-/// [`crate::world::assets::vox::load_vox_model`]) and traces every pixel, `repeat` times (1 to [`MAX_REPEAT`]): the records
-/// and counters are those of one trace (every trace gives the same), `trace_seconds` the
-/// fastest. The records' memory is allocated and touched before the clock starts, as the
-/// OpenVDB peer does, and the attribute normals (shading, not tracing) are decoded after it
-/// stops, so the time is the trace's alone: ray generation, walk and the record.
+/// [`crate::world::assets::vox::load_vox_model`]) and traces every pixel, `repeat` times (1 to
+/// [`MAX_REPEAT`]): the records and counters are those of one trace (every trace gives the
+/// same), `trace_seconds` the fastest. The records' memory is allocated and touched before the
+/// clock starts, as the OpenVDB peer does, and the attribute normals (shading, not tracing) are
+/// decoded after it stops, so the time is the trace's alone: ray generation, walk and the
+/// record.
 pub fn render_model(
     path: &Path,
     camera: &ModelCamera,

@@ -37,8 +37,8 @@ pub enum VoxError {
         message: String,
     },
     /// A model's chunks are inconsistent: a truncated chunk, an `XYZI` count beyond its
-    /// chunk's bytes, an `XYZI` without `SIZE`, a `SIZE` above [`MAX_SIZE`](super::MAX_SIZE), a voxel outside
-    /// its model's `SIZE`.
+    /// chunk's bytes, an `XYZI` without `SIZE`, a `SIZE` above
+    /// [`MAX_SIZE`](super::MAX_SIZE), a voxel outside its model's `SIZE`.
     #[error("{}: invalid MagicaVoxel model: {message}", path.display())]
     Model {
         /// The file.

@@ -38,8 +38,9 @@
 //!    placed with the product of the transforms above it (first keyframe: `frames[0]` of a
 //!    transform, `models[0]` of a shape). Transforms with `_hidden = 1`, or on a hidden layer,
 //!    are skipped with their subtree. A file without a scene graph (and so with one model)
-//!    places it at the origin (like an instance with an identity transform). Where instances overlap, the first
-//!    one in scene order keeps the voxel. At most [`MAX_PLACED_VOXELS`] voxels are placed.
+//!    places it at the origin (like an instance with an identity transform). Where instances
+//!    overlap, the first one in scene order keeps the voxel. At most [`MAX_PLACED_VOXELS`]
+//!    voxels are placed.
 //!
 //!    Placement follows MagicaVoxel: `_t` is the integer translation "x y z"; `_r` is the packed
 //!    rotation byte (bits 0-1: column of the non-zero entry of row 0, bits 2-3: of row 1,
@@ -60,8 +61,8 @@
 //!    its `palette[i]` is the file's `RGBA` entry `i`, which the format defines as the colour of
 //!    index `i + 1`; so `palette[voxel.i]` is the voxel's colour. (`dot_vox` computes `i` with
 //!    a saturating subtraction, so file index 0 and 1 both become 0: which is why step 1 reads
-//!    the raw index and drops index 0 before this.) Files without an `RGBA` chunk
-//!    get MagicaVoxel's default palette from `dot_vox`. Alpha is forced to 255 (leaves are
+//!    the raw index and drops index 0 before this.) Files without an `RGBA` chunk get
+//!    MagicaVoxel's default palette from `dot_vox`. Alpha is forced to 255 (leaves are
 //!    opaque).
 //! 5. **Surface only.** A voxel with all six face neighbours solid can never be hit by a ray,
 //!    so only voxels with at least one empty face neighbour become leaves. Their normal is the
@@ -77,8 +78,8 @@
 //!
 //! Where each step lives (private sub-modules of this folder): `parse.rs` (step 1: the nesting
 //! guard and the guarded `dot_vox` parse), `models.rs` (step 1: the models read and checked
-//! from the raw chunks), `graph.rs` (step 2: the scene-graph walk and voxel
-//! placement), `transform.rs` (the `_t` / `_r` decoding and the integer affine maps it makes),
+//! from the raw chunks), `graph.rs` (step 2: the scene-graph walk and voxel placement),
+//! `transform.rs` (the `_t` / `_r` decoding and the integer affine maps it makes),
 //! `surface.rs` (steps 3 to 6: axes, colours, surface leaves, normals and upscaling) on top of
 //! `occupancy.rs` (the solid-cell set), and `error.rs` ([`VoxError`]). `model_frame.rs` (public)
 //! maps the loaded leaves back to the file's own voxel indices for `sim render`. This file holds the
@@ -195,7 +196,7 @@ pub fn load_vox_bytes_model(
     }
     data.models = models;
     let file_models = data.models.len();
-    let (placements, notice) = match model {
+    let (placements, frame_0) = match model {
         Some(index) if index >= file_models => {
             return Err(VoxError::NoSuchModel {
                 path: path.to_path_buf(),
@@ -203,26 +204,18 @@ pub fn load_vox_bytes_model(
                 models: file_models,
             })
         }
-        Some(index) => (vec![graph::Placement::alone(index)], None),
+        Some(index) => (vec![graph::Placement::alone(index)], false),
         // Without a scene graph several models are the frames of an animation (MagicaVoxel
         // 0.98 and earlier), shown one at a time: merging them draws every pose at once.
         None if data.scenes.is_empty() && file_models > 1 => {
-            let notice = format!(
-                "{}: {file_models} models and no scene graph (animation frames): loaded model 0 \
-                 alone ({} voxels), not all {file_models} merged; choose one with `model: \
-                 Some(N)` in a scene or `sim render --model-index N` (N from 0 to {})",
-                path.display(),
-                data.models[0].voxels.len(),
-                file_models - 1
-            );
-            (vec![graph::Placement::alone(0)], Some(notice))
+            (vec![graph::Placement::alone(0)], true)
         }
         None => (
             graph::placements(&data).map_err(|message| VoxError::Scene {
                 path: path.to_path_buf(),
                 message,
             })?,
-            None,
+            false,
         ),
     };
     let total: u64 = placements
@@ -239,7 +232,16 @@ pub fn load_vox_bytes_model(
     let placed = graph::place_voxels(&data, &placements);
     let mut asset = surface::build(path, &data, placements.len(), placed, depth)?;
     asset.file_models = file_models;
-    asset.notice = notice;
+    if frame_0 {
+        asset.notice = Some(format!(
+            "{}: {file_models} models and no scene graph (animation frames): loaded model 0 \
+             alone ({} voxels), not all {file_models} merged; choose one with `model: Some(N)` \
+             in a scene or `sim render --model-index N` (N from 0 to {})",
+            path.display(),
+            asset.voxels,
+            file_models - 1
+        ));
+    }
     Ok(asset)
 }
 
