@@ -5,6 +5,10 @@
 //! errors naming the path (never panics), and depths that are too small, out of range or
 //! upscaled behave as documented.
 //!
+//! Hand-built files check the model chunks (SIZE limits, voxels outside SIZE, colour index 0,
+//! XYZI counts beyond their chunk, truncated chunks) and the choice of model (model index,
+//! files of animation frames).
+//!
 //! The axis, palette and scene-graph conventions, on tiny `.vox` files written by hand in
 //! memory, are in `tests/vox_conventions.rs`.
 
@@ -12,10 +16,15 @@ use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use svo_sim::world::assets::vox::{load_vox, load_vox_bytes, VoxError};
+use svo_sim::world::assets::vox::{
+    load_vox, load_vox_bytes, load_vox_bytes_model, load_vox_model, VoxError, MAX_SIZE,
+};
 
 mod common;
-use common::vox::{assert_names_path, leaf_map};
+use common::vox::{
+    assert_names_path, chunk, group_node, leaf_map, model, rgba, shape_node, test_palette,
+    transform_node, vox_file,
+};
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -393,5 +402,276 @@ fn deeper_depth_upscales_the_surface() {
                 );
             }
         }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Model chunks
+
+/// `err` is a [`VoxError::Model`] naming `path` and containing every string of `want`.
+fn expect_model_error(err: VoxError, path: &Path, want: &[&str]) {
+    println!("{err}");
+    assert!(matches!(err, VoxError::Model { .. }), "{err:?}");
+    assert_names_path(&err, path);
+    let text = err.to_string();
+    for w in want {
+        assert!(text.contains(w), "{w:?} missing from: {text}");
+    }
+}
+
+#[test]
+fn size_above_the_widest_octree_is_refused() {
+    let path = Path::new("huge_size.vox");
+    let huge = vox_file(&[
+        model([1, 1, 1], &[[0, 0, 0, 1]]),
+        model([1, 0x7fff_ffff, 1], &[[0, 0, 0, 1]]),
+    ]);
+    let err = load_vox_bytes(&huge, path, None).expect_err("SIZE 2^31 - 1");
+    expect_model_error(
+        err,
+        path,
+        &[
+            "model 1",
+            "y = 2147483647",
+            "above 1048576",
+            "SIZE chunk at byte 64",
+        ],
+    );
+    // The limit itself is accepted: it only moves the pivot.
+    let at_limit = vox_file(&[model([MAX_SIZE as u32, 1, 1], &[[0, 0, 0, 1]])]);
+    let asset = load_vox_bytes(&at_limit, path, None).expect("SIZE at the limit");
+    assert_eq!(asset.voxels, 1);
+}
+
+#[test]
+fn voxel_outside_its_size_is_refused() {
+    let path = Path::new("outside.vox");
+    let bytes = vox_file(&[
+        model([2, 2, 2], &[[1, 1, 1, 1]]),
+        model(
+            [2, 3, 2],
+            &[[0, 0, 0, 1], [1, 2, 1, 1], [1, 3, 0, 1], [5, 5, 5, 1]],
+        ),
+    ]);
+    let err = load_vox_bytes(&bytes, path, None).expect_err("voxel outside SIZE");
+    // The first offending voxel of the model that holds it.
+    expect_model_error(
+        err,
+        path,
+        &[
+            "model 1",
+            "voxel 2",
+            "(1, 3, 0)",
+            "outside its SIZE 2 x 3 x 2",
+        ],
+    );
+}
+
+#[test]
+fn colour_index_zero_is_empty() {
+    let palette = test_palette();
+    let path = Path::new("index0.vox");
+    // A row of three voxels along vox x, the middle one with colour index 0.
+    let bytes = vox_file(&[
+        model([3, 1, 1], &[[0, 0, 0, 1], [1, 0, 0, 0], [2, 0, 0, 2]]),
+        rgba(&palette),
+    ]);
+    let asset = load_vox_bytes(&bytes, path, None).unwrap();
+    assert_eq!(asset.voxels, 2, "the index-0 voxel is not solid");
+    assert_eq!(asset.grid_dims, [3, 1, 1], "the outer voxels still span 3");
+    let mut row: Vec<([u32; 3], [u8; 4])> =
+        asset.leaves.coords().map(|(c, a)| (c, a.rgba())).collect();
+    row.sort_by_key(|(c, _)| c[0]);
+    let xs: Vec<u32> = row.iter().map(|(c, _)| c[0]).collect();
+    assert_eq!(
+        xs,
+        vec![xs[0], xs[0] + 2],
+        "a leaf where the index-0 voxel was"
+    );
+    // File index 1 is RGBA entry 0, file index 2 entry 1: index 0 did not alias index 1.
+    let rgb = |e: usize| [palette[e][0], palette[e][1], palette[e][2], 255];
+    assert_eq!(row[0].1, rgb(0));
+    assert_eq!(row[1].1, rgb(1));
+
+    // A model of index-0 voxels only has nothing to show.
+    let all_empty = vox_file(&[model([2, 1, 1], &[[0, 0, 0, 0], [1, 0, 0, 0]])]);
+    let err = load_vox_bytes(&all_empty, path, None).expect_err("only index 0");
+    assert!(matches!(err, VoxError::Empty { .. }), "{err:?}");
+}
+
+#[test]
+fn xyzi_count_beyond_its_chunk_is_refused() {
+    let path = Path::new("count.vox");
+    let size: Vec<u8> = [2u32, 2, 2].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let mut xyzi = 0x7fff_ffffu32.to_le_bytes().to_vec();
+    xyzi.extend([0, 0, 0, 1, 1, 1, 1, 1]);
+    let bytes = vox_file(&[chunk(b"SIZE", &size, &[]), chunk(b"XYZI", &xyzi, &[])]);
+    let err = load_vox_bytes(&bytes, path, None).expect_err("count 0x7fffffff");
+    expect_model_error(
+        err,
+        path,
+        &[
+            "model 0",
+            "declares 2147483647 voxels",
+            "holds 8 bytes of voxels, room for 2",
+            "truncated or inconsistent",
+        ],
+    );
+}
+
+#[test]
+fn xyzi_without_size_is_refused() {
+    let path = Path::new("no_size.vox");
+    let xyzi = [1u32.to_le_bytes(), [0, 0, 0, 1]].concat();
+    let bytes = vox_file(&[chunk(b"XYZI", &xyzi, &[])]);
+    let err = load_vox_bytes(&bytes, path, None).expect_err("XYZI before any SIZE");
+    expect_model_error(err, path, &["XYZI chunk at byte 20", "model 0", "no SIZE"]);
+}
+
+#[test]
+fn chunk_running_past_main_is_refused() {
+    let path = Path::new("cut.vox");
+    // MAIN's children: a model, then an RGBA header claiming 1024 bytes of which 8 are there.
+    let mut cut = b"RGBA".to_vec();
+    cut.extend(1024u32.to_le_bytes());
+    cut.extend(0u32.to_le_bytes());
+    cut.extend([7; 8]);
+    let bytes = vox_file(&[model([1, 1, 1], &[[0, 0, 0, 1]]), cut]);
+    let err = load_vox_bytes(&bytes, path, None).expect_err("cut chunk");
+    expect_model_error(
+        err,
+        path,
+        &[
+            "\"RGBA\" chunk at byte 64",
+            "declares 1036 bytes",
+            "only 20",
+            "truncated",
+        ],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Choice of model
+
+/// Two models, no scene graph (animation frames): one voxel, then a row of three.
+fn two_frames() -> Vec<u8> {
+    vox_file(&[
+        model([1, 1, 1], &[[0, 0, 0, 1]]),
+        model([3, 1, 1], &[[0, 0, 0, 2], [1, 0, 0, 3], [2, 0, 0, 4]]),
+    ])
+}
+
+#[test]
+fn model_index_selects_one_model() {
+    let path = Path::new("frames.vox");
+    let bytes = two_frames();
+    for (index, voxels, dims) in [(0, 1, [1, 1, 1]), (1, 3, [3, 1, 1])] {
+        let asset = load_vox_bytes_model(&bytes, path, None, Some(index)).unwrap();
+        assert_eq!(asset.voxels, voxels, "model {index}");
+        assert_eq!(asset.grid_dims, dims, "model {index}");
+        assert_eq!((asset.models, asset.file_models), (1, 2), "model {index}");
+        assert_eq!(asset.notice, None, "an explicit choice needs no warning");
+    }
+    for index in [2, usize::MAX] {
+        let err = load_vox_bytes_model(&bytes, path, None, Some(index)).expect_err("range");
+        println!("{err}");
+        assert!(
+            matches!(err, VoxError::NoSuchModel { index: i, models: 2, .. } if i == index),
+            "{err:?}"
+        );
+        assert_names_path(&err, path);
+        let text = err.to_string();
+        assert!(text.contains(&format!("model index {index}")), "{text}");
+        assert!(text.contains("the file has 2 model(s) (0 to 1)"), "{text}");
+    }
+}
+
+#[test]
+fn animation_frames_load_the_first_frame_with_a_notice() {
+    let path = Path::new("frames.vox");
+    let asset = load_vox_bytes(&two_frames(), path, None).unwrap();
+    // Merged, the frames would be 3 voxels; MagicaVoxel shows one frame at a time.
+    assert_eq!(asset.voxels, 1);
+    assert_eq!((asset.models, asset.file_models), (1, 2));
+    let notice = asset.notice.expect("a notice naming what was not merged");
+    println!("{notice}");
+    assert!(
+        notice.starts_with("frames.vox: 2 models and no scene graph"),
+        "{notice}"
+    );
+    assert!(
+        notice.contains("loaded model 0 alone (1 voxels)"),
+        "{notice}"
+    );
+    assert!(!notice.contains('\n'), "one line: {notice}");
+    // One model and no scene graph: nothing to say.
+    let single = load_vox_bytes(&vox_file(&[model([1, 1, 1], &[[0, 0, 0, 1]])]), path, None);
+    assert_eq!(single.unwrap().notice, None);
+}
+
+#[test]
+fn scene_graph_files_merge_unless_a_model_is_chosen() {
+    let path = Path::new("graph.vox");
+    let bytes = vox_file(&[
+        model([1, 1, 1], &[[0, 0, 0, 1]]),
+        model([3, 1, 1], &[[0, 0, 0, 2], [1, 0, 0, 3], [2, 0, 0, 4]]),
+        transform_node(0, &[], 1, &[]),
+        group_node(1, &[2, 4]),
+        transform_node(2, &[], 3, &[("_t", "0 0 0")]),
+        shape_node(3, 0),
+        transform_node(4, &[], 5, &[("_t", "10 0 0")]),
+        shape_node(5, 1),
+    ]);
+    let merged = load_vox_bytes(&bytes, path, None).unwrap();
+    assert_eq!(
+        (merged.voxels, merged.models, merged.file_models),
+        (4, 2, 2)
+    );
+    assert_eq!(merged.notice, None, "the scene graph says how to merge");
+    // The chosen model alone, untransformed (its translation of 10 is the graph's).
+    let one = load_vox_bytes_model(&bytes, path, None, Some(1)).unwrap();
+    assert_eq!((one.voxels, one.models, one.grid_dims), (3, 1, [3, 1, 1]));
+}
+
+/// Distinct voxels with a colour index other than 0 of every XYZI chunk of a file, in file
+/// order: an independent reading of the chunk list (no dot_vox, no loader code).
+fn xyzi_voxel_counts(bytes: &[u8]) -> Vec<usize> {
+    let u32_at = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+    let main_end = 20 + u32_at(12) + u32_at(16);
+    let mut pos = 20 + u32_at(12);
+    let mut out = Vec::new();
+    while pos < main_end {
+        let (content, children) = (u32_at(pos + 4), u32_at(pos + 8));
+        if &bytes[pos..pos + 4] == b"XYZI" {
+            let n = u32_at(pos + 12);
+            let cells: HashSet<[u8; 3]> = bytes[pos + 16..pos + 16 + 4 * n]
+                .chunks_exact(4)
+                .filter(|v| v[3] != 0)
+                .map(|v| [v[0], v[1], v[2]])
+                .collect();
+            out.push(cells.len());
+        }
+        pos += 12 + content + children;
+    }
+    out
+}
+
+#[test]
+fn every_model_of_the_samples_loads_by_index() {
+    let Some(dir) = common::shared_vox_dir() else {
+        return;
+    };
+    // horse.vox (animation frames, no scene graph), when present, is the case of the issue:
+    // merged it showed 1491 voxels with extra legs, its first model has 808.
+    for path in vox_files(&dir) {
+        let counts = xyzi_voxel_counts(&std::fs::read(&path).unwrap());
+        println!("{}: XYZI voxel counts {counts:?}", path.display());
+        for (index, &count) in counts.iter().enumerate() {
+            let asset = load_vox_model(&path, None, Some(index)).unwrap();
+            assert_eq!(asset.voxels, count, "{} model {index}", path.display());
+            assert_eq!(asset.file_models, counts.len());
+        }
+        let err = load_vox_model(&path, None, Some(counts.len())).expect_err("past the end");
+        assert!(matches!(err, VoxError::NoSuchModel { .. }), "{err:?}");
     }
 }

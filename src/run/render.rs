@@ -251,23 +251,26 @@ impl RayGen {
 /// Largest `repeat` of [`render_model`].
 pub const MAX_REPEAT: u32 = 100;
 
-/// Loads the model and traces every pixel, `repeat` times (1 to [`MAX_REPEAT`]): the records
-/// and counters are those of one trace (every trace gives the same), `trace_seconds` the
-/// fastest. The records' memory is allocated and touched before the clock starts, as the
-/// OpenVDB peer does, and the attribute normals (shading, not tracing) are decoded after it
-/// stops, so the time is the trace's alone: ray generation, walk and the record.
+/// Loads the model (the file's model `model` alone if given, see
+/// [`crate::world::assets::vox::load_vox_model`]) and traces every pixel, `repeat` times (1 to
+/// [`MAX_REPEAT`]): the records and counters are those of one trace (every trace gives the
+/// same), `trace_seconds` the fastest. The records' memory is allocated and touched before the
+/// clock starts, as the OpenVDB peer does, and the attribute normals (shading, not tracing) are
+/// decoded after it stops, so the time is the trace's alone: ray generation, walk and the
+/// record.
 pub fn render_model(
     path: &Path,
     camera: &ModelCamera,
     width: u32,
     height: u32,
     repeat: u32,
+    model: Option<usize>,
 ) -> Result<ModelRender, RenderError> {
     let gen = RayGen::new(camera, width, height)?;
     if !(1..=MAX_REPEAT).contains(&repeat) {
         return Err(RenderError::Repeat(repeat));
     }
-    let model = load_model_frame(path)?;
+    let model = load_model_frame(path, model)?;
     let frame = model.frame;
     let fits = |v: i64| i32::try_from(v).is_ok();
     if !frame
@@ -333,6 +336,7 @@ pub fn render_model(
         hits,
         counters,
         trace_seconds,
+        notice: model.notice,
     })
 }
 

@@ -16,6 +16,11 @@ pub struct RenderArgs {
     /// The MagicaVoxel model.
     #[arg(value_name = "MODEL.vox")]
     model: PathBuf,
+    /// Render only the file's model N (0-based, in file order; the file's scene graph is not
+    /// used). Default: the whole scene, or model 0 of a file of animation frames (several
+    /// models, no scene graph), with a warning.
+    #[arg(long, value_name = "N")]
+    model_index: Option<usize>,
     /// Eye (pinhole) or centre of the view plane (--ortho), model voxel coordinates "x,y,z".
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     eye: [f64; 3],
@@ -87,12 +92,16 @@ fn summary(a: &RenderArgs, r: &ModelRender) -> String {
     let [b0, b1, b2] = f.base;
     let s = f.side() as i64;
     format!(
-        "model {}: {} model instance(s), {} solid voxels, {} surface leaves\n\
+        "model {}{}: {} model instance(s), {} solid voxels, {} surface leaves\n\
          solid bounding box (model voxel indices, inclusive): x {}..{}, y {}..{}, z {}..{} ({}x{}x{} voxels)\n\
          octree: depth {}, side {} voxels, solid box offset ({}, {}, {}) voxels from its corner; \
          it covers model coordinates [{b0}, {}] x [{b1}, {}] x [{b2}, {}]\n\
          {}x{} rays: {hits} hits ({:.1}%), {} walk steps, {:.2} Mrays/s",
         a.model.display(),
+        match a.model_index {
+            Some(n) => format!(" (model index {n} of {})", f.file_models),
+            None => String::new(),
+        },
         f.models,
         f.voxels,
         f.leaves,
@@ -148,7 +157,17 @@ pub fn render_command(a: RenderArgs) -> Result<()> {
         up: a.up,
         projection,
     };
-    let r = render_model(&a.model, &camera, a.width, a.height, a.repeat)?;
+    let r = render_model(
+        &a.model,
+        &camera,
+        a.width,
+        a.height,
+        a.repeat,
+        a.model_index,
+    )?;
+    if let Some(notice) = &r.notice {
+        eprintln!("warning: {notice}");
+    }
     println!("{}", summary(&a, &r));
     let png = match &a.out {
         Some(_) => {

@@ -84,4 +84,6 @@ pub struct ModelRender {
     pub counters: WalkCounters,
     /// Wall time of ray generation and walks (not loading), seconds.
     pub trace_seconds: f64,
+    /// The loader's one-line notice for stderr, if it chose a model for the user.
+    pub notice: Option<String>,
 }

@@ -154,13 +154,23 @@ pub fn build_assets(
                         })?;
                     (image(&set)?, half, "sdf")
                 }
-                AssetSource::Vox { path, voxel_size } => {
+                AssetSource::Vox {
+                    path,
+                    voxel_size,
+                    model,
+                } => {
                     let full = scene.base_dir.join(path);
-                    let v =
-                        vox::load_vox(&full, Some(depth)).map_err(|source| AssetError::Vox {
+                    let v = vox::load_vox_model(&full, Some(depth), *model).map_err(|source| {
+                        AssetError::Vox {
                             asset: name.clone(),
                             source,
-                        })?;
+                        }
+                    })?;
+                    if let Some(notice) = &v.notice {
+                        // One line whatever the caller: a choice made for the user is never
+                        // silent, and no caller of build_assets may forget to print it.
+                        eprintln!("warning: asset \"{name}\": {notice}");
+                    }
                     let max_dim = v.grid_dims.iter().copied().max().unwrap_or(1).max(2);
                     let needed = 32 - (max_dim - 1).leading_zeros();
                     let half = voxel_size * f64::from(1u32 << needed) * 0.5;

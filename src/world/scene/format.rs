@@ -106,12 +106,17 @@ pub enum AssetSource {
         #[serde(default)]
         half_extent: Option<f64>,
     },
-    /// A MagicaVoxel file (all its models, composed through its scene graph).
+    /// A MagicaVoxel file: all its models composed through its scene graph, or one model.
     Vox {
         /// Path, relative to the scene file's folder.
         path: String,
         /// Edge length of one of the file's voxels in metres.
         voxel_size: f64,
+        /// `Some(i)`: only the file's model `i` (0-based, in file order), untransformed.
+        /// `None`: the scene graph's composition, or model 0 of a file of animation frames
+        /// (several models, no scene graph), with a warning (`docs/scene-format.md` §5).
+        #[serde(default)]
+        model: Option<usize>,
     },
 }
 

@@ -36,6 +36,30 @@ pub enum VoxError {
         /// The panic message.
         message: String,
     },
+    /// A model's chunks are inconsistent: a truncated chunk, an `XYZI` count beyond its
+    /// chunk's bytes, an `XYZI` without `SIZE`, a `SIZE` above
+    /// [`MAX_SIZE`](super::MAX_SIZE), a voxel outside its model's `SIZE`.
+    #[error("{}: invalid MagicaVoxel model: {message}", path.display())]
+    Model {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong: the model's index, the chunk's byte offset and the figures.
+        message: String,
+    },
+    /// The requested model index is not in the file.
+    #[error(
+        "{}: model index {index} is out of range: the file has {models} model(s){}",
+        path.display(),
+        if *models > 0 { format!(" (0 to {})", models - 1) } else { String::new() }
+    )]
+    NoSuchModel {
+        /// The file.
+        path: PathBuf,
+        /// The requested index.
+        index: usize,
+        /// Models in the file.
+        models: usize,
+    },
     /// The scene graph is unusable (dangling or repeated node reference, bad transform).
     #[error("{}: invalid MagicaVoxel scene graph: {message}", path.display())]
     Scene {

@@ -12,6 +12,16 @@ pub(super) struct Placement {
     pub(super) transform: Affine,
 }
 
+impl Placement {
+    /// Model `model` alone, untransformed.
+    pub(super) fn alone(model: usize) -> Self {
+        Self {
+            model,
+            transform: Affine::IDENTITY,
+        }
+    }
+}
+
 fn is_hidden(attributes: &dot_vox::Dict) -> bool {
     attributes.get("_hidden").is_some_and(|v| v.trim() == "1")
 }

@@ -27,7 +27,7 @@ use std::path::Path;
 
 use rtl_model::svo::{LeafAttr, LeafSet};
 
-use super::{load_vox, VoxError};
+use super::{load_vox_model, VoxError};
 
 /// Where a model sits, in its own voxel indices, and in the octree `sim render` walks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,6 +44,8 @@ pub struct ModelFrame {
     pub base: [i64; 3],
     /// Composed model instances.
     pub models: usize,
+    /// Models in the file.
+    pub file_models: usize,
     /// Distinct solid voxels.
     pub voxels: usize,
     /// Surface voxels (the leaves; the interior is dropped, as for every `.vox` asset).
@@ -69,11 +71,14 @@ pub struct ModelLeaves {
     pub frame: ModelFrame,
     /// Leaf q is model voxel `base + q`; attribute normals are in model axes.
     pub leaves: LeafSet,
+    /// The loader's one-line notice for stderr, if it chose a model for the user.
+    pub notice: Option<String>,
 }
 
-/// Loads `path` at its natural depth and lays its leaves out along the model's own axes.
-pub fn load_model_frame(path: &Path) -> Result<ModelLeaves, VoxError> {
-    let asset = load_vox(path, None)?;
+/// Loads `path` at its natural depth and lays its leaves out along the model's own axes;
+/// `model` chooses one of the file's models as [`load_vox_model`] does.
+pub fn load_model_frame(path: &Path, model: Option<usize>) -> Result<ModelLeaves, VoxError> {
+    let asset = load_vox_model(path, None, model)?;
     // Natural depth: one leaf per file voxel (upscale 1), so leaf and voxel indices agree.
     debug_assert_eq!(asset.upscale, 1);
     let [d0, d1, d2] = asset.grid_dims.map(i64::from);
@@ -90,6 +95,7 @@ pub fn load_model_frame(path: &Path) -> Result<ModelLeaves, VoxError> {
         offset,
         base,
         models: asset.models,
+        file_models: asset.file_models,
         voxels: asset.voxels,
         leaves: asset.leaves.len(),
     };
@@ -108,5 +114,9 @@ pub fn load_model_frame(path: &Path) -> Result<ModelLeaves, VoxError> {
         path: path.to_path_buf(),
         source,
     })?;
-    Ok(ModelLeaves { frame, leaves })
+    Ok(ModelLeaves {
+        frame,
+        leaves,
+        notice: asset.notice,
+    })
 }

@@ -199,6 +199,8 @@ pub(super) fn build(
         depth,
         grid_dims: dims.map(|d| d as u32),
         models,
+        file_models: models,
+        notice: None,
         voxels,
         solid_min: lo,
         offset,
