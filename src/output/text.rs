@@ -258,21 +258,28 @@ pub fn summary(s: &Summary) -> String {
 
 /// What the run wrote, one `wrote …` line each.
 pub fn written(cfg: &RunConfig, frames: u32) -> String {
+    let name = |p: &std::path::Path| {
+        if p.as_os_str() == "-" {
+            "to standard output".to_string()
+        } else {
+            p.display().to_string()
+        }
+    };
     let mut lines = Vec::new();
     if let Some(dir) = &cfg.out_dir {
         lines.push(format!("wrote {} PNGs to {}", frames, dir.display()));
     }
     if let Some(v) = &cfg.vcd {
-        lines.push(format!("wrote waveforms {}", v.path.display()));
+        lines.push(format!("wrote waveforms {}", name(&v.path)));
     }
     if let Some((p, _)) = &cfg.transaction_log {
-        lines.push(format!("wrote transaction log {}", p.display()));
+        lines.push(format!("wrote transaction log {}", name(p)));
     }
     if let Some(p) = &cfg.report_json {
-        lines.push(format!("wrote report {}", p.display()));
+        lines.push(format!("wrote report {}", name(p)));
     }
     if let Some(p) = &cfg.dump_hits {
-        lines.push(format!("wrote hit records {}", p.display()));
+        lines.push(format!("wrote hit records {}", name(p)));
     }
     lines.join("\n")
 }

@@ -6,7 +6,7 @@
 
 use super::measure::{binning, fps_points, reuse, speed, BinRow, FpsPoint, SpeedRow};
 use super::scene::{CrowdCase, SIZE};
-use crate::output::atomic::write_files_atomic;
+use crate::output::writer::write_files;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -233,7 +233,7 @@ pub fn run_command(c: &InstancesCommand) -> Result<String, String> {
     let png = crate::output::figure::encode_png_best(&img, "instances.png")?;
     let json = serde_json::to_vec_pretty(&r).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&c.out).map_err(|e| format!("{}: {e}", c.out.display()))?;
-    write_files_atomic(
+    write_files(
         &c.out,
         &[
             ("instances.md", md.clone().into_bytes()),

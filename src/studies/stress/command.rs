@@ -6,7 +6,7 @@
 use super::cases::all;
 use super::measure::{measure, CaseResult, Verdict};
 use super::report::{csv, markdown};
-use crate::output::atomic::write_atomic;
+use crate::output::writer::{refuse_stdout_folder, write_whole};
 use anyhow::{bail, Context, Result};
 use rtl_model::datapath::DatapathConfig;
 use std::path::PathBuf;
@@ -55,6 +55,7 @@ pub fn run_command(a: &StressCommand) -> Result<()> {
     println!();
     print!("{}", markdown(&results));
     if let Some(out) = &a.out {
+        refuse_stdout_folder("--out", out)?;
         std::fs::create_dir_all(out)
             .with_context(|| format!("cannot create output folder {}", out.display()))?;
         let json = serde_json::to_string_pretty(&results)?;
@@ -64,8 +65,7 @@ pub fn run_command(a: &StressCommand) -> Result<()> {
             ("stress.json", json),
         ] {
             let p = out.join(name);
-            write_atomic(&p, text.as_bytes())
-                .with_context(|| format!("cannot write {}", p.display()))?;
+            write_whole(&p, text.as_bytes())?;
             println!("wrote {}", p.display());
         }
     }
