@@ -16,7 +16,12 @@ use std::time::{Duration, Instant};
 
 /// Runs `sim args` in `cwd`, sends `signal` (`INT`, `TERM`) after `after`, and returns the
 /// exit code and stderr (killed and failed after 5 minutes).
-fn interrupt_sim(args: &[&str], cwd: &Path, signal: &str, after: Duration) -> (Option<i32>, String) {
+fn interrupt_sim(
+    args: &[&str],
+    cwd: &Path,
+    signal: &str,
+    after: Duration,
+) -> (Option<i32>, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_sim"))
         .args(args)
         .current_dir(cwd)
@@ -92,22 +97,35 @@ fn sigint_during_a_long_run_leaves_no_temporaries_and_says_what_was_kept() {
         "INT",
         Duration::from_secs(4),
     );
-    assert_eq!(code, Some(130), "exit status after SIGINT; stderr:\n{stderr}");
+    assert_eq!(
+        code,
+        Some(130),
+        "exit status after SIGINT; stderr:\n{stderr}"
+    );
     assert_eq!(temporaries(&t.0), Vec::<String>::new(), "stderr:\n{stderr}");
     let line = stderr
         .lines()
         .find(|l| l.starts_with("interrupted by SIGINT at frame "))
         .unwrap_or_else(|| panic!("no interruption line on stderr:\n{stderr}"));
-    assert!(line.contains("kept ") && line.contains("unfinished file"), "{line}");
+    assert!(
+        line.contains("kept ") && line.contains("unfinished file"),
+        "{line}"
+    );
     // The unfinished dump and the report are not there; the kept frames are, as named.
     assert!(!t.0.join("d.bin").exists(), "a partial hit dump was left");
-    assert!(!t.0.join("r.json").exists(), "a report of an unfinished run was left");
+    assert!(
+        !t.0.join("r.json").exists(),
+        "a report of an unfinished run was left"
+    );
     let pngs = std::fs::read_dir(t.0.join("out")).map_or(0, |d| d.count());
     if pngs == 0 {
         assert!(line.contains("kept nothing"), "{line}");
     } else {
         assert!(line.contains("out/frame_0000.png"), "{line}");
-        assert!(line.contains(&format!("({pngs} files)")) || pngs == 1, "{line}");
+        assert!(
+            line.contains(&format!("({pngs} files)")) || pngs == 1,
+            "{line}"
+        );
     }
 }
 
@@ -132,7 +150,11 @@ fn sigterm_during_a_sweep_leaves_no_temporaries() {
         "TERM",
         Duration::from_secs(3),
     );
-    assert_eq!(code, Some(143), "exit status after SIGTERM; stderr:\n{stderr}");
+    assert_eq!(
+        code,
+        Some(143),
+        "exit status after SIGTERM; stderr:\n{stderr}"
+    );
     assert_eq!(temporaries(&t.0), Vec::<String>::new(), "stderr:\n{stderr}");
     let line = stderr
         .lines()

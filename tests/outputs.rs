@@ -45,7 +45,10 @@ fn tiny_report_run(report: &str, extra: &[&str]) -> Run {
 fn check_report(text: &str, what: &str) {
     let v: serde_json::Value = serde_json::from_str(text)
         .unwrap_or_else(|e| panic!("{what} is not a whole JSON report ({e}):\n{text}"));
-    assert!(v["tool"].as_str().is_some_and(|t| t.starts_with("svo_sim")), "{what}: {v}");
+    assert!(
+        v["tool"].as_str().is_some_and(|t| t.starts_with("svo_sim")),
+        "{what}: {v}"
+    );
     assert_eq!(v["frames"].as_array().map(Vec::len), Some(2), "{what}");
 }
 
@@ -63,7 +66,11 @@ fn no_temporaries(dir: &Path) {
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .filter(|n| n.contains(".tmp"))
         .collect();
-    assert!(left.is_empty(), "temporaries left in {}: {left:?}", dir.display());
+    assert!(
+        left.is_empty(),
+        "temporaries left in {}: {left:?}",
+        dir.display()
+    );
 }
 
 #[test]
@@ -79,7 +86,9 @@ fn a_device_node_survives_report_json() {
     let t = Scratch::new("outputs", "device");
     let dev = t.p("nulldev");
     // The same device as /dev/null (character 1:3), owned by this test.
-    let made = Command::new("mknod").args([dev.as_str(), "c", "1", "3"]).status();
+    let made = Command::new("mknod")
+        .args([dev.as_str(), "c", "1", "3"])
+        .status();
     assert!(made.is_ok_and(|s| s.success()), "mknod {dev} c 1 3 failed");
     tiny_report_run(&dev, &[]);
     let meta = std::fs::symlink_metadata(&dev).expect("the device node is still there");
@@ -98,21 +107,28 @@ fn a_fifo_stays_a_fifo_and_its_reader_gets_the_whole_report() {
     let made = Command::new("mkfifo").arg(&fifo).status();
     assert!(made.is_ok_and(|s| s.success()), "mkfifo {fifo} failed");
     // The reader opens the FIFO (waiting for the writer) and reads until the writer closes.
-    let reader = {
+    // It is never joined: if the FIFO were replaced, its open would wait for ever.
+    let (tx, rx) = std::sync::mpsc::channel();
+    {
         let fifo = fifo.clone();
         std::thread::spawn(move || {
             let mut text = String::new();
-            std::fs::File::open(&fifo)
-                .and_then(|mut f| f.read_to_string(&mut text))
-                .expect("read the FIFO");
-            text
-        })
-    };
+            let r = std::fs::File::open(&fifo).and_then(|mut f| f.read_to_string(&mut text));
+            let _ = tx.send(r.map(|_| text));
+        });
+    }
     tiny_report_run(&fifo, &[]);
-    let text = reader.join().expect("the reader thread");
-    check_report(&text, "what the FIFO's reader received");
     let meta = std::fs::symlink_metadata(&fifo).expect("the FIFO is still there");
-    assert!(meta.file_type().is_fifo(), "{fifo} is no longer a FIFO");
+    assert!(
+        meta.file_type().is_fifo(),
+        "{fifo} is no longer a FIFO: {:?}",
+        meta.file_type()
+    );
+    let text = rx
+        .recv_timeout(Duration::from_secs(60))
+        .expect("the FIFO's reader received nothing within 60 s of the run's end")
+        .expect("read the FIFO");
+    check_report(&text, "what the FIFO's reader received");
     no_temporaries(&t.0);
 }
 
@@ -156,21 +172,45 @@ fn report_json_dash_is_stdout_and_the_console_text_goes_to_stderr() {
     );
     // Two outputs cannot share standard output.
     let two = run_sim(
-        &["--model", "reference", "--width", "32", "--height", "24", "--frames", "1",
-          "--no-png", "--report-json", "-", "--dump-hits", "-"],
+        &[
+            "--model",
+            "reference",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--frames",
+            "1",
+            "--no-png",
+            "--report-json",
+            "-",
+            "--dump-hits",
+            "-",
+        ],
         None,
         Duration::from_secs(60),
     );
     assert!(!two.status.success());
     assert!(
-        two.stderr.contains("only one output can go to standard output"),
+        two.stderr
+            .contains("only one output can go to standard output"),
         "{}",
         two.stderr
     );
     // A folder of PNGs cannot be standard output.
     let folder = run_sim(
-        &["--model", "reference", "--width", "32", "--height", "24", "--frames", "1",
-          "--out", "-"],
+        &[
+            "--model",
+            "reference",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--frames",
+            "1",
+            "--out",
+            "-",
+        ],
         None,
         Duration::from_secs(60),
     );

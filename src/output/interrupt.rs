@@ -104,14 +104,14 @@ pub fn check(
     }
 }
 
-/// The one line printed when the process ends on a signal: where it stopped, what was kept,
-/// how many unfinished files were removed. Removes every live temporary first.
-pub fn finish_line(at: &str, kept: &str, signal: i32) -> String {
+/// The one line printed when the process ends on a signal: `head` (where it stopped, e.g.
+/// `interrupted by SIGINT at frame 7 of 48`), what was kept, how many unfinished files were
+/// removed. Removes every live temporary first.
+pub fn finish_line(head: &str, kept: &str) -> String {
     let removed = temporaries::remove_all();
     let kept = if kept.is_empty() { "nothing" } else { kept };
     format!(
-        "interrupted by {} at {at}: kept {kept}; removed {removed} unfinished file{}",
-        signal_name(signal),
+        "{head}: kept {kept}; removed {removed} unfinished file{}",
         if removed == 1 { "" } else { "s" }
     )
 }

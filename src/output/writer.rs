@@ -266,3 +266,113 @@ pub fn write_files(dir: &Path, files: &[(&str, Vec<u8>)]) -> Result<Vec<PathBuf>
     }
     Ok(paths)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::PermissionsExt;
+
+    /// A fresh folder per test under the system's temporary folder.
+    fn scratch(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("svo_writer_{name}_{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_regular_file_is_replaced_whole_and_keeps_its_permissions() {
+        let d = scratch("regular");
+        let p = d.join("a.txt");
+        std::fs::write(&p, "old").unwrap();
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o640)).unwrap();
+        write_whole(&p, b"new").unwrap();
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "new");
+        let mode = std::fs::metadata(&p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o640);
+        assert_eq!(names(&d), ["a.txt"], "no temporary left");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn an_output_dropped_before_commit_leaves_the_old_file_and_no_temporary() {
+        let d = scratch("dropped");
+        let p = d.join("a.txt");
+        std::fs::write(&p, "old").unwrap();
+        {
+            let mut o = Output::create(&p).unwrap();
+            o.write_all(b"half").unwrap();
+            assert_eq!(names(&d).len(), 2, "the temporary exists while writing");
+        }
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "old");
+        assert_eq!(names(&d), ["a.txt"]);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn bad_paths_are_refused_naming_the_problem_and_create_nothing() {
+        let d = scratch("refused");
+        let missing = d.join("no_such_folder").join("r.json");
+        let e = write_whole(&missing, b"x").unwrap_err().to_string();
+        assert!(
+            e.contains("no_such_folder") && e.contains("does not exist"),
+            "{e}"
+        );
+        std::fs::create_dir(d.join("sub")).unwrap();
+        let e = write_whole(&d.join("sub"), b"x").unwrap_err().to_string();
+        assert!(e.contains("it is a folder"), "{e}");
+        // A symlink loop.
+        std::os::unix::fs::symlink("b", d.join("a")).unwrap();
+        std::os::unix::fs::symlink("a", d.join("b")).unwrap();
+        let e = write_whole(&d.join("a"), b"x").unwrap_err().to_string();
+        assert!(e.contains("symbolic links"), "{e}");
+        assert_eq!(names(&d), ["a", "b", "sub"]);
+        let e = refuse_stdout_folder("--out", Path::new("-"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--out") && e.contains("standard output"), "{e}");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn destinations_follow_chains_of_links() {
+        let d = scratch("chain");
+        std::os::unix::fs::symlink("middle", d.join("first")).unwrap();
+        std::os::unix::fs::symlink(d.join("last.txt"), d.join("middle")).unwrap();
+        assert_eq!(
+            Destination::of(&d.join("first")).unwrap(),
+            Destination::Replace {
+                target: d.join("last.txt")
+            }
+        );
+        assert_eq!(
+            Destination::of(Path::new("-")).unwrap(),
+            Destination::Stdout
+        );
+        assert_eq!(
+            Destination::of(Path::new("/dev/null")).unwrap(),
+            Destination::InPlace {
+                target: PathBuf::from("/dev/null")
+            }
+        );
+        write_whole(&d.join("first"), b"through two links").unwrap();
+        assert_eq!(
+            std::fs::read_to_string(d.join("last.txt")).unwrap(),
+            "through two links"
+        );
+        assert!(std::fs::symlink_metadata(d.join("first"))
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+}

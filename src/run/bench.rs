@@ -10,6 +10,7 @@
 use crate::models::cycle::bench::{scaling_csv, scaling_plot, ScalePoint, SpeedFrame};
 use crate::models::fixed::{render_frame_fixed, FixedBuffer};
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
+use crate::output::interrupt;
 use crate::output::png::encode_png;
 use crate::output::writer::write_whole;
 use crate::world::assets::Asset;
@@ -45,6 +46,8 @@ pub fn reference_speed(scene: &Scene, assets: &[Asset]) -> Result<[ReferenceSpee
         };
         let (mut rays, mut secs, mut first) = (0u64, 0f64, 0f64);
         for f in 0..scene.file.frames {
+            let n = scene.file.frames;
+            interrupt::check(|| format!("{label}: frame {f} of {n}"), String::new)?;
             let state = scene.frame_state(f, &half).map_err(anyhow::Error::msg)?;
             let input = FrameInput {
                 scene,
@@ -133,6 +136,8 @@ pub fn fixed_speed(
     };
     let mut out = Vec::new();
     for f in 0..scene.file.frames {
+        let n = scene.file.frames;
+        interrupt::check(|| format!("frame {f} of {n}"), String::new)?;
         let state = scene.frame_state(f, &half).map_err(anyhow::Error::msg)?;
         let input = FrameInput {
             scene,

@@ -118,16 +118,25 @@ fn quiet_on_broken_pipe() {
 /// where it stopped; any other end (an error caused by the interruption, or work that
 /// finished before it looked at the flag) is reported as such.
 fn interrupted_exit(signal: i32, r: &anyhow::Result<()>) -> ExitCode {
+    let name = interrupt::signal_name(signal);
     let line = match r {
         Err(e) => match e.chain().find_map(|c| c.downcast_ref::<Interrupted>()) {
-            Some(i) => interrupt::finish_line(&i.at, &i.kept, i.signal),
-            None => interrupt::finish_line(
-                &format!("an error ({})", error_text(e)),
-                "what was complete before it",
-                signal,
-            ),
+            Some(i) => interrupt::finish_line(&i.to_string(), &i.kept),
+            None => {
+                // A study whose errors are text carries the interruption's words in it.
+                let text = error_text(e);
+                let head = if text.contains("interrupted by") {
+                    text
+                } else {
+                    format!("interrupted by {name}; the work ended with: {text}")
+                };
+                interrupt::finish_line(&head, "the outputs that were complete")
+            }
         },
-        Ok(()) => interrupt::finish_line("the end of the work", "every output", signal),
+        Ok(()) => interrupt::finish_line(
+            &format!("interrupted by {name} after the work finished"),
+            "every output",
+        ),
     };
     eprintln!("{line}");
     ExitCode::from(interrupt::exit_status(signal))

@@ -64,6 +64,8 @@ pub fn run(
     let mut fps = Vec::new();
     for &n in &c.counts {
         for moving_camera in [false, true] {
+            crate::output::interrupt::check(|| format!("{n} instances"), String::new)
+                .map_err(|e| e.to_string())?;
             let case = CrowdCase {
                 n,
                 moving_camera,

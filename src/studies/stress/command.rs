@@ -34,6 +34,7 @@ pub fn run_cases(names: &[String]) -> Result<Vec<CaseResult>> {
         .iter()
         .filter(|s| names.is_empty() || names.iter().any(|n| n == s.name))
         .map(|s| {
+            crate::output::interrupt::check(|| format!("case {}", s.name), String::new)?;
             let input = (s.build)().map_err(|e| anyhow::anyhow!("case {}: {e}", s.name))?;
             measure(s.name, s.what, s.bound, s.expected, &input, &cfg)
                 .map_err(|e| anyhow::anyhow!("case {}: {e}", s.name))
