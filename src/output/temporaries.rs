@@ -129,8 +129,3 @@ pub fn remove_all_and_exit(code: i32, message: impl FnOnce(usize) -> String) -> 
     eprintln!("{}", message(REMOVED.load(Ordering::Relaxed)));
     std::process::exit(code)
 }
-
-/// How many temporaries are live now (for tests and the exit message).
-pub fn live_count() -> usize {
-    live().len()
-}

@@ -23,9 +23,10 @@ use rtl_model::datapath::{overflow_table, signals};
 pub enum FrameModel {
     /// The f64 reference: its records are the output.
     Reference,
-    /// The functional fixed-point datapath and its hit buffer.
-    Fixed(FixedBuffer),
-    /// The cycle model (boxed: the pipeline is large).
+    /// The functional fixed-point datapath and its hit buffer (boxed, as the pipeline: the
+    /// enum stays small).
+    Fixed(Box<FixedBuffer>),
+    /// The cycle model.
     Cycle(Box<CycleRun>),
 }
 
@@ -49,7 +50,7 @@ impl FrameModel {
         let (w, h) = cfg.scene.file.resolution;
         Ok(match cfg.model {
             Model::Reference => Self::Reference,
-            Model::Fixed => Self::Fixed(FixedBuffer::new(w, h)),
+            Model::Fixed => Self::Fixed(Box::new(FixedBuffer::new(w, h))),
             Model::Cycle => Self::Cycle(Box::new(cycle_run(cfg, assets)?)),
         })
     }
@@ -85,7 +86,7 @@ impl FrameModel {
             Self::Fixed(buffer) => {
                 let fx =
                     render_frame_fixed(input, buffer, &cfg.datapath, cfg.options.use_hit_buffer)?;
-                (fx, None, 0.0, &*buffer)
+                (fx, None, 0.0, &**buffer)
             }
             Self::Cycle(cr) => {
                 // A pipeline without a hit buffer (`hit_buffer.present: false`) traces every
