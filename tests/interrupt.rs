@@ -1,8 +1,8 @@
-//! Clean interruption (docs/report.md §"Interrupting a run"): SIGINT or SIGTERM during a long
+//! Clean interruption (docs/report.md §1.7): SIGINT or SIGTERM during a long
 //! run removes every unfinished temporary, keeps the finished frames' PNGs, says so in one
 //! line and exits 130 / 143.
 //!
-//! Both tests fail on the code before the interruption handling (1f329ce): the default
+//! All three tests fail on the code before the interruption handling (1f329ce): the default
 //! action of the signal ended the process with the dump's or the table's temporary on disk
 //! and no line saying what was kept.
 
@@ -14,14 +14,9 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// Runs `sim args` in `cwd`, sends `signal` (`INT`, `TERM`) after `after`, and returns the
+/// Runs `sim args` in `cwd`, sends each signal (`INT`, `TERM`) after its pause, and returns the
 /// exit code and stderr (killed and failed after 5 minutes).
-fn interrupt_sim(
-    args: &[&str],
-    cwd: &Path,
-    signal: &str,
-    after: Duration,
-) -> (Option<i32>, String) {
+fn interrupt_sim(args: &[&str], cwd: &Path, signals: &[(&str, Duration)]) -> (Option<i32>, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_sim"))
         .args(args)
         .current_dir(cwd)
@@ -36,15 +31,17 @@ fn interrupt_sim(
         let _ = err.read_to_string(&mut s);
         s
     });
-    std::thread::sleep(after);
-    assert!(
-        child.try_wait().expect("poll sim").is_none(),
-        "sim {args:?} ended before the signal: make the run longer"
-    );
-    let sent = Command::new("kill")
-        .args([format!("-{signal}"), child.id().to_string()])
-        .status();
-    assert!(sent.is_ok_and(|s| s.success()), "kill -{signal} failed");
+    for (signal, after) in signals {
+        std::thread::sleep(*after);
+        assert!(
+            child.try_wait().expect("poll sim").is_none(),
+            "sim {args:?} ended before SIG{signal}: make the run longer"
+        );
+        let sent = Command::new("kill")
+            .args([format!("-{signal}"), child.id().to_string()])
+            .status();
+        assert!(sent.is_ok_and(|s| s.success()), "kill -{signal} failed");
+    }
     let start = Instant::now();
     let status = loop {
         if let Some(s) = child.try_wait().expect("wait for sim") {
@@ -52,7 +49,7 @@ fn interrupt_sim(
         }
         if start.elapsed() > Duration::from_secs(300) {
             let _ = child.kill();
-            panic!("sim {args:?} did not stop within 5 minutes of SIG{signal}");
+            panic!("sim {args:?} did not stop within 5 minutes of {signals:?}");
         }
         std::thread::sleep(Duration::from_millis(20));
     };
@@ -94,8 +91,7 @@ fn sigint_during_a_long_run_leaves_no_temporaries_and_says_what_was_kept() {
             "r.json",
         ],
         &t.0,
-        "INT",
-        Duration::from_secs(4),
+        &[("INT", Duration::from_secs(4))],
     );
     assert_eq!(
         code,
@@ -147,8 +143,7 @@ fn sigterm_during_a_sweep_leaves_no_temporaries() {
             "sweep_out",
         ],
         &t.0,
-        "TERM",
-        Duration::from_secs(3),
+        &[("TERM", Duration::from_secs(3))],
     );
     assert_eq!(
         code,
@@ -162,4 +157,42 @@ fn sigterm_during_a_sweep_leaves_no_temporaries() {
         .unwrap_or_else(|| panic!("no interruption line on stderr:\n{stderr}"));
     assert!(line.contains("kept nothing"), "{line}");
     assert!(!t.0.join("sweep_out").join("sweep.csv").exists());
+}
+
+#[test]
+fn a_second_signal_stops_at_once_and_still_removes_the_temporaries() {
+    let t = Scratch::new("interrupt", "second");
+    // A cycle-model frame re-executed stage by stage (`--cross-check`) at 1280×768 takes
+    // about 10 s, so both signals arrive inside the first frame, before any check.
+    let (code, stderr) = interrupt_sim(
+        &[
+            "--width",
+            "1280",
+            "--height",
+            "768",
+            "--frames",
+            "4",
+            "--cross-check",
+            "--out",
+            "out",
+            "--dump-hits",
+            "d.bin",
+        ],
+        &t.0,
+        &[
+            ("INT", Duration::from_secs(3)),
+            ("TERM", Duration::from_millis(500)),
+        ],
+    );
+    assert_eq!(
+        code,
+        Some(143),
+        "exit status of the second signal; stderr:\n{stderr}"
+    );
+    assert!(
+        stderr.contains("interrupted again by SIGTERM: stopped at once; removed 1 unfinished file"),
+        "stderr:\n{stderr}"
+    );
+    assert_eq!(temporaries(&t.0), Vec::<String>::new(), "stderr:\n{stderr}");
+    assert!(!t.0.join("d.bin").exists(), "a partial hit dump was left");
 }

@@ -1,5 +1,4 @@
-//! The one output writer seen from the command line (docs/report.md §"How outputs are
-//! written"): a device node, a FIFO or a symlink given as an output path is written, never
+//! The one output writer seen from the command line (docs/report.md §1.6): a device node, a FIFO or a symlink given as an output path is written, never
 //! replaced; `-` is standard output and the console text then goes to stderr.
 //!
 //! Each test fails on the code before the writer (1f329ce), which wrote every output to a
