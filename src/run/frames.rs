@@ -8,9 +8,10 @@
 //! between frames it checks for SIGINT/SIGTERM.
 
 use super::elaborate::Elaboration;
-use super::frame_models::FrameModel;
+use super::frame_models::{FrameModel, FrameResult};
 use super::ranges::check_scene_ranges;
 use super::run_files::{write_cycle_files, write_report, RunFiles};
+use crate::models::cycle::CycleFrame;
 use crate::models::reference::{
     render_frame, render_frame_with_progress, FrameInput, FrameStats, HitBuffer, RenderOptions,
 };
@@ -183,10 +184,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
     let mut model = FrameModel::new(cfg, &assets)?;
     let mut files = RunFiles::open(cfg)?;
     let mut buffer = HitBuffer::new(w, h);
-    let mut sim_wall = 0.0f64;
-    let mut cycle_frames = Vec::new();
-    let mut stats = Vec::with_capacity(frames as usize);
-    let mut reports = Vec::with_capacity(frames as usize);
+    let mut totals = Totals::default();
     for f in 0..frames {
         interrupt::check(|| format!("frame {f} of {frames}"), || files.kept())?;
         let state = scene
@@ -207,11 +205,8 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
         );
         let done = model.frame(cfg, &input, f, &reference, &buffer.records)?;
         files.frame(cfg, f, &buffer.records, done.records.as_deref())?;
-        sim_wall += done.sim_wall_s;
-        cycle_frames.extend(done.cycles);
         progress(&done.report, frames);
-        stats.push(done.stats);
-        reports.push(done.report);
+        totals.add(done);
     }
     interrupt::check(
         || format!("the end of frame {frames} of {frames}, before the run's last files"),
@@ -221,13 +216,54 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
     if let Some(cr) = model.cycle_run() {
         write_cycle_files(cfg, cr)?;
     }
-    let report = Report {
+    let stats = totals.stats.clone();
+    let report = run_report(cfg, &assets, totals, resources, build_s);
+    if let Some(p) = &cfg.report_json {
+        write_report(p, &report)?;
+    }
+    Ok(RunOutput {
+        assets,
+        frames: stats,
+        report,
+        buffer,
+    })
+}
+
+/// What the frames of a run add up to, for the report.
+#[derive(Default)]
+struct Totals {
+    stats: Vec<FrameStats>,
+    reports: Vec<FrameReport>,
+    cycle_frames: Vec<CycleFrame>,
+    sim_wall_s: f64,
+}
+
+impl Totals {
+    fn add(&mut self, done: FrameResult) {
+        self.sim_wall_s += done.sim_wall_s;
+        self.cycle_frames.extend(done.cycles);
+        self.stats.push(done.stats);
+        self.reports.push(done.report);
+    }
+}
+
+/// The run's report: scene, options, assets, the frames and their summary.
+fn run_report(
+    cfg: &RunConfig,
+    assets: &[Asset],
+    t: Totals,
+    resources: Option<ResourceReport>,
+    build_s: f64,
+) -> Report {
+    let scene = &cfg.scene;
+    let (width, height) = scene.file.resolution;
+    Report {
         tool: format!("svo_sim {}", env!("CARGO_PKG_VERSION")),
         scene: SceneReport {
             origin: scene.origin.clone(),
-            width: w,
-            height: h,
-            frames,
+            width,
+            height,
+            frames: scene.file.frames,
             instances: scene.file.instances.len(),
         },
         options: OptionsReport {
@@ -242,23 +278,15 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
         },
         assets: assets.iter().map(AssetReport::from).collect(),
         summary: Summary {
-            cycle: resources.map(|r| CycleSummary::of(&cycle_frames, &cfg.hardware, r, sim_wall)),
-            ..Summary::of(&stats, build_s)
+            cycle: resources
+                .map(|r| CycleSummary::of(&t.cycle_frames, &cfg.hardware, r, t.sim_wall_s)),
+            ..Summary::of(&t.stats, build_s)
         },
-        frames: reports,
+        frames: t.reports,
         datapath: (cfg.model != Model::Reference).then(|| cfg.datapath.clone()),
         hardware: (cfg.model == Model::Cycle).then(|| cfg.hardware.clone()),
         elaboration: cfg.elaboration.clone(),
-    };
-    if let Some(p) = &cfg.report_json {
-        write_report(p, &report)?;
     }
-    Ok(RunOutput {
-        assets,
-        frames: stats,
-        report,
-        buffer,
-    })
 }
 
 /// Checks the options against the model and validates the configurations the model uses;

@@ -229,6 +229,7 @@ pub fn tables(r: &InstancesResult) -> String {
 
 /// Runs the study, prints the tables and writes the files.
 pub fn run_command(c: &InstancesCommand) -> Result<String, String> {
+    crate::output::writer::refuse_stdout_folder("--out", &c.out).map_err(|e| e.to_string())?;
     let r = run(c, &mut |line| eprintln!("  {line}"))?;
     let md = tables(&r);
     let img = super::plot::render(&r.fps, 300)?;
