@@ -24,7 +24,8 @@ pub struct RunArgs {
     /// Do not write PNGs.
     #[arg(long)]
     no_png: bool,
-    /// Write the JSON report here.
+    /// Write the JSON report here (`-`: standard output; the console text then goes to
+    /// stderr). A device, FIFO or symlink is written, never replaced (docs/report.md §1.6).
     #[arg(long, value_name = "FILE")]
     report_json: Option<PathBuf>,
     /// Trace every pixel of every frame (no reuse across frames).
@@ -34,7 +35,7 @@ pub struct RunArgs {
     #[arg(long)]
     no_early_termination: bool,
     /// Write every pixel's hit record here (binary, or CSV if the name ends in .csv;
-    /// format in docs/hit-dump.md).
+    /// format in docs/hit-dump.md; `-`: standard output, binary).
     #[arg(long, value_name = "FILE")]
     dump_hits: Option<PathBuf>,
     /// Print only the summary.
