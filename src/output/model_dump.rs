@@ -9,12 +9,11 @@
 //! f64 origin x, y, z; f64 direction x, y, z; f64 t (−1 on a miss); i32 voxel x, y, z (model
 //! indices, 0 on a miss); u8 hit; i8 face x, y, z; u8 r, g, b, a; u16 pixel x; u16 pixel y.
 //! With a `.csv` file name the same fields are written as CSV with a header line instead.
-//! The file is written under a temporary name and renamed when complete.
+//! The file is written by the one output writer (`super::writer`).
 
 use std::io::Write;
 use std::path::Path;
 
-use super::atomic::AtomicFile;
 use crate::models::reference::model_render::{ModelHit, ModelRender, Projection};
 
 /// Magic of the binary format.
@@ -96,21 +95,15 @@ pub fn encode_csv(render: &ModelRender) -> Vec<u8> {
     out
 }
 
-/// Writes the dump to `path` (CSV if its extension is `csv`, any case), atomically.
-pub fn write_dump(
-    path: &Path,
-    render: &ModelRender,
-    projection: Projection,
-) -> std::io::Result<()> {
+/// The dump's bytes for `path` (CSV if its extension is `csv`, any case, else binary); the
+/// caller writes them through the one output writer (`super::writer`).
+pub fn encode_dump(path: &Path, render: &ModelRender, projection: Projection) -> Vec<u8> {
     let csv = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let bytes = if csv {
+    if csv {
         encode_csv(render)
     } else {
         encode_binary(render, projection)
-    };
-    let mut f = AtomicFile::create(path)?;
-    f.writer().write_all(&bytes)?;
-    f.commit()
+    }
 }

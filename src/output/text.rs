@@ -277,21 +277,28 @@ pub struct Destinations<'a> {
 
 /// What the run wrote, one `wrote …` line each.
 pub fn written(to: &Destinations<'_>, frames: u32) -> String {
+    let name = |p: &Path| {
+        if p.as_os_str() == "-" {
+            "to standard output".to_string()
+        } else {
+            p.display().to_string()
+        }
+    };
     let mut lines = Vec::new();
     if let Some(dir) = to.out_dir {
         lines.push(format!("wrote {} PNGs to {}", frames, dir.display()));
     }
     if let Some(p) = to.vcd {
-        lines.push(format!("wrote waveforms {}", p.display()));
+        lines.push(format!("wrote waveforms {}", name(p)));
     }
     if let Some(p) = to.transaction_log {
-        lines.push(format!("wrote transaction log {}", p.display()));
+        lines.push(format!("wrote transaction log {}", name(p)));
     }
     if let Some(p) = to.report_json {
-        lines.push(format!("wrote report {}", p.display()));
+        lines.push(format!("wrote report {}", name(p)));
     }
     if let Some(p) = to.dump_hits {
-        lines.push(format!("wrote hit records {}", p.display()));
+        lines.push(format!("wrote hit records {}", name(p)));
     }
     lines.join("\n")
 }

@@ -10,11 +10,12 @@
 use super::cycle_bench::{scaling_csv, scaling_plot, ScalePoint, SpeedFrame};
 use crate::models::fixed::{render_frame_fixed, FixedBuffer};
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, RenderOptions};
-use crate::output::atomic::write_atomic;
+use crate::output::interrupt;
 use crate::output::png::encode_png;
+use crate::output::writer::write_whole;
 use crate::world::assets::Asset;
 use crate::world::scene::Scene;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
 use std::fmt::Write;
@@ -45,6 +46,8 @@ pub fn reference_speed(scene: &Scene, assets: &[Asset]) -> Result<[ReferenceSpee
         };
         let (mut rays, mut secs, mut first) = (0u64, 0f64, 0f64);
         for f in 0..scene.file.frames {
+            let n = scene.file.frames;
+            interrupt::check(|| format!("{label}: frame {f} of {n}"), String::new)?;
             let state = scene.frame_state(f, &half).map_err(anyhow::Error::msg)?;
             let input = FrameInput {
                 scene,
@@ -133,6 +136,8 @@ pub fn fixed_speed(
     };
     let mut out = Vec::new();
     for f in 0..scene.file.frames {
+        let n = scene.file.frames;
+        interrupt::check(|| format!("frame {f} of {n}"), String::new)?;
         let state = scene.frame_state(f, &half).map_err(anyhow::Error::msg)?;
         let input = FrameInput {
             scene,
@@ -257,8 +262,7 @@ pub fn scaling_line(p: &ScalePoint) -> String {
 /// Writes `scaling.csv` and `scaling.png` into `dir`; returns their paths.
 pub fn write_scaling(dir: &Path, points: &[ScalePoint], scene: &Scene) -> Result<[PathBuf; 2]> {
     let csv = dir.join("scaling.csv");
-    write_atomic(&csv, scaling_csv(points).as_bytes())
-        .with_context(|| format!("cannot write {}", csv.display()))?;
+    write_whole(&csv, scaling_csv(points).as_bytes())?;
     let (w, h) = scene.file.resolution;
     let img = scaling_plot(
         points,
@@ -266,7 +270,6 @@ pub fn write_scaling(dir: &Path, points: &[ScalePoint], scene: &Scene) -> Result
     )
     .map_err(anyhow::Error::msg)?;
     let png = dir.join("scaling.png");
-    write_atomic(&png, &encode_png(&img)?)
-        .with_context(|| format!("cannot write {}", png.display()))?;
+    write_whole(&png, &encode_png(&img)?)?;
     Ok([csv, png])
 }

@@ -174,6 +174,7 @@ pub fn scaling(
     }
     // Independent runs: on all cores, points and progress in the sequential order.
     map_in_order(
+        "scaling point",
         &configs,
         |(sweep, value, c)| -> anyhow::Result<ScalePoint> {
             let mut run = CycleRun::new(

@@ -2,34 +2,31 @@
 //! fixed or cycle), compare with the reference, write the outputs.
 //!
 //! Everything that can be checked is checked before the first file is written: the scene
-//! (when loaded), depths, asset builds, output folders. Each output file is written
-//! atomically.
+//! (when loaded), depths, asset builds, output paths. The loop is shared by the three models:
+//! each frame renders the reference, then the chosen model ([`super::frame_models`]), then
+//! writes what the frame produced ([`super::run_files`], through the one output writer);
+//! between frames it checks for SIGINT/SIGTERM.
 
 use super::elaborate::Elaboration;
+use super::frame_models::{FrameModel, FrameResult};
 use super::ranges::check_scene_ranges;
-use crate::models::cycle::runner::CycleRun;
-use crate::models::cycle::waves::PipelineWaves;
-use crate::models::cycle::CycleOptions;
-use crate::models::fixed::bound::mismatch_explained;
-use crate::models::fixed::{
-    compare, diff_image, render_frame_fixed, to_hit_records, FixedBuffer, FixedStats,
-};
+use super::run_files::{write_cycle_files, write_report, RunFiles};
+use crate::models::cycle::CycleFrame;
 use crate::models::reference::{
     render_frame, render_frame_with_progress, FrameInput, FrameStats, HitBuffer, RenderOptions,
 };
-use crate::output::atomic::{write_atomic, AtomicFile};
+use crate::output::interrupt;
 use crate::output::report::CycleSummary;
 use crate::output::report::{
     AssetReport, FrameReport, OptionsReport, Report, SceneReport, Summary,
 };
-use crate::output::{dump, png};
 use crate::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
+use rtl_model::cost::ResourceReport;
 use rtl_model::cycle::hw_config::HwConfig;
-use rtl_model::datapath::{overflow_table, signals, DatapathConfig};
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use rtl_model::datapath::DatapathConfig;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -122,30 +119,6 @@ pub struct VcdRequest {
     pub window: crate::models::cycle::waves::WaveWindow,
 }
 
-/// A fixed-point frame's counters in the reference's report shape.
-fn fixed_frame_stats(frame: u32, fx: &FixedStats, reference: &FrameStats) -> FrameStats {
-    FrameStats {
-        frame,
-        rays: fx.rays,
-        sphere_tests: fx.sphere_tests,
-        spheres_culled: fx.spheres_culled,
-        candidates: fx.candidates,
-        candidates_max: reference.candidates_max,
-        walks: fx.walks,
-        walker_steps: fx.walker.steps,
-        node_fetches: fx.walker.fetches,
-        max_stack: fx.walker.max_stack,
-        early_terminations: fx.early_terminations,
-        walks_skipped: 0,
-        hit_buffer_reused: fx.hit_buffer_reused,
-        hits: fx.hits,
-        camera_dirty: reference.camera_dirty,
-        instances_dirty: reference.instances_dirty,
-        wall_s: fx.wall_s,
-        rays_per_s: fx.rays as f64 / fx.wall_s.max(1e-9),
-    }
-}
-
 /// Renders a frame; if it runs longer than `every`, prints the share of rows done on stderr
 /// at that interval, so long frames (huge resolutions, depth 16) show they are alive.
 fn render_with_ticker(
@@ -197,73 +170,18 @@ pub struct RunOutput {
     pub buffer: HitBuffer,
 }
 
-fn check_parent(path: &Path, what: &str) -> Result<()> {
-    let parent = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    if !parent.is_dir() {
-        bail!(
-            "{what} {}: folder {} does not exist",
-            path.display(),
-            parent.display()
-        );
-    }
-    if path.is_dir() {
-        bail!("{what} {} is a folder", path.display());
-    }
-    Ok(())
-}
-
 /// Builds the assets of a scene at the configured depths.
 pub fn build(scene: &Scene, depth: Option<u8>, mode: Materialise) -> Result<Vec<Asset>> {
     let depths = effective_depths(scene, depth)?;
     Ok(build_assets(scene, &depths, mode)?)
 }
 
-/// Runs the reference over all frames. `progress` is called after each frame.
+/// Runs the chosen model over all frames and writes the outputs. `progress` is called after
+/// each frame. Stops with `Interrupted` between frames once SIGINT or SIGTERM was received
+/// (`crate::output::interrupt`); the frames finished so far keep their PNGs.
 pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Result<RunOutput> {
-    if cfg.model != Model::Reference && !cfg.options.early_termination {
-        bail!("--no-early-termination applies to --model reference only: the fixed-point and cycle models are the hardware, which always terminates early");
-    }
-    if cfg.model != Model::Reference {
-        cfg.datapath
-            .validate()
-            .map_err(|m| anyhow::anyhow!("datapath configuration: {m}"))?;
-    }
-    let resources = if cfg.model == Model::Cycle {
-        cfg.hardware
-            .validate_for(&cfg.datapath)
-            .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
-        let mut r = cfg
-            .hardware
-            .resources(&cfg.datapath)
-            .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
-        if let Some(tl) = cfg.elaboration.as_ref().and_then(|e| e.two_level) {
-            let (hw, f) = (&cfg.hardware, &cfg.hardware.frame);
-            r.push(rtl_model::units::tile_list::resource_item(
-                &tl,
-                hw.sphere_units,
-                f.width,
-                f.height,
-            ));
-        }
-        Some(r)
-    } else {
-        None
-    };
-    if let Some(v) = &cfg.vcd {
-        check_parent(&v.path, "--vcd")?;
-    }
-    if let Some((p, _)) = &cfg.transaction_log {
-        check_parent(p, "--transaction-log")?;
-    }
-    if let Some(p) = &cfg.report_json {
-        check_parent(p, "--report-json")?;
-    }
-    if let Some(p) = &cfg.dump_hits {
-        check_parent(p, "--dump-hits")?;
-    }
+    let resources = check(cfg)?;
+    RunFiles::check(cfg)?;
     let build_start = Instant::now();
     let assets = build(&cfg.scene, cfg.depth, cfg.materialise)?;
     let build_s = build_start.elapsed().as_secs_f64();
@@ -275,67 +193,12 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
         // Before any file: a scene the formats cannot carry is an input error, not a run.
         check_scene_ranges(scene, &half, &cfg.datapath)?;
     }
-    let csv = cfg
-        .dump_hits
-        .as_ref()
-        .is_some_and(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")));
-    let mut dump_file = match &cfg.dump_hits {
-        Some(p) => {
-            let mut f =
-                AtomicFile::create(p).with_context(|| format!("cannot create {}", p.display()))?;
-            if csv {
-                writeln!(f.writer(), "{}", dump::CSV_HEADER)?;
-            } else {
-                dump::write_header(f.writer(), w, h, frames)?;
-            }
-            Some(f)
-        }
-        None => None,
-    };
+    let mut model = FrameModel::new(cfg, &assets)?;
+    let mut files = RunFiles::open(cfg)?;
     let mut buffer = HitBuffer::new(w, h);
-    let mut fixed_buffer = FixedBuffer::new(w, h);
-    let mut cycle_run = if cfg.model == Model::Cycle {
-        let waves = match &cfg.vcd {
-            Some(v) => Some(
-                PipelineWaves::new(
-                    cfg.hardware.clock_mhz,
-                    v.window,
-                    cfg.hardware.walker_pool.walkers,
-                    cfg.hardware.walker_pool.contexts_per_walker,
-                )
-                .map_err(|e| anyhow::anyhow!("--vcd: {e}"))?,
-            ),
-            None => None,
-        };
-        let mut run = CycleRun::new(
-            &cfg.hardware,
-            &cfg.datapath,
-            &assets,
-            &scene.instance_asset,
-            (w, h),
-            CycleOptions {
-                cross_check: cfg.cross_check,
-                sample: cfg.sample,
-                waves,
-                log_limit: cfg.transaction_log.as_ref().map_or(0, |(_, n)| *n),
-                ..CycleOptions::default()
-            },
-        )?;
-        // The two-level instance scheme, when elaboration keeps it (docs/instances.md §7).
-        run.set_two_level(cfg.elaboration.as_ref().and_then(|e| e.two_level));
-        Some(run)
-    } else {
-        None
-    };
-    let mut cycle_frames = Vec::new();
-    if let Some(dir) = &cfg.out_dir {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    }
-    let mut sim_wall = 0.0f64;
-    let mut stats = Vec::with_capacity(frames as usize);
-    let mut reports = Vec::with_capacity(frames as usize);
+    let mut totals = Totals::default();
     for f in 0..frames {
+        interrupt::check(|| format!("frame {f} of {frames}"), || files.kept())?;
         let state = scene
             .frame_state(f, &half)
             .map_err(|m| anyhow::anyhow!("frame {f}: {m}"))?;
@@ -352,134 +215,67 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
             frames,
             cfg.progress_every,
         );
-        let (st, report, fixed_records) = match cfg.model {
-            Model::Reference => (reference.clone(), FrameReport::of(reference), None),
-            Model::Fixed | Model::Cycle => {
-                let (fx, cyc, fbuf) = match cycle_run.as_mut() {
-                    Some(cr) => {
-                        // A pipeline without a hit buffer (`hit_buffer.present: false`)
-                        // traces every pixel, whatever the reuse switch says.
-                        let reuse = cfg.options.use_hit_buffer && cfg.hardware.hit_buffer.present;
-                        let r = cr.frame(&input, &cfg.datapath, reuse)?;
-                        sim_wall += r.wall_s;
-                        (r.fixed, Some(r.cycles), cr.buffer())
-                    }
-                    None => (
-                        render_frame_fixed(
-                            &input,
-                            &mut fixed_buffer,
-                            &cfg.datapath,
-                            cfg.options.use_hit_buffer,
-                        )?,
-                        None,
-                        &fixed_buffer,
-                    ),
-                };
-                let records = to_hit_records(fbuf, &cfg.datapath);
-                let depths: Vec<u8> = assets.iter().map(Asset::depth).collect();
-                let mut acc = compare(&buffer.records, &records, |k| {
-                    let (i, j) = (k as u32 % w, k as u32 / w);
-                    let inst = usize::from(records[k].instance);
-                    let pose = &state.poses[inst];
-                    let depth = depths[scene.instance_asset[inst]];
-                    mismatch_explained(
-                        &cfg.datapath,
-                        &state.camera,
-                        (w, h),
-                        (i, j),
-                        pose,
-                        records[k].voxel,
-                        depth,
-                    )
-                });
-                let ov = fx.overflows.clone().unwrap_or_else(overflow_table);
-                acc.saturations = ov.total() - ov.count(signals::WALKER_STEP_LIMIT);
-                acc.step_limit_hits = fx.walker.step_limit_hits;
-                acc.zero_flushes = fx.zero_flushes;
-                let st = fixed_frame_stats(f, &fx, &reference);
-                let mut report = FrameReport::of(st.clone());
-                report.overflows = Some(ov.nonzero().map(|(n, c)| (n.to_string(), c)).collect());
-                report.reference_wall_s = Some(reference.wall_s);
-                report.accuracy = Some(acc);
-                if let Some(c) = cyc {
-                    cycle_frames.push(c.clone());
-                    report.cycle = Some(c);
-                }
-                if let Some(dir) = &cfg.out_dir {
-                    let img = diff_image(&buffer.records, &records, w, h, 1e-6);
-                    let path = dir.join(format!("diff_{f:04}.png"));
-                    write_atomic(&path, &png::encode_png(&img)?)
-                        .with_context(|| format!("cannot write {}", path.display()))?;
-                }
-                (st, report, Some(records))
-            }
-        };
-        let out_records = fixed_records.as_deref().unwrap_or(&buffer.records);
-        if let Some(dir) = &cfg.out_dir {
-            let l = &scene.file.light;
-            let img = png::shade(
-                out_records,
-                w,
-                h,
-                l.direction,
-                l.ambient,
-                scene.file.background,
-            );
-            let bytes = png::encode_png(&img)?;
-            let path = dir.join(format!("frame_{f:04}.png"));
-            write_atomic(&path, &bytes)
-                .with_context(|| format!("cannot write {}", path.display()))?;
-        }
-        if let Some(df) = dump_file.as_mut() {
-            if csv {
-                dump::write_frame_csv(df.writer(), f, w, out_records)?;
-            } else {
-                dump::write_frame(df.writer(), f, w, out_records)?;
-            }
-        }
-        progress(&report, frames);
-        stats.push(st);
-        reports.push(report);
+        let done = model.frame(cfg, &input, f, &reference, &buffer.records)?;
+        files.frame(cfg, f, &buffer.records, done.records.as_deref())?;
+        progress(&done.report, frames);
+        totals.add(done);
     }
-    if let Some(df) = dump_file {
-        df.commit().context("cannot finish the hit dump")?;
+    interrupt::check(
+        || format!("the end of frame {frames} of {frames}, before the run's last files"),
+        || files.kept(),
+    )?;
+    files.finish_dump()?;
+    if let Some(cr) = model.cycle_run() {
+        write_cycle_files(cfg, cr)?;
     }
-    if let Some(cr) = cycle_run.as_mut() {
-        if let Some(v) = &cfg.vcd {
-            if let Some(waves) = cr.model().take_waves() {
-                waves
-                    .write(&v.path)
-                    .with_context(|| format!("cannot write --vcd {}", v.path.display()))?;
-            }
-        }
-        if let Some((p, _)) = &cfg.transaction_log {
-            let mut text = String::new();
-            for (pixel, stamps) in &cr.model().log {
-                let line = serde_json::json!({
-                    "pixel": pixel,
-                    "x": pixel % w,
-                    "y": pixel / w,
-                    "stages": stamps.iter().map(|s| serde_json::json!({
-                        "stage": crate::models::cycle::pipeline::STAGE_NAMES
-                            .get(usize::from(s.stage.0)).copied().unwrap_or("?"),
-                        "entered": s.entered,
-                        "left": s.left,
-                    })).collect::<Vec<_>>(),
-                });
-                text.push_str(&line.to_string());
-                text.push('\n');
-            }
-            write_atomic(p, text.as_bytes())
-                .with_context(|| format!("cannot write {}", p.display()))?;
-        }
+    let stats = totals.stats.clone();
+    let report = run_report(cfg, &assets, totals, resources, build_s);
+    if let Some(p) = &cfg.report_json {
+        write_report(p, &report)?;
     }
-    let report = Report {
+    Ok(RunOutput {
+        assets,
+        frames: stats,
+        report,
+        buffer,
+    })
+}
+
+/// What the frames of a run add up to, for the report.
+#[derive(Default)]
+struct Totals {
+    stats: Vec<FrameStats>,
+    reports: Vec<FrameReport>,
+    cycle_frames: Vec<CycleFrame>,
+    sim_wall_s: f64,
+}
+
+impl Totals {
+    fn add(&mut self, done: FrameResult) {
+        self.sim_wall_s += done.sim_wall_s;
+        self.cycle_frames.extend(done.cycles);
+        self.stats.push(done.stats);
+        self.reports.push(done.report);
+    }
+}
+
+/// The run's report: scene, options, assets, the frames and their summary.
+fn run_report(
+    cfg: &RunConfig,
+    assets: &[Asset],
+    t: Totals,
+    resources: Option<ResourceReport>,
+    build_s: f64,
+) -> Report {
+    let scene = &cfg.scene;
+    let (width, height) = scene.file.resolution;
+    Report {
         tool: format!("svo_sim {}", env!("CARGO_PKG_VERSION")),
         scene: SceneReport {
             origin: scene.origin.clone(),
-            width: w,
-            height: h,
-            frames,
+            width,
+            height,
+            frames: scene.file.frames,
             instances: scene.file.instances.len(),
         },
         options: OptionsReport {
@@ -494,23 +290,46 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
         },
         assets: assets.iter().map(AssetReport::from).collect(),
         summary: Summary {
-            cycle: resources.map(|r| CycleSummary::of(&cycle_frames, &cfg.hardware, r, sim_wall)),
-            ..Summary::of(&stats, build_s)
+            cycle: resources
+                .map(|r| CycleSummary::of(&t.cycle_frames, &cfg.hardware, r, t.sim_wall_s)),
+            ..Summary::of(&t.stats, build_s)
         },
-        frames: reports,
+        frames: t.reports,
         datapath: (cfg.model != Model::Reference).then(|| cfg.datapath.clone()),
         hardware: (cfg.model == Model::Cycle).then(|| cfg.hardware.clone()),
         elaboration: cfg.elaboration.clone(),
-    };
-    if let Some(p) = &cfg.report_json {
-        let text = serde_json::to_string_pretty(&report)?;
-        write_atomic(p, text.as_bytes())
-            .with_context(|| format!("cannot write {}", p.display()))?;
     }
-    Ok(RunOutput {
-        assets,
-        frames: stats,
-        report,
-        buffer,
-    })
+}
+
+/// Checks the options against the model and validates the configurations the model uses;
+/// returns the cycle model's resource estimate.
+fn check(cfg: &RunConfig) -> Result<Option<ResourceReport>> {
+    if cfg.model != Model::Reference && !cfg.options.early_termination {
+        bail!("--no-early-termination applies to --model reference only: the fixed-point and cycle models are the hardware, which always terminates early");
+    }
+    if cfg.model != Model::Reference {
+        cfg.datapath
+            .validate()
+            .map_err(|m| anyhow::anyhow!("datapath configuration: {m}"))?;
+    }
+    if cfg.model != Model::Cycle {
+        return Ok(None);
+    }
+    cfg.hardware
+        .validate_for(&cfg.datapath)
+        .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
+    let mut r = cfg
+        .hardware
+        .resources(&cfg.datapath)
+        .map_err(|m| anyhow::anyhow!("hardware configuration: {m}"))?;
+    if let Some(tl) = cfg.elaboration.as_ref().and_then(|e| e.two_level) {
+        let (hw, f) = (&cfg.hardware, &cfg.hardware.frame);
+        r.push(rtl_model::units::tile_list::resource_item(
+            &tl,
+            hw.sphere_units,
+            f.width,
+            f.height,
+        ));
+    }
+    Ok(Some(r))
 }

@@ -12,9 +12,11 @@ pub mod bench;
 pub mod config_files;
 pub mod cycle_bench;
 pub mod elaborate;
+pub mod frame_models;
 pub mod frames;
 pub mod parallel;
 pub mod ranges;
 pub mod render;
+pub mod run_files;
 
 pub use frames::{build, run, Model, RunConfig, RunOutput, VcdRequest};

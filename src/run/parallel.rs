@@ -7,6 +7,7 @@
 //! sequential by design, its functional model on its own thread beside it;
 //! docs/cycle-model.md §2.7). The worker count is rayon's global pool (`--threads`).
 
+use crate::output::interrupt::{self, Interrupted};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc;
@@ -16,7 +17,11 @@ use std::sync::mpsc;
 /// and that error (the first in input order) is returned. Items after a failed one may be
 /// skipped. Each `f` call must be independent of the others (no shared mutable state), so
 /// its result does not depend on which worker ran it or when.
+///
+/// Once SIGINT or SIGTERM was received (`crate::output::interrupt`), items not yet started
+/// fail with `Interrupted` at "`what` N of M", so a study stops within one item's time.
 pub fn map_in_order<I, R, E>(
+    what: &str,
     items: &[I],
     f: impl Fn(&I) -> Result<R, E> + Sync,
     mut progress: impl FnMut(&R),
@@ -24,7 +29,7 @@ pub fn map_in_order<I, R, E>(
 where
     I: Sync,
     R: Send,
-    E: Send,
+    E: Send + From<Interrupted>,
 {
     let n = items.len();
     let mut slots: Vec<Option<Result<R, E>>> = (0..n).map(|_| None).collect();
@@ -43,7 +48,9 @@ where
                     if i > failed.load(Ordering::Relaxed) {
                         return;
                     }
-                    let r = f(item);
+                    let r = interrupt::check(|| format!("{what} {} of {n}", i + 1), String::new)
+                        .map_err(E::from)
+                        .and_then(|()| f(item));
                     if r.is_err() {
                         failed.fetch_min(i, Ordering::Relaxed);
                     }
@@ -83,18 +90,28 @@ mod tests {
     use super::map_in_order;
 
     /// Work whose duration varies, so workers finish out of order.
-    fn work(x: &u64) -> Result<u64, String> {
+    fn work(x: &u64) -> Result<u64, Failure> {
         let mut h = *x;
         for _ in 0..(x % 7) * 20_000 {
             h = h.wrapping_mul(6364136223846793005).wrapping_add(1);
         }
         if *x == 13 {
-            return Err(format!("item {x} fails"));
+            return Err(Failure(format!("item {x} fails")));
         }
         Ok(h)
     }
 
-    fn sequential(items: &[u64]) -> (Result<Vec<u64>, String>, Vec<u64>) {
+    /// A work item's error (or an interruption, which this test never sends).
+    #[derive(Debug, PartialEq)]
+    struct Failure(String);
+
+    impl From<crate::output::interrupt::Interrupted> for Failure {
+        fn from(i: crate::output::interrupt::Interrupted) -> Self {
+            Self(i.to_string())
+        }
+    }
+
+    fn sequential(items: &[u64]) -> (Result<Vec<u64>, Failure>, Vec<u64>) {
         let mut seen = Vec::new();
         let mut out = Vec::new();
         for x in items {
@@ -120,13 +137,13 @@ mod tests {
                 .unwrap();
             for items in [&ok, &bad] {
                 let mut seen = Vec::new();
-                let got = pool.install(|| map_in_order(items, work, |v| seen.push(*v)));
+                let got = pool.install(|| map_in_order("item", items, work, |v| seen.push(*v)));
                 let (want, want_seen) = sequential(items);
                 assert_eq!(got, want, "{threads} threads");
                 assert_eq!(seen, want_seen, "{threads} threads");
             }
         }
         let none: Vec<u64> = Vec::new();
-        assert_eq!(map_in_order(&none, work, |_| {}), Ok(vec![]));
+        assert_eq!(map_in_order("item", &none, work, |_| {}), Ok(vec![]));
     }
 }

@@ -2,7 +2,8 @@
 //!
 //! Where it sits: the cycle model's stages, FIFOs, walkers and memory report their visible
 //! signals here once per cycle (valid/ready, FIFO occupancy, walker states as small integers,
-//! memory request addresses); the `--vcd FILE` option of the simulator writes the result, which
+//! memory request addresses); [`Waves::write_to`] writes the result to any `Write`, and the
+//! simulator's `--vcd FILE` hands it its one output writer (this crate opens no files), which
 //! opens in GTKWave. Nothing here feeds back into the model: recording never changes cycles.
 //!
 //! # Format choices
@@ -56,10 +57,7 @@
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
-use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use thiserror::Error;
 use vcd::{IdCode, ReferenceIndex, SimulationCommand, TimescaleUnit, Value, VarType, Writer};
@@ -132,9 +130,6 @@ pub enum WavesError {
     /// A cycle whose time in picoseconds does not fit a `u64`.
     #[error("cycle {0} is beyond the last time a VCD timestamp can hold at this period")]
     TimeOverflow(u64),
-    /// An output path with no file name.
-    #[error("output path {0:?} names no file")]
-    InvalidPath(PathBuf),
     /// Writing the file failed.
     #[error("writing VCD: {0}")]
     Io(#[from] io::Error),
@@ -441,32 +436,6 @@ impl Waves {
         reached.min(self.window.to).max(self.window.from)
     }
 
-    /// Writes the VCD to `path` atomically: into a temporary sibling file that is renamed over
-    /// `path` only once complete and synced, and removed on any error, so `path` never holds a
-    /// partial trace and no temporary file is left behind.
-    pub fn write(&self, path: impl AsRef<Path>) -> Result<(), WavesError> {
-        let path = path.as_ref();
-        let tmp = temp_sibling(path)?;
-        // `create_new` so a leftover or concurrent file of the same name is never clobbered.
-        let file = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
-        let result = self
-            .write_file(file)
-            .and_then(|()| fs::rename(&tmp, path).map_err(WavesError::from));
-        if result.is_err() {
-            // The original error is the one worth reporting; a failed removal adds nothing.
-            let _ = fs::remove_file(&tmp);
-        }
-        result
-    }
-
-    fn write_file(&self, file: File) -> Result<(), WavesError> {
-        let mut out = BufWriter::new(file);
-        self.write_to(&mut out)?;
-        let file = out.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        Ok(())
-    }
-
     /// Writes the VCD to `out` (buffered internally; `out` is flushed at the end).
     pub fn write_to(&self, out: impl Write) -> Result<(), WavesError> {
         let mut w = Writer::new(BufWriter::new(out));
@@ -663,18 +632,4 @@ fn write_value<W: Write>(
         // A single leading `x` extends to the whole width.
         (_, None) => w.change_vector(id, [Value::X]),
     }
-}
-
-/// A fresh hidden name beside `path` in the same directory, so the final rename stays within
-/// one file system and is atomic.
-fn temp_sibling(path: &Path) -> Result<PathBuf, WavesError> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let name = path
-        .file_name()
-        .ok_or_else(|| WavesError::InvalidPath(path.to_owned()))?;
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let mut tmp = std::ffi::OsString::from(".");
-    tmp.push(name);
-    tmp.push(format!(".{}.{n}.tmp", std::process::id()));
-    Ok(path.with_file_name(tmp))
 }

@@ -22,6 +22,7 @@ mod vectors;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
+use svo_sim::output::interrupt::{self, Interrupted};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -111,9 +112,44 @@ fn quiet_on_broken_pipe() {
     }));
 }
 
+/// The exit of a process that received SIGINT or SIGTERM: removes every unfinished
+/// temporary, prints one line saying where the work stopped and what was kept, and returns
+/// 128 + the signal (130, 143). `r` is the command's result: an [`Interrupted`] error says
+/// where it stopped; any other end (an error caused by the interruption, or work that
+/// finished before it looked at the flag) is reported as such.
+fn interrupted_exit(signal: i32, r: &anyhow::Result<()>) -> ExitCode {
+    let name = interrupt::signal_name(signal);
+    let line = match r {
+        Err(e) => match e.chain().find_map(|c| c.downcast_ref::<Interrupted>()) {
+            Some(i) => interrupt::finish_line(&i.to_string(), &i.kept),
+            None => {
+                // A study whose errors are text carries the interruption's words in it.
+                let text = error_text(e);
+                let head = if text.contains("interrupted by") {
+                    text
+                } else {
+                    format!("interrupted by {name}; the work ended with: {text}")
+                };
+                interrupt::finish_line(&head, "the outputs that were complete")
+            }
+        },
+        Ok(()) => interrupt::finish_line(
+            &format!("interrupted by {name} after the work finished"),
+            "every output",
+        ),
+    };
+    eprintln!("{line}");
+    ExitCode::from(interrupt::exit_status(signal))
+}
+
 fn main() -> ExitCode {
     quiet_on_broken_pipe();
     let cli = Cli::parse();
+    // SIGINT/SIGTERM only set a flag the long loops check; the exit below cleans up.
+    if let Err(e) = interrupt::install() {
+        eprintln!("error: cannot install the SIGINT/SIGTERM handling: {e}");
+        return ExitCode::FAILURE;
+    }
     let r = match cli.command {
         Some(Command::Bench(a)) => bench::run_command(a),
         Some(Command::Datapath(a)) => datapath::datapath_command(a),
@@ -127,6 +163,9 @@ fn main() -> ExitCode {
         Some(Command::Sweep(a)) => sweep::sweep_command(a),
         None => run::run_command(cli.run),
     };
+    if let Some(signal) = interrupt::received() {
+        return interrupted_exit(signal, &r);
+    }
     match r {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

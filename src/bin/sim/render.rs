@@ -4,10 +4,12 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use svo_sim::models::reference::HitRecord;
-use svo_sim::output::model_dump::write_dump;
+use svo_sim::output::model_dump::encode_dump;
 use svo_sim::output::png::{encode_png, shade};
+use svo_sim::output::writer::{Destination, Output};
 use svo_sim::run::render::{render_model, ModelCamera, ModelRender, Projection};
 
 /// Options of `sim render`.
@@ -70,18 +72,15 @@ fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     Ok([num(x)?, num(y)?, num(z)?])
 }
 
-fn check_parent(path: &Path, option: &str) -> Result<()> {
-    let parent = path.parent().filter(|p| !p.as_os_str().is_empty());
-    if let Some(dir) = parent {
-        if !dir.is_dir() {
-            bail!(
-                "{option} {}: folder {} does not exist",
-                path.display(),
-                dir.display()
-            );
+/// Checks an output path before the work (its folder exists, it is no folder); `-` is
+/// refused because the summary goes to standard output.
+fn check_output(path: &Path, option: &str) -> Result<()> {
+    match Destination::of(path).with_context(|| option.to_string())? {
+        Destination::Stdout => {
+            bail!("{option} -: sim render prints its summary on standard output; give a file name")
         }
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 fn summary(a: &RenderArgs, r: &ModelRender) -> String {
@@ -142,10 +141,10 @@ pub fn render_command(a: RenderArgs) -> Result<()> {
             .context("cannot start the worker threads")?;
     }
     if let Some(p) = &a.out {
-        check_parent(p, "--out")?;
+        check_output(p, "--out")?;
     }
     if let Some(p) = &a.dump_hits {
-        check_parent(p, "--dump-hits")?;
+        check_output(p, "--dump-hits")?;
     }
     let projection = match a.ortho {
         Some(view_width) => Projection::Ortho { view_width },
@@ -194,18 +193,27 @@ pub fn render_command(a: RenderArgs) -> Result<()> {
         }
         None => None,
     };
-    if let (Some(p), Some(bytes)) = (&a.out, &png) {
-        svo_sim::output::atomic::write_atomic(p, bytes)
+    // Nothing half-done: both outputs are written in full before either is committed, so a
+    // failed dump leaves no image either (and never removes what the path held).
+    let mut outputs = Vec::new();
+    let dump = a
+        .dump_hits
+        .as_ref()
+        .map(|p| (p, encode_dump(p, &r, projection)));
+    for (p, bytes) in a
+        .out
+        .as_ref()
+        .zip(png.as_ref())
+        .into_iter()
+        .chain(dump.as_ref().map(|(p, b)| (*p, b)))
+    {
+        let mut o = Output::create(p)?;
+        o.write_all(bytes)
             .with_context(|| format!("cannot write {}", p.display()))?;
+        outputs.push(o);
     }
-    if let Some(p) = &a.dump_hits {
-        if let Err(e) = write_dump(p, &r, projection) {
-            // Nothing half-done: the image of a run whose dump failed goes too.
-            if let Some(out) = &a.out {
-                let _ = std::fs::remove_file(out);
-            }
-            return Err(e).with_context(|| format!("cannot write {}", p.display()));
-        }
+    for o in outputs {
+        o.commit()?;
     }
     Ok(())
 }

@@ -24,7 +24,8 @@ pub struct RunArgs {
     /// Do not write PNGs.
     #[arg(long)]
     no_png: bool,
-    /// Write the JSON report here.
+    /// Write the JSON report here (`-`: standard output; the console text then goes to
+    /// stderr). A device, FIFO or symlink is written, never replaced (docs/report.md §1.6).
     #[arg(long, value_name = "FILE")]
     report_json: Option<PathBuf>,
     /// Trace every pixel of every frame (no reuse across frames).
@@ -34,7 +35,7 @@ pub struct RunArgs {
     #[arg(long)]
     no_early_termination: bool,
     /// Write every pixel's hit record here (binary, or CSV if the name ends in .csv;
-    /// format in docs/hit-dump.md).
+    /// format in docs/hit-dump.md; `-`: standard output, binary).
     #[arg(long, value_name = "FILE")]
     dump_hits: Option<PathBuf>,
     /// Print only the summary.
@@ -189,10 +190,29 @@ impl RunArgs {
     }
 }
 
+/// Prints a line of console text: on stdout, or on stderr when an output goes to stdout
+/// (`--report-json -` and the like), so that output stays clean.
+fn say(to_stderr: bool, text: impl std::fmt::Display) {
+    if to_stderr {
+        eprintln!("{text}");
+    } else {
+        println!("{text}");
+    }
+}
+
 /// Runs the main job.
 pub fn run_command(a: RunArgs) -> Result<()> {
     a.scene.set_threads()?;
     let mut cfg = a.config()?;
+    let dash = |p: Option<&std::path::Path>| p.is_some_and(|p| p.as_os_str() == "-");
+    let e_out = [
+        cfg.report_json.as_deref(),
+        cfg.dump_hits.as_deref(),
+        cfg.vcd.as_ref().map(|v| v.path.as_path()),
+        cfg.transaction_log.as_ref().map(|(p, _)| p.as_path()),
+    ]
+    .into_iter()
+    .any(dash);
     if cfg.model == Model::Cycle {
         let e = elaborate(
             &cfg.scene,
@@ -203,30 +223,30 @@ pub fn run_command(a: RunArgs) -> Result<()> {
         )?;
         let e = if a.no_prune { e.not_applied() } else { e };
         if !a.quiet {
-            println!("{e}");
+            say(e_out, &e);
         }
         cfg = cfg.elaborated(e);
     }
-    println!(
-        "{}",
-        text::run_header(&cfg.scene, &cfg.options, rayon::current_num_threads())
+    say(
+        e_out,
+        text::run_header(&cfg.scene, &cfg.options, rayon::current_num_threads()),
     );
     let clock_mhz = cfg.hardware.clock_mhz;
     let out = run(&cfg, |f, n| {
         if !a.quiet {
-            println!("{}", text::frame_lines(f, n, clock_mhz));
+            say(e_out, text::frame_lines(f, n, clock_mhz));
         }
     })?;
     if !a.quiet {
         if let Some(last) = out.report.frames.last().and_then(|f| f.cycle.as_ref()) {
-            println!("{}", text::cycle_tables(last));
+            say(e_out, text::cycle_tables(last));
         }
-        println!("{}", text::assets_table(&out.report.assets));
+        say(e_out, text::assets_table(&out.report.assets));
     }
-    println!("{}", text::summary(&out.report.summary));
+    say(e_out, text::summary(&out.report.summary));
     let written = text::written(&cfg.destinations(), out.report.summary.frames);
     if !written.is_empty() {
-        println!("{written}");
+        say(e_out, written);
     }
     // Saturation is never silent: the warning goes to stderr whatever -q says, and the exit
     // status says it unless the user accepted it.

@@ -236,13 +236,14 @@ impl PipelineWaves {
         self.rec.is_some()
     }
 
-    /// Writes the file atomically, or reports why it cannot.
-    pub fn write(&self, path: &std::path::Path) -> Result<(), WaveFileError> {
+    /// Writes the VCD to `out` (the caller's output, from the one output writer
+    /// `crate::output::writer`), or reports why it cannot.
+    pub fn write_to(&self, out: impl std::io::Write) -> Result<(), WaveFileError> {
         if let Some(e) = &self.error {
             return Err(WaveFileError::Recording(e.clone()));
         }
         match &self.rec {
-            Some((w, _)) => Ok(w.write(path)?),
+            Some((w, _)) => Ok(w.write_to(out)?),
             None => Err(WaveFileError::Empty(format!("{:?}", self.window))),
         }
     }

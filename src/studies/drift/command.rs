@@ -27,6 +27,7 @@ pub fn run_command(a: &DriftCommand) -> Result<()> {
     if !(1..=12).contains(&a.depth) {
         bail!("--depth {} is out of range (1 to 12)", a.depth);
     }
+    crate::output::writer::refuse_stdout_folder("--out", &a.out)?;
     if a.out.exists() && !a.out.is_dir() {
         bail!("--out {} exists and is not a folder", a.out.display());
     }

@@ -5,8 +5,8 @@
 
 use super::plot;
 use super::run::DriftResult;
-use crate::output::atomic::write_files_atomic;
 use crate::output::figure::encode_png_best;
+use crate::output::writer::write_files;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -53,5 +53,5 @@ pub fn write_outputs(result: &DriftResult, dir: &Path) -> Result<Vec<PathBuf>, S
         ("drift.json", json.into_bytes()),
         ("drift.png", png),
     ];
-    write_files_atomic(dir, &files)
+    write_files(dir, &files)
 }

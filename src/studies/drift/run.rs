@@ -29,6 +29,9 @@ use thiserror::Error;
 /// Why the experiment cannot run.
 #[derive(Debug, Error)]
 pub enum DriftError {
+    /// SIGINT or SIGTERM stopped the study (nothing is written).
+    #[error("{0}")]
+    Interrupted(#[from] crate::output::interrupt::Interrupted),
     /// The options make no valid scene.
     #[error(transparent)]
     Scene(#[from] SceneError),
@@ -291,6 +294,8 @@ pub fn run_drift(
     let mut buffers: Vec<FixedBuffer> = Mode::ALL.iter().map(|_| FixedBuffer::new(w, h)).collect();
     let mut rows = Vec::with_capacity(opts.frames as usize * Mode::ALL.len());
     for n in 0..opts.frames {
+        let total = opts.frames;
+        crate::output::interrupt::check(|| format!("frame {n} of {total}"), String::new)?;
         if n > 0 {
             incremental.advance(&mut pose_ov);
             raw.advance(&mut pose_ov);

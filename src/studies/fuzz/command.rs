@@ -8,7 +8,7 @@
 use super::corpus::seeds;
 use super::runner::{peak_rss_bytes, run, FuzzOptions, TargetReport};
 use super::targets::Target;
-use crate::output::atomic::write_atomic;
+use crate::output::writer::write_whole;
 use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -207,11 +207,9 @@ pub fn save_findings(s: &FuzzSummary, dir: &std::path::Path) -> Result<Vec<PathB
                 .with_context(|| format!("cannot create {}", dir.display()))?;
             let stem = format!("{}-{}", t.name(), f.index);
             let bin = dir.join(format!("{stem}.bin"));
-            write_atomic(&bin, &f.input)
-                .with_context(|| format!("cannot write {}", bin.display()))?;
+            write_whole(&bin, &f.input)?;
             let txt = dir.join(format!("{stem}.txt"));
-            write_atomic(&txt, format!("{}\n", f.message).as_bytes())
-                .with_context(|| format!("cannot write {}", txt.display()))?;
+            write_whole(&txt, format!("{}\n", f.message).as_bytes())?;
             written.push(bin);
         }
     }

@@ -213,6 +213,12 @@ pub fn run_with(
         let mut rng = Rng::for_stage(opts.seed, target.name());
         let total = seeds.len() as u64 + opts.inputs;
         for index in 0..total {
+            if let Err(i) = crate::output::interrupt::check(
+                || format!("{} input {index} of {total}", target.name()),
+                String::new,
+            ) {
+                return Err(std::io::Error::new(std::io::ErrorKind::Interrupted, i));
+            }
             let input = match seeds.get(index as usize) {
                 Some(s) => s.bytes.clone(),
                 None => {

@@ -6,7 +6,7 @@
 
 use super::measure::{binning, fps_points, reuse, speed, BinRow, FpsPoint, SpeedRow};
 use super::scene::{CrowdCase, SIZE};
-use crate::output::atomic::write_files_atomic;
+use crate::output::writer::write_files;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -64,6 +64,8 @@ pub fn run(
     let mut fps = Vec::new();
     for &n in &c.counts {
         for moving_camera in [false, true] {
+            crate::output::interrupt::check(|| format!("{n} instances"), String::new)
+                .map_err(|e| e.to_string())?;
             let case = CrowdCase {
                 n,
                 moving_camera,
@@ -227,13 +229,14 @@ pub fn tables(r: &InstancesResult) -> String {
 
 /// Runs the study, prints the tables and writes the files.
 pub fn run_command(c: &InstancesCommand) -> Result<String, String> {
+    crate::output::writer::refuse_stdout_folder("--out", &c.out).map_err(|e| e.to_string())?;
     let r = run(c, &mut |line| eprintln!("  {line}"))?;
     let md = tables(&r);
     let img = super::plot::render(&r.fps, 300)?;
     let png = crate::output::figure::encode_png_best(&img, "instances.png")?;
     let json = serde_json::to_vec_pretty(&r).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&c.out).map_err(|e| format!("{}: {e}", c.out.display()))?;
-    write_files_atomic(
+    write_files(
         &c.out,
         &[
             ("instances.md", md.clone().into_bytes()),

@@ -6,7 +6,7 @@
 use super::cases::all;
 use super::measure::{measure, CaseResult, Verdict};
 use super::report::{csv, markdown};
-use crate::output::atomic::write_atomic;
+use crate::output::writer::{refuse_stdout_folder, write_whole};
 use anyhow::{bail, Context, Result};
 use rtl_model::datapath::DatapathConfig;
 use std::path::PathBuf;
@@ -34,6 +34,7 @@ pub fn run_cases(names: &[String]) -> Result<Vec<CaseResult>> {
         .iter()
         .filter(|s| names.is_empty() || names.iter().any(|n| n == s.name))
         .map(|s| {
+            crate::output::interrupt::check(|| format!("case {}", s.name), String::new)?;
             let input = (s.build)().map_err(|e| anyhow::anyhow!("case {}: {e}", s.name))?;
             measure(s.name, s.what, s.bound, s.expected, &input, &cfg)
                 .map_err(|e| anyhow::anyhow!("case {}: {e}", s.name))
@@ -55,6 +56,7 @@ pub fn run_command(a: &StressCommand) -> Result<()> {
     println!();
     print!("{}", markdown(&results));
     if let Some(out) = &a.out {
+        refuse_stdout_folder("--out", out)?;
         std::fs::create_dir_all(out)
             .with_context(|| format!("cannot create output folder {}", out.display()))?;
         let json = serde_json::to_string_pretty(&results)?;
@@ -64,8 +66,7 @@ pub fn run_command(a: &StressCommand) -> Result<()> {
             ("stress.json", json),
         ] {
             let p = out.join(name);
-            write_atomic(&p, text.as_bytes())
-                .with_context(|| format!("cannot write {}", p.display()))?;
+            write_whole(&p, text.as_bytes())?;
             println!("wrote {}", p.display());
         }
     }

@@ -200,6 +200,7 @@ configuration of no greater cost avoids; docs/accuracy.md)"
 /// Runs `sim sweep`.
 pub fn run_command(a: &SweepCommand) -> Result<()> {
     let start = Instant::now();
+    crate::output::writer::refuse_stdout_folder("--out", &a.out)?;
     if a.out.exists() && !a.out.is_dir() {
         bail!("--out {} exists and is not a folder", a.out.display());
     }

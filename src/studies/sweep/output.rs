@@ -8,8 +8,8 @@
 
 use super::plot::{self, Axis};
 use super::run::SweepResult;
-use crate::output::atomic::write_files_atomic;
 use crate::output::figure::encode_png_best;
+use crate::output::writer::write_files;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -79,5 +79,5 @@ pub fn write_outputs(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>, S
         ("sweep_cycles.png", cycles),
         ("sweep_dsp.png", dsp),
     ];
-    write_files_atomic(dir, &files)
+    write_files(dir, &files)
 }

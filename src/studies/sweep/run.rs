@@ -99,6 +99,9 @@ pub enum SweepError {
         #[source]
         source: CycleRunError,
     },
+    /// SIGINT or SIGTERM stopped the sweep (nothing is written).
+    #[error("{0}")]
+    Interrupted(#[from] crate::output::interrupt::Interrupted),
 }
 
 /// Where a row sits against one Pareto front (error against one cost) of its scene.
@@ -362,6 +365,7 @@ pub fn run_sweep(
         // order (`run::parallel::map_in_order`), so the output is that of a sequential loop.
         let jobs: Vec<usize> = (0..configs.len()).collect();
         let mut mine = map_in_order(
+            "configuration",
             &jobs,
             |&c| {
                 let (hw, k) = &hardware[c];

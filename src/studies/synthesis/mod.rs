@@ -25,6 +25,9 @@ pub use units::{parse_units, UnitSpec};
 /// What can go wrong running the synthesis.
 #[derive(Debug, Error)]
 pub enum SynthError {
+    /// SIGINT or SIGTERM stopped the synthesis between units.
+    #[error("{0}")]
+    Interrupted(#[from] crate::output::interrupt::Interrupted),
     /// Yosys is not on the PATH.
     #[error("yosys not found on PATH (Debian/Ubuntu: apt-get install yosys): {0}")]
     YosysMissing(String),
@@ -247,6 +250,10 @@ pub fn synthesise(o: &SynthOptions) -> Result<Vec<UnitSynthesis>, SynthError> {
     std::thread::scope(|s| {
         for _ in 0..jobs {
             s.spawn(|| loop {
+                // After SIGINT/SIGTERM no new unit starts (checked below).
+                if crate::output::interrupt::received().is_some() {
+                    break;
+                }
                 let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 let Some(u) = todo.get(i) else { break };
                 let r = synthesise_one(o, u, &version);
@@ -257,6 +264,10 @@ pub fn synthesise(o: &SynthOptions) -> Result<Vec<UnitSynthesis>, SynthError> {
         }
     });
     let results = results.into_inner().unwrap_or_else(|p| p.into_inner());
+    crate::output::interrupt::check(
+        || format!("unit synthesis ({} of {} done)", results.len(), todo.len()),
+        String::new,
+    )?;
     if results.len() != todo.len() {
         return Err(SynthError::Netlist {
             unit: "?".into(),
@@ -299,7 +310,8 @@ fn synthesise_one(
                 detail: String::from_utf8_lossy(&out.stderr).trim().to_string(),
             });
         }
-        std::fs::write(&key_file, &key).map_err(io(&key_file))?;
+        crate::output::writer::write_whole(&key_file, key.as_bytes())
+            .map_err(|e| io(&key_file)(std::io::Error::other(e)))?;
     }
     let cells = Cells::from_stat(&std::fs::read_to_string(&stat).map_err(io(&stat))?);
     let text = std::fs::read_to_string(&json).map_err(io(&json))?;

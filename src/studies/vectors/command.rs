@@ -41,6 +41,7 @@ pub fn run_command(a: &VectorsCommand) -> Result<()> {
         depth: a.depth,
     };
     // An --out that cannot be a folder fails before any work (write_files checks it again).
+    crate::output::writer::refuse_stdout_folder("--out", &a.out)?;
     if a.out.exists() && !a.out.is_dir() {
         anyhow::bail!("--out {} is a file, not a folder", a.out.display());
     }

@@ -12,7 +12,7 @@ pub mod capture;
 pub mod command;
 
 use crate::error::{AssetError, SceneError};
-use crate::output::atomic::write_atomic;
+use crate::output::writer::{refuse_stdout_folder, write_whole, OutputError};
 use crate::world::assets::{build_assets, effective_depths, Materialise};
 use crate::world::scene::Scene;
 use rtl_model::cycle::hw_config::UnitTimings;
@@ -63,6 +63,9 @@ pub enum VectorsError {
     /// The scene could not be elaborated.
     #[error(transparent)]
     Elaborate(#[from] crate::run::elaborate::ElaborateError),
+    /// A file could not be written (the one output writer's error names it).
+    #[error(transparent)]
+    Output(#[from] OutputError),
     /// The output folder or a file could not be written.
     #[error("cannot write {path}: {source}")]
     Io {
@@ -279,6 +282,7 @@ pub fn write_files(dir: &Path, files: &[VectorFile]) -> Result<(), VectorsError>
         path: path.display().to_string(),
         source,
     };
+    refuse_stdout_folder("--out", dir)?;
     if dir.exists() && !dir.is_dir() {
         return Err(VectorsError::Option(format!(
             "--out {} is a file, not a folder",
@@ -288,7 +292,7 @@ pub fn write_files(dir: &Path, files: &[VectorFile]) -> Result<(), VectorsError>
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     for f in files {
         let p = dir.join(&f.name);
-        write_atomic(&p, &f.bytes).map_err(|e| io(&p, e))?;
+        write_whole(&p, &f.bytes)?;
     }
     Ok(())
 }
