@@ -2,7 +2,10 @@
 //! model's vectors through `testbench/run.sh`, in Icarus Verilog and in Verilator: each passes
 //! every row of a ≥ 10,000-transaction set generated here from a fixed seed (adversarial rows
 //! included) at the model's timing in both simulators, and the committed golden set in both;
-//! corrupting one expected value of one row makes each testbench report exactly one failure;
+//! each RTL module's own `LATENCY` (printed by its testbench) equals the model's `UnitTimings`
+//! latency of that module (hit_record: the packer's `hit_pack`, the check's `hit_unpack`) and the
+//! latency measured; corrupting one expected value of one row makes each testbench report exactly
+//! one failure;
 //! and `verilator --lint-only -Wall` finds nothing in `testbench/rtl/`.
 //!
 //! Without `iverilog` or `verilator` the tests print why and skip that simulator; with
@@ -84,6 +87,9 @@ struct Outcome {
     passed: u64,
     failed: u64,
     latency: Option<u64>,
+    /// The RTL modules' own `LATENCY` localparams as the testbench printed them ("rtl
+    /// LATENCY svo_sqrt 32"): (module, cycles).
+    rtl_latency: Vec<(String, u64)>,
     text: String,
 }
 
@@ -125,14 +131,26 @@ fn run_testbench(sim: &str, dir: &Path, unit: &str) -> Outcome {
         .find_map(|l| l.split("latency ").nth(1))
         .and_then(|s| s.split(' ').next())
         .and_then(|s| s.parse().ok());
+    let rtl_latency = text
+        .lines()
+        .filter_map(|l| l.split("rtl LATENCY ").nth(1))
+        .filter_map(|l| {
+            let (m, n) = l.split_once(' ')?;
+            Some((m.to_string(), n.trim().parse().ok()?))
+        })
+        .collect();
     Outcome {
         passed: nums[0],
         failed: nums[1],
         latency,
+        rtl_latency,
         text,
     }
 }
 
+/// The latency the vector package states for `unit` (the model's, `UnitTimings`): what the
+/// testbench requires every row to take. For hit_record it is the packer's, `units.hit_pack`;
+/// the check (`units.hit_unpack`) must leave with it ("valid together").
 fn model_latency(unit: &str) -> u64 {
     let t = UnitTimings::for_datapath(&DatapathConfig::default());
     u64::from(match unit {
@@ -143,9 +161,66 @@ fn model_latency(unit: &str) -> u64 {
         "raygen" => t.raygen.latency_cycles,
         // The first row is a ray without candidates: one network pass.
         "sorter" => t.sorter.latency_cycles,
-        "hit_record" => t.hit_pack.latency_cycles.max(t.hit_unpack.latency_cycles),
+        "hit_record" => t.hit_pack.latency_cycles,
         other => panic!("no model latency for unit {other}"),
     })
+}
+
+/// The model's latency of each RTL module a unit's testbench instantiates, taken from
+/// `UnitTimings` module by module (the sphere module holds its square root).
+fn model_module_latencies(unit: &str) -> Vec<(&'static str, u64)> {
+    let t = UnitTimings::for_datapath(&DatapathConfig::default());
+    let l = |x: u32| u64::from(x);
+    match unit {
+        "sqrt" => vec![("svo_sqrt", l(t.sqrt.latency_cycles))],
+        "reciprocal" => vec![("svo_reciprocal", l(t.reciprocal.latency_cycles))],
+        "transform" => vec![("svo_transform", l(t.transform.latency_cycles))],
+        "sphere" => vec![(
+            "svo_sphere",
+            l(t.sphere.latency_cycles + t.sqrt.latency_cycles),
+        )],
+        "raygen" => vec![("svo_raygen", l(t.raygen.latency_cycles))],
+        "sorter" => vec![("svo_sorter", l(t.sorter.latency_cycles))],
+        "hit_record" => vec![
+            ("svo_hit_pack", l(t.hit_pack.latency_cycles)),
+            ("svo_hit_check", l(t.hit_unpack.latency_cycles)),
+        ],
+        other => panic!("no model latency for unit {other}"),
+    }
+}
+
+/// The RTL's latencies (its `LATENCY` localparams, printed by the testbench) against the
+/// model's, module by module, and the latency measured on the first row against the RTL's.
+fn assert_rtl_latencies(sim: &str, unit: &str, o: &Outcome) {
+    let want = model_module_latencies(unit);
+    let mut got = o.rtl_latency.clone();
+    got.sort();
+    got.dedup();
+    assert_eq!(
+        got.len(),
+        want.len(),
+        "{unit} ({sim}): the testbench printed the RTL latencies {got:?}, expected one per module of {want:?}:\n{}",
+        o.text
+    );
+    let mut lead = None;
+    for (module, model) in want {
+        let rtl = got
+            .iter()
+            .find(|(m, _)| m == module)
+            .map(|&(_, n)| n)
+            .unwrap_or_else(|| panic!("{unit} ({sim}): no RTL latency for {module}:\n{}", o.text));
+        println!("{unit:<10} {sim:<9} {module}: RTL LATENCY {rtl}, model {model}");
+        assert_eq!(
+            rtl, model,
+            "{unit} ({sim}): {module}'s LATENCY against the model's"
+        );
+        lead = lead.or(Some(rtl));
+    }
+    // The first row left after the first module's latency (for hit_record the packer's).
+    assert_eq!(
+        o.latency, lead,
+        "{unit} ({sim}): measured latency against the RTL's"
+    );
 }
 
 /// Checks one unit's outcome on the table in `dir`: every row passed, at the model's latency.
@@ -174,6 +249,7 @@ fn assert_all_passed(sim: &str, dir: &Path, unit: &str, o: &Outcome, min_rows: u
         "{unit} ({sim}):\n{}",
         o.text
     );
+    assert_rtl_latencies(sim, unit, o);
 }
 
 /// The large set, and the golden set in Verilator (whose build the large set then reuses).
