@@ -732,12 +732,78 @@ fn one_corrupted_frame_pixel_is_exactly_one_failure() {
         }
     }
     let (row, pixels) = corrupt_field(&t.dir, "frame_pixels", "word", 77, |w| w / 3);
-    let (equal, _, _, passed, failed, text) =
-        frame_run("icarus", &t.dir, &format!("+latency={FRAME_MEM_LATENCY}"));
+    let model = model_frame_cycles(&t, None, "16", "10", "4");
+    let (equal, _, _, passed, failed, text) = frame_run(
+        "icarus",
+        &t.dir,
+        &format!("+model_cycles={model} +latency={FRAME_MEM_LATENCY}"),
+    );
     println!("frame: one bit of pixel {row}'s word flipped: {equal}/{pixels} equal, {passed} passed, {failed} failed");
-    assert_eq!((passed, failed), (pixels - 1, 1), "{text}");
+    // Every other pixel and the cycles pass.
+    assert_eq!((passed, failed), (pixels, 1), "{text}");
     assert!(
         text.contains(&format!("pixel {row}: word")),
         "the failure does not name pixel {row}'s word:\n{text}"
     );
+}
+
+/// The frame's cycles are checked, never skipped: a frame run without `+model_cycles` fails
+/// on its cycles row, and with the model's figure off by one fails there too, naming both;
+/// every pixel passes in both runs. The frame is scenes/moving_camera.ron at 16 × 10 (690
+/// cycles, about 10 s each in Icarus, against 7,616 for the golden set's frame).
+#[test]
+fn frame_cycles_are_required_and_checked() {
+    if !icarus() {
+        return;
+    }
+    let t = Tmp::new("frame_cycles");
+    let (mc, out) = ("scenes/moving_camera.ron", t.p("mc"));
+    let scene = repo().join(mc).display().to_string();
+    let args = [
+        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
+        "10", "--depth", "4", "--scene", &scene,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    let golden = t.dir.join("mc");
+    let model = model_frame_cycles(&t, Some(mc), "16", "10", "4");
+    let runs = [
+        format!("+latency={FRAME_MEM_LATENCY}"),
+        format!("+model_cycles={} +latency={FRAME_MEM_LATENCY}", model + 1),
+    ];
+    let results: Vec<_> = std::thread::scope(|s| {
+        let handles: Vec<_> = runs
+            .iter()
+            .map(|args| {
+                let golden = &golden;
+                s.spawn(move || frame_run("icarus", golden, args))
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("frame thread"))
+            .collect()
+    });
+    let expected = [
+        "FAIL frame: no +model_cycles=N given".to_string(),
+        format!(
+            "FAIL frame: {model} cycles, the cycle model's {}",
+            model + 1
+        ),
+    ];
+    for ((args, want), (equal, pixels, rtl, passed, failed, text)) in
+        runs.iter().zip(&expected).zip(results)
+    {
+        println!("frame with \"{args}\": {equal}/{pixels} equal, RTL {rtl} cycles, {passed} passed, {failed} failed");
+        assert_eq!(
+            (equal, passed, failed),
+            (pixels, pixels, 1),
+            "{args}:\n{text}"
+        );
+        assert_eq!(rtl, model, "{args}: RTL cycles:\n{text}");
+        assert!(
+            text.contains(want.as_str()),
+            "{args}: no \"{want}\":\n{text}"
+        );
+    }
 }
