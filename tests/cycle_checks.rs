@@ -90,15 +90,15 @@ fn is_node_read(op: WalkOp) -> bool {
     matches!(op, WalkOp::Read(FetchKind::Node, _))
 }
 
+/// Where the corruption landed: (column, row), once the trace has been read.
+type Corrupted = std::rc::Rc<std::cell::Cell<Option<(u32, u32)>>>;
+
 /// Corrupts, with `f`, the first pixel (in raster order) that `pick` accepts; returns its
 /// (column, row) once the run is over. `f` gets the row and the pixel's column.
 fn first_where(
     pick: impl Fn(&RowTrace, usize) -> bool,
     f: impl Fn(&mut RowTrace, usize),
-) -> (
-    impl FnMut(usize, &mut RowTrace),
-    std::rc::Rc<std::cell::Cell<Option<(u32, u32)>>>,
-) {
+) -> (impl FnMut(usize, &mut RowTrace), Corrupted) {
     let at = std::rc::Rc::new(std::cell::Cell::new(None));
     let seen = at.clone();
     let corrupt = move |j: usize, row: &mut RowTrace| {
