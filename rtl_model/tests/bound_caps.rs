@@ -221,11 +221,31 @@ fn animation_bounds_match_the_hand_derivation() {
     );
 }
 
+/// The sphere's bounds by hand for reach 128 m, from the conversion errors e_d (directions)
+/// and e_p (positions) and the LSBs of t_ca, the squares and the entry (as the default's
+/// derivation in `sphere_bounds_match_the_hand_derivation`): (W, entry error).
+fn sphere_by_hand(e_d: f64, e_p: f64, tca: f64, sq: f64, entry: f64) -> (f64, f64) {
+    let s3 = 3f64.sqrt();
+    let dt = 128.0 * s3 * e_d + 2.0 * s3 * e_p + tca;
+    let dl = 2.0 * s3 * e_p;
+    let w = 2.0 * 128.0 * dl + dl * dl + 2.0 * 128.0 * dt + dt * dt + 2.0 * sq;
+    (w, 2.0 * dt + (2.0 * w).sqrt() + sq.sqrt() + 2.0 * entry)
+}
+
 /// The narrow datapath (`datapaths/mod.rs`): sQ2.22 directions and matrix entries, sQ8.24
 /// positions, all rounded to nearest; squares uQ16.40; 1/d sQ2.22 → sQ22.22.
 #[test]
 fn narrow_datapath_bounds_match_the_hand_derivation() {
     let [(_, dp), _] = datapaths::non_default();
+    // Sphere: e_d = 2^−23, e_p = 2^−25 (nearest); t_ca sQ10.24 truncated 2^−24, squares
+    // uQ16.40 2^−40, entry uQ10.22 2^−22.
+    let (w, entry) = sphere_by_hand(p2(-23), p2(-25), p2(-24), p2(-40), p2(-22));
+    agrees("narrow sphere widening W (m²)", dp.sphere.widening(), w);
+    agrees(
+        "narrow sphere entry (m)",
+        dp.sphere.t_enter_error_bound(1.0),
+        entry,
+    );
     // Square root uQ16.40 → uQ8.20, truncated (sphere::sqrt_config): one output LSB.
     agrees(
         "narrow sqrt",
@@ -271,6 +291,15 @@ fn narrow_datapath_bounds_match_the_hand_derivation() {
 #[test]
 fn truncating_datapath_bounds_match_the_hand_derivation() {
     let [_, (_, dp)] = datapaths::non_default();
+    // Sphere: e_d = 2^−30, e_p = 2^−32 (truncated: a whole LSB); t_ca 2^−24, squares uQ20.44
+    // 2^−44, entry 2^−22.
+    let (w, entry) = sphere_by_hand(p2(-30), p2(-32), p2(-24), p2(-44), p2(-22));
+    agrees("truncating sphere widening W (m²)", dp.sphere.widening(), w);
+    agrees(
+        "truncating sphere entry (m)",
+        dp.sphere.t_enter_error_bound(1.0),
+        entry,
+    );
     // Square root uQ20.44 → uQ10.22, truncated: one output LSB.
     agrees(
         "truncating sqrt",

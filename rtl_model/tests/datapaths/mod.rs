@@ -40,6 +40,8 @@ pub fn non_default() -> [(&'static str, DatapathConfig); 2] {
     r.raygen.dir = r.raygen.dir.with_quant(t);
     r.raygen.pos = r.raygen.pos.with_quant(t);
     r.raygen.mat = r.raygen.mat.with_quant(t);
+    r.sphere.pos = r.raygen.pos;
+    r.sphere.dir = r.raygen.dir;
     r.sphere.sq = Format::uq(20, 44).with_quant(r.sphere.sq.quant);
     r.transform.pos = r.transform.pos.with_quant(t);
     r.transform.dir = r.transform.dir.with_quant(t);
