@@ -72,7 +72,7 @@ fn sphere_entry_bound_is_tight() {
 
 /// 20,000 random rays against random spheres of `cfg`: conservative and within the entry
 /// bound; returns the worst entry error as a fraction of its bound.
-fn within_bound(cfg: &SphereConfig, seed: u64, mut rng: &mut Rng) -> f64 {
+fn within_bound(cfg: &SphereConfig, seed: u64, rng: &mut Rng) -> f64 {
     let cfg = *cfg;
     cfg.validate().unwrap();
     let mut ov = Overflows::new(&["in", "tca", "sq", "t_enter", "reach"]);
@@ -86,11 +86,11 @@ fn within_bound(cfg: &SphereConfig, seed: u64, mut rng: &mut Rng) -> f64 {
     for case in 0..20_000 {
         let c = [rng.f(-30.0, 30.0), rng.f(-30.0, 30.0), rng.f(-30.0, 30.0)];
         let r = rng.f(0.05, 5.0);
-        let d = unit(&mut rng);
+        let d = unit(rng);
         let o = match case % 5 {
             // Grazing: the ray passes at distance r·(1 ± 1e-9) from the centre.
             0 | 1 => {
-                let side = unit(&mut rng);
+                let side = unit(rng);
                 // Component of `side` perpendicular to d.
                 let s = side[0] * d[0] + side[1] * d[1] + side[2] * d[2];
                 let mut p = [side[0] - s * d[0], side[1] - s * d[1], side[2] - s * d[2]];

@@ -5,7 +5,8 @@
 //! - **narrow**: every 30-fraction-bit unit format cut to 22 bits and every 32-bit position
 //!   to 24 (sQ2.22 directions and matrix entries, sQ8.24 positions, 1/d sQ22.22), and the
 //!   sphere's squares uQ16.40 (square root uQ8.20), all rounded to nearest even as the default;
-//! - **truncating**: the default widths, but every rounding truncates (AP_TRN), and the
+//! - **truncating**: the default widths, but every rounding truncates (AP_TRN: the host's
+//!   positions, directions and matrix entries, the transform's outputs, 1/d), and the
 //!   sphere's squares uQ20.44 (square root uQ10.22).
 
 use rtl_model::datapath::DatapathConfig;
