@@ -807,3 +807,106 @@ fn frame_cycles_are_required_and_checked() {
         );
     }
 }
+
+/// The RTL's latencies read from its source, with no simulator: each module's `LATENCY`
+/// localparam, evaluated from the file's own `parameter`/`localparam` defaults (integers,
+/// names, `+ - * /`, left to right with `*` and `/` first), against the model's `UnitTimings`
+/// module by module. The testbenches print the elaborated values too (`assert_rtl_latencies`).
+#[test]
+fn rtl_latency_localparams_match_the_model() {
+    let units = [
+        "sqrt",
+        "reciprocal",
+        "transform",
+        "sphere",
+        "raygen",
+        "sorter",
+        "hit_record",
+    ];
+    for unit in units {
+        for (module, model) in model_module_latencies(unit) {
+            let path = repo().join(format!("testbench/rtl/{module}.v"));
+            let text = std::fs::read_to_string(&path).expect("read an RTL file");
+            let params = verilog_params(&text);
+            let rtl = eval_param("LATENCY", &params, 0)
+                .unwrap_or_else(|e| panic!("{}: LATENCY: {e}", path.display()));
+            println!("{module}: LATENCY {rtl} in the source, model {model}");
+            assert_eq!(
+                rtl, model,
+                "{module}: the RTL's LATENCY against the model's"
+            );
+        }
+    }
+}
+
+/// `NAME = EXPR` of every `parameter` and `localparam` of a Verilog file (comments removed).
+fn verilog_params(text: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let code = line.split("//").next().unwrap_or("").trim();
+        let Some(rest) = code
+            .strip_prefix("localparam ")
+            .or_else(|| code.strip_prefix("parameter "))
+        else {
+            continue;
+        };
+        for decl in rest.trim_end_matches([';', ',']).split(',') {
+            if let Some((name, expr)) = decl.split_once('=') {
+                let name = name.split_whitespace().last().unwrap_or("").to_string();
+                out.push((name, expr.trim().to_string()));
+            }
+        }
+    }
+    out
+}
+
+/// The value of parameter `name`: its expression's integers and names (recursively), with
+/// `*` and `/` before `+` and `-`.
+fn eval_param(name: &str, params: &[(String, String)], depth: u32) -> Result<u64, String> {
+    if depth > 16 {
+        return Err(format!("{name}: definitions nest too deep"));
+    }
+    let expr = params
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, e)| e.as_str())
+        .ok_or_else(|| format!("no parameter {name}"))?;
+    let value = |tok: &str| -> Result<i64, String> {
+        match tok.parse::<i64>() {
+            Ok(v) => Ok(v),
+            Err(_) => eval_param(tok, params, depth + 1).map(|v| v as i64),
+        }
+    };
+    let spaced: String = expr
+        .chars()
+        .flat_map(|c| match c {
+            '+' | '-' | '*' | '/' => vec![' ', c, ' '],
+            _ => vec![c],
+        })
+        .collect();
+    let tokens: Vec<&str> = spaced.split_whitespace().collect();
+    // Split on + and − into terms, each a product of * and / factors.
+    let (mut sum, mut term, mut sign, mut op) = (0i64, 1i64, 1i64, '*');
+    let mut expect_value = true;
+    for &tok in &tokens {
+        match tok {
+            "+" | "-" if !expect_value => {
+                sum += sign * term;
+                (term, op, sign) = (1, '*', if tok == "+" { 1 } else { -1 });
+                expect_value = true;
+            }
+            "*" | "/" if !expect_value => {
+                op = tok.chars().next().unwrap_or('*');
+                expect_value = true;
+            }
+            t if expect_value => {
+                let v = value(t)?;
+                term = if op == '*' { term * v } else { term / v };
+                expect_value = false;
+            }
+            t => return Err(format!("{name} = {expr}: unexpected {t}")),
+        }
+    }
+    let v = sum + sign * term;
+    u64::try_from(v).map_err(|_| format!("{name} = {expr} is negative"))
+}
