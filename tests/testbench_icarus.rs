@@ -3,11 +3,10 @@
 //! every row of a ≥ 10,000-transaction set generated here from a fixed seed (adversarial rows
 //! included) at the model's timing in both simulators, and the committed golden set in both;
 //! each RTL module's own `LATENCY` (read from its source, and printed by its testbench) equals
-//! the model's `UnitTimings`
-//! latency of that module (hit_record: the packer's `hit_pack`, the check's `hit_unpack`) and the
-//! latency measured; the frame's cycles are required and checked; corrupting one expected value of one row makes each testbench report exactly
-//! one failure;
-//! and `verilator --lint-only -Wall` finds nothing in `testbench/rtl/`.
+//! the model's `UnitTimings` latency of that module (hit_record: the packer's `hit_pack`, the
+//! check's `hit_unpack`) and the latency measured; the frame's cycles are required and
+//! checked; corrupting one expected value of one row makes each testbench report exactly one
+//! failure; and `verilator --lint-only -Wall` finds nothing in `testbench/rtl/`.
 //!
 //! Without `iverilog` or `verilator` the tests print why and skip that simulator; with
 //! `CI=true` a missing one fails (`.ci/run` installs both). Verilator builds are kept in
