@@ -20,10 +20,11 @@
 # WALKER_ARGS adds plusargs to those runs (e.g. "+first=0 +count=2000"); WALKER_LATENCIES
 # chooses the runs (default "0 1 2"). Its Verilator build uses the folder's own packages (its
 # memory images differ per table), so it is cached per vector folder's packages.
-# The frame (tb_frame.sv, not in the default list: run it by name) chains every unit over the
-# folder's end-to-end frame (frame_*.hex) with the image bases of walker.json; FRAME_ARGS adds
-# plusargs (e.g. "+model_cycles=N +latency=3", the cycle model's frame cycles to meet). Its
-# Verilator build, like the walker's, uses the folder's own packages.
+# The frame (tb_frame.sv, last in the default list) chains every unit over the folder's
+# end-to-end frame (frame_*.hex) with the image bases of walker.json; FRAME_ARGS adds plusargs
+# and must hold "+model_cycles=N" (with "+latency=3", the cycle model's frame cycles on the
+# testbench's hardware, testbench/README.md): without it the frame's cycles row fails, and so
+# does this script. Its Verilator build, like the walker's, uses the folder's own packages.
 # Needs iverilog and vvp (apt-get install iverilog), or verilator 5 (apt-get install verilator).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -38,6 +39,7 @@ all_units=(
     reciprocal
     hit_record
     walker
+    frame
 )
 
 sim="${SIM:-icarus}"

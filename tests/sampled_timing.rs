@@ -1,11 +1,12 @@
 //! Sampled timing (`--sample`, docs/cycle-model.md §3.5): on small cases — the default car
 //! with a still and a moving camera, and the small machine of the golden reports — the full
 //! model's cycles lie in every frame's 95 % interval, and the sample plan is deterministic
-//! (the same seed gives the same estimate).
+//! (the same seed gives the same estimate); at the documented default rate and band, over three
+//! seeds, the estimate is within 1 % of the full figure and its interval's half-width within 5 %.
 
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
-use svo_sim::models::cycle::sample::SampleConfig;
+use svo_sim::models::cycle::sample::{SampleConfig, DEFAULT_BAND_ROWS, DEFAULT_RATE};
 use svo_sim::models::cycle::validate::compare;
 use svo_sim::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use svo_sim::world::scene::Scene;
@@ -70,6 +71,71 @@ fn full_cycles_lie_in_the_sampled_interval() {
             assert_eq!((a.estimate, a.low, a.high), (b.estimate, b.low, b.high));
         }
     }
+}
+
+/// Caps on the estimate at the documented default (docs/cycle-model.md §3.5: one band in 8,
+/// bands of 2 rows, warming sized automatically), over three start seeds of the systematic
+/// sample (`SampleConfig::seed`, mixed with the frame number by `Sampler::plan`): the 95 %
+/// interval's half-width at most 5 % and the estimate's error at most 1 % of the full model's
+/// cycles, on the default car (depth 8, default hardware) with a still camera — frame 0 traces
+/// every pixel, frame 1 reuses 69 % of them.
+///
+/// Measured (this test, seeds 1–3, opt-level 2, about 20 s): at 640×384 the worst error is
+/// 0.61 % and the worst half-width 4.03 %. At 320×192 (96 bands, 12 of them timed) the caps do
+/// not hold — worst error 1.34 % (seed 1 and 2, moving camera frame 1), half-width 6.22 % —
+/// so 640×384 is the smallest of the two sizes where they do, and the test runs there.
+#[test]
+fn default_sample_is_close_and_narrow() {
+    const MAX_ERROR: f64 = 0.01;
+    const MAX_HALF_WIDTH: f64 = 0.05;
+    let (scene, assets) = car(640, 384, 8);
+    let dp = DatapathConfig::default();
+    let (mut worst_err, mut worst_half) = (0.0f64, 0.0f64);
+    for seed in [1, 2, 3] {
+        let cfg = SampleConfig::from_rate(DEFAULT_RATE, DEFAULT_BAND_ROWS, None, seed).unwrap();
+        assert_eq!((cfg.period, cfg.band_rows, cfg.warm_rows), (8, 2, None));
+        let rows = compare(&scene, &assets, &dp, &HwConfig::default(), true, cfg).unwrap();
+        for r in &rows {
+            let full = r.full_cycles as f64;
+            let half = (r.high - r.low) / 2.0 / full;
+            println!(
+                "seed {seed}, frame {}: full {} estimate {:.0} [{:.0}, {:.0}] error {:+.3}% half-width {:.3}%",
+                r.frame,
+                r.full_cycles,
+                r.estimate,
+                r.low,
+                r.high,
+                100.0 * r.error(),
+                100.0 * half
+            );
+            assert!(
+                r.error().abs() <= MAX_ERROR,
+                "seed {seed}, frame {}: error {:+.3}% above {}%",
+                r.frame,
+                100.0 * r.error(),
+                100.0 * MAX_ERROR
+            );
+            assert!(
+                half <= MAX_HALF_WIDTH,
+                "seed {seed}, frame {}: half-width {:.3}% above {}%",
+                r.frame,
+                100.0 * half,
+                100.0 * MAX_HALF_WIDTH
+            );
+            assert!(
+                r.covered(),
+                "seed {seed}, frame {}: outside the interval",
+                r.frame
+            );
+            worst_err = worst_err.max(r.error().abs());
+            worst_half = worst_half.max(half);
+        }
+    }
+    println!(
+        "worst error {:.3}%, worst half-width {:.3}%",
+        100.0 * worst_err,
+        100.0 * worst_half
+    );
 }
 
 /// Rate 1 (`--sample 1`) times every band in one segment: the estimate is the full model's

@@ -2,8 +2,11 @@
 //! model's vectors through `testbench/run.sh`, in Icarus Verilog and in Verilator: each passes
 //! every row of a ≥ 10,000-transaction set generated here from a fixed seed (adversarial rows
 //! included) at the model's timing in both simulators, and the committed golden set in both;
-//! corrupting one expected value of one row makes each testbench report exactly one failure;
-//! and `verilator --lint-only -Wall` finds nothing in `testbench/rtl/`.
+//! each RTL module's own `LATENCY` (read from its source, and printed by its testbench) equals
+//! the model's `UnitTimings` latency of that module (hit_record: the packer's `hit_pack`, the
+//! check's `hit_unpack`) and the latency measured; the frame's cycles are required and
+//! checked; corrupting one expected value of one row makes each testbench report exactly one
+//! failure; and `verilator --lint-only -Wall` finds nothing in `testbench/rtl/`.
 //!
 //! Without `iverilog` or `verilator` the tests print why and skip that simulator; with
 //! `CI=true` a missing one fails (`.ci/run` installs both). Verilator builds are kept in
@@ -84,6 +87,9 @@ struct Outcome {
     passed: u64,
     failed: u64,
     latency: Option<u64>,
+    /// The RTL modules' own `LATENCY` localparams as the testbench printed them ("rtl
+    /// LATENCY svo_sqrt 32"): (module, cycles).
+    rtl_latency: Vec<(String, u64)>,
     text: String,
 }
 
@@ -125,14 +131,26 @@ fn run_testbench(sim: &str, dir: &Path, unit: &str) -> Outcome {
         .find_map(|l| l.split("latency ").nth(1))
         .and_then(|s| s.split(' ').next())
         .and_then(|s| s.parse().ok());
+    let rtl_latency = text
+        .lines()
+        .filter_map(|l| l.split("rtl LATENCY ").nth(1))
+        .filter_map(|l| {
+            let (m, n) = l.split_once(' ')?;
+            Some((m.to_string(), n.trim().parse().ok()?))
+        })
+        .collect();
     Outcome {
         passed: nums[0],
         failed: nums[1],
         latency,
+        rtl_latency,
         text,
     }
 }
 
+/// The latency the vector package states for `unit` (the model's, `UnitTimings`): what the
+/// testbench requires every row to take. For hit_record it is the packer's, `units.hit_pack`;
+/// the check (`units.hit_unpack`) must leave with it ("valid together").
 fn model_latency(unit: &str) -> u64 {
     let t = UnitTimings::for_datapath(&DatapathConfig::default());
     u64::from(match unit {
@@ -143,9 +161,66 @@ fn model_latency(unit: &str) -> u64 {
         "raygen" => t.raygen.latency_cycles,
         // The first row is a ray without candidates: one network pass.
         "sorter" => t.sorter.latency_cycles,
-        "hit_record" => t.hit_pack.latency_cycles.max(t.hit_unpack.latency_cycles),
+        "hit_record" => t.hit_pack.latency_cycles,
         other => panic!("no model latency for unit {other}"),
     })
+}
+
+/// The model's latency of each RTL module a unit's testbench instantiates, taken from
+/// `UnitTimings` module by module (the sphere module holds its square root).
+fn model_module_latencies(unit: &str) -> Vec<(&'static str, u64)> {
+    let t = UnitTimings::for_datapath(&DatapathConfig::default());
+    let l = |x: u32| u64::from(x);
+    match unit {
+        "sqrt" => vec![("svo_sqrt", l(t.sqrt.latency_cycles))],
+        "reciprocal" => vec![("svo_reciprocal", l(t.reciprocal.latency_cycles))],
+        "transform" => vec![("svo_transform", l(t.transform.latency_cycles))],
+        "sphere" => vec![(
+            "svo_sphere",
+            l(t.sphere.latency_cycles + t.sqrt.latency_cycles),
+        )],
+        "raygen" => vec![("svo_raygen", l(t.raygen.latency_cycles))],
+        "sorter" => vec![("svo_sorter", l(t.sorter.latency_cycles))],
+        "hit_record" => vec![
+            ("svo_hit_pack", l(t.hit_pack.latency_cycles)),
+            ("svo_hit_check", l(t.hit_unpack.latency_cycles)),
+        ],
+        other => panic!("no model latency for unit {other}"),
+    }
+}
+
+/// The RTL's latencies (its `LATENCY` localparams, printed by the testbench) against the
+/// model's, module by module, and the latency measured on the first row against the RTL's.
+fn assert_rtl_latencies(sim: &str, unit: &str, o: &Outcome) {
+    let want = model_module_latencies(unit);
+    let mut got = o.rtl_latency.clone();
+    got.sort();
+    got.dedup();
+    assert_eq!(
+        got.len(),
+        want.len(),
+        "{unit} ({sim}): the testbench printed the RTL latencies {got:?}, expected one per module of {want:?}:\n{}",
+        o.text
+    );
+    let mut lead = None;
+    for (module, model) in want {
+        let rtl = got
+            .iter()
+            .find(|(m, _)| m == module)
+            .map(|&(_, n)| n)
+            .unwrap_or_else(|| panic!("{unit} ({sim}): no RTL latency for {module}:\n{}", o.text));
+        println!("{unit:<10} {sim:<9} {module}: RTL LATENCY {rtl}, model {model}");
+        assert_eq!(
+            rtl, model,
+            "{unit} ({sim}): {module}'s LATENCY against the model's"
+        );
+        lead = lead.or(Some(rtl));
+    }
+    // The first row left after the first module's latency (for hit_record the packer's).
+    assert_eq!(
+        o.latency, lead,
+        "{unit} ({sim}): measured latency against the RTL's"
+    );
 }
 
 /// Checks one unit's outcome on the table in `dir`: every row passed, at the model's latency.
@@ -174,6 +249,7 @@ fn assert_all_passed(sim: &str, dir: &Path, unit: &str, o: &Outcome, min_rows: u
         "{unit} ({sim}):\n{}",
         o.text
     );
+    assert_rtl_latencies(sim, unit, o);
 }
 
 /// The large set, and the golden set in Verilator (whose build the large set then reuses).
@@ -656,12 +732,181 @@ fn one_corrupted_frame_pixel_is_exactly_one_failure() {
         }
     }
     let (row, pixels) = corrupt_field(&t.dir, "frame_pixels", "word", 77, |w| w / 3);
-    let (equal, _, _, passed, failed, text) =
-        frame_run("icarus", &t.dir, &format!("+latency={FRAME_MEM_LATENCY}"));
+    let model = model_frame_cycles(&t, None, "16", "10", "4");
+    let (equal, _, _, passed, failed, text) = frame_run(
+        "icarus",
+        &t.dir,
+        &format!("+model_cycles={model} +latency={FRAME_MEM_LATENCY}"),
+    );
     println!("frame: one bit of pixel {row}'s word flipped: {equal}/{pixels} equal, {passed} passed, {failed} failed");
-    assert_eq!((passed, failed), (pixels - 1, 1), "{text}");
+    // Every other pixel and the cycles pass.
+    assert_eq!((passed, failed), (pixels, 1), "{text}");
     assert!(
         text.contains(&format!("pixel {row}: word")),
         "the failure does not name pixel {row}'s word:\n{text}"
     );
+}
+
+/// The frame's cycles are checked, never skipped: a frame run without `+model_cycles` fails
+/// on its cycles row, and with the model's figure off by one fails there too, naming both;
+/// every pixel passes in both runs. The frame is scenes/moving_camera.ron at 16 × 10 (690
+/// cycles, about 10 s each in Icarus, against 7,616 for the golden set's frame).
+#[test]
+fn frame_cycles_are_required_and_checked() {
+    if !icarus() {
+        return;
+    }
+    let t = Tmp::new("frame_cycles");
+    let (mc, out) = ("scenes/moving_camera.ron", t.p("mc"));
+    let scene = repo().join(mc).display().to_string();
+    let args = [
+        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
+        "10", "--depth", "4", "--scene", &scene,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    let golden = t.dir.join("mc");
+    let model = model_frame_cycles(&t, Some(mc), "16", "10", "4");
+    let runs = [
+        format!("+latency={FRAME_MEM_LATENCY}"),
+        format!("+model_cycles={} +latency={FRAME_MEM_LATENCY}", model + 1),
+    ];
+    let results: Vec<_> = std::thread::scope(|s| {
+        let handles: Vec<_> = runs
+            .iter()
+            .map(|args| {
+                let golden = &golden;
+                s.spawn(move || frame_run("icarus", golden, args))
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("frame thread"))
+            .collect()
+    });
+    let expected = [
+        "FAIL frame: no +model_cycles=N given".to_string(),
+        format!(
+            "FAIL frame: {model} cycles, the cycle model's {}",
+            model + 1
+        ),
+    ];
+    for ((args, want), (equal, pixels, rtl, passed, failed, text)) in
+        runs.iter().zip(&expected).zip(results)
+    {
+        println!("frame with \"{args}\": {equal}/{pixels} equal, RTL {rtl} cycles, {passed} passed, {failed} failed");
+        assert_eq!(
+            (equal, passed, failed),
+            (pixels, pixels, 1),
+            "{args}:\n{text}"
+        );
+        assert_eq!(rtl, model, "{args}: RTL cycles:\n{text}");
+        assert!(
+            text.contains(want.as_str()),
+            "{args}: no \"{want}\":\n{text}"
+        );
+    }
+}
+
+/// The RTL's latencies read from its source, with no simulator: each module's `LATENCY`
+/// localparam, evaluated from the file's own `parameter`/`localparam` defaults (integers,
+/// names, `+ - * /`, left to right with `*` and `/` first), against the model's `UnitTimings`
+/// module by module. The testbenches print the elaborated values too (`assert_rtl_latencies`).
+#[test]
+fn rtl_latency_localparams_match_the_model() {
+    let units = [
+        "sqrt",
+        "reciprocal",
+        "transform",
+        "sphere",
+        "raygen",
+        "sorter",
+        "hit_record",
+    ];
+    for unit in units {
+        for (module, model) in model_module_latencies(unit) {
+            let path = repo().join(format!("testbench/rtl/{module}.v"));
+            let text = std::fs::read_to_string(&path).expect("read an RTL file");
+            let params = verilog_params(&text);
+            let rtl = eval_param("LATENCY", &params, 0)
+                .unwrap_or_else(|e| panic!("{}: LATENCY: {e}", path.display()));
+            println!("{module}: LATENCY {rtl} in the source, model {model}");
+            assert_eq!(
+                rtl, model,
+                "{module}: the RTL's LATENCY against the model's"
+            );
+        }
+    }
+}
+
+/// `NAME = EXPR` of every `parameter` and `localparam` of a Verilog file (comments removed).
+fn verilog_params(text: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let code = line.split("//").next().unwrap_or("").trim();
+        let Some(rest) = code
+            .strip_prefix("localparam ")
+            .or_else(|| code.strip_prefix("parameter "))
+        else {
+            continue;
+        };
+        for decl in rest.trim_end_matches([';', ',']).split(',') {
+            if let Some((name, expr)) = decl.split_once('=') {
+                let name = name.split_whitespace().last().unwrap_or("").to_string();
+                out.push((name, expr.trim().to_string()));
+            }
+        }
+    }
+    out
+}
+
+/// The value of parameter `name`: its expression's integers and names (recursively), with
+/// `*` and `/` before `+` and `-`.
+fn eval_param(name: &str, params: &[(String, String)], depth: u32) -> Result<u64, String> {
+    if depth > 16 {
+        return Err(format!("{name}: definitions nest too deep"));
+    }
+    let expr = params
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, e)| e.as_str())
+        .ok_or_else(|| format!("no parameter {name}"))?;
+    let value = |tok: &str| -> Result<i64, String> {
+        match tok.parse::<i64>() {
+            Ok(v) => Ok(v),
+            Err(_) => eval_param(tok, params, depth + 1).map(|v| v as i64),
+        }
+    };
+    let spaced: String = expr
+        .chars()
+        .flat_map(|c| match c {
+            '+' | '-' | '*' | '/' => vec![' ', c, ' '],
+            _ => vec![c],
+        })
+        .collect();
+    let tokens: Vec<&str> = spaced.split_whitespace().collect();
+    // Split on + and − into terms, each a product of * and / factors.
+    let (mut sum, mut term, mut sign, mut op) = (0i64, 1i64, 1i64, '*');
+    let mut expect_value = true;
+    for &tok in &tokens {
+        match tok {
+            "+" | "-" if !expect_value => {
+                sum += sign * term;
+                (term, op, sign) = (1, '*', if tok == "+" { 1 } else { -1 });
+                expect_value = true;
+            }
+            "*" | "/" if !expect_value => {
+                op = tok.chars().next().unwrap_or('*');
+                expect_value = true;
+            }
+            t if expect_value => {
+                let v = value(t)?;
+                term = if op == '*' { term * v } else { term / v };
+                expect_value = false;
+            }
+            t => return Err(format!("{name} = {expr}: unexpected {t}")),
+        }
+    }
+    let v = sum + sign * term;
+    u64::try_from(v).map_err(|_| format!("{name} = {expr} is negative"))
 }

@@ -5,6 +5,10 @@
 //! `docs/number-formats.md` (LSBs written as powers of two here, not read from the code) and
 //! requires the function to agree with the hand value to 0.5 % — a cap above and a floor
 //! below. A deliberate change of a default format fails here first: re-derive, then update.
+//! The square root, transform and reciprocal bounds of the two non-default datapaths of the
+//! unit tests' tightness checks (`datapaths/mod.rs`: narrow, truncating) are pinned the same way.
+
+mod datapaths;
 
 use rtl_model::cost::direction_error_bound;
 use rtl_model::datapath::DatapathConfig;
@@ -214,5 +218,122 @@ fn animation_bounds_match_the_hand_derivation() {
         "rotation pose (1000 frames)",
         incremental_pose_error_bound(&r, 1000),
         (1.0 + eta).powi(1000) * (3.0 * e + 1000.0 * delta),
+    );
+}
+
+/// The sphere's bounds by hand for reach 128 m, from the conversion errors e_d (directions)
+/// and e_p (positions) and the LSBs of t_ca, the squares and the entry (as the default's
+/// derivation in `sphere_bounds_match_the_hand_derivation`): (W, entry error).
+fn sphere_by_hand(e_d: f64, e_p: f64, tca: f64, sq: f64, entry: f64) -> (f64, f64) {
+    let s3 = 3f64.sqrt();
+    let dt = 128.0 * s3 * e_d + 2.0 * s3 * e_p + tca;
+    let dl = 2.0 * s3 * e_p;
+    let w = 2.0 * 128.0 * dl + dl * dl + 2.0 * 128.0 * dt + dt * dt + 2.0 * sq;
+    (w, 2.0 * dt + (2.0 * w).sqrt() + sq.sqrt() + 2.0 * entry)
+}
+
+/// The narrow datapath (`datapaths/mod.rs`): sQ2.22 directions and matrix entries, sQ8.24
+/// positions, all rounded to nearest; squares uQ16.40; 1/d sQ2.22 → sQ22.22.
+#[test]
+fn narrow_datapath_bounds_match_the_hand_derivation() {
+    let [(_, dp), _] = datapaths::non_default();
+    // Sphere: e_d = 2^−23, e_p = 2^−25 (nearest); t_ca sQ10.24 truncated 2^−24, squares
+    // uQ16.40 2^−40, entry uQ10.22 2^−22.
+    let (w, entry) = sphere_by_hand(p2(-23), p2(-25), p2(-24), p2(-40), p2(-22));
+    agrees("narrow sphere widening W (m²)", dp.sphere.widening(), w);
+    agrees(
+        "narrow sphere entry (m)",
+        dp.sphere.t_enter_error_bound(1.0),
+        entry,
+    );
+    // Square root uQ16.40 → uQ8.20, truncated (sphere::sqrt_config): one output LSB.
+    agrees(
+        "narrow sqrt",
+        sqrt::error_bound(&rtl_model::units::sphere::sqrt_config(&dp.sphere)),
+        p2(-20),
+    );
+    // Transform origin, 128 m: e_m = 2^−23 (sQ2.22 nearest), e_p = 2^−25 (sQ8.24 nearest),
+    // output sQ8.24 nearest 2^−25: 3·(2^−23·128 + (1 + 2^−23)·2·2^−25) + 2^−25 = 4.5985e-5.
+    let em = p2(-23);
+    agrees(
+        "narrow transform origin (128 m)",
+        transform::origin_error_bound(&dp.transform, 128.0),
+        3.0 * (em * 128.0 + (1.0 + em) * 2.0 * p2(-25)) + p2(-25),
+    );
+    // Transform direction: 3·(e_m + (1 + e_m)·e_d) + e_out, e_d = e_out = 2^−23: ≈ 7·2^−23.
+    agrees(
+        "narrow transform direction",
+        transform::dir_error_bound(&dp.transform),
+        7.0 * p2(-23),
+    );
+    // Reciprocal sQ2.22 → sQ22.22, t = 8, two iterations, G = F_out + 2 = 24:
+    // R0 = 2.373·10⁻³ (the ROM's worst interval end, as the default's); R1 = R0² + 2·2^−24
+    // = 5.751e-6; R2 = R1² + 2^−23 = 1.1924e-7; rel = R2·(1 + 2^−24) + 2^−24 = 1.7884e-7.
+    // abs: half an LSB of sQ22.22 = 2^−23. Zero threshold: 44 − 22 − 1 = 21 magnitude bits.
+    let b = reciprocal::error_bound(&dp.reciprocal);
+    let r1 = 2.373e-3f64.powi(2) + p2(-23);
+    let r2 = r1 * r1 + p2(-23);
+    agrees(
+        "narrow reciprocal relative",
+        b.rel,
+        r2 * (1.0 + p2(-24)) + p2(-24),
+    );
+    agrees("narrow reciprocal absolute", b.abs, p2(-23));
+    agrees(
+        "narrow reciprocal zero threshold",
+        reciprocal::zero_threshold(&dp.reciprocal),
+        p2(-21),
+    );
+}
+
+/// The truncating datapath (`datapaths/mod.rs`): the default widths, every rounding a
+/// truncation (a whole LSB where rounding to nearest loses half); squares uQ20.44.
+#[test]
+fn truncating_datapath_bounds_match_the_hand_derivation() {
+    let [_, (_, dp)] = datapaths::non_default();
+    // Sphere: e_d = 2^−30, e_p = 2^−32 (truncated: a whole LSB); t_ca 2^−24, squares uQ20.44
+    // 2^−44, entry 2^−22.
+    let (w, entry) = sphere_by_hand(p2(-30), p2(-32), p2(-24), p2(-44), p2(-22));
+    agrees("truncating sphere widening W (m²)", dp.sphere.widening(), w);
+    agrees(
+        "truncating sphere entry (m)",
+        dp.sphere.t_enter_error_bound(1.0),
+        entry,
+    );
+    // Square root uQ20.44 → uQ10.22, truncated: one output LSB.
+    agrees(
+        "truncating sqrt",
+        sqrt::error_bound(&rtl_model::units::sphere::sqrt_config(&dp.sphere)),
+        p2(-22),
+    );
+    // Transform origin, 128 m: e_m = 2^−30 (sQ2.30 truncated), e_p = 2^−32 (sQ8.32
+    // truncated), output 2^−32: 3·(2^−30·128 + (1 + 2^−30)·2·2^−32) + 2^−32 = 3.5926e-7.
+    let em = p2(-30);
+    agrees(
+        "truncating transform origin (128 m)",
+        transform::origin_error_bound(&dp.transform, 128.0),
+        3.0 * (em * 128.0 + (1.0 + em) * 2.0 * p2(-32)) + p2(-32),
+    );
+    // Transform direction: e_d = e_out = 2^−30: ≈ 7·2^−30.
+    agrees(
+        "truncating transform direction",
+        transform::dir_error_bound(&dp.transform),
+        7.0 * p2(-30),
+    );
+    // Reciprocal sQ2.30 → sQ22.30 truncated: the iterations as the default's (G = 32,
+    // rel = 7.301e-10), abs one whole LSB 2^−30, zero threshold 2^−21.
+    let b = reciprocal::error_bound(&dp.reciprocal);
+    let r1 = 2.37e-3f64.powi(2) + p2(-31);
+    let r2 = r1 * r1 + p2(-31);
+    agrees(
+        "truncating reciprocal relative",
+        b.rel,
+        r2 * (1.0 + p2(-32)) + p2(-32),
+    );
+    agrees("truncating reciprocal absolute", b.abs, p2(-30));
+    agrees(
+        "truncating reciprocal zero threshold",
+        reciprocal::zero_threshold(&dp.reciprocal),
+        p2(-21),
     );
 }

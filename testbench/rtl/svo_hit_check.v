@@ -43,6 +43,11 @@ module svo_hit_check #(
     output reg               out_reuse,
     output reg  [WB-1:0]     out_reused_word
 );
+    // The one output register of the always block below; the testbench prints it (tb_*.sv: "rtl LATENCY"), tests/testbench_icarus.rs
+    // compares it with the model's units.* latency and with the latency measured.
+    /* verilator lint_off UNUSEDPARAM */
+    localparam LATENCY = 1;
+    /* verilator lint_on UNUSEDPARAM */
     localparam I0 = 2;                   // field offsets
     localparam T0 = I0 + INST_W;
     localparam U0 = T0 + T_W;

@@ -38,6 +38,11 @@ module svo_hit_pack #(
     output reg           out_ov
 );
     localparam [15:0] NONE = (16'd1 << INST_W) - 16'd1;
+    // The one output register of the always block below; the testbench prints it (tb_*.sv: "rtl LATENCY"), tests/testbench_icarus.rs
+    // compares it with the model's units.* latency and with the latency measured.
+    /* verilator lint_off UNUSEDPARAM */
+    localparam LATENCY = 1;
+    /* verilator lint_on UNUSEDPARAM */
 
     // Kind: the reserved code 3 reads as several spheres (2).
     wire [1:0] kind = (in_kind == 2'd3) ? 2'd2 : in_kind;

@@ -54,6 +54,11 @@ module svo_sorter #(
 );
     localparam N = 8;                    // network lanes
     localparam D = 6;                    // network layers = latency
+    // One network pass: a ray with at most N candidates; the testbench prints it (tb_*.sv: "rtl LATENCY"), tests/testbench_icarus.rs
+    // compares it with the model's units.* latency and with the latency measured.
+    /* verilator lint_off UNUSEDPARAM */
+    localparam LATENCY = D;
+    /* verilator lint_on UNUSEDPARAM */
     localparam KB = KW + IW;             // key bits in the ports
     localparam SKW = KB + 1;             // sort key {invalid, t, id}
     localparam PW = 7;                   // pointer bits: 0..MAX_KEYS and one beyond

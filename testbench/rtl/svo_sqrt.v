@@ -24,6 +24,11 @@ module svo_sqrt #(
 );
     localparam S  = N / 2;       // stages = root bits = latency
     localparam RW = S + 2;       // shifted remainder and trial width
+    // One stage per root bit; the testbench prints it (tb_*.sv: "rtl LATENCY"), tests/testbench_icarus.rs
+    // compares it with the model's units.* latency and with the latency measured.
+    /* verilator lint_off UNUSEDPARAM */
+    localparam LATENCY = S;
+    /* verilator lint_on UNUSEDPARAM */
 
     genvar k;
     generate

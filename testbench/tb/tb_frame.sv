@@ -31,9 +31,11 @@
 //
 // Plusargs: +vectors=DIR, +latency=L (node memory, default 3), +nb<i>=, +ab<i>= (node and
 // attribute base of image i, from walker.json; run.sh passes them), +model_cycles=N (the
-// cycle model's frame cycles; when given they must be equal). Prints per-pixel failures (the
-// first ten), then "frame: P/768 pixels equal, RTL N cycles, model M cycles" and the
-// closing "N passed, N failed" (one row per pixel, plus one for the cycles when given).
+// cycle model's frame cycles, required: the RTL's must equal them, and without it the cycles
+// row fails). Prints per-pixel failures (the first ten), then "frame: P/768 pixels equal,
+// RTL N cycles, model M cycles" and the closing "N passed, N failed" (one row per pixel,
+// plus one for the cycles). Pixel indices are PIXW (32) bits and ray-slot tags TAGW bits,
+// sized from SLOTS.
 `timescale 1ns/1ps
 module tb_frame;
     localparam int PB = frame_pixels_vectors_pkg::WORD_BITS;
@@ -48,6 +50,11 @@ module tb_frame;
     localparam int NODE_WORDS = walker_vectors_pkg::NODE_WORDS;
     localparam int ATTR_RECORDS = walker_vectors_pkg::ATTR_RECORDS;
     localparam int SLOTS = 1 * 1 + 64;                      // W·R + root_to_dispatch
+    // A ray slot's tag through the walker root and the walker: wide enough for every slot
+    // (the default machine's 32·8 + 64 = 320 slots take 9 bits).
+    localparam int TAGW = SLOTS > 1 ? $clog2(SLOTS) : 1;
+    // A pixel index: the raygen port's 32 bits (a 1280 × 768 frame needs 20).
+    localparam int PIXW = 32;
     localparam int MAX_REPORTS = 10;
     // Cycle-model FIFO depths (docs/cycle-model.md §1.3) and unit latencies.
     localparam int D_RG_SP = 4, D_SP_SO = 4, D_SO_CK = 8, D_CK_TR = 1024, D_TR_RC = 4,
@@ -99,14 +106,14 @@ module tb_frame;
         f64_of = $realtobits(real'(code) / (2.0 ** frac));
     endfunction
     reg rg_in_valid = 0;
-    reg [15:0] rg_in_pixel;
+    reg [PIXW-1:0] rg_in_pixel;
     reg [3*64-1:0] rg_in_dir;
     wire rg_out_valid, rg_ov_d, rg_ov_o;
     wire [31:0] rg_out_pixel;
     wire [3*32-1:0] rg_out_dir;
     wire [3*40-1:0] rg_out_origin;
     svo_raygen u_raygen (.clk(clk), .rst(rst), .in_valid(rg_in_valid),
-        .in_pixel({16'd0, rg_in_pixel}), .in_dir(rg_in_dir),
+        .in_pixel(rg_in_pixel), .in_dir(rg_in_dir),
         .in_origin({f64_of($signed(cam_o[80 +: 40]), 32), f64_of($signed(cam_o[40 +: 40]), 32),
                     f64_of($signed(cam_o[0 +: 40]), 32)}),
         .out_valid(rg_out_valid), .out_pixel(rg_out_pixel), .out_dir(rg_out_dir),
@@ -121,7 +128,7 @@ module tb_frame;
 
     // sphere lanes.
     reg sp_in_valid = 0;
-    reg [15:0] sp_in_pixel;
+    reg [PIXW-1:0] sp_in_pixel;
     wire [3*32-1:0] sp_d = ray_dir[sp_in_pixel];
     wire [LANES-1:0] sp_out_valid, sp_hit;
     // Lanes with an instance: a frame of fewer instances than lanes leaves the rest unused.
@@ -180,7 +187,7 @@ module tb_frame;
 
     // transform.
     reg tr_in_valid = 0;
-    reg [15:0] tr_in_pixel;
+    reg [PIXW-1:0] tr_in_pixel;
     reg [7:0] tr_in_inst;
     wire tr_out_valid, tr_ov_o, tr_ov_d;
     wire [3*40-1:0] tr_o;
@@ -216,23 +223,23 @@ module tb_frame;
     reg [3*PW-1:0] rt_in_o, rt_in_half;
     reg [3*52-1:0] rt_in_inv;
     reg [2:0] rt_in_zero, rt_in_neg;
-    reg [7:0] rt_in_tag;
+    reg [TAGW-1:0] rt_in_tag;
     wire rt_out_valid, rt_enter;
     wire [3*TI-1:0] rt_t0, rt_t1;
     wire [3*(PW+1)-1:0] rt_o;
     wire [3*PW-1:0] rt_half;
     wire [2:0] rt_zero, rt_neg;
-    wire [7:0] rt_tag;
+    wire [TAGW-1:0] rt_tag;
     svo_walker_root #(.POS_W(PW), .POS_FRAC(walker_vectors_pkg::O_X_FRAC),
         .INV_W(walker_vectors_pkg::INV_X_WIDTH), .INV_FRAC(walker_vectors_pkg::INV_X_FRAC),
-        .T_W(TW), .T_FRAC(walker_vectors_pkg::T_FRAC), .PROD(walker_vectors_pkg::ROOT_LATENCY - 4), .TAG_W(8)
+        .T_W(TW), .T_FRAC(walker_vectors_pkg::T_FRAC), .PROD(walker_vectors_pkg::ROOT_LATENCY - 4), .TAG_W(TAGW)
     ) u_root (.clk(clk), .rst(rst), .in_valid(rt_in_valid), .in_o(rt_in_o), .in_inv(rt_in_inv),
         .in_half(rt_in_half), .in_zero(rt_in_zero), .in_neg(rt_in_neg), .in_tag(rt_in_tag),
         .out_valid(rt_out_valid), .out_enter(rt_enter), .out_t0(rt_t0), .out_t1(rt_t1),
         .out_o(rt_o), .out_half(rt_half), .out_zero(rt_zero), .out_neg(rt_neg), .out_tag(rt_tag));
 
     // the walker (one context) and its memory.
-    localparam int RTB = 1 + 2 * 3 * TI + 3 * (PW + 1) + 3 * PW + 3 + 3 + 8;   // root bundle
+    localparam int RTB = 1 + 2 * 3 * TI + 3 * (PW + 1) + 3 * PW + 3 + 3 + TAGW;   // root bundle
     reg wk_in_valid = 0, wk_out_ready = 0;
     reg [RTB-1:0] wk_in;
     reg [31:0] wk_nb, wk_ab;
@@ -245,16 +252,16 @@ module tb_frame;
     wire [59:0] wk_voxel, visit_coords;
     wire [4:0] wk_level, visit_level;
     wire [63:0] wk_attr_data;
-    wire [7:0] wk_tag;
+    wire [TAGW-1:0] wk_tag;
     int left = 0;
     svo_walker #(.POS_W(PW), .T_W(TW), .STACK_DEPTH(walker_vectors_pkg::STACK_DEPTH),
         .MAX_STEPS(walker_vectors_pkg::MAX_STEPS), .STEP_LATENCY(walker_vectors_pkg::STEP_LATENCY),
-        .TAG_W(8)
+        .TAG_W(TAGW)
     ) u_walker (.clk(clk), .rst(rst), .in_valid(wk_in_valid), .in_ready(wk_in_ready),
         .in_enter(wk_in[RTB-1]), .in_t0(wk_in[RTB-2 -: 3*TI]), .in_t1(wk_in[RTB-2-3*TI -: 3*TI]),
-        .in_o(wk_in[3*PW+14+3*(PW+1)-1 -: 3*(PW+1)]), .in_half(wk_in[3*PW+14-1 -: 3*PW]),
-        .in_zero(wk_in[13:11]), .in_neg(wk_in[10:8]), .in_node_base(wk_nb),
-        .in_attr_base(wk_ab), .in_tag(wk_in[7:0]),
+        .in_o(wk_in[3*PW+TAGW+6+3*(PW+1)-1 -: 3*(PW+1)]), .in_half(wk_in[3*PW+TAGW+6-1 -: 3*PW]),
+        .in_zero(wk_in[TAGW+5 -: 3]), .in_neg(wk_in[TAGW+2 -: 3]), .in_node_base(wk_nb),
+        .in_attr_base(wk_ab), .in_tag(wk_in[TAGW-1:0]),
         .mem_req_valid(mem_req_valid), .mem_req_ready(left <= 1), .mem_req_attr(mem_req_attr),
         .mem_req_addr(mem_req_addr), .mem_resp_valid(mem_resp_valid),
         .mem_resp_data(mem_resp_data), .out_valid(wk_out_valid), .out_ready(wk_out_ready),
@@ -486,7 +493,7 @@ module tb_frame;
         if (o_rt_dp > 0 && wk_in_ready) begin
             int k;
             wk_in = q_rt_dp.pop_front();
-            k = cands[slot_pixel[wk_in[7:0]]][slot_cand[wk_in[7:0]]][39:32];
+            k = cands[slot_pixel[wk_in[TAGW-1:0]]][slot_cand[wk_in[TAGW-1:0]]][39:32];
             wk_nb = nb[inst[k][frame_instances_vectors_pkg::IMAGE_LSB +: 8]];
             wk_ab = ab[inst[k][frame_instances_vectors_pkg::IMAGE_LSB +: 8]];
             wk_in_valid = 1;
@@ -507,7 +514,7 @@ module tb_frame;
             rt_in_half = {inst[k][frame_instances_vectors_pkg::HALF_Z_LSB +: 40],
                           inst[k][frame_instances_vectors_pkg::HALF_Y_LSB +: 40],
                           inst[k][frame_instances_vectors_pkg::HALF_X_LSB +: 40]};
-            rt_in_tag = 8'(s);
+            rt_in_tag = TAGW'(s);
             rt_in_valid = 1;
             rt_n++;
         end
@@ -531,7 +538,7 @@ module tb_frame;
                 slot_pixel[s] = p; slot_cand[s] = 0; slot_walks[s] = 0; slot_best[s] = 0;
             end
             if (s >= 0) begin
-                tr_in_pixel = 16'(slot_pixel[s]);
+                tr_in_pixel = PIXW'(slot_pixel[s]);
                 tr_in_inst = cands[slot_pixel[s]][slot_cand[s]][39:32];
                 tr_in_valid = 1;
                 tr_fly.push_back(s);
@@ -593,14 +600,14 @@ module tb_frame;
         end
         if (o_rg_sp > 0 && sp_fly.size() + sp_res.size() < lane[0].u_sphere.LATENCY) begin
             int p = q_rg_sp.pop_front();
-            sp_in_pixel = 16'(p);
+            sp_in_pixel = PIXW'(p);
             sp_in_valid = 1;
             sp_fly.push_back(p);
         end
         // raygen.
         if (rg_res.size() > 0 && o_rg_sp < D_RG_SP) q_rg_sp.push_back(rg_res.pop_front());
         if (next_pixel < NPIX && rg_fly.size() + rg_res.size() < u_raygen.LATENCY) begin
-            rg_in_pixel = 16'(next_pixel);
+            rg_in_pixel = PIXW'(next_pixel);
             rg_td = table_dir(next_pixel);
             for (int a = 0; a < 3; a++) rg_in_dir[a*64 +: 64] = f64_of($signed(rg_td[a*32 +: 32]), 30);
             rg_in_valid = 1;
@@ -648,12 +655,15 @@ module tb_frame;
         end
         $display("frame: %0d/%0d pixels equal, RTL %0d cycles, model %0d cycles", n_passed, NPIX,
                  cyc, model_cycles);
-        if (model_cycles >= 0) begin
-            if (cyc == model_cycles) n_passed++;
-            else begin
-                n_failed++;
-                $display("FAIL frame: %0d cycles, the cycle model's %0d", cyc, model_cycles);
-            end
+        // The cycles are part of what this testbench checks: without the model's figure the
+        // frame fails rather than passing on its pixels alone.
+        if (model_cycles < 0) begin
+            n_failed++;
+            $display("FAIL frame: no +model_cycles=N given (the cycle model's frame cycles, from `sim --model cycle` on the testbench's hardware; see testbench/README.md)");
+        end else if (cyc == model_cycles) n_passed++;
+        else begin
+            n_failed++;
+            $display("FAIL frame: %0d cycles, the cycle model's %0d", cyc, model_cycles);
         end
         if (written < NPIX) n_failed += NPIX - written;
         $display("%0d passed, %0d failed", n_passed, n_failed);

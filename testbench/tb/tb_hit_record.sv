@@ -70,4 +70,8 @@ module tb_hit_record;
         check_field("reused_word", got_reused, exp_row[REUSED_WORD_LSB +: WB]);
         check_row_end();
     end
+    // The RTL's own latencies, read back for the comparison with the model's
+    // (tests/testbench_icarus.rs): the packer's is units.hit_pack, the check's units.hit_unpack.
+    initial $display("rtl LATENCY svo_hit_pack %0d", pack.LATENCY);
+    initial $display("rtl LATENCY svo_hit_check %0d", check.LATENCY);
 endmodule

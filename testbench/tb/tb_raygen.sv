@@ -43,4 +43,6 @@ module tb_raygen;
         check_field("ov_origin", got_ov_origin, exp_row[OV_ORIGIN_LSB]);
         check_row_end();
     end
+    // The RTL's own latency, read back for the comparison with the model's (tests/testbench_icarus.rs).
+    initial $display("rtl LATENCY svo_raygen %0d", dut.LATENCY);
 endmodule

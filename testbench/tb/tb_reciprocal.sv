@@ -32,4 +32,6 @@ module tb_reciprocal;
         check_field("ov", got_ov, exp_row[OV_LSB]);
         check_row_end();
     end
+    // The RTL's own latency, read back for the comparison with the model's (tests/testbench_icarus.rs).
+    initial $display("rtl LATENCY svo_reciprocal %0d", dut.LATENCY);
 endmodule

@@ -59,4 +59,6 @@ module tb_sorter;
         end
         check_row_end();
     end
+    // The RTL's own latency, read back for the comparison with the model's (tests/testbench_icarus.rs).
+    initial $display("rtl LATENCY svo_sorter %0d", dut.LATENCY);
 endmodule

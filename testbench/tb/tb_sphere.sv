@@ -39,4 +39,6 @@ module tb_sphere;
         check_field("ov_t_enter", got_ov_t_enter, exp_row[OV_T_ENTER_LSB]);
         check_row_end();
     end
+    // The RTL's own latency, read back for the comparison with the model's (tests/testbench_icarus.rs).
+    initial $display("rtl LATENCY svo_sphere %0d", dut.LATENCY);
 endmodule

@@ -22,4 +22,6 @@ module tb_sqrt;
         check_field("ov", 1'b0, exp_row[OV_LSB]);   // a 64-bit radicand's root always fits
         check_row_end();
     end
+    // The RTL's own latency, read back for the comparison with the model's (tests/testbench_icarus.rs).
+    initial $display("rtl LATENCY svo_sqrt %0d", dut.LATENCY);
 endmodule

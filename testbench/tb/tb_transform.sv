@@ -45,4 +45,6 @@ module tb_transform;
         check_field("ov_dir", got_ov_dir, exp_row[OV_DIR_LSB]);
         check_row_end();
     end
+    // The RTL's own latency, read back for the comparison with the model's (tests/testbench_icarus.rs).
+    initial $display("rtl LATENCY svo_transform %0d", dut.LATENCY);
 endmodule

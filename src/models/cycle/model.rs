@@ -7,7 +7,7 @@
 //! its second thread (docs/cycle-model.md §2, §2.4).
 
 use super::layout::SceneLayout;
-use super::pipeline::Pipeline;
+use super::pipeline::{EvalOrder, Pipeline};
 use super::sample::{SampleConfig, Sampler};
 use super::stages::{FrameInputs, FrameSetup};
 use super::stats::CycleFrame;
@@ -78,6 +78,9 @@ pub struct CycleOptions {
     /// frame's cycles with a confidence interval (docs/cycle-model.md §3.5). `None`: every
     /// cycle of every frame is simulated.
     pub sample: Option<SampleConfig>,
+    /// The stages' evaluation order within a clock: a test hook (docs/architecture.md §4);
+    /// every order it offers gives the same cycles and reports.
+    pub eval_order: EvalOrder,
 }
 
 /// The parts of the machine that keep their state across frames (cache lines, hit-buffer
@@ -110,6 +113,7 @@ pub struct CycleModel {
     log_limit: usize,
     step_every_cycle: bool,
     sample: Option<SampleConfig>,
+    eval_order: EvalOrder,
     /// Cycles run so far, and of those the ones idle-cycle skipping took at once.
     cycles_run: u64,
     cycles_skipped: u64,
@@ -151,6 +155,7 @@ impl CycleModel {
             log_limit: opts.log_limit,
             step_every_cycle: opts.step_every_cycle,
             sample: opts.sample,
+            eval_order: opts.eval_order,
             cycles_run: 0,
             cycles_skipped: 0,
         })
@@ -202,7 +207,8 @@ impl CycleModel {
             &mut self.log,
             self.log_limit,
             !self.step_every_cycle,
-        )?;
+        )?
+        .with_order(self.eval_order);
         if let Some(cfg) = self.sample {
             let s = Sampler::plan(cfg, &self.hw, self.frame, self.width, self.height);
             pipeline = pipeline.with_sampler(s)?;

@@ -84,6 +84,47 @@ const S_WALK: usize = 7;
 const S_RECORD: usize = 8;
 const S_WRITE: usize = 9;
 
+/// The order the stages are evaluated in within a clock (docs/architecture.md §4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EvalOrder {
+    /// Write port first, ray generation last: what every run uses.
+    #[default]
+    ConsumersFirst,
+    /// Ray generation first, write port last, except the record stage, which goes first (its
+    /// same-cycle signals are the only ones another stage reads). A test hook: the cycles,
+    /// images and reports must be the same as [`EvalOrder::ConsumersFirst`]'s.
+    ProducersFirst,
+}
+
+/// Producers first, but the record stage before the transform and the check stage.
+const PRODUCERS_FIRST: [usize; 10] = [
+    S_RECORD,
+    S_RAYGEN,
+    S_SPHERE,
+    S_SORTER,
+    S_CHECK,
+    S_TRANSFORM,
+    S_RECIP,
+    S_ROOT,
+    S_WALK,
+    S_WRITE,
+];
+
+/// What one cycle's stages read besides the registered FIFOs: the frame's counters as the
+/// cycle started (for the starved/idle accounting) and the record stage's same-cycle signals.
+struct Wires {
+    /// Rays still to leave raygen, sphere and sorter (what the next stage may still get).
+    upstream_more: [bool; 3],
+    /// A ray has entered the walk section this frame.
+    walked: bool,
+    /// Walks are in the walk section or may still come.
+    more_walks: bool,
+    /// The record stage took the write FIFO's port this cycle.
+    took_write_port: bool,
+    /// The record stage has been evaluated (and has freed the slots of its records).
+    record_done: bool,
+}
+
 /// The FIFOs between the stages, in pipeline order.
 pub struct Fifos {
     rg_sp: Fifo<Ray>,
@@ -220,6 +261,8 @@ pub struct Pipeline<'f> {
     /// full, or generation reaches this pixel), so a segment starts with the backlog the last
     /// one ended with (docs/cycle-model.md §3.5).
     hold: Option<(usize, u64)>,
+    /// The stages' evaluation order within a clock.
+    order: EvalOrder,
 }
 
 impl<'f> Pipeline<'f> {
@@ -275,6 +318,7 @@ impl<'f> Pipeline<'f> {
             sampler: None,
             carry: None,
             hold: None,
+            order: EvalOrder::default(),
         })
     }
 
@@ -287,6 +331,13 @@ impl<'f> Pipeline<'f> {
         }
         self.sampler = Some(sampler);
         Ok(self)
+    }
+
+    /// Evaluates the stages in `order` within each clock (a test hook: docs/architecture.md §4
+    /// says which orders give the same cycles).
+    pub fn with_order(mut self, order: EvalOrder) -> Self {
+        self.order = order;
+        self
     }
 
     /// The trace's rows received so far (all of them after the frame).
@@ -334,79 +385,56 @@ impl<'f> Pipeline<'f> {
         self.counts.written >= self.counts.pixels
     }
 
-    /// One clock: every stage evaluated, consumers first, then the edge; then, if nothing
-    /// moved in it, the idle cycles that follow are taken at once ([`Pipeline::skip_idle`]).
+    /// One clock: every stage evaluated, consumers first (or in the order the test hook
+    /// [`Pipeline::with_order`] asked for), then the edge; then, if nothing moved in it, the idle
+    /// cycles that follow are taken at once ([`Pipeline::skip_idle`]).
     pub fn step(&mut self) -> Result<(), CycleError> {
         let now = self.machine.clock.now();
-        let (f, c, m) = (&mut self.fifos, &mut self.counts, &mut *self.machine);
-        let st = &mut self.states;
-        st[S_WRITE] = self
-            .write
-            .eval(&mut f.rc_wr, &mut m.bram, self.log, c, now)?;
-        let (state, took_write_port) = self.record.eval(
-            &mut f.wk_rc,
-            &mut f.loop_back,
-            &mut f.rc_wr,
-            &mut self.slots,
-            &mut self.frame,
-            c,
-            now,
-        )?;
-        st[S_RECORD] = state;
-        // No stage before the check changes what this reads.
-        let more_walks = c.more_walks();
-        st[S_WALK] = self.walkers.eval(
-            &mut f.rt_dp,
-            &mut f.wk_rc,
-            &mut m.pool,
-            &mut m.mem,
-            &mut self.slots,
-            &mut self.frame,
-            more_walks,
-            now,
-        )?;
-        st[S_ROOT] = self
-            .root
-            .eval(&mut f.rc_rt, &mut f.rt_dp, more_walks, now)?;
-        st[S_RECIP] = self
-            .recip
-            .eval(&mut f.tr_rc, &mut f.rc_rt, more_walks, now)?;
+        // Sampled timing's hold on the transform ends on registered state only (the walk
+        // queue's occupancy, the pixel counter as the cycle starts).
         if let Some((target, until)) = self.hold {
-            if f.ck_tr.occupancy() >= target
-                || !f.ck_tr.ready()
-                || self.raygen.next_pixel() >= until
-            {
+            let q = &self.fifos.ck_tr;
+            if q.occupancy() >= target || !q.ready() || self.raygen.next_pixel() >= until {
                 self.hold = None;
             }
         }
-        st[S_TRANSFORM] = if self.hold.is_some() {
-            StageState::Starved
-        } else {
-            self.transform.eval(
-                &mut f.loop_back,
-                &mut f.ck_tr,
-                &mut f.tr_rc,
-                &mut self.slots,
-                &self.frame,
-                more_walks,
-                now,
-            )?
+        // What the stages' starved/idle accounting reads of the frame's counters, as the
+        // cycle starts, so that no stage sees another's count of this cycle.
+        let c = &self.counts;
+        let mut wires = Wires {
+            upstream_more: [
+                c.passed[0] < c.pixels,
+                c.passed[1] < c.pixels,
+                c.passed[2] < c.pixels,
+            ],
+            walked: c.walks_entered > 0,
+            more_walks: c.more_walks(),
+            took_write_port: false,
+            record_done: false,
         };
-        st[S_CHECK] = self.check.eval(
-            &mut f.so_ck,
-            &mut f.ck_tr,
-            &mut f.rc_wr,
-            took_write_port,
-            &mut m.bram,
-            &mut self.frame,
-            c,
-            now,
-        )?;
-        st[S_SORTER] = self
-            .sorter
-            .eval(&mut f.sp_so, &mut f.so_ck, &mut self.frame, c, now)?;
-        st[S_SPHERE] = self.sphere.eval(&mut f.rg_sp, &mut f.sp_so, c, now)?;
-        st[S_RAYGEN] = self.raygen.eval(&mut f.rg_sp, &mut self.frame, c, now)?;
+        match self.order {
+            // Written out with constant stages, so that each call's dispatch folds away: a
+            // loop over the order made the model about 25 % slower.
+            EvalOrder::ConsumersFirst => {
+                let w = &mut wires;
+                self.states[S_WRITE] = self.eval_stage(S_WRITE, now, w)?;
+                self.states[S_RECORD] = self.eval_stage(S_RECORD, now, w)?;
+                self.states[S_WALK] = self.eval_stage(S_WALK, now, w)?;
+                self.states[S_ROOT] = self.eval_stage(S_ROOT, now, w)?;
+                self.states[S_RECIP] = self.eval_stage(S_RECIP, now, w)?;
+                self.states[S_TRANSFORM] = self.eval_stage(S_TRANSFORM, now, w)?;
+                self.states[S_CHECK] = self.eval_stage(S_CHECK, now, w)?;
+                self.states[S_SORTER] = self.eval_stage(S_SORTER, now, w)?;
+                self.states[S_SPHERE] = self.eval_stage(S_SPHERE, now, w)?;
+                self.states[S_RAYGEN] = self.eval_stage(S_RAYGEN, now, w)?;
+            }
+            EvalOrder::ProducersFirst => {
+                for &stage in &PRODUCERS_FIRST {
+                    self.states[stage] = self.eval_stage(stage, now, &mut wires)?;
+                }
+            }
+        }
+        let st = &self.states;
         for (row, &s) in self.stages.iter_mut().zip(st.iter()) {
             row.count(s);
         }
@@ -425,6 +453,109 @@ impl<'f> Pipeline<'f> {
             self.skip_idle(now)?;
         }
         Ok(())
+    }
+
+    /// Evaluates stage `stage` (an `S_*` row) for cycle `now`. `wires` carries the two
+    /// same-cycle signals of the record stage (docs/architecture.md §4): whether it took the
+    /// write FIFO's port (the check stage may not then) and that it has freed its ray slots
+    /// (the transform may take them in the same cycle); a stage that reads one before the
+    /// record stage has been evaluated is an error, not a silent different result.
+    #[inline(always)]
+    fn eval_stage(
+        &mut self,
+        stage: usize,
+        now: u64,
+        wires: &mut Wires,
+    ) -> Result<StageState, CycleError> {
+        let (f, c, m) = (&mut self.fifos, &mut self.counts, &mut *self.machine);
+        let record_first = |what: &str| {
+            if wires.record_done {
+                Ok(())
+            } else {
+                Err(CycleError::Internal(format!(
+                    "{what} evaluated before the record stage in a cycle"
+                )))
+            }
+        };
+        Ok(match stage {
+            S_WRITE => self
+                .write
+                .eval(&mut f.rc_wr, &mut m.bram, self.log, c, now)?,
+            S_RECORD => {
+                let (state, took) = self.record.eval(
+                    &mut f.wk_rc,
+                    &mut f.loop_back,
+                    &mut f.rc_wr,
+                    &mut self.slots,
+                    &mut self.frame,
+                    c,
+                    wires.walked,
+                    now,
+                )?;
+                wires.took_write_port = took;
+                wires.record_done = true;
+                state
+            }
+            S_WALK => self.walkers.eval(
+                &mut f.rt_dp,
+                &mut f.wk_rc,
+                &mut m.pool,
+                &mut m.mem,
+                &mut self.slots,
+                &mut self.frame,
+                wires.more_walks,
+                now,
+            )?,
+            S_ROOT => self
+                .root
+                .eval(&mut f.rc_rt, &mut f.rt_dp, wires.more_walks, now)?,
+            S_RECIP => self
+                .recip
+                .eval(&mut f.tr_rc, &mut f.rc_rt, wires.more_walks, now)?,
+            S_TRANSFORM => {
+                record_first("the transform")?;
+                if self.hold.is_some() {
+                    StageState::Starved
+                } else {
+                    self.transform.eval(
+                        &mut f.loop_back,
+                        &mut f.ck_tr,
+                        &mut f.tr_rc,
+                        &mut self.slots,
+                        &self.frame,
+                        wires.more_walks,
+                        now,
+                    )?
+                }
+            }
+            S_CHECK => {
+                record_first("the check stage")?;
+                self.check.eval(
+                    &mut f.so_ck,
+                    &mut f.ck_tr,
+                    &mut f.rc_wr,
+                    wires.took_write_port,
+                    &mut m.bram,
+                    &mut self.frame,
+                    c,
+                    wires.upstream_more[2],
+                    now,
+                )?
+            }
+            S_SORTER => self.sorter.eval(
+                &mut f.sp_so,
+                &mut f.so_ck,
+                &mut self.frame,
+                c,
+                wires.upstream_more[1],
+                now,
+            )?,
+            S_SPHERE => {
+                self.sphere
+                    .eval(&mut f.rg_sp, &mut f.sp_so, c, wires.upstream_more[0], now)?
+            }
+            _ => self.raygen.eval(&mut f.rg_sp, &mut self.frame, c, now)?,
+        })
     }
 
     /// What changes whenever anything moves: every FIFO's pushes and pops, the pixel counter

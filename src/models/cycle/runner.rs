@@ -8,6 +8,7 @@ use super::model::{CycleError, CycleModel, CycleOptions};
 use super::stats::{CycleFrame, OpCounts};
 use crate::models::fixed::plan::FramePlan;
 use crate::models::fixed::row_feed::RowFeed;
+use crate::models::fixed::trace::RowTrace;
 use crate::models::fixed::{render_streamed, FixedBuffer, FixedError, FixedStats};
 use crate::models::reference::FrameInput;
 use crate::world::assets::Asset;
@@ -150,5 +151,41 @@ impl CycleRun {
             cycles,
             wall_s: start.elapsed().as_secs_f64(),
         })
+    }
+
+    /// A test hook (tests/cycle_checks.rs): runs one frame as [`CycleRun::frame`] does, but the
+    /// functional model renders the whole frame first and `corrupt` may change each row of its
+    /// trace (row index, row) before the cycle model reads it — so the tests can show that the
+    /// cycle model's checks against the trace fail, and with which message.
+    #[doc(hidden)]
+    pub fn frame_with_corrupt_trace(
+        &mut self,
+        input: &FrameInput<'_>,
+        dp: &DatapathConfig,
+        use_hit_buffer: bool,
+        corrupt: &mut dyn FnMut(usize, &mut RowTrace),
+    ) -> Result<CycleFrame, CycleRunError> {
+        let mut host_ov = overflow_table();
+        let plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?;
+        let (w, h) = (self.buffer.width, self.buffer.height);
+        let rendered = RowFeed::new(h as usize);
+        let FixedBuffer {
+            records, dir_table, ..
+        } = &mut self.buffer;
+        let dir: &[[i64; 3]] = dir_table;
+        render_streamed(&plan, dir, records, (w, h), &rendered);
+        let feed = RowFeed::new(h as usize);
+        for j in 0..h as usize {
+            let mut row = rendered.get(j).cloned().ok_or_else(|| {
+                CycleError::Internal(format!("row {j} of the functional model is missing"))
+            })?;
+            corrupt(j, &mut row);
+            feed.publish(j, row)
+                .map_err(|e| CycleError::Internal(e.to_string()))?;
+        }
+        feed.close();
+        Ok(self
+            .model
+            .run_frame(&plan, &feed, dir, &self.instance_asset)?)
     }
 }

@@ -44,7 +44,7 @@ impl Check {
 
     /// One cycle: the ready ray is decided and leaves into `to_walk` or `to_write` (unless
     /// the record stage `took_write_port` this cycle); the next ray enters from `input` and
-    /// reads `bram`.
+    /// reads `bram`. `upstream_more`: the sorter had rays still to pass as the cycle started.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn eval(
@@ -56,6 +56,7 @@ impl Check {
         bram: &mut Bram<u128>,
         frame: &mut FrameInputs<'_>,
         counts: &mut FrameCounts,
+        upstream_more: bool,
         now: u64,
     ) -> Result<StageState, CycleError> {
         let mut blocked = false;
@@ -119,8 +120,6 @@ impl Check {
                 self.pipe.accept(now, (ray, word), 1, 0);
             }
         }
-        Ok(self
-            .pipe
-            .state(now, blocked, counts.passed[2] < counts.pixels))
+        Ok(self.pipe.state(now, blocked, upstream_more))
     }
 }

@@ -41,6 +41,7 @@ impl Record {
     /// One cycle: the packed record leaves into `out` (the write FIFO's port is the record
     /// stage's first), then one walk result from `input` is decided. Returns the stage's
     /// state and whether it took the write FIFO's port this cycle (the check stage may not).
+    /// `walked`: a ray had entered the walk section as the cycle started.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn eval(
@@ -51,6 +52,7 @@ impl Record {
         slots: &mut RaySlots,
         frame: &mut FrameInputs<'_>,
         counts: &mut FrameCounts,
+        walked: bool,
         now: u64,
     ) -> Result<(StageState, bool), CycleError> {
         let mut pushed = false;
@@ -61,7 +63,7 @@ impl Record {
                 pushed = true;
             }
         }
-        let mut state = self.pack.state(now, !pushed, counts.walks_entered > 0);
+        let mut state = self.pack.state(now, !pushed, walked);
         if input.valid() && self.pack.can_accept(now) {
             if let Some(wk) = input.try_pop().map_err(internal)? {
                 self.decide(wk, loop_back, slots, frame, counts, now)?;

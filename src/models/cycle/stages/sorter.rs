@@ -60,6 +60,7 @@ impl Sorter {
     }
 
     /// One cycle: the ready ray leaves into `out`, the next one enters from `input`.
+    /// `upstream_more`: the sphere stage had rays still to pass as the cycle started.
     #[inline]
     pub fn eval(
         &mut self,
@@ -67,6 +68,7 @@ impl Sorter {
         out: &mut Fifo<Ray>,
         frame: &mut FrameInputs<'_>,
         counts: &mut FrameCounts,
+        upstream_more: bool,
         now: u64,
     ) -> Result<StageState, CycleError> {
         let pushed = hand_on(&mut self.pipe, id::SORTER, out, now)?;
@@ -101,8 +103,6 @@ impl Sorter {
                 self.pipe.accept(now, ray, passes, extra);
             }
         }
-        Ok(self
-            .pipe
-            .state(now, !pushed, counts.passed[1] < counts.pixels))
+        Ok(self.pipe.state(now, !pushed, upstream_more))
     }
 }

@@ -53,12 +53,15 @@ impl Sphere {
     }
 
     /// One cycle: the ready ray leaves into `out`, the next one enters from `input`.
+    /// `upstream_more`: ray generation had rays still to pass as the cycle started (starved,
+    /// not idle, while it waits).
     #[inline]
     pub fn eval(
         &mut self,
         input: &mut Fifo<Ray>,
         out: &mut Fifo<Ray>,
         counts: &mut FrameCounts,
+        upstream_more: bool,
         now: u64,
     ) -> Result<StageState, CycleError> {
         let pushed = hand_on(&mut self.pipe, id::SPHERE, out, now)?;
@@ -73,8 +76,6 @@ impl Sphere {
                 self.pipe.accept(now, ray, passes, extra);
             }
         }
-        Ok(self
-            .pipe
-            .state(now, !pushed, counts.passed[0] < counts.pixels))
+        Ok(self.pipe.state(now, !pushed, upstream_more))
     }
 }

@@ -10,7 +10,7 @@
 
 use super::{id, internal, FrameInputs, RaySlots, Walk};
 use crate::models::cycle::model::CycleError;
-use crate::models::fixed::trace::OpRecorder;
+use crate::models::fixed::trace::{OpRecorder, WalkOp};
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::memory::NodeMemory;
@@ -132,10 +132,22 @@ impl Walkers {
                 _ => None,
             };
             if mine != ops || hit_t != tw.hit_t {
+                // Name the first op that differs, so the message says what disagreed.
+                let first = (0..mine.len().max(ops.len()))
+                    .find(|&n| mine.get(n) != ops.get(n))
+                    .map(|n| {
+                        let op = |w: Option<&u64>| w.map(|&w| WalkOp::unpack(w));
+                        format!(
+                            "; op {n}: {:?} here, {:?} in the functional model",
+                            op(mine.get(n)),
+                            op(ops.get(n))
+                        )
+                    })
+                    .unwrap_or_default();
                 return Err(frame.mismatch(
                     s.pixel,
                     format!(
-                        "walk {cand} (instance {k}) differs: {} ops / t {:?} here, {} ops / t {:?} in the functional model",
+                        "walk {cand} (instance {k}) differs: {} ops / t {:?} here, {} ops / t {:?} in the functional model{first}",
                         mine.len(),
                         hit_t,
                         ops.len(),
