@@ -183,11 +183,15 @@ fn beyond_reach_along_a_diagonal_is_never_silently_rejected() {
         ];
         let r = rng.f(0.5, 3.0);
         let k = 3f64.sqrt().recip();
+        // The spread of ±0.02 keeps every origin in range for every seed: the largest
+        // component of the normalised direction is at most (k + 0.02) / |(k + 0.02, k − 0.02,
+        // k − 0.02)| < 0.604, so |c − o| ≤ 205 · 0.604 + 3 < 127 on each axis (±0.03 reached
+        // 129.6 and failed the precondition below for seeds 1 and 2).
         let d = {
             let v = [
-                k + rng.f(-0.03, 0.03),
-                k + rng.f(-0.03, 0.03),
-                k + rng.f(-0.03, 0.03),
+                k + rng.f(-0.02, 0.02),
+                k + rng.f(-0.02, 0.02),
+                k + rng.f(-0.02, 0.02),
             ];
             let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
             v.map(|x| x / n)
@@ -198,7 +202,10 @@ fn beyond_reach_along_a_diagonal_is_never_silently_rejected() {
         let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt().max(1e-9);
         p = p.map(|x| x / n * r * (1.0 - 1e-9));
         let o = [0, 1, 2].map(|i| c[i] + p[i] - d[i] * 205.0);
-        assert!((0..3).all(|i| (c[i] - o[i]).abs() < 128.0));
+        assert!(
+            (0..3).all(|i| (c[i] - o[i]).abs() < 128.0),
+            "case {case}: the generator left the origin's range"
+        );
         let q = |v: [f64; 3], f, ov: &mut Overflows| v.map(|x| from_f64(x, f, ov, SignalId(0)));
         let (oq, dq, cq) = (
             q(o, cfg.pos, &mut ov),
