@@ -387,7 +387,7 @@ impl<'f> Pipeline<'f> {
 
     /// One clock: every stage evaluated, consumers first (or in the order the test hook
     /// [`Pipeline::with_order`] asked for), then the edge; then, if nothing moved in it, the idle
-    /// cycles that follow are taken at once ([`Pipeline::skip_idle`]).
+    /// cycles that follow are taken at once (`Pipeline::skip_idle`).
     pub fn step(&mut self) -> Result<(), CycleError> {
         let now = self.machine.clock.now();
         // Sampled timing's hold on the transform ends on registered state only (the walk

@@ -151,7 +151,7 @@ impl PipelineWaves {
     }
 
     /// Samples cycle `now` (see the module doc). Errors are kept and reported by
-    /// [`write`](Self::write), so a waveform problem never stops the simulation midway.
+    /// [`write_to`](Self::write_to), so a waveform problem never stops the simulation midway.
     #[allow(clippy::too_many_arguments)]
     pub fn sample(
         &mut self,

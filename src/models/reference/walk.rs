@@ -252,7 +252,7 @@ const STACK_FRAMES: usize = MAX_DEPTH as usize + 1;
 
 /// A walk's stack, kept between walks: a walk writes only the frames it uses, so a caller
 /// that traces many rays (`sim render`, one per worker row) does not clear
-/// [`STACK_FRAMES`] frames (about 2 KB) for every ray.
+/// `STACK_FRAMES` frames (about 2 KB) for every ray.
 pub struct WalkStack<N> {
     frames: Vec<Frame<N>>,
 }

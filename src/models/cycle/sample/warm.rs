@@ -13,7 +13,7 @@ use rtl_model::svo::FetchKind;
 /// The cap of the detailed warming, in multiples of its minimum rows.
 pub const WARM_CAP_FACTOR: u32 = 8;
 
-/// How far the detailed warming around a timed band reaches ([`SampleConfig::warming_for`]).
+/// How far the detailed warming around a timed band reaches ([`SampleConfig::warming_for`](super::SampleConfig::warming_for)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Warming {
     /// Rows at least.
