@@ -44,7 +44,7 @@ fn conservative_and_within_bound() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(0x5fe7e);
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let cfg = SphereConfig::default();
     cfg.validate().unwrap();
     let mut ov = Overflows::new(&["in", "tca", "sq", "t_enter", "reach"]);
@@ -136,7 +136,7 @@ fn beyond_reach_along_a_diagonal_is_never_silently_rejected() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(0xd1a9);
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let cfg = SphereConfig::default();
     let mut ov = Overflows::new(&["in", "tca", "sq", "t_enter", "reach"]);
     let sig = SphereSignals {

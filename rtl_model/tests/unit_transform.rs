@@ -44,7 +44,7 @@ fn rotation(q: [f64; 4]) -> [[f64; 3]; 3] {
 fn transform_within_bounds() {
     let seed = seed();
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let cfg = TransformConfig::default();
     cfg.validate().unwrap();
     let mut ov = Overflows::new(&["in", "origin", "dir"]);

@@ -8,6 +8,7 @@
 use super::report::{AssetReport, FrameReport, Summary};
 use crate::models::cycle::CycleFrame;
 use crate::models::reference::FrameStats;
+use crate::run::Model;
 use crate::run::RunConfig;
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -80,7 +81,7 @@ pub fn frame_lines(f: &FrameReport, frames: u32, clock_mhz: u32) -> String {
             sm.cycles_estimate,
             sm.cycles_low,
             sm.cycles_high,
-            f64::from(clock_mhz) * 1e6 / sm.cycles_estimate.max(1.0),
+            f.cycle.as_ref().map_or(0.0, |c| c.fps_at_clock),
             sm.fps_low,
             sm.fps_high
         );
@@ -256,11 +257,39 @@ pub fn summary(s: &Summary) -> String {
     t
 }
 
+/// The PNG line: what was written into `dir`, counted and named — `frame_NNNN.png` per frame,
+/// and for the fixed and cycle models also `diff_NNNN.png` (where the model differs from the
+/// reference) per frame.
+fn written_pngs(model: Model, frames: u32, dir: &std::path::Path) -> String {
+    let last = frames.saturating_sub(1);
+    let range = |kind: &str| {
+        if frames == 1 {
+            format!("{kind}_0000.png")
+        } else {
+            format!("{kind}_0000.png … {kind}_{last:04}.png")
+        }
+    };
+    match model {
+        Model::Reference => format!(
+            "wrote {frames} PNGs to {}: {} (the frames)",
+            dir.display(),
+            range("frame")
+        ),
+        Model::Fixed | Model::Cycle => format!(
+            "wrote {} PNGs to {}: {} (the frames) and {} (where the model differs from the reference)",
+            2 * u64::from(frames),
+            dir.display(),
+            range("frame"),
+            range("diff")
+        ),
+    }
+}
+
 /// What the run wrote, one `wrote …` line each.
 pub fn written(cfg: &RunConfig, frames: u32) -> String {
     let mut lines = Vec::new();
     if let Some(dir) = &cfg.out_dir {
-        lines.push(format!("wrote {} PNGs to {}", frames, dir.display()));
+        lines.push(written_pngs(cfg.model, frames, dir));
     }
     if let Some(v) = &cfg.vcd {
         lines.push(format!("wrote waveforms {}", v.path.display()));
