@@ -116,14 +116,29 @@ fn a_sampled_run_prints_one_frame_rate() {
     let json = dir.join("r.json");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_sim"))
         .args([
-            "--sample", "0.25", "--width", "160", "--height", "96", "--frames", "3", "--depth",
-            "7", "--no-png", "-q", "--report-json",
+            "--sample",
+            "0.25",
+            "--width",
+            "160",
+            "--height",
+            "96",
+            "--frames",
+            "3",
+            "--depth",
+            "7",
+            "--no-png",
+            "-q",
+            "--report-json",
         ])
         .arg(&json)
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let sampled = fps_on(&stdout, "cycle model, SAMPLED timing");
     let summary = fps_on(&stdout, "cycle model: ");
     println!("SAMPLED line {sampled} fps, summary line {summary} fps");

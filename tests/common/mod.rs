@@ -16,6 +16,8 @@ pub mod skip;
 pub mod traversal;
 pub mod vox;
 
+// Not every test binary reaches the shared models.
+#[allow(unused_imports)]
 pub use skip::shared_vox_dir;
 
 use proptest::test_runner::{Config, RngAlgorithm, TestRng};
