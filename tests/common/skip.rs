@@ -63,11 +63,25 @@ pub fn on_path(name: &str) -> Option<PathBuf> {
 /// Whether every tool of `tools` is on the `PATH`; when not, [`missing`] names the first
 /// missing one and the Debian package that brings it.
 pub fn tools(tools: &[&str], package: &str) -> bool {
+    tools_check(None, tools, package)
+}
+
+/// [`tools`] for a test that skips only `part` of itself without them (it runs the rest).
+pub fn tools_for(part: &str, tools: &[&str], package: &str) -> bool {
+    tools_check(Some(part), tools, package)
+}
+
+fn tools_check(part: Option<&str>, tools: &[&str], package: &str) -> bool {
     match tools.iter().find(|t| on_path(t).is_none()) {
         None => true,
         Some(t) => {
+            let what = format!("`{t}` not found on PATH");
+            let reason = match part {
+                Some(p) => format!("{p} skipped (the rest ran): {what}"),
+                None => what,
+            };
             missing(
-                &format!("`{t}` not found on PATH"),
+                &reason,
                 &format!("apt-get install {package}; .ci/run installs it"),
             );
             false
@@ -105,6 +119,23 @@ pub fn shared_vox_dir() -> Option<PathBuf> {
     }
     missing(
         &format!("the shared .vox models are missing at {}", dir.display()),
+        SHARED_HOW,
+    );
+    None
+}
+
+/// [`shared_vox_dir`] for a test that runs without the models but skips `part` of itself:
+/// the `SKIPPED` line says which part did not run.
+pub fn shared_vox_dir_for(part: &str) -> Option<PathBuf> {
+    let dir = shared_vox_path();
+    if dir.is_dir() {
+        return Some(dir);
+    }
+    missing(
+        &format!(
+            "{part} skipped (the rest ran): the shared .vox models are missing at {}",
+            dir.display()
+        ),
         SHARED_HOW,
     );
     None
