@@ -48,16 +48,16 @@ fn vox_case(t: &Tmp, file: &str, expect: &[&str]) -> String {
     expect_failure(t, &args(&["--scene", &scene]), &want)
 }
 
-/// splitmix64.
-struct Rng(u64);
+/// `rtl_model`'s splitmix64 (`rtl_model::vectors::rng::Rng`, not a copy: it only picks test
+/// inputs) with the draws this test needs.
+struct Rng(rtl_model::vectors::rng::Rng);
 
 impl Rng {
+    fn new(seed: u64) -> Self {
+        Self(rtl_model::vectors::rng::Rng::new(seed))
+    }
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     fn bytes(&mut self, n: usize) -> Vec<u8> {
@@ -83,7 +83,7 @@ fn vox_file_does_not_exist() {
 #[test]
 fn vox_file_is_random_garbage() {
     let t = Tmp::new("vox_file_is_random_garbage");
-    let mut rng = Rng(seed("vox_file_is_random_garbage"));
+    let mut rng = Rng::new(seed("vox_file_is_random_garbage"));
     let n = 64 + (rng.next() % 4096) as usize;
     t.write("garbage.vox", rng.bytes(n));
     vox_case(&t, "garbage.vox", &["not a valid"]);
@@ -92,7 +92,7 @@ fn vox_file_is_random_garbage() {
 #[test]
 fn vox_file_is_garbage_after_a_valid_header() {
     let t = Tmp::new("vox_file_is_garbage_after_a_valid_header");
-    let mut rng = Rng(seed("vox_file_is_garbage_after_a_valid_header"));
+    let mut rng = Rng::new(seed("vox_file_is_garbage_after_a_valid_header"));
     // "VOX " 150, a MAIN chunk whose children are a SIZE chunk and an XYZI chunk with a random
     // voxel count and random content.
     let len = 16 + (rng.next() % 2048) as usize;
@@ -122,20 +122,7 @@ fn vox_file_is_garbage_after_a_valid_header() {
 /// A real `.vox` file from `../shared/data/vox`, or `None` (skipped) when the folder is missing
 /// outside CI; with `CI=true` a missing folder is a failure.
 fn real_vox() -> Option<PathBuf> {
-    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/vox"));
-    if !dir.is_dir() {
-        if std::env::var("CI").as_deref() == Ok("true") {
-            panic!(
-                "the .vox sample folder {} is missing (CI=true, so this is a failure)",
-                dir.display()
-            );
-        }
-        eprintln!(
-            "skipping the truncated-.vox case: the sample folder {} is missing",
-            dir.display()
-        );
-        return None;
-    }
+    let dir = common::shared_vox_dir()?;
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .flatten()

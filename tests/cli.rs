@@ -173,6 +173,49 @@ fn help_lists_the_options() {
     }
 }
 
+/// `--help` opens with what the command does by default: the cycle model, not the reference
+/// (it said "with the f64 reference" while the default model was the cycle model).
+#[test]
+fn help_says_the_default_model_is_the_cycle_model() {
+    let t = Tmp::new("help_says_the_default_model");
+    let r = run_ok(&["--help"], &t.dir);
+    let first = r.stdout.lines().next().unwrap_or("");
+    assert!(
+        first.contains("cycle-accurate model") && !first.contains("with the f64 reference"),
+        "--help's first line: {first}"
+    );
+}
+
+/// The `wrote … PNGs` line counts and names every PNG the run wrote: with the cycle model
+/// `frame_NNNN.png` and `diff_NNNN.png` per frame (it said "wrote 2 PNGs" for 4 files), with
+/// the reference only the frames.
+#[test]
+fn the_png_line_counts_and_names_what_was_written() {
+    for (model, per_frame, names) in [
+        ("cycle", 2, "frame_0000.png … frame_0001.png (the frames) and diff_0000.png … diff_0001.png (where the model differs from the reference)"),
+        ("reference", 1, "frame_0000.png … frame_0001.png (the frames)"),
+    ] {
+        let t = Tmp::new(&format!("png_line_{model}"));
+        let out = t.dir.join("out");
+        let out_s = out.display().to_string();
+        let r = run_ok(
+            &[
+                "--model", model, "--width", "16", "--height", "8", "--frames", "2", "--depth",
+                "4", "-q", "--out", &out_s,
+            ],
+            &t.dir,
+        );
+        let files = std::fs::read_dir(&out).expect("the PNG folder").count();
+        assert_eq!(files, 2 * per_frame, "{model}: files in {out_s}");
+        let want = format!("wrote {files} PNGs to {out_s}: {names}");
+        assert!(
+            r.stdout.lines().any(|l| l == want),
+            "{model}: no line {want:?} in:\n{}",
+            r.stdout
+        );
+    }
+}
+
 #[test]
 fn tiny_default_run_writes_everything() {
     let t = Tmp::new("tiny_default_run_writes_everything");

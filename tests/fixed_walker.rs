@@ -27,14 +27,15 @@ fn seed() -> u64 {
         .unwrap_or(0xf1_0a7)
 }
 
-struct Rng(u64);
+/// `rtl_model`'s splitmix64 (`rtl_model::vectors::rng::Rng`, not a copy: it only picks the
+/// test rays) with the draws this test needs.
+struct Rng(rtl_model::vectors::rng::Rng);
 impl Rng {
+    fn new(seed: u64) -> Self {
+        Self(rtl_model::vectors::rng::Rng::new(seed))
+    }
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     fn f(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
@@ -165,7 +166,7 @@ fn random_dir(rng: &mut Rng, case: usize) -> DVec3 {
 fn fixed_walker_follows_the_reference_within_its_bound() {
     let seed = seed();
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let cfg = config();
     cfg.validate().unwrap();
     let assets = assets();

@@ -22,7 +22,7 @@ const MAX_PEAK_RSS: u64 = 2 << 30;
 fn twenty_thousand_mutated_inputs_end_in_a_result_or_an_error() {
     let seed = common::test_seed();
     println!("seed {seed} (SVO_TEST_SEED)");
-    let vox_dir = common::shared_vox_dir();
+    let vox_dir = common::skip::shared_vox_dir_for("the .vox seed corpus");
     let s = fuzz(&FuzzCommand {
         targets: Vec::new(),
         inputs: INPUTS_PER_TARGET,

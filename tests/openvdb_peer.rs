@@ -15,8 +15,8 @@
 //!
 //! The peer is built once with g++ against Debian's libopenvdb-dev 10 (plus libboost-dev and
 //! libtbb-dev, which it pulls in) into Cargo's test temp folder, keyed by its source. Without
-//! g++ or the OpenVDB headers, or without `../shared/data/vox`, the test prints why and
-//! skips; under `CI=true` it fails instead. The Mrays/s it prints are indicative only (small
+//! g++ or the OpenVDB headers, or without `../shared/data/vox`, the test skips with a `SKIPPED`
+//! line (tests/common/skip.rs); under `CI=true` it fails instead. The Mrays/s it prints are indicative only (small
 //! images, the test profile); `docs/render.md` §7 gives the benchmark command.
 
 use std::collections::hash_map::DefaultHasher;
@@ -39,25 +39,16 @@ const SLIVER: f64 = 1e-8;
 const PEER_FLAGS: &[&str] = &["-std=c++17", "-O2", "-DNDEBUG", "-ffp-contract=off"];
 const PEER_LIBS: &[&str] = &["-lopenvdb", "-ltbb", "-lpthread"];
 
-fn ci() -> bool {
-    std::env::var("CI").as_deref() == Ok("true")
-}
-
-fn skip(reason: &str) {
-    if ci() {
-        panic!("{reason}, but CI=true: the OpenVDB peer must run (.ci/run installs g++, libopenvdb-dev, libboost-dev)");
-    }
-    eprintln!("skipping: {reason}");
-}
-
-/// Builds the peer (or reuses the build of the same source) and returns its path.
+/// Builds the peer (or reuses the build of the same source) and returns its path; `None`
+/// after a visible skip (a failure under CI=true) when g++ or the OpenVDB headers are missing.
 fn build_peer() -> Option<PathBuf> {
-    if Command::new("g++").arg("--version").output().is_err() {
-        skip("g++ not found");
-        return None;
-    }
-    if !Path::new("/usr/include/openvdb/openvdb.h").exists() {
-        skip("OpenVDB headers not found at /usr/include/openvdb (apt-get install libopenvdb-dev libboost-dev)");
+    if !common::skip::tools(&["g++"], "g++")
+        || !common::skip::header(
+            "/usr/include/openvdb/openvdb.h",
+            "libopenvdb-dev libboost-dev",
+        )
+        || !common::skip::header("/usr/include/boost/version.hpp", "libboost-dev")
+    {
         return None;
     }
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/openvdb_peer/peer.cpp");

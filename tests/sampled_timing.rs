@@ -159,3 +159,66 @@ fn every_band_timed_is_the_full_run() {
     assert!(SampleConfig::from_rate(1.01, 2, None, 0).is_err());
     assert!(SampleConfig::from_rate(0.0, 2, None, 0).is_err());
 }
+
+/// The figure after `= ` and before ` fps` on the line starting with `prefix`.
+fn fps_on(stdout: &str, prefix: &str) -> String {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with(prefix))
+        .unwrap_or_else(|| panic!("no line starting with {prefix:?} in:\n{stdout}"));
+    let after = line.split_once(" = ").expect("` = ` on the line").1;
+    after.split(' ').next().expect("a figure").to_string()
+}
+
+/// A sampled run states one frame rate: its SAMPLED summary line and its cycle summary line
+/// print the same cycles and fps, and the report's `summary.fps_at_clock` is
+/// `summary.sampled.fps` (they were two computations, one over the frames' rounded
+/// cycles and one over the unrounded estimates, and printed e.g. 2346.1 and 2346.2 fps).
+#[test]
+fn a_sampled_run_prints_one_frame_rate() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("sampled_one_rate_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("r.json");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_sim"))
+        .args([
+            "--sample",
+            "0.25",
+            "--width",
+            "160",
+            "--height",
+            "96",
+            "--frames",
+            "3",
+            "--depth",
+            "7",
+            "--no-png",
+            "-q",
+            "--report-json",
+        ])
+        .arg(&json)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let sampled = fps_on(&stdout, "cycle model, SAMPLED timing");
+    let summary = fps_on(&stdout, "cycle model: ");
+    println!("SAMPLED line {sampled} fps, summary line {summary} fps");
+    assert_eq!(sampled, summary, "{stdout}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let c = &r["summary"];
+    let fps = c["fps_at_clock"].as_f64().expect("summary.fps_at_clock");
+    let cycles = c["cycles"].as_u64().expect("summary.cycles");
+    assert_eq!(Some(fps), c["sampled"]["fps"].as_f64(), "{c}");
+    assert_eq!(
+        Some(cycles as f64),
+        c["sampled"]["cycles_estimate"].as_f64(),
+        "{c}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

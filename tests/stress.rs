@@ -216,3 +216,79 @@ fn coincident_instances_go_to_the_lower_id_in_both_models() {
         }
     }
 }
+
+/// The Markdown table of docs/stability.md §2: the first block of `|` lines after its heading.
+fn documented_table(doc: &str) -> Vec<&str> {
+    doc.lines()
+        .skip_while(|l| !l.starts_with("## 2."))
+        .skip_while(|l| !l.starts_with('|'))
+        .take_while(|l| l.starts_with('|'))
+        .collect()
+}
+
+/// The rows of `doc` that are not `want`'s row at the same place (by case, or by position),
+/// and any row one has and the other not.
+fn table_differences(doc: &[&str], want: &[&str]) -> Vec<String> {
+    let mut d = Vec::new();
+    for (i, (a, b)) in doc.iter().zip(want).enumerate() {
+        if a != b {
+            d.push(format!("row {i}:\n  doc:     {a}\n  command: {b}"));
+        }
+    }
+    if doc.len() != want.len() {
+        d.push(format!(
+            "the doc has {} rows, the command {}",
+            doc.len(),
+            want.len()
+        ));
+    }
+    d
+}
+
+/// docs/stability.md §2 is today's `sim stress` table, row for row: the doc names the command
+/// that regenerates it, and this test stops it drifting from the code again.
+#[test]
+fn the_documented_table_is_the_commands_output() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/stability.md"))
+        .expect("docs/stability.md");
+    let want = svo_sim::studies::stress::report::markdown(&run_cases(&[]).unwrap());
+    let want: Vec<&str> = want.lines().collect();
+    let bad = table_differences(&documented_table(&doc), &want);
+    assert!(
+        bad.is_empty(),
+        "docs/stability.md §2 differs from `sim stress` (regenerate it with \
+         `cargo run --release --bin sim -- stress | grep '^|'`):\n{}",
+        bad.join("\n")
+    );
+}
+
+/// The comparison catches one changed figure, naming its row, and a row too many.
+#[test]
+fn a_changed_figure_in_the_documented_table_is_caught() {
+    let doc =
+        "# x\n## 2. The table\n\n| case | a |\n|---|---|\n| `one` | 1 |\n| `two` | 2 |\n\ntext\n";
+    let table = documented_table(doc);
+    assert_eq!(table.len(), 4);
+    let want = [
+        "| case | a |",
+        "|---|---|",
+        "| `one` | 1 |",
+        "| `two` | 2 |",
+    ];
+    assert!(table_differences(&table, &want).is_empty());
+    let changed = [
+        "| case | a |",
+        "|---|---|",
+        "| `one` | 1 |",
+        "| `two` | 3 |",
+    ];
+    assert_eq!(
+        table_differences(&table, &changed),
+        ["row 3:\n  doc:     | `two` | 2 |\n  command: | `two` | 3 |"]
+    );
+    let fewer = &want[..3];
+    assert_eq!(
+        table_differences(&table, fewer),
+        ["the doc has 4 rows, the command 3"]
+    );
+}

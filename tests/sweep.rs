@@ -10,7 +10,7 @@
 
 mod common;
 use common::process::run_sim;
-use common::{shared_vox_dir, test_seed, SplitMix64};
+use common::{test_seed, SplitMix64};
 use std::path::Path;
 use std::time::Duration;
 use svo_sim::studies::sweep::configs::builtin;
@@ -276,10 +276,9 @@ fn bad_configs_are_refused_and_nothing_is_written() {
 
 #[test]
 fn coarse_datapath_has_more_error_on_the_vox_scene() {
-    if shared_vox_dir().is_none() {
+    let Some(path) = common::skip::vox_scene_path("scenes/vox_traffic.ron") else {
         return;
-    }
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vox_traffic.ron");
+    };
     let scene = Scene::load(&path).unwrap();
     let configs: Vec<_> = builtin()
         .into_iter()

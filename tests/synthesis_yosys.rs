@@ -9,8 +9,10 @@
 //! clock, 245 s before, when the sorter alone was one worker's whole run; about 1 s from the
 //! cache).
 //!
-//! Without `yosys` the test prints why and skips; with `CI=true` a missing `yosys` fails
-//! (`.ci/run` installs the Debian package yosys).
+//! Without `yosys` the test skips with a `SKIPPED` line (tests/common/skip.rs); with `CI=true`
+//! a missing `yosys` fails (`.ci/run` installs the Debian package yosys).
+
+mod common;
 
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
@@ -18,18 +20,9 @@ use std::path::Path;
 use std::time::Instant;
 use svo_sim::studies::synthesis::{self, text, SynthOptions};
 
-/// Whether Yosys can run; prints the reason when not (and fails under CI=true).
+/// Whether Yosys is on the PATH (else the test skips visibly, or fails under CI=true).
 fn yosys() -> bool {
-    match synthesis::yosys_version() {
-        Ok(_) => true,
-        Err(e) => {
-            if std::env::var("CI").as_deref() == Ok("true") {
-                panic!("{e} but CI=true: the synthesis check must run (.ci/run installs yosys)");
-            }
-            eprintln!("skipping: {e}");
-            false
-        }
-    }
+    common::skip::tools(&["yosys"], "yosys")
 }
 
 fn within(est: u64, got: u64, pct: u64) -> bool {

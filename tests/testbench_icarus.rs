@@ -8,8 +8,9 @@
 //! checked; corrupting one expected value of one row makes each testbench report exactly one
 //! failure; and `verilator --lint-only -Wall` finds nothing in `testbench/rtl/`.
 //!
-//! Without `iverilog` or `verilator` the tests print why and skip that simulator; with
-//! `CI=true` a missing one fails (`.ci/run` installs both). Verilator builds are kept in
+//! Without `iverilog` or `verilator` (with make and g++ for its builds) the tests skip that
+//! simulator with a `SKIPPED` line, as does the large walker set without the shared `.vox`
+//! models (tests/common/skip.rs); with `CI=true` a missing one fails (`.ci/run` installs them). Verilator builds are kept in
 //! `CARGO_TARGET_TMPDIR/verilator_cache` (run.sh's `SIM_CACHE`, keyed by a hash of their
 //! inputs), so the golden set and the large set of a unit share one build.
 
@@ -36,42 +37,28 @@ fn pipe_units() -> impl Iterator<Item = &'static str> {
 const SEED: &str = "20190605";
 const COUNT: &str = "10000";
 
-/// Whether `tools` all run (`-V` / `--version`); prints the reason when not, and fails under
-/// CI=true.
-fn tool_present(sim: &str, tools: &[&str], package: &str) -> bool {
-    let ok = tools.iter().all(|tool| {
-        ["-V", "--version"].iter().any(|flag| {
-            Command::new(tool)
-                .arg(flag)
-                .output()
-                .is_ok_and(|o| o.status.success() || !o.stdout.is_empty())
-        })
-    });
-    if ok {
-        return true;
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!("{tools:?} not found but CI=true: the testbenches must run in {sim} (.ci/run installs the Debian package {package})");
-    }
-    eprintln!("skipping {sim}: {tools:?} not found (install it, e.g. apt-get install {package})");
-    false
-}
-
+/// Icarus Verilog is on the PATH (else the test skips visibly, or fails under CI=true).
 fn icarus() -> bool {
-    tool_present("Icarus Verilog", &["iverilog", "vvp"], "iverilog")
+    common::skip::tools(&["iverilog", "vvp"], "iverilog")
 }
 
-fn verilator() -> bool {
-    tool_present("Verilator", &["verilator"], "verilator")
+/// Verilator can lint (else the test skips visibly, or fails under CI=true).
+fn verilator_lint() -> bool {
+    common::skip::tools(&["verilator"], "verilator")
 }
 
-/// The simulators that can run here.
+/// The simulators that can run here (a missing one skips its part of the test visibly).
 fn simulators() -> Vec<&'static str> {
     let mut v = Vec::new();
-    if icarus() {
+    if common::skip::tools_for("the Icarus Verilog runs", &["iverilog", "vvp"], "iverilog") {
         v.push("icarus");
     }
-    if verilator() {
+    if common::skip::tools_for(
+        // `--binary` builds the simulation's C++ with make and g++.
+        "the Verilator runs",
+        &["verilator", "make", "g++"],
+        "verilator make g++",
+    ) {
         v.push("verilator");
     }
     v
@@ -336,7 +323,7 @@ fn golden_set_passes() {
 /// comments in the files, each with its reason).
 #[test]
 fn verilator_lint_is_clean() {
-    if !verilator() {
+    if !verilator_lint() {
         return;
     }
     let out = Command::new("bash")
@@ -489,19 +476,20 @@ fn walker_large_sets_pass_at_the_models_cycles() {
     if !icarus() {
         return;
     }
+    // The traffic scene's assets are the shared .vox models.
+    let Some(traffic) = common::skip::vox_scene_path("scenes/vox_traffic.ron") else {
+        return;
+    };
     let t = Tmp::new("icarus_walker");
     let lats = model_mem_latencies();
     let mut sets = Vec::new();
-    for (name, scene, count) in [
-        ("car", None, COUNT),
-        ("traffic", Some("scenes/vox_traffic.ron"), "4000"),
-    ] {
+    for (name, scene, count) in [("car", None, COUNT), ("traffic", Some(&traffic), "4000")] {
         let out = t.p(name);
         let mut args = vec![
             "vectors", "--out", &out, "--count", count, "--seed", SEED, "--width", "96",
             "--height", "64",
         ];
-        let scene_path = scene.map(|s| repo().join(s).display().to_string());
+        let scene_path = scene.map(|s| s.display().to_string());
         match &scene_path {
             Some(p) => args.extend(["--scene", p.as_str()]),
             None => args.extend(["--depth", "5"]),

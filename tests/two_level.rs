@@ -367,26 +367,23 @@ fn cycle_model_with_lists_matches_flat_and_elaboration_says_why() {
 /// models: skipped with a reason when the folder is missing, a failure under `CI=true`).
 #[test]
 fn crowd_examples_load() {
-    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/vox"));
-    if !dir.is_dir() {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "the .vox folder {} is missing (CI=true, so this is a failure)",
-            dir.display()
-        );
-        eprintln!("skipping: the .vox folder {} is missing", dir.display());
-        return;
-    }
-    for n in [100usize, 1000, 10_000] {
-        let path = format!("{}/scenes/crowd_{n}.ron", env!("CARGO_MANIFEST_DIR"));
-        let scene = Scene::load(Path::new(&path)).unwrap_or_else(|e| panic!("{path}: {e}"));
+    for (n, name) in [
+        (100, "scenes/crowd_100.ron"),
+        (1000, "scenes/crowd_1000.ron"),
+        (10_000, "scenes/crowd_10000.ron"),
+    ] {
+        // The crowds' models are the shared .vox files.
+        let Some(path) = common::skip::vox_scene_path(name) else {
+            return;
+        };
+        let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(scene.file.instances.len(), n);
         // Every instance stays within the sphere unit's reach of the camera in every frame.
         let eye = glam::DVec3::from_array(scene.file.camera[0].position);
         for inst in &scene.file.instances {
             for k in &inst.keys {
                 let p = glam::DVec3::from_array(k.translation);
-                assert!((p - eye).length() < 125.0, "{path}: {} too far", inst.name);
+                assert!((p - eye).length() < 125.0, "{name}: {} too far", inst.name);
             }
         }
     }

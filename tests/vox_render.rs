@@ -86,10 +86,9 @@ fn every_model_renders() {
 
 #[test]
 fn vox_traffic_scene_renders() {
-    if common::shared_vox_dir().is_none() {
+    let Some(path) = common::skip::vox_scene_path("scenes/vox_traffic.ron") else {
         return;
-    }
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vox_traffic.ron");
+    };
     let mut scene = Scene::load(&path).unwrap();
     scene.set_resolution(96, 64).unwrap();
     scene.set_frames(4).unwrap();

@@ -73,7 +73,7 @@ fn order_within_a_cycle_does_not_matter() {
 fn random_accesses_match_a_reference_model() {
     let seed = common::seed(0xb7a3_0001);
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let depth = 64;
     let ports = 2u8;
     let mut clock = Clock::new();

@@ -48,7 +48,7 @@ impl Producer {
             assert_eq!(taken, ready, "the stage's view of the handshake");
             self.seq += u64::from(taken);
         }
-        self.lfsr = Rng(self.lfsr).next();
+        self.lfsr = Rng::new(self.lfsr).next();
     }
 }
 
@@ -82,7 +82,7 @@ impl Consumer {
             }
             None => self.busy = self.busy.saturating_sub(1),
         }
-        self.lfsr = Rng(self.lfsr).next();
+        self.lfsr = Rng::new(self.lfsr).next();
     }
 }
 
@@ -327,7 +327,7 @@ fn untracked_stamps_keep_the_latest_visit() {
     let run = |tracked: bool| {
         let mut clock = Clock::new();
         let mut f = Fifo::new(StageId(4), 3).unwrap();
-        let mut rng = Rng(s);
+        let mut rng = Rng::new(s);
         for cycle in 0..2000u64 {
             if rng.chance_percent(75) {
                 let _ = f.try_push(Stamped::with_history(cycle, tracked));

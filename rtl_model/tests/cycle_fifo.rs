@@ -59,7 +59,7 @@ struct Stimulus {
 impl Stimulus {
     fn new(seed: u64) -> Self {
         Self {
-            rng: Rng(seed),
+            rng: Rng::new(seed),
             phase: PHASES[0],
             left_in_phase: 0,
             refused: false,
@@ -148,7 +148,7 @@ impl RefFifo {
 fn run_single(seed: u64, depth: usize, n: u64) -> u64 {
     let stage = StageId(7);
     let mut stim = Stimulus::new(seed);
-    let mut order = Rng(seed ^ 0xA5A5);
+    let mut order = Rng::new(seed ^ 0xA5A5);
     let mut clock = Clock::new();
     let mut fifo: Fifo<u64> = Fifo::new(stage, depth).expect("depth is valid");
     let mut model = RefFifo::new(depth);
@@ -271,7 +271,7 @@ enum Order {
 /// reference FIFOs. With `keep`, the sink's items are returned for order comparisons.
 fn run_chain(seed: u64, depths: [usize; 3], n: u64, order: Order, keep: bool) -> ChainTrace {
     let mut stim = Stimulus::new(seed);
-    let mut perm_rng = Rng(seed ^ 0x5A5A);
+    let mut perm_rng = Rng::new(seed ^ 0x5A5A);
     let mut clock = Clock::new();
     let mut fifos: Vec<Fifo<u64>> = (0..3)
         .map(|k| Fifo::new(StageId(k as u16), depths[k]).expect("depth is valid"))

@@ -124,7 +124,7 @@ fn compare_with_reference(
 
 #[test]
 fn cache_agrees_with_reference_lru_on_random_streams() {
-    let mut rng = Rng(seed("random_streams", 0x5eed_3e30_0001));
+    let mut rng = Rng::new(seed("random_streams", 0x5eed_3e30_0001));
     // (size, ways, line): direct mapped, set associative, fully associative, small lines.
     let geometries = [
         (4096u64, 1u32, 64u32),
@@ -341,7 +341,7 @@ fn onchip_whitelist_is_the_top_levels() {
 
 #[test]
 fn cache_agrees_with_reference_lru_on_walk_traces() {
-    let mut rng = Rng(seed("walk_traces", 0x5eed_3e30_0002));
+    let mut rng = Rng::new(seed("walk_traces", 0x5eed_3e30_0002));
     let (img, set) = sphere_image(7, 60.0);
     let reads = walk_trace(&img, &set, &mut rng, 3000);
     let roots = reads.iter().filter(|r| r.0 == 0).count();

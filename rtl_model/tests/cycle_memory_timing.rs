@@ -277,7 +277,7 @@ fn onchip_banks_agree_with_a_per_cycle_queue_oracle() {
         "onchip_banks_agree_with_a_per_cycle_queue_oracle",
         0xba4c_5107,
     );
-    let mut rng = Rng(s);
+    let mut rng = Rng::new(s);
     for case in 0..40 {
         let banks = 1 + rng.below(6) as u32;
         let ports = 1 + rng.below(2) as u32;

@@ -63,7 +63,7 @@ fn random_walk(rng: &mut Rng) -> Vec<u64> {
 fn classification_matches_a_recount_every_cycle() {
     let s = seed(0x5eed_9001);
     println!("seed {s} (SVO_TEST_SEED={s} replays it)");
-    let mut rng = Rng(s);
+    let mut rng = Rng::new(s);
     for case in 0..12 {
         let cfg = PoolConfig {
             walkers: 1 + rng.below(70) as u32,

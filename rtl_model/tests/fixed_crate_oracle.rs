@@ -301,7 +301,7 @@ fn check_quantize(raw: i128, from_frac: i32, out: Format, what: &str) {
 
 #[test]
 fn quantize_matches_the_fixed_crate_for_every_default_format_and_mode() {
-    let mut rng = Rng(seed("quantize_matches_the_fixed_crate"));
+    let mut rng = Rng::new(seed("quantize_matches_the_fixed_crate"));
     let formats = default_formats();
     assert!(
         formats.len() >= 8,
@@ -350,7 +350,7 @@ fn quantize_matches_the_fixed_crate_for_every_default_format_and_mode() {
 
 #[test]
 fn products_and_sums_match_the_fixed_crate() {
-    let mut rng = Rng(seed("products_and_sums_match_the_fixed_crate") ^ 0x5555);
+    let mut rng = Rng::new(seed("products_and_sums_match_the_fixed_crate") ^ 0x5555);
     let formats = default_formats();
     let mut checked = 0u64;
     for &fa in &formats {

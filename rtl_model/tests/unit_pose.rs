@@ -49,7 +49,7 @@ fn angle_code(rng: &mut Rng) -> i64 {
 fn cordic_within_bound() {
     let seed = seed();
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let cfg = CordicConfig::default();
     cfg.validate().unwrap();
     let c = Cordic::new(&cfg);
@@ -108,7 +108,7 @@ fn euler_f64(a: [f64; 3]) -> [[f64; 3]; 3] {
 fn keyframe_angles_and_matrices_within_bounds() {
     let seed = seed() ^ 1;
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let cfg = KeyframeConfig::default();
     cfg.validate().unwrap();
     let cordic = Cordic::new(&cfg.cordic);
@@ -203,7 +203,7 @@ fn f64_mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
 fn incremental_rotation_stays_orthonormal_with_the_correction_and_drifts_without() {
     let seed = seed() ^ 2;
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let cfg = RotationConfig::default();
     cfg.validate().unwrap();
     let mut ov = Overflows::new(&["mat", "corr"]);
@@ -258,7 +258,7 @@ fn incremental_rotation_stays_orthonormal_with_the_correction_and_drifts_without
 fn one_step_squares_a_perturbation() {
     let seed = seed() ^ 3;
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let cfg = RotationConfig::default();
     let mut ov = Overflows::new(&["mat", "corr"]);
     let sig = RotationSignals {

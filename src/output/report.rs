@@ -221,7 +221,6 @@ impl CycleSummary {
             .iter()
             .map(|f| f.rays_per_cycle * f.cycles as f64)
             .sum();
-        let clock = f64::from(hw.clock_mhz) * 1e6;
         let mut bounds: std::collections::BTreeMap<&str, u32> = Default::default();
         for f in frames {
             *bounds.entry(f.bound.limit.as_str()).or_default() += 1;
@@ -234,7 +233,11 @@ impl CycleSummary {
         Self {
             clock_mhz: hw.clock_mhz,
             cycles,
-            fps_at_clock: frames.len() as f64 * clock / (cycles.max(1) as f64),
+            fps_at_clock: crate::models::cycle::stats::fps_at_clock(
+                hw.clock_mhz,
+                frames.len() as f64,
+                cycles as f64,
+            ),
             fps_at_clock_min: frames
                 .iter()
                 .map(|f| f.fps_at_clock)
@@ -248,7 +251,7 @@ impl CycleSummary {
             sampled: crate::models::cycle::sample::SampledSummary::of(
                 &frames
                     .iter()
-                    .filter_map(|f| f.sampled.as_ref())
+                    .filter_map(|f| Some((f.cycles, f.sampled.as_ref()?)))
                     .collect::<Vec<_>>(),
                 hw.clock_mhz,
             ),

@@ -83,7 +83,7 @@ pub fn frame_lines(f: &FrameReport, frames: u32, clock_mhz: u32) -> String {
             sm.cycles_estimate,
             sm.cycles_low,
             sm.cycles_high,
-            f64::from(clock_mhz) * 1e6 / sm.cycles_estimate.max(1.0),
+            f.cycle.as_ref().map_or(0.0, |c| c.fps_at_clock),
             sm.fps_low,
             sm.fps_high
         );
@@ -273,6 +273,37 @@ pub struct Destinations<'a> {
     pub report_json: Option<&'a Path>,
     /// Hit-record dump.
     pub dump_hits: Option<&'a Path>,
+    /// The model wrote `diff_NNNN.png` beside each frame (the fixed and cycle models).
+    pub diff_pngs: bool,
+}
+
+/// The PNG line: what was written into `dir`, counted and named — `frame_NNNN.png` per frame,
+/// and for the fixed and cycle models also `diff_NNNN.png` (where the model differs from the
+/// reference) per frame.
+fn written_pngs(diffs: bool, frames: u32, dir: &Path) -> String {
+    let last = frames.saturating_sub(1);
+    let range = |kind: &str| {
+        if frames == 1 {
+            format!("{kind}_0000.png")
+        } else {
+            format!("{kind}_0000.png … {kind}_{last:04}.png")
+        }
+    };
+    if !diffs {
+        format!(
+            "wrote {frames} PNGs to {}: {} (the frames)",
+            dir.display(),
+            range("frame")
+        )
+    } else {
+        format!(
+            "wrote {} PNGs to {}: {} (the frames) and {} (where the model differs from the reference)",
+            2 * u64::from(frames),
+            dir.display(),
+            range("frame"),
+            range("diff")
+        )
+    }
 }
 
 /// What the run wrote, one `wrote …` line each.
@@ -286,7 +317,7 @@ pub fn written(to: &Destinations<'_>, frames: u32) -> String {
     };
     let mut lines = Vec::new();
     if let Some(dir) = to.out_dir {
-        lines.push(format!("wrote {} PNGs to {}", frames, dir.display()));
+        lines.push(written_pngs(to.diff_pngs, frames, dir));
     }
     if let Some(p) = to.vcd {
         lines.push(format!("wrote waveforms {}", name(p)));

@@ -93,6 +93,7 @@ impl RunConfig {
             transaction_log: self.transaction_log.as_ref().map(|(p, _)| p.as_path()),
             report_json: self.report_json.as_deref(),
             dump_hits: self.dump_hits.as_deref(),
+            diff_pngs: self.model != Model::Reference,
         }
     }
 }

@@ -1,4 +1,4 @@
-//! Helpers shared by the integration tests: the run seed, a small seeded RNG, proptest
+//! Helpers shared by the integration tests: the run seed, a seeded RNG (`rtl_model`'s), proptest
 //! configuration, and construction of test assets (random voxel sets and SDF shapes voxelised
 //! through the real builder).
 //!
@@ -12,8 +12,13 @@
 pub mod bad_input;
 pub mod oracle;
 pub mod process;
+pub mod skip;
 pub mod traversal;
 pub mod vox;
+
+// Not every test binary reaches the shared models.
+#[allow(unused_imports)]
+pub use skip::shared_vox_dir;
 
 use proptest::test_runner::{Config, RngAlgorithm, TestRng};
 use rtl_model::svo::{LeafAttr, LeafSet, SvoImage};
@@ -74,39 +79,34 @@ pub fn proptest_rng(seed: u64, stream: u64) -> TestRng {
     TestRng::from_seed(RngAlgorithm::ChaCha, &bytes)
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): tiny, seedable and good enough to pick test data.
-/// Written out here so that no test depends on a `rand` version.
+/// SplitMix64 (Steele, Lea & Flood 2014) with the helpers the tests draw test data with. The
+/// generator itself is `rtl_model`'s (`rtl_model::vectors::rng::Rng`, the one behind the
+/// vectors, the crowds and the fuzzer), not a copy: it only picks test data, and no test here
+/// checks that generator, so sharing it costs no oracle its independence.
 #[derive(Clone, Debug)]
 pub struct SplitMix64 {
-    state: u64,
+    rng: rtl_model::vectors::rng::Rng,
 }
 
 impl SplitMix64 {
     /// A generator starting from `seed`.
     pub fn new(seed: u64) -> Self {
-        Self { state: seed }
+        Self {
+            rng: rtl_model::vectors::rng::Rng::new(seed),
+        }
     }
 
     /// A generator for a named sub-task, so that adding draws to one task does not shift the
-    /// numbers every other task sees.
+    /// numbers every other task sees (FNV-1a of the label mixed into the seed).
     pub fn derive(seed: u64, label: &str) -> Self {
-        // FNV-1a of the label, mixed into the seed.
-        let mut h = 0xCBF2_9CE4_8422_2325u64;
-        for b in label.bytes() {
-            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01B3);
+        Self {
+            rng: rtl_model::vectors::rng::Rng::for_stage(seed, label),
         }
-        let mut g = Self::new(seed ^ h);
-        g.next_u64();
-        g
     }
 
     /// Next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.rng.next_u64()
     }
 
     /// Uniform in [0, 1) with 53 random bits.
@@ -237,24 +237,4 @@ pub fn fmt_vec(v: [f64; 3]) -> String {
         v[1].to_bits(),
         v[2].to_bits()
     )
-}
-
-/// The shared MagicaVoxel models beside the repository, or `None` (the caller skips, with the
-/// reason printed) when they are missing outside CI. Under `CI=true` a missing folder fails.
-pub fn shared_vox_dir() -> Option<std::path::PathBuf> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/vox");
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!(
-            "the shared .vox models are missing at {} (CI=true, so this is a failure)",
-            dir.display()
-        );
-    }
-    eprintln!(
-        "skipping: the shared .vox models are missing at {}",
-        dir.display()
-    );
-    None
 }

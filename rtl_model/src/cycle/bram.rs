@@ -14,7 +14,7 @@
 //! pixel's record is read while its own update is in flight. Two writes of one address in one
 //! cycle are refused.
 
-use super::clocked::{ClockError, Commit};
+use super::clocked::Commit;
 use serde::Serialize;
 use thiserror::Error;
 
@@ -190,18 +190,6 @@ impl<T: Clone> Commit for Bram<T> {
         self.now
     }
 
-    /// A block RAM takes every edge: unused ports are idle.
-    fn check(&self, now: u64) -> Result<(), ClockError> {
-        if self.now == now {
-            Ok(())
-        } else {
-            Err(ClockError::OutOfStep {
-                part: self.now,
-                clock: now,
-            })
-        }
-    }
-
     fn commit(&mut self) {
         if self
             .reads
@@ -262,17 +250,6 @@ impl DirtyRegisters {
 impl Commit for DirtyRegisters {
     fn cycle(&self) -> u64 {
         self.now
-    }
-
-    fn check(&self, now: u64) -> Result<(), ClockError> {
-        if self.now == now {
-            Ok(())
-        } else {
-            Err(ClockError::OutOfStep {
-                part: self.now,
-                clock: now,
-            })
-        }
     }
 
     fn commit(&mut self) {

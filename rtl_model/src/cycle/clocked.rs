@@ -75,7 +75,16 @@ pub trait Commit {
     /// The cycle this part is evaluating (the number of edges it has seen).
     fn cycle(&self) -> u64;
     /// Whether the part can take the edge that ends cycle `now`: its own cycle is `now`.
-    fn check(&self, now: u64) -> Result<(), ClockError>;
+    /// Written once here for every part (a FIFO, a block RAM and a register need no
+    /// evaluation to take the edge: an undriven port or side is idle).
+    fn check(&self, now: u64) -> Result<(), ClockError> {
+        let part = self.cycle();
+        if part == now {
+            Ok(())
+        } else {
+            Err(ClockError::OutOfStep { part, clock: now })
+        }
+    }
     /// Applies this cycle's next state and advances the part's cycle. Called by
     /// [`Clock::edge`] after every part has passed [`Commit::check`]; calling it directly
     /// skips that check, and a later edge will then report the part out of step.

@@ -68,7 +68,7 @@ use std::collections::VecDeque;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use super::clocked::{ClockError, Commit, StageId, Stamped};
+use super::clocked::{Commit, StageId, Stamped};
 
 /// Deepest FIFO accepted. 65 536 entries of a 64-bit word is already about 114 BRAM36, more
 /// than any inter-stage FIFO of the pipeline needs; the bound keeps the occupancy histogram
@@ -422,18 +422,6 @@ pub fn forward<T>(from: &mut Fifo<T>, to: &mut Fifo<T>) -> Result<bool, FifoErro
 impl<T> Commit for Fifo<T> {
     fn cycle(&self) -> u64 {
         self.now
-    }
-
-    /// A FIFO needs no evaluation to take the edge: an undriven side has its signal low.
-    fn check(&self, now: u64) -> Result<(), ClockError> {
-        if self.now == now {
-            Ok(())
-        } else {
-            Err(ClockError::OutOfStep {
-                part: self.now,
-                clock: now,
-            })
-        }
     }
 
     fn commit(&mut self) {

@@ -1,4 +1,4 @@
-//! Helpers shared by `rtl_model`'s integration tests: the run seed and a small seeded RNG.
+//! Helpers shared by `rtl_model`'s integration tests: the run seed and a seeded RNG (the crate's).
 //! Every random test prints its seed; `SVO_TEST_SEED` (decimal) replays a run.
 
 // Each test binary uses a different subset.
@@ -19,17 +19,21 @@ pub fn printed_seed(test: &str, default: u64) -> u64 {
     s
 }
 
-/// splitmix64: small, fast, and every seed (0 included) gives a full-period stream.
-pub struct Rng(pub u64);
+/// splitmix64 with the helpers the tests draw stimulus with. The generator is the crate's own
+/// (`rtl_model::vectors::rng::Rng`, behind the HDL vectors), not a copy: it only picks test
+/// inputs, and no test here checks that generator, so sharing it costs no oracle its
+/// independence.
+pub struct Rng(rtl_model::vectors::rng::Rng);
 
 impl Rng {
+    /// A generator starting from `seed`.
+    pub fn new(seed: u64) -> Self {
+        Self(rtl_model::vectors::rng::Rng::new(seed))
+    }
+
     /// The next 64 random bits.
     pub fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in 0..n (n > 0; the modulo bias is irrelevant for tests).

@@ -75,7 +75,7 @@ fn from_f64_random_moderate() {
     let t0 = Instant::now();
     let seed = seed();
     println!("from_f64_random_moderate: seed {seed:#x}");
-    let mut rng = Rng(seed ^ 0x00f6_4a0d);
+    let mut rng = Rng::new(seed ^ 0x00f6_4a0d);
     let mut ck = Checker::new();
     for _ in 0..6_000 {
         let mant = rng.next() >> 11; // 53 bits
@@ -94,7 +94,7 @@ fn from_f64_random_full_range() {
     let t0 = Instant::now();
     let seed = seed();
     println!("from_f64_random_full_range: seed {seed:#x}");
-    let mut rng = Rng(seed ^ 0xf_0111);
+    let mut rng = Rng::new(seed ^ 0xf_0111);
     let mut ck = Checker::new();
     let mut n = 0;
     while n < 6_000 {
@@ -114,7 +114,7 @@ fn from_f64_random_subnormal() {
     let t0 = Instant::now();
     let seed = seed();
     println!("from_f64_random_subnormal: seed {seed:#x}");
-    let mut rng = Rng(seed ^ 0x5ab_0000);
+    let mut rng = Rng::new(seed ^ 0x5ab_0000);
     let mut ck = Checker::new();
     for i in 0..3_000u64 {
         let bits = match i % 3 {

@@ -2,7 +2,7 @@
 //! and passes back with `--hw`) with its resource estimate against the part; the text is
 //! `svo_sim::output::config_text`. With `--synth` it also synthesises the RTL units with Yosys
 //! (`svo_sim::studies::synthesis`) and prints them beside the estimate, with the logic levels
-//! and the clock verdict.
+//! and the clock verdict; a line per unit as it starts and finishes goes to stderr.
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -63,7 +63,10 @@ pub fn hardware_command(a: HardwareArgs) -> Result<()> {
     );
     o.units = a.units;
     o.jobs = a.jobs;
-    let units = synthesis::synthesise(&o).context("sim hardware --synth")?;
+    // A line per unit as it starts and finishes, on stderr: the whole run takes minutes.
+    let units =
+        synthesis::synthesise_with_progress(&o, &|p| eprintln!("{}", text::progress_line(p)))
+            .context("sim hardware --synth")?;
     print!(
         "{}",
         text::synthesis_text(&hw, &dp, &units, &o.rule, hw.clock_mhz)

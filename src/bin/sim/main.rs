@@ -29,10 +29,14 @@ use svo_sim::output::interrupt::{self, Interrupted};
     name = "sim",
     version,
     about = "Model of an FPGA ray-tracing pipeline for animated sparse voxel octrees (Espe et al. 2019)",
-    long_about = "Renders a scene of animated SVOs with the f64 reference of the paper's method \
-(bounding spheres, front-to-back sort with early termination, inverse ray transforms, Revelles \
-octree walk, hit buffer). Without --scene it runs the embedded animated car.\n\n\
-Prints one line per frame and a summary; writes frame_NNNN.png into --out, and optionally a \
+    long_about = "Runs a scene of animated SVOs through the cycle-accurate model of the \
+pipeline (the default; --model fixed for the bit-exact fixed-point datapath alone, --model \
+reference for the f64 reference of the paper's method: bounding spheres, front-to-back sort \
+with early termination, inverse ray transforms, Revelles octree walk, hit buffer). The fixed \
+and cycle models are compared with the reference every frame. Without --scene it runs the \
+embedded animated car.\n\n\
+Prints one line per frame and a summary; writes frame_NNNN.png into --out (and, for the fixed \
+and cycle models, diff_NNNN.png: where the model differs from the reference), and optionally a \
 JSON report (--report-json) and every pixel's hit record (--dump-hits). See docs/ for formats."
 )]
 struct Cli {
@@ -44,14 +48,16 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Measure the reference's speed (rays/s) with and without the hit buffer; asset build
-    /// time is reported separately and excluded.
+    /// Measure simulator speed: the reference's rays/s with and without the hit buffer (asset
+    /// build time excluded); with --model fixed or cycle, that model against the reference,
+    /// with --scaling, --sample and --sample-validate for the cycle model.
     Bench(bench::BenchArgs),
     /// Print a datapath configuration (RON, the input format of --datapath; the default
     /// unless --datapath is given), each unit's DSP48E2 count and every named error bound.
     Datapath(datapath::DatapathArgs),
     /// Print a hardware configuration of the cycle model (RON, the input format of --hw; the
-    /// default unless --hw is given) and its resource estimate against the part.
+    /// default unless --hw is given) and its resource estimate against the part; with
+    /// --synth, also synthesise the RTL units with Yosys and print them beside the estimate.
     Hardware(hardware::HardwareArgs),
     /// Error over animation run time: fixed-point pose paths over a long animation
     /// (docs/drift.md); writes drift.csv, drift.json and drift.png.

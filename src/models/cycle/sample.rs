@@ -25,6 +25,7 @@
 
 use super::model::CycleError;
 use super::stages::internal;
+use super::stats::fps_at_clock;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::vectors::rng::Rng;
 use serde::Serialize;
@@ -375,7 +376,6 @@ impl Sampler {
             .map(|b| z(work.get(b).copied().unwrap_or(0.0)))
             .collect();
         let est = Estimate::regression(certain, &ys, &zs, &middle);
-        let clock = f64::from(clock_mhz) * 1e6;
         Ok(SampledCycles {
             method: "systematic sample of row bands, first and last band always timed".into(),
             rate: 1.0 / f64::from(self.cfg.period.max(1)),
@@ -396,8 +396,8 @@ impl Sampler {
             degrees_of_freedom: est.df,
             cycles_low: est.low,
             cycles_high: est.high,
-            fps_low: clock / est.high.max(1.0),
-            fps_high: clock / est.low.max(1.0),
+            fps_low: fps_at_clock(clock_mhz, 1.0, est.high),
+            fps_high: fps_at_clock(clock_mhz, 1.0, est.low),
             band_cycles,
         })
     }
@@ -617,25 +617,28 @@ pub struct SampledSummary {
 }
 
 impl SampledSummary {
-    /// Of the sampled frames `frames` at `clock_mhz`; `None` when no frame was sampled.
-    pub fn of(frames: &[&SampledCycles], clock_mhz: u32) -> Option<Self> {
-        let first = frames.first()?;
-        let total: f64 = frames.iter().map(|f| f.cycles_estimate).sum();
+    /// Of the sampled frames `frames` at `clock_mhz`, each with the cycles its frame reports
+    /// (its estimate rounded, `CycleFrame::cycles`); `None` when no frame was sampled. The
+    /// total is the sum of those reported cycles, so that the run's sampled line and its
+    /// cycle summary print one figure (the same cycles, the same `fps_at_clock`).
+    pub fn of(frames: &[(u64, &SampledCycles)], clock_mhz: u32) -> Option<Self> {
+        let (_, first) = frames.first()?;
+        let total = frames.iter().map(|(c, _)| *c as f64).sum::<f64>();
         let half = frames
             .iter()
-            .map(|f| ((f.cycles_high - f.cycles_low) / 2.0).powi(2))
+            .map(|(_, f)| ((f.cycles_high - f.cycles_low) / 2.0).powi(2))
             .sum::<f64>()
             .sqrt();
-        let rate = frames.len() as f64 * f64::from(clock_mhz) * 1e6;
+        let n = frames.len() as f64;
         let (low, high) = (total - half, total + half);
         Some(Self {
             method: first.method.clone(),
             cycles_estimate: total,
             cycles_low: low,
             cycles_high: high,
-            fps: rate / total.max(1.0),
-            fps_low: rate / high.max(1.0),
-            fps_high: rate / low.max(1.0),
+            fps: fps_at_clock(clock_mhz, n, total),
+            fps_low: fps_at_clock(clock_mhz, n, high),
+            fps_high: fps_at_clock(clock_mhz, n, low),
         })
     }
 }

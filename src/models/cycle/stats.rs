@@ -174,6 +174,13 @@ pub struct CycleFrame {
     pub sampled: Option<super::sample::SampledCycles>,
 }
 
+/// Frames per second at the clock: `frames` frames in `cycles` cycles at `clock_mhz` MHz. The
+/// one place a frame rate is computed from cycles — frame lines, run summaries and sampled
+/// estimates all call it, so one figure never prints as two.
+pub fn fps_at_clock(clock_mhz: u32, frames: f64, cycles: f64) -> f64 {
+    frames * f64::from(clock_mhz) * 1e6 / cycles.max(1.0)
+}
+
 impl CycleFrame {
     /// Assembles the report.
     #[allow(clippy::too_many_arguments)]
@@ -208,7 +215,7 @@ impl CycleFrame {
         Self {
             frame,
             cycles,
-            fps_at_clock: f64::from(hw.clock_mhz) * 1e6 / c,
+            fps_at_clock: fps_at_clock(hw.clock_mhz, 1.0, c),
             rays_per_cycle: pixels as f64 / c,
             rays_per_cycle_ideal: 1.0,
             stages,
@@ -232,7 +239,7 @@ impl CycleFrame {
     pub fn set_sampled(&mut self, hw: &HwConfig, pixels: u64, est: super::sample::SampledCycles) {
         let c = est.cycles_estimate.max(1.0);
         self.cycles = c.round() as u64;
-        self.fps_at_clock = f64::from(hw.clock_mhz) * 1e6 / c;
+        self.fps_at_clock = fps_at_clock(hw.clock_mhz, 1.0, c);
         self.rays_per_cycle = pixels as f64 / c;
         // The limit from what was simulated: the timed pixels over the cycles simulated.
         self.bound = bound_of(

@@ -225,9 +225,47 @@ fn unit_key(o: &SynthOptions, u: &UnitSpec, version: &str) -> Result<String, Syn
     Ok(format!("{h:016x}"))
 }
 
+/// What the synthesis is doing, reported as it happens (a whole run takes minutes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SynthProgress<'a> {
+    /// A worker took unit `index` (1-based) of `of`.
+    Started {
+        /// The unit.
+        unit: &'a str,
+        /// Its place in the run, 1-based.
+        index: usize,
+        /// Units in the run.
+        of: usize,
+    },
+    /// Unit `index` of `of` is done (synthesised, or read from the cache), or failed.
+    Finished {
+        /// The unit.
+        unit: &'a str,
+        /// Its place in the run, 1-based.
+        index: usize,
+        /// Units in the run.
+        of: usize,
+        /// Wall seconds from its start.
+        seconds: f64,
+        /// Whether the result came from the cache.
+        cached: bool,
+        /// Whether it failed (the error is returned at the end).
+        failed: bool,
+    },
+}
+
 /// Synthesises (or takes from the cache) every unit `o` names, `o.jobs` at a time; the units
 /// in list order.
 pub fn synthesise(o: &SynthOptions) -> Result<Vec<UnitSynthesis>, SynthError> {
+    synthesise_with_progress(o, &|_| {})
+}
+
+/// [`synthesise`], calling `progress` as each unit starts and finishes (from the worker
+/// threads, so in the order the units actually run).
+pub fn synthesise_with_progress(
+    o: &SynthOptions,
+    progress: &(dyn Fn(SynthProgress<'_>) + Sync),
+) -> Result<Vec<UnitSynthesis>, SynthError> {
     let version = yosys_version()?;
     let list = o.repo.join("testbench/synth/units.tsv");
     let all = parse_units(&std::fs::read_to_string(&list).map_err(io(&list))?, &list)?;
@@ -256,7 +294,22 @@ pub fn synthesise(o: &SynthOptions) -> Result<Vec<UnitSynthesis>, SynthError> {
                 }
                 let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 let Some(u) = todo.get(i) else { break };
+                let (index, of) = (i + 1, todo.len());
+                progress(SynthProgress::Started {
+                    unit: &u.name,
+                    index,
+                    of,
+                });
+                let t0 = std::time::Instant::now();
                 let r = synthesise_one(o, u, &version);
+                progress(SynthProgress::Finished {
+                    unit: &u.name,
+                    index,
+                    of,
+                    seconds: t0.elapsed().as_secs_f64(),
+                    cached: r.as_ref().is_ok_and(|s| s.cached),
+                    failed: r.is_err(),
+                });
                 if let Ok(mut m) = results.lock() {
                     m.insert(i, r);
                 }
