@@ -15,16 +15,9 @@ use thiserror::Error;
 /// Why a configuration file could not be used.
 #[derive(Debug, Error)]
 pub enum ConfigFileError {
-    /// The file could not be read.
-    #[error("cannot read {what} file {path}: {source}")]
-    Read {
-        /// "datapath" or "hardware".
-        what: &'static str,
-        /// The file.
-        path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
-    },
+    /// The file could not be read, or is larger than its cap.
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
     /// The file is not valid RON of the configuration's schema.
     #[error("{path}:{line}:{col}: malformed {what} configuration: {message}")]
     Malformed {
@@ -52,11 +45,7 @@ pub enum ConfigFileError {
 }
 
 fn parse<T: DeserializeOwned>(what: &'static str, path: &Path) -> Result<T, ConfigFileError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ConfigFileError::Read {
-        what,
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = crate::input::read_text(path, crate::input::Cap::config(what))?;
     parse_text(what, &text, path)
 }
 

@@ -108,65 +108,65 @@ pub fn build_assets(
                     source,
                 })
             };
-            let (tree, half_size, kind) = match &spec.source {
-                AssetSource::Sdf { shape, half_extent } => {
-                    let sdf = Sdf::new(shape, &format!("assets[{index}]({name}).shape")).map_err(
-                        |message| AssetError::Depth {
-                            asset: name.clone(),
-                            message,
-                        },
-                    )?;
-                    let half = half_extent.unwrap_or_else(|| {
-                        let (lo, hi) = sdf.bounds();
-                        lo.abs().max(hi.abs()).max_element() * 1.02
-                    });
-                    let octree = SdfOctree::new(sdf, half, depth);
-                    // Shallow trees always fit: count only when it decides something or the
-                    // implicit tree's report needs it.
-                    let small = depth <= ESTIMATE_PROBE + 1;
-                    let estimate = if small && mode == Materialise::Auto {
-                        0.0
-                    } else {
-                        estimate_leaves(&octree)
-                    };
-                    if mode == Materialise::Never || estimate > MAX_MATERIALISED_LEAVES {
-                        let stats = SvoStats {
-                            depth,
-                            leaves: estimate as u64,
-                            ..SvoStats::default()
+            let (tree, half_size, kind) =
+                match &spec.source {
+                    AssetSource::Sdf { shape, half_extent } => {
+                        let sdf = Sdf::new(shape, &format!("assets[{index}]({name}).shape"))
+                            .map_err(|message| AssetError::Depth {
+                                asset: name.clone(),
+                                message,
+                            })?;
+                        let half = half_extent.unwrap_or_else(|| {
+                            let (lo, hi) = sdf.bounds();
+                            lo.abs().max(hi.abs()).max_element() * 1.02
+                        });
+                        let octree = SdfOctree::new(sdf, half, depth);
+                        // Shallow trees always fit: count only when it decides something or the
+                        // implicit tree's report needs it.
+                        let small = depth <= ESTIMATE_PROBE + 1;
+                        let estimate = if small && mode == Materialise::Auto {
+                            0.0
+                        } else {
+                            estimate_leaves(&octree)
                         };
-                        let a = Asset {
-                            name: name.clone(),
-                            tree: AssetTree::Implicit(octree),
-                            stats,
-                            half_size: half,
-                            build_s: start.elapsed().as_secs_f64(),
-                            kind: "sdf-implicit",
-                        };
-                        return Ok(a);
-                    }
-                    let set =
-                        LeafSet::from_sorted_codes(depth, octree.leaves()).map_err(|source| {
-                            AssetError::Leaves {
+                        if mode == Materialise::Never || estimate > MAX_MATERIALISED_LEAVES {
+                            let stats = SvoStats {
+                                depth,
+                                leaves: estimate as u64,
+                                ..SvoStats::default()
+                            };
+                            let a = Asset {
+                                name: name.clone(),
+                                tree: AssetTree::Implicit(octree),
+                                stats,
+                                half_size: half,
+                                build_s: start.elapsed().as_secs_f64(),
+                                kind: "sdf-implicit",
+                            };
+                            return Ok(a);
+                        }
+                        let set = LeafSet::from_sorted_codes(depth, octree.leaves()).map_err(
+                            |source| AssetError::Leaves {
                                 asset: name.clone(),
                                 source,
-                            }
-                        })?;
-                    (image(&set)?, half, "sdf")
-                }
-                AssetSource::Vox { path, voxel_size } => {
-                    let full = scene.base_dir.join(path);
-                    let v =
-                        vox::load_vox(&full, Some(depth)).map_err(|source| AssetError::Vox {
-                            asset: name.clone(),
-                            source,
-                        })?;
-                    let max_dim = v.grid_dims.iter().copied().max().unwrap_or(1).max(2);
-                    let needed = 32 - (max_dim - 1).leading_zeros();
-                    let half = voxel_size * f64::from(1u32 << needed) * 0.5;
-                    (image(&v.leaves)?, half, "vox")
-                }
-            };
+                            },
+                        )?;
+                        (image(&set)?, half, "sdf")
+                    }
+                    AssetSource::Vox { path, voxel_size } => {
+                        let full = scene.base_dir.join(path);
+                        let v = vox::load_vox(&full, Some(depth), scene.max_vox_bytes).map_err(
+                            |source| AssetError::Vox {
+                                asset: name.clone(),
+                                source,
+                            },
+                        )?;
+                        let max_dim = v.grid_dims.iter().copied().max().unwrap_or(1).max(2);
+                        let needed = 32 - (max_dim - 1).leading_zeros();
+                        let half = voxel_size * f64::from(1u32 << needed) * 0.5;
+                        (image(&v.leaves)?, half, "vox")
+                    }
+                };
             let stats = tree.stats().clone();
             Ok(Asset {
                 name,

@@ -71,9 +71,10 @@ pub struct ModelLeaves {
     pub leaves: LeafSet,
 }
 
-/// Loads `path` at its natural depth and lays its leaves out along the model's own axes.
-pub fn load_model_frame(path: &Path) -> Result<ModelLeaves, VoxError> {
-    let asset = load_vox(path, None)?;
+/// Loads `path` (at most `max_bytes` long) at its natural depth and lays its leaves out along
+/// the model's own axes.
+pub fn load_model_frame(path: &Path, max_bytes: u64) -> Result<ModelLeaves, VoxError> {
+    let asset = load_vox(path, None, max_bytes)?;
     // Natural depth: one leaf per file voxel (upscale 1), so leaf and voxel indices agree.
     debug_assert_eq!(asset.upscale, 1);
     let [d0, d1, d2] = asset.grid_dims.map(i64::from);
