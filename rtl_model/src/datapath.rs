@@ -13,28 +13,9 @@ use crate::units::transform::TransformConfig;
 use crate::units::walker::WalkerConfig;
 use serde::{Deserialize, Serialize};
 
-/// Ray generation: a per-pixel direction table (the host writes it while the camera is
-/// still, and again after each camera move) and the camera position.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RaygenConfig {
-    /// Direction table entries (unit-vector components) with a sign bit each.
-    pub dir: Format,
-    /// Camera position and instance centres in world space.
-    pub pos: Format,
-    /// Rotation matrix entries the host writes per instance.
-    pub mat: Format,
-}
-
-impl Default for RaygenConfig {
-    fn default() -> Self {
-        Self {
-            dir: Format::sq(2, 30).with_quant(Quant::RndConv),
-            pos: Format::sq(8, 32).with_quant(Quant::RndConv),
-            mat: Format::sq(2, 30).with_quant(Quant::RndConv),
-        }
-    }
-}
+/// Ray generation's formats; declared by its unit (`units::raygen`) like every other
+/// unit's configuration.
+pub use crate::units::raygen::RaygenConfig;
 
 /// Every format and parameter of the fixed-point datapath.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]

@@ -5,10 +5,11 @@
 //! validation.
 //!
 //! Pipeline position: read once per run, like the datapath configuration; every stage, the
-//! walker pool and the memory model take their part of it. What a configuration costs lives
-//! in `cost`: the unit timings a datapath needs ([`UnitTimings::for_datapath`],
-//! `cost::latency`) and the estimate of the DSP48E2, BRAM36 and URAM288 it needs against the
-//! part's budget ([`HwConfig::resources`], `cost::estimate`), which the report prints. The
+//! walker pool and the memory model take their part of it. The unit timings a datapath needs
+//! are collected from the units by [`UnitTimings::for_datapath`] (`cycle::unit_latency`); what
+//! a configuration costs lives in `cost`, the layer above: the estimate of the DSP48E2, BRAM36
+//! and URAM288 it needs against the part's budget ([`HwConfig::resources`],
+//! `cost::estimate`), which the report prints. This file imports nothing from `cost`. The
 //! defaults, and the reason for each number, are documented field by field here and in
 //! `docs/cycle-model.md` ("Hardware configuration").
 //!
@@ -24,9 +25,10 @@ use crate::svo::MAX_DEPTH;
 use crate::units::transform;
 use serde::{Deserialize, Serialize};
 
-/// The resource estimate's types, where the users of [`HwConfig::resources`] look for them
-/// (the estimate itself is `cost::estimate`).
-pub use crate::cost::report::{ResourceItem, ResourceReport, Resources};
+/// The resource estimate's types, where the users of [`HwConfig::resources`] look for them.
+/// They live in `crate::resources`, below this layer; the estimate itself is `cost::estimate`,
+/// above it.
+pub use crate::resources::{ResourceItem, ResourceReport, Resources};
 
 /// Upper limits `validate` enforces: far above any sensible design, low enough that every
 /// product of them in [`HwConfig::resources`] (`cost::estimate`) stays within `u64`.
