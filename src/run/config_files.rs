@@ -100,6 +100,29 @@ pub fn load_datapath(path: Option<&Path>) -> Result<DatapathConfig, ConfigFileEr
     checked_datapath(parse("datapath", p)?, p)
 }
 
+/// That the hardware configuration (from `hw_path`, the default without one) times the
+/// datapath (`dp_path`): `HwConfig::validate_for`, named by the hardware file, before anything
+/// is elaborated or written.
+pub fn check_pair(
+    hw: &HwConfig,
+    hw_path: Option<&Path>,
+    dp: &DatapathConfig,
+    dp_path: Option<&Path>,
+) -> Result<(), ConfigFileError> {
+    let name = |p: Option<&Path>, default: &str| {
+        p.map_or_else(|| PathBuf::from(default), Path::to_path_buf)
+    };
+    hw.validate_for(dp)
+        .map_err(|message| ConfigFileError::Invalid {
+            what: "hardware",
+            path: name(hw_path, "<default hardware>"),
+            message: format!(
+                "{message} (for the datapath of {})",
+                name(dp_path, "<default datapath>").display()
+            ),
+        })
+}
+
 /// The hardware configuration in `path`, or the documented default without one.
 pub fn load_hardware(path: Option<&Path>) -> Result<HwConfig, ConfigFileError> {
     let Some(p) = path else {

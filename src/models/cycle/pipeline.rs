@@ -237,8 +237,7 @@ impl<'f> Pipeline<'f> {
         // No skipping while waveforms are recorded: they sample every cycle.
         let skip = skip && machine.waves.is_none();
         // Every context, plus the walks that can wait for one.
-        let ray_slots =
-            hw.walker_pool.walkers * hw.walker_pool.contexts_per_walker + hw.fifos.root_to_dispatch;
+        let ray_slots = hw.ray_slots();
         let fifos = Fifos::new(hw, ray_slots, start)?;
         let instances = frame.plan.instances();
         let tiles = TilePasses::of(frame.plan, hw);
