@@ -567,6 +567,30 @@ impl HwConfig {
         u32::try_from(self.ray_slots_wide()).unwrap_or(u32::MAX)
     }
 
+    /// The longest single wait the configuration can make a transaction take: the largest
+    /// latency or initiation interval of any unit, walker step, memory or hit-buffer read.
+    /// The cycle model's no-progress watchdog scales with it.
+    pub fn longest_wait_cycles(&self) -> u32 {
+        let nm = &self.node_memory;
+        let w = &self.walker_pool;
+        let units = self
+            .units
+            .named()
+            .into_iter()
+            .flat_map(|(_, t)| [t.latency_cycles, t.ii]);
+        units
+            .chain([
+                w.step_cycles,
+                w.step_latency_cycles,
+                nm.onchip.latency,
+                nm.cache.hit_latency,
+                nm.dram.latency,
+                self.hit_buffer.read_latency_cycles,
+            ])
+            .max()
+            .unwrap_or(1)
+    }
+
     fn validate_node_memory(&self) -> Result<(), String> {
         let nm = &self.node_memory;
         // The memory model's messages start with the field's path below `node_memory`.

@@ -270,7 +270,9 @@ impl<'f> Pipeline<'f> {
             skipped: 0,
             start,
             last_progress: (start, 0),
-            stuck_limit: 1_000_000 + 100 * u64::from(hw.node_memory.dram.latency),
+            // Far longer than any one wait the configuration allows, whichever latency is
+            // longest (a 2^20-cycle cache hit is slow, not stuck).
+            stuck_limit: 1_000_000 + 100 * u64::from(hw.longest_wait_cycles()),
             sampler: None,
             carry: None,
             hold: None,
