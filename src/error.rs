@@ -6,14 +6,9 @@ use thiserror::Error;
 /// A scene that cannot be used.
 #[derive(Debug, Error)]
 pub enum SceneError {
-    /// The file could not be read.
-    #[error("cannot read scene file {path}: {message}")]
-    Io {
-        /// The path.
-        path: String,
-        /// The OS error.
-        message: String,
-    },
+    /// The file could not be read, or is larger than its cap.
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
     /// The RON is malformed.
     #[error("{origin}:{line}:{column}: malformed scene: {message}")]
     Parse {

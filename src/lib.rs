@@ -15,11 +15,14 @@
 //! - [`studies`] — what is run many times: accuracy against cost (`sweep`), error over run time
 //!   (`drift`), stiff and extreme cases (`stress`), and HDL test vectors (`vectors`).
 //!
+//! Every input file is read through [`input`], which caps its size.
+//!
 //! The command line (`src/bin/sim/`) parses arguments and calls into these layers; no clap type
 //! lives in the library.
 #![forbid(unsafe_code)]
 
 pub mod error;
+pub mod input;
 pub mod models;
 pub mod output;
 pub mod run;

@@ -114,7 +114,7 @@ fn every_sample_file_loads() {
         let file_voxels: usize = data.models.iter().map(|m| m.voxels.len()).sum();
 
         let t = Instant::now();
-        let asset = load_vox(&path, None).unwrap();
+        let asset = load_vox(&path, None, svo_sim::input::DEFAULT_VOX_CAP_BYTES).unwrap();
         let ms = t.elapsed().as_secs_f64() * 1e3;
         let name = path.file_name().unwrap().to_string_lossy();
         println!(
@@ -189,11 +189,11 @@ fn biggest_sample_loads_quickly() {
         .into_iter()
         .max_by_key(|p| std::fs::metadata(p).unwrap().len())
         .unwrap();
-    load_vox(&path, None).unwrap(); // warm the page cache
+    load_vox(&path, None, svo_sim::input::DEFAULT_VOX_CAP_BYTES).unwrap(); // warm the page cache
     let runs = 5;
     let t = Instant::now();
     for _ in 0..runs {
-        load_vox(&path, None).unwrap();
+        load_vox(&path, None, svo_sim::input::DEFAULT_VOX_CAP_BYTES).unwrap();
     }
     let ms = t.elapsed().as_secs_f64() * 1e3 / f64::from(runs);
     // Printed, not asserted: these machines are shared and noisy, so load speed is a figure
@@ -247,7 +247,7 @@ fn corrupt_input_is_an_error_naming_the_path() {
     cases.push(("directory".into(), scratch.clone()));
 
     for (what, path) in &cases {
-        let err = load_vox(path, None).expect_err(what);
+        let err = load_vox(path, None, svo_sim::input::DEFAULT_VOX_CAP_BYTES).expect_err(what);
         println!("{what}: {err}");
         assert_names_path(&err, path);
     }
@@ -310,9 +310,13 @@ fn depth_too_small_and_out_of_range_are_errors() {
         return;
     };
     let path = dir.join("veh_car1.vox");
-    let coarse = load_vox(&path, None).unwrap();
+    let coarse = load_vox(&path, None, svo_sim::input::DEFAULT_VOX_CAP_BYTES).unwrap();
     let needed = coarse.depth;
-    match load_vox(&path, Some(needed - 1)) {
+    match load_vox(
+        &path,
+        Some(needed - 1),
+        svo_sim::input::DEFAULT_VOX_CAP_BYTES,
+    ) {
         Err(
             err @ VoxError::DepthTooSmall {
                 needed: n,
@@ -327,7 +331,8 @@ fn depth_too_small_and_out_of_range_are_errors() {
         other => panic!("expected DepthTooSmall, got {other:?}"),
     }
     for bad in [0u8, 21, 255] {
-        let err = load_vox(&path, Some(bad)).expect_err("out of range");
+        let err = load_vox(&path, Some(bad), svo_sim::input::DEFAULT_VOX_CAP_BYTES)
+            .expect_err("out of range");
         assert!(
             matches!(err, VoxError::DepthOutOfRange { given, .. } if given == bad),
             "{err:?}"
@@ -335,14 +340,15 @@ fn depth_too_small_and_out_of_range_are_errors() {
         assert_names_path(&err, &path);
     }
     // Depth 20 would turn each surface voxel into up to 6·(2^15)² leaves.
-    let err = load_vox(&path, Some(20)).expect_err("too many leaves");
+    let err = load_vox(&path, Some(20), svo_sim::input::DEFAULT_VOX_CAP_BYTES)
+        .expect_err("too many leaves");
     assert!(
         matches!(err, VoxError::TooManyLeaves { depth: 20, .. }),
         "{err:?}"
     );
     println!("{err}");
     assert_names_path(&err, &path);
-    let same = load_vox(&path, Some(needed)).unwrap();
+    let same = load_vox(&path, Some(needed), svo_sim::input::DEFAULT_VOX_CAP_BYTES).unwrap();
     assert_eq!(same.leaves, coarse.leaves);
 }
 
@@ -354,10 +360,10 @@ fn deeper_depth_upscales_the_surface() {
     for name in ["veh_car1.vox", "chr_mayor.vox"] {
         let path = dir.join(name);
         let bytes = std::fs::read(&path).unwrap();
-        let coarse = load_vox(&path, None).unwrap();
+        let coarse = load_vox(&path, None, svo_sim::input::DEFAULT_VOX_CAP_BYTES).unwrap();
         for extra in 1..=2u8 {
             let depth = coarse.depth + extra;
-            let fine = load_vox(&path, Some(depth)).unwrap();
+            let fine = load_vox(&path, Some(depth), svo_sim::input::DEFAULT_VOX_CAP_BYTES).unwrap();
             println!(
                 "{name}: depth {} -> {depth}: {} -> {} leaves",
                 coarse.depth,

@@ -61,9 +61,10 @@ fn every_model_renders() {
         );
         // depth 1 is raised to what the model needs by --depth below; size the cube to 2 m.
         let scene = Scene::from_ron(&ron, "vox test", Path::new("/")).unwrap();
-        let needed = svo_sim::world::assets::vox::load_vox(f, None)
-            .unwrap()
-            .depth;
+        let needed =
+            svo_sim::world::assets::vox::load_vox(f, None, svo_sim::input::DEFAULT_VOX_CAP_BYTES)
+                .unwrap()
+                .depth;
         let mut cfg = config(scene);
         cfg.depth = Some(needed);
         if let svo_sim::world::scene::AssetSource::Vox { voxel_size, .. } =

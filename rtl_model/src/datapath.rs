@@ -13,28 +13,9 @@ use crate::units::transform::TransformConfig;
 use crate::units::walker::WalkerConfig;
 use serde::{Deserialize, Serialize};
 
-/// Ray generation: a per-pixel direction table (the host writes it while the camera is
-/// still, and again after each camera move) and the camera position.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RaygenConfig {
-    /// Direction table entries (unit-vector components) with a sign bit each.
-    pub dir: Format,
-    /// Camera position and instance centres in world space.
-    pub pos: Format,
-    /// Rotation matrix entries the host writes per instance.
-    pub mat: Format,
-}
-
-impl Default for RaygenConfig {
-    fn default() -> Self {
-        Self {
-            dir: Format::sq(2, 30).with_quant(Quant::RndConv),
-            pos: Format::sq(8, 32).with_quant(Quant::RndConv),
-            mat: Format::sq(2, 30).with_quant(Quant::RndConv),
-        }
-    }
-}
+/// Ray generation's formats; declared by its unit (`units::raygen`) like every other
+/// unit's configuration.
+pub use crate::units::raygen::RaygenConfig;
 
 /// Every format and parameter of the fixed-point datapath.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
@@ -126,6 +107,7 @@ impl DatapathConfig {
     /// Checks every unit, then every interface: a unit's input format must be the format its
     /// producer writes.
     pub fn validate(&self) -> Result<(), String> {
+        self.validate_format_fields()?;
         for (name, f) in [
             ("raygen.dir", self.raygen.dir),
             ("raygen.pos", self.raygen.pos),
@@ -200,9 +182,85 @@ impl DatapathConfig {
     }
 }
 
+impl DatapathConfig {
+    /// Every format field, by its path in the RON file: width 1..=64 ([`MAX_FORMAT_WIDTH`])
+    /// and at most as many fraction bits as the word has bits. The fixed-point layer allows a
+    /// binary point above the word (a format of tiny values), but no signal of this datapath
+    /// is one, and a fraction count past the width is a typing slip whose first symptom would
+    /// otherwise be a misleading interface mismatch between two formats.
+    fn validate_format_fields(&self) -> Result<(), String> {
+        let tree = serde_json::to_value(self).map_err(|e| e.to_string())?;
+        let mut formats = Vec::new();
+        collect_formats(&tree, String::new(), &mut formats);
+        for (field, width, frac) in formats {
+            if !(1..=i64::from(MAX_FORMAT_WIDTH)).contains(&width) {
+                return Err(format!(
+                    "{field}.width = {width} is out of range (1 to {MAX_FORMAT_WIDTH} bits)"
+                ));
+            }
+            if frac > width {
+                return Err(format!(
+                    "{field}.frac = {frac} exceeds {field}.width = {width}: a format's fraction \
+                     bits must fit in its word"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Widest format the fixed-point layer computes with (raw values are `i64`).
+pub const MAX_FORMAT_WIDTH: u8 = 64;
+
+/// (path, width, frac) of every object in `v` with both a `width` and a `frac` (a format).
+fn collect_formats(v: &serde_json::Value, path: String, out: &mut Vec<(String, i64, i64)>) {
+    let serde_json::Value::Object(map) = v else {
+        return;
+    };
+    let num = |k: &str| map.get(k).and_then(serde_json::Value::as_i64);
+    if let (Some(width), Some(frac)) = (num("width"), num("frac")) {
+        out.push((path, width, frac));
+        return;
+    }
+    for (k, child) in map {
+        let sub = if path.is_empty() {
+            k.clone()
+        } else {
+            format!("{path}.{k}")
+        };
+        collect_formats(child, sub, out);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_fraction_beyond_the_width_is_invalid_and_named() {
+        let mut dp = DatapathConfig::default();
+        dp.raygen.pos.frac = 60;
+        assert_eq!(
+            dp.validate(),
+            Err(
+                "raygen.pos.frac = 60 exceeds raygen.pos.width = 40: a format's fraction bits \
+                 must fit in its word"
+                    .into()
+            )
+        );
+        let mut dp = DatapathConfig::default();
+        dp.walker.t.width = 0;
+        assert_eq!(
+            dp.validate(),
+            Err("walker.t.width = 0 is out of range (1 to 64 bits)".into())
+        );
+        let mut dp = DatapathConfig::default();
+        dp.sorter.key.width = 65;
+        assert_eq!(
+            dp.validate(),
+            Err("sorter.key.width = 65 is out of range (1 to 64 bits)".into())
+        );
+    }
 
     #[test]
     fn default_is_consistent() {

@@ -12,6 +12,7 @@ pub mod cost;
 pub mod cycle;
 pub mod datapath;
 pub mod fixed;
+pub mod resources;
 pub mod svo;
 pub mod units;
 pub mod vectors;

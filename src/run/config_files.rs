@@ -15,16 +15,9 @@ use thiserror::Error;
 /// Why a configuration file could not be used.
 #[derive(Debug, Error)]
 pub enum ConfigFileError {
-    /// The file could not be read.
-    #[error("cannot read {what} file {path}: {source}")]
-    Read {
-        /// "datapath" or "hardware".
-        what: &'static str,
-        /// The file.
-        path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
-    },
+    /// The file could not be read, or is larger than its cap.
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
     /// The file is not valid RON of the configuration's schema.
     #[error("{path}:{line}:{col}: malformed {what} configuration: {message}")]
     Malformed {
@@ -52,11 +45,7 @@ pub enum ConfigFileError {
 }
 
 fn parse<T: DeserializeOwned>(what: &'static str, path: &Path) -> Result<T, ConfigFileError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ConfigFileError::Read {
-        what,
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = crate::input::read_text(path, crate::input::Cap::config(what))?;
     parse_text(what, &text, path)
 }
 
@@ -109,6 +98,29 @@ pub fn load_datapath(path: Option<&Path>) -> Result<DatapathConfig, ConfigFileEr
         return Ok(DatapathConfig::default());
     };
     checked_datapath(parse("datapath", p)?, p)
+}
+
+/// That the hardware configuration (from `hw_path`, the default without one) times the
+/// datapath (`dp_path`): `HwConfig::validate_for`, named by the hardware file, before anything
+/// is elaborated or written.
+pub fn check_pair(
+    hw: &HwConfig,
+    hw_path: Option<&Path>,
+    dp: &DatapathConfig,
+    dp_path: Option<&Path>,
+) -> Result<(), ConfigFileError> {
+    let name = |p: Option<&Path>, default: &str| {
+        p.map_or_else(|| PathBuf::from(default), Path::to_path_buf)
+    };
+    hw.validate_for(dp)
+        .map_err(|message| ConfigFileError::Invalid {
+            what: "hardware",
+            path: name(hw_path, "<default hardware>"),
+            message: format!(
+                "{message} (for the datapath of {})",
+                name(dp_path, "<default datapath>").display()
+            ),
+        })
 }
 
 /// The hardware configuration in `path`, or the documented default without one.

@@ -183,11 +183,15 @@ pub fn build(scene: &Scene, depth: Option<u8>, mode: Materialise) -> Result<Vec<
 pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Result<RunOutput> {
     let resources = check(cfg)?;
     RunFiles::check(cfg)?;
+    let (w, h) = cfg.scene.file.resolution;
+    // Before the assets (a run that cannot fit is refused at once) and after them (their
+    // memory is then no longer available); both before any output exists.
+    super::memory::check(cfg.model, w, h)?;
     let build_start = Instant::now();
     let assets = build(&cfg.scene, cfg.depth, cfg.materialise)?;
     let build_s = build_start.elapsed().as_secs_f64();
+    super::memory::check(cfg.model, w, h)?;
     let scene = &cfg.scene;
-    let (w, h) = scene.file.resolution;
     let frames = scene.file.frames;
     let half: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
     if cfg.model != Model::Reference {

@@ -5,7 +5,7 @@
 //! builds the assets and runs every frame through the chosen model — the f64 reference, the
 //! fixed-point functional model, or the cycle model beside it — comparing each frame with the
 //! reference and handing the results to [`crate::output`]; [`ranges`] first checks that the
-//! scene fits the datapath's formats. [`render`] is the one run without a scene: a bare `.vox`
+//! scene fits the datapath's formats, [`memory`] that the run fits the machine's memory. [`render`] is the one run without a scene: a bare `.vox`
 //! through the reference walk with a camera in the model's own coordinates (`sim render`).
 
 pub mod bench;
@@ -14,6 +14,7 @@ pub mod cycle_bench;
 pub mod elaborate;
 pub mod frame_models;
 pub mod frames;
+pub mod memory;
 pub mod parallel;
 pub mod ranges;
 pub mod render;

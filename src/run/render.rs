@@ -257,20 +257,20 @@ pub const MAX_REPEAT: u32 = 100;
 /// same), `trace_seconds` the fastest. The records' memory is allocated and touched before the
 /// clock starts, as the OpenVDB peer does, and the attribute normals (shading, not tracing) are
 /// decoded after it stops, so the time is the trace's alone: ray generation, walk and the
-/// record.
+/// record. A model file larger than `max_vox_bytes` is refused.
 pub fn render_model(
     path: &Path,
     camera: &ModelCamera,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
     repeat: u32,
     model: Option<usize>,
+    max_vox_bytes: u64,
 ) -> Result<ModelRender, RenderError> {
     let gen = RayGen::new(camera, width, height)?;
     if !(1..=MAX_REPEAT).contains(&repeat) {
         return Err(RenderError::Repeat(repeat));
     }
-    let model = load_model_frame(path, model)?;
+    let model = load_model_frame(path, model, max_vox_bytes)?;
     let frame = model.frame;
     let fits = |v: i64| i32::try_from(v).is_ok();
     if !frame

@@ -23,8 +23,19 @@ pub fn run_sim<S: AsRef<OsStr> + std::fmt::Debug>(
     cwd: Option<&Path>,
     timeout: Duration,
 ) -> Run {
+    run_sim_env(args, cwd, &[], timeout)
+}
+
+/// [`run_sim`] with extra environment variables for the child.
+pub fn run_sim_env<S: AsRef<OsStr> + std::fmt::Debug>(
+    args: &[S],
+    cwd: Option<&Path>,
+    env: &[(&str, &str)],
+    timeout: Duration,
+) -> Run {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_sim"));
-    cmd.args(args)
+    cmd.envs(env.iter().copied())
+        .args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());

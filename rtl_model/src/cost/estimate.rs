@@ -9,9 +9,9 @@
 //! `units::walker::root_dsp48e2_count`, `units::sqrt::dsp48e2_count`); this module multiplies
 //! them by the instances the hardware has and adds the memories.
 
-use super::report::{ResourceItem, ResourceReport, Resources};
 use crate::cycle::hw_config::{HwConfig, Placement, StackStorage};
 use crate::datapath::DatapathConfig;
+use crate::resources::{ResourceItem, ResourceReport, Resources};
 use crate::units::hit_record::{bram36_count, uram288_count};
 use crate::units::{raygen, reciprocal, sorter, sphere, sqrt, transform, walker};
 

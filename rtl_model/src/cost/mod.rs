@@ -9,9 +9,11 @@
 //!   (`units::*::error_bound` and siblings), all built on `fixed::Products`,
 //!   `fixed::dsp48e2_per_product`, `fixed::product_latency_cycles` and
 //!   `fixed::Format::exact_difference`;
-//! - [`latency`] collects the unit latencies into the hardware's `UnitTimings`;
+//! - the unit latencies are collected into the hardware's `UnitTimings` by
+//!   `cycle::unit_latency`, below this layer (the hardware configuration's defaults need them);
 //! - [`estimate`] multiplies the units' DSP48E2 by their instances and adds the memories into
-//!   the [`ResourceReport`] of `HwConfig::resources` ([`report`] holds its types);
+//!   the [`ResourceReport`] of `HwConfig::resources` (`crate::resources` holds its
+//!   types, below the units, which price their own memories with them);
 //! - [`fabric`] estimates LUTs and flip-flops per unit, calibrated on the Yosys synthesis
 //!   of the RTL; [`timing`] is the clock rule applied to the logic levels of that synthesis;
 //! - [`pricing`] is what `sim sweep` prices per configuration;
@@ -23,11 +25,9 @@
 pub mod bounds;
 pub mod estimate;
 pub mod fabric;
-pub mod latency;
 pub mod pricing;
-pub mod report;
 pub mod timing;
 
+pub use crate::resources::{ResourceItem, ResourceReport, Resources};
 pub use bounds::{direction_error_bound, DirectionErrorBound};
 pub use fabric::{Fabric, FabricItem};
-pub use report::{ResourceItem, ResourceReport, Resources};

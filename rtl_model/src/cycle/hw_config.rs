@@ -5,10 +5,11 @@
 //! validation.
 //!
 //! Pipeline position: read once per run, like the datapath configuration; every stage, the
-//! walker pool and the memory model take their part of it. What a configuration costs lives
-//! in `cost`: the unit timings a datapath needs ([`UnitTimings::for_datapath`],
-//! `cost::latency`) and the estimate of the DSP48E2, BRAM36 and URAM288 it needs against the
-//! part's budget ([`HwConfig::resources`], `cost::estimate`), which the report prints. The
+//! walker pool and the memory model take their part of it. The unit timings a datapath needs
+//! are collected from the units by [`UnitTimings::for_datapath`] (`cycle::unit_latency`); what
+//! a configuration costs lives in `cost`, the layer above: the estimate of the DSP48E2, BRAM36
+//! and URAM288 it needs against the part's budget ([`HwConfig::resources`],
+//! `cost::estimate`), which the report prints. This file imports nothing from `cost`. The
 //! defaults, and the reason for each number, are documented field by field here and in
 //! `docs/cycle-model.md` ("Hardware configuration").
 //!
@@ -24,9 +25,10 @@ use crate::svo::MAX_DEPTH;
 use crate::units::transform;
 use serde::{Deserialize, Serialize};
 
-/// The resource estimate's types, where the users of [`HwConfig::resources`] look for them
-/// (the estimate itself is `cost::estimate`).
-pub use crate::cost::report::{ResourceItem, ResourceReport, Resources};
+/// The resource estimate's types, where the users of [`HwConfig::resources`] look for them.
+/// They live in `crate::resources`, below this layer; the estimate itself is `cost::estimate`,
+/// above it.
+pub use crate::resources::{ResourceItem, ResourceReport, Resources};
 
 /// Upper limits `validate` enforces: far above any sensible design, low enough that every
 /// product of them in [`HwConfig::resources`] (`cost::estimate`) stays within `u64`.
@@ -38,6 +40,8 @@ const MAX_STACK_DEPTH: u8 = 64;
 /// Deepest FIFO the FIFO model builds.
 const FIFO_MAX_DEPTH: u32 = fifo::MAX_DEPTH as u32;
 const MAX_FRAME_SIDE: u32 = 16384;
+/// Most sorter lanes: `sorter_lanes` must equal the datapath's `sorter.n`, an 8-bit field.
+pub const MAX_SORTER_LANES: u32 = u8::MAX as u32;
 
 /// A named FPGA part and its resource budget.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -387,8 +391,9 @@ pub struct HwConfig {
     /// Sphere-test lanes (each with its own square root): instances tested per cycle.
     /// Default 8: the default scene's instances, so a ray's tests take one cycle.
     pub sphere_units: u32,
-    /// Lanes of the sorting network; must equal the datapath's `sorter.n`. Default 8.
-    pub sorter_lanes: u8,
+    /// Lanes of the sorting network, 1 to [`MAX_SORTER_LANES`] (255); must equal the
+    /// datapath's `sorter.n`. Default 8.
+    pub sorter_lanes: u32,
     /// Transform units. Default 1: one walk per cycle, while the default scene needs about
     /// 0.3 at either target (150 fps with a still camera: 0.49 rays × 0.63 walks per cycle;
     /// 67 fps with a moving one: 0.22 × 1.32).
@@ -438,7 +443,7 @@ impl HwConfig {
             frame: FrameSize::default(),
             units: UnitTimings::for_datapath(dp),
             sphere_units: 8,
-            sorter_lanes: dp.sorter.n,
+            sorter_lanes: u32::from(dp.sorter.n),
             transform_units: 1,
             transform_products: true,
             reciprocal_units: 3,
@@ -484,9 +489,8 @@ impl HwConfig {
             in_range(&format!("units.{name}.ii"), t.ii, 1, MAX_LATENCY)?;
         }
         in_range("sphere_units", self.sphere_units, 1, MAX_UNITS)?;
-        if self.sorter_lanes == 0 {
-            return Err("sorter_lanes must be at least 1 (got 0)".into());
-        }
+        in_range("sorter_lanes", self.sorter_lanes, 1, MAX_SORTER_LANES)
+            .map_err(|e| format!("{e} (it must equal the datapath's sorter.n, an 8-bit field)"))?;
         in_range("transform_units", self.transform_units, 1, MAX_UNITS)?;
         in_range("reciprocal_units", self.reciprocal_units, 1, MAX_UNITS)?;
         in_range("walker_root_units", self.walker_root_units, 1, MAX_UNITS)?;
@@ -514,6 +518,18 @@ impl HwConfig {
         for (name, depth) in self.fifos.named() {
             in_range(&format!("fifos.{name}"), depth, 1, FIFO_MAX_DEPTH)?;
         }
+        // Derived: the loop-back FIFO holds one entry per ray slot (every context, plus the
+        // walks that can wait for one), so its depth is W·R + root_to_dispatch.
+        let slots = self.ray_slots_wide();
+        if slots > u64::from(FIFO_MAX_DEPTH) {
+            return Err(format!(
+                "walker_pool.walkers × walker_pool.contexts_per_walker + fifos.root_to_dispatch \
+                 = {} × {} + {} = {slots} ray slots exceeds the limit {FIFO_MAX_DEPTH}: the \
+                 loop-back FIFO holds one entry per ray slot and the deepest FIFO is \
+                 {FIFO_MAX_DEPTH} entries",
+                w.walkers, w.contexts_per_walker, self.fifos.root_to_dispatch
+            ));
+        }
         self.validate_node_memory()?;
         let hb = &self.hit_buffer;
         // Every pixel is read once (reuse check) and written once (write-back) per frame.
@@ -537,6 +553,44 @@ impl HwConfig {
         Ok(())
     }
 
+    fn ray_slots_wide(&self) -> u64 {
+        let w = &self.walker_pool;
+        u64::from(w.walkers) * u64::from(w.contexts_per_walker)
+            + u64::from(self.fifos.root_to_dispatch)
+    }
+
+    /// Ray slots of the pipeline: every walker context, plus the walks that can wait for one
+    /// at the dispatcher (`fifos.root_to_dispatch`); the depth of the loop-back FIFO.
+    /// [`validate`](Self::validate) keeps it within the deepest FIFO (65,536); saturates on an
+    /// unvalidated configuration.
+    pub fn ray_slots(&self) -> u32 {
+        u32::try_from(self.ray_slots_wide()).unwrap_or(u32::MAX)
+    }
+
+    /// The longest single wait the configuration can make a transaction take: the largest
+    /// latency or initiation interval of any unit, walker step, memory or hit-buffer read.
+    /// The cycle model's no-progress watchdog scales with it.
+    pub fn longest_wait_cycles(&self) -> u32 {
+        let nm = &self.node_memory;
+        let w = &self.walker_pool;
+        let units = self
+            .units
+            .named()
+            .into_iter()
+            .flat_map(|(_, t)| [t.latency_cycles, t.ii]);
+        units
+            .chain([
+                w.step_cycles,
+                w.step_latency_cycles,
+                nm.onchip.latency,
+                nm.cache.hit_latency,
+                nm.dram.latency,
+                self.hit_buffer.read_latency_cycles,
+            ])
+            .max()
+            .unwrap_or(1)
+    }
+
     fn validate_node_memory(&self) -> Result<(), String> {
         let nm = &self.node_memory;
         // The memory model's messages start with the field's path below `node_memory`.
@@ -557,7 +611,7 @@ impl HwConfig {
     pub fn validate_for(&self, dp: &DatapathConfig) -> Result<(), String> {
         self.validate()?;
         dp.validate().map_err(|m| format!("datapath: {m}"))?;
-        if self.sorter_lanes != dp.sorter.n {
+        if self.sorter_lanes != u32::from(dp.sorter.n) {
             return Err(format!(
                 "sorter_lanes = {} must equal the datapath's sorter.n = {}",
                 self.sorter_lanes, dp.sorter.n

@@ -7,8 +7,31 @@
 //! no reciprocal square root; a moving camera costs one table write per frame. The camera
 //! position is one `raygen.pos` value per frame.
 
-use crate::datapath::RaygenConfig;
-use crate::fixed::{from_f64, Overflows, Quant, SignalId};
+use crate::fixed::{from_f64, Format, Overflows, Quant, SignalId};
+use serde::{Deserialize, Serialize};
+
+/// Ray generation: a per-pixel direction table (the host writes it while the camera is
+/// still, and again after each camera move) and the camera position.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RaygenConfig {
+    /// Direction table entries (unit-vector components) with a sign bit each.
+    pub dir: Format,
+    /// Camera position and instance centres in world space.
+    pub pos: Format,
+    /// Rotation matrix entries the host writes per instance.
+    pub mat: Format,
+}
+
+impl Default for RaygenConfig {
+    fn default() -> Self {
+        Self {
+            dir: Format::sq(2, 30).with_quant(Quant::RndConv),
+            pos: Format::sq(8, 32).with_quant(Quant::RndConv),
+            mat: Format::sq(2, 30).with_quant(Quant::RndConv),
+        }
+    }
+}
 
 /// The table entry of one unit direction (each component converted by `cfg.dir`'s mode).
 #[inline]

@@ -18,7 +18,7 @@
 //! rays test every instance, as without the scheme. Never lossy; counted per frame
 //! ([`ListBudget::flat_tiles`]) and reported.
 
-use crate::cost::report::{ResourceItem, Resources};
+use crate::resources::{ResourceItem, Resources};
 use serde::{Deserialize, Serialize};
 
 /// Configuration of the tile lists.
@@ -194,7 +194,7 @@ pub fn bram36_count(cfg: &TileListConfig, lanes: u32, w: u32, h: u32) -> u64 {
     2 * (lists + offsets)
 }
 
-/// The unit's line of the resource estimate (`cost::report::ResourceReport::push`): its
+/// The unit's line of the resource estimate (`resources::ResourceReport::push`): its
 /// [`bram36_count`] for a `w`×`h` frame on `lanes` sphere lanes.
 pub fn resource_item(cfg: &TileListConfig, lanes: u32, w: u32, h: u32) -> ResourceItem {
     ResourceItem::new(

@@ -33,6 +33,21 @@ pub struct SceneArgs {
     /// voxels; automatic when an image would exceed 64 M leaves, e.g. the car at depth 13+).
     #[arg(long)]
     pub implicit: bool,
+    /// Largest `.vox` asset file read, MiB (1 to 65536); a larger one is refused without
+    /// reading past the limit.
+    #[arg(long, value_name = "MIB", default_value_t = DEFAULT_VOX_MIB)]
+    pub max_vox_mib: u64,
+}
+
+/// Default of `--max-vox-mib`.
+pub const DEFAULT_VOX_MIB: u64 = svo_sim::input::DEFAULT_VOX_CAP_BYTES >> 20;
+
+/// `--max-vox-mib` in bytes, or why it is out of range.
+pub fn vox_cap_bytes(mib: u64) -> Result<u64> {
+    if !(1..=65536).contains(&mib) {
+        anyhow::bail!("--max-vox-mib {mib} is out of range (1 to 65536)");
+    }
+    Ok(mib << 20)
 }
 
 impl SceneArgs {
@@ -42,6 +57,7 @@ impl SceneArgs {
             Some(p) => Scene::load(p)?,
             None => Scene::default_car()?,
         };
+        scene.max_vox_bytes = vox_cap_bytes(self.max_vox_mib)?;
         let (w0, h0) = defaults.0.unwrap_or(scene.file.resolution);
         let (w, h) = (self.width.unwrap_or(w0), self.height.unwrap_or(h0));
         if (w, h) != scene.file.resolution {

@@ -153,6 +153,7 @@ fn sample_validate(a: &BenchArgs, scene: &Scene, assets: &[Asset], rate: f64) ->
         // (`../shared/data` is not part of the repository).
         let loaded = Scene::load(std::path::Path::new(file)).and_then(|mut v| {
             let (w, h) = scene.file.resolution;
+            v.max_vox_bytes = scene.max_vox_bytes;
             v.set_resolution(w, h)?;
             v.set_frames(scene.file.frames)?;
             Ok(v)

@@ -58,6 +58,10 @@ pub struct RenderArgs {
     /// peer takes its best of the same count); the records are those of one trace.
     #[arg(long, default_value_t = 1, value_name = "N")]
     repeat: u32,
+    /// Largest model file read, MiB (1 to 65536); a larger one is refused without reading
+    /// past the limit.
+    #[arg(long, value_name = "MIB", default_value_t = crate::args::DEFAULT_VOX_MIB)]
+    max_vox_mib: u64,
 }
 
 fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
@@ -156,13 +160,14 @@ pub fn render_command(a: RenderArgs) -> Result<()> {
         up: a.up,
         projection,
     };
+    let max_vox = crate::args::vox_cap_bytes(a.max_vox_mib)?;
     let r = render_model(
         &a.model,
         &camera,
-        a.width,
-        a.height,
+        (a.width, a.height),
         a.repeat,
         a.model_index,
+        max_vox,
     )?;
     if let Some(notice) = &r.notice {
         eprintln!("warning: {notice}");

@@ -10,7 +10,7 @@ use svo_sim::models::cycle::sample::SampleConfig;
 use svo_sim::models::cycle::waves::WaveWindow;
 use svo_sim::models::reference::RenderOptions;
 use svo_sim::output::text;
-use svo_sim::run::config_files::{load_datapath, load_hardware};
+use svo_sim::run::config_files::{check_pair, load_datapath, load_hardware};
 use svo_sim::run::elaborate::elaborate;
 use svo_sim::run::{run, Model, RunConfig, VcdRequest};
 
@@ -146,6 +146,16 @@ impl RunArgs {
 
     /// The run's configuration (before elaboration).
     fn config(&self) -> Result<RunConfig> {
+        let datapath = load_datapath(self.datapath.as_deref())?;
+        let hardware = load_hardware(self.hw.as_deref())?;
+        if self.model == ModelArg::Cycle {
+            check_pair(
+                &hardware,
+                self.hw.as_deref(),
+                &datapath,
+                self.datapath.as_deref(),
+            )?;
+        }
         Ok(RunConfig {
             scene: self.scene.load((None, None))?,
             depth: self.scene.depth,
@@ -162,8 +172,8 @@ impl RunArgs {
                 ModelArg::Fixed => Model::Fixed,
                 ModelArg::Cycle => Model::Cycle,
             },
-            datapath: load_datapath(self.datapath.as_deref())?,
-            hardware: load_hardware(self.hw.as_deref())?,
+            datapath,
+            hardware,
             cross_check: self.cross_check,
             sample: match self.sample {
                 Some(rate) => {

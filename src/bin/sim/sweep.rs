@@ -43,6 +43,10 @@ pub struct SweepArgs {
     /// The output is the same for every count.
     #[arg(long)]
     threads: Option<usize>,
+    /// Largest `.vox` asset file read, MiB (1 to 65536); a larger one is refused without
+    /// reading past the limit.
+    #[arg(long, value_name = "MIB", default_value_t = crate::args::DEFAULT_VOX_MIB)]
+    max_vox_mib: u64,
 }
 
 /// Runs `sim sweep`.
@@ -65,5 +69,6 @@ pub fn sweep_command(a: SweepArgs) -> Result<()> {
         frames: a.frames,
         depth: a.depth,
         out: a.out,
+        max_vox_bytes: crate::args::vox_cap_bytes(a.max_vox_mib)?,
     })
 }

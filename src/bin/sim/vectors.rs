@@ -37,6 +37,10 @@ pub struct VectorsArgs {
     /// scene's. The memory images are written too, so small depths keep the set small.
     #[arg(long)]
     depth: Option<u8>,
+    /// Largest `.vox` asset file read, MiB (1 to 65536); a larger one is refused without
+    /// reading past the limit.
+    #[arg(long, value_name = "MIB", default_value_t = crate::args::DEFAULT_VOX_MIB)]
+    max_vox_mib: u64,
 }
 
 /// Runs `sim vectors`.
@@ -50,5 +54,6 @@ pub fn vectors_command(a: VectorsArgs) -> Result<()> {
         width: a.width,
         height: a.height,
         depth: a.depth,
+        max_vox_bytes: crate::args::vox_cap_bytes(a.max_vox_mib)?,
     })
 }

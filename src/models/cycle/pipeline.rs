@@ -280,8 +280,7 @@ impl<'f> Pipeline<'f> {
         // No skipping while waveforms are recorded: they sample every cycle.
         let skip = skip && machine.waves.is_none();
         // Every context, plus the walks that can wait for one.
-        let ray_slots =
-            hw.walker_pool.walkers * hw.walker_pool.contexts_per_walker + hw.fifos.root_to_dispatch;
+        let ray_slots = hw.ray_slots();
         let fifos = Fifos::new(hw, ray_slots, start)?;
         let instances = frame.plan.instances();
         let tiles = TilePasses::of(frame.plan, hw);
@@ -314,7 +313,9 @@ impl<'f> Pipeline<'f> {
             skipped: 0,
             start,
             last_progress: (start, 0),
-            stuck_limit: 1_000_000 + 100 * u64::from(hw.node_memory.dram.latency),
+            // Far longer than any one wait the configuration allows, whichever latency is
+            // longest (a 2^20-cycle cache hit is slow, not stuck).
+            stuck_limit: 1_000_000 + 100 * u64::from(hw.longest_wait_cycles()),
             sampler: None,
             carry: None,
             hold: None,

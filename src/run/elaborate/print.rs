@@ -63,13 +63,11 @@ impl fmt::Display for Elaboration {
         // unit costs that the full pipeline does not have (the tile-list memory).
         let to = match self.applied {
             true => self.elaborated,
-            false => self
-                .full
-                .saturating_sub(rtl_model::cost::report::Resources {
-                    dsp48e2: t.dsp48e2,
-                    bram36: t.bram36,
-                    uram288: t.uram288,
-                }),
+            false => self.full.saturating_sub(rtl_model::resources::Resources {
+                dsp48e2: t.dsp48e2,
+                bram36: t.bram36,
+                uram288: t.uram288,
+            }),
         };
         write!(
             f,

@@ -10,8 +10,9 @@
 //! and `transform_products`, which the estimate prices itself).
 
 use super::plan::{narrowed_positions, position_int_bits, Plan};
-use rtl_model::cycle::hw_config::{HwConfig, ResourceReport, Resources};
+use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
+use rtl_model::resources::{ResourceReport, Resources};
 use rtl_model::units::sorter;
 
 pub use crate::models::cycle::elaboration::Saving;

@@ -223,8 +223,13 @@ pub fn run_command(c: &FuzzCommand) -> Result<()> {
             [t] => *t,
             _ => bail!("--replay needs exactly one --target"),
         };
-        let input =
-            std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
+        // A replayed input is one the fuzzer saved: never above the largest input a target
+        // takes (the `.vox` default cap; RON files have the smaller configuration cap).
+        let cap = match target {
+            Target::Vox => crate::input::Cap::vox(crate::input::DEFAULT_VOX_CAP_BYTES),
+            _ => crate::input::Cap::config("fuzz replay"),
+        };
+        let input = crate::input::read_bytes(file, cap)?;
         return match target.run(&input) {
             Ok(()) => {
                 println!("{}: accepted", file.display());

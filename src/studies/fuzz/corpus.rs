@@ -99,7 +99,15 @@ fn vox_files(dir: &Path, max_bytes: u64) -> Result<Vec<Seed>> {
         if len > max_bytes {
             continue;
         }
-        let bytes = std::fs::read(&p).with_context(|| format!("cannot read {}", p.display()))?;
+        // Bounded as well: a device or FIFO named *.vox reports length 0 above.
+        let bytes = crate::input::read_bytes(
+            &p,
+            crate::input::Cap {
+                what: "seed",
+                bytes: max_bytes,
+                hint: "",
+            },
+        )?;
         let name = p
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())

@@ -41,6 +41,8 @@ pub struct SweepCommand {
     /// Folder for sweep.csv, sweep.json, sweep_cycles.png and sweep_dsp.png (created if
     /// missing).
     pub out: PathBuf,
+    /// Largest `.vox` asset file read, bytes (`--max-vox-mib`).
+    pub max_vox_bytes: u64,
 }
 
 /// The configurations: the file's or the built-in list, narrowed by `--only`.
@@ -88,7 +90,9 @@ fn load_scenes(a: &SweepCommand) -> Result<Vec<NamedScene>> {
             let stem = p
                 .file_stem()
                 .map_or_else(|| "scene".to_string(), |x| x.to_string_lossy().into_owned());
-            (stem, Scene::load(p)?)
+            let mut scene = Scene::load(p)?;
+            scene.max_vox_bytes = a.max_vox_bytes;
+            (stem, scene)
         };
         let mut name = base.clone();
         let mut k = 2;

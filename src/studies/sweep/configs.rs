@@ -32,14 +32,9 @@ pub const DEFAULT_NAME: &str = "default";
 /// Why a configuration list cannot be used.
 #[derive(Debug, Error)]
 pub enum ConfigsError {
-    /// The file cannot be read.
-    #[error("cannot read --configs file {path}: {message}")]
-    Io {
-        /// The file.
-        path: String,
-        /// The OS error.
-        message: String,
-    },
+    /// The file cannot be read, or is larger than its cap.
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
     /// The file is not a RON list of `(name: "...", datapath: (...))`.
     #[error("{path}:{line}:{col}: malformed configuration list (expected [(name: \"...\", datapath: (...)), ...]): {message}")]
     Parse {
@@ -155,10 +150,7 @@ pub fn parse(text: &str, path: &str) -> Result<Vec<NamedConfig>, ConfigsError> {
 /// Reads and checks a `--configs` file.
 pub fn load(path: &Path) -> Result<Vec<NamedConfig>, ConfigsError> {
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| ConfigsError::Io {
-        path: shown.clone(),
-        message: e.to_string(),
-    })?;
+    let text = crate::input::read_text(path, crate::input::Cap::config("--configs"))?;
     parse(&text, &shown)
 }
 

@@ -27,6 +27,8 @@ pub struct VectorsCommand {
     /// Octree depth of the deepest asset (the others keep their offset); default: the
     /// scene's. The memory images are written too, so small depths keep the set small.
     pub depth: Option<u8>,
+    /// Largest `.vox` asset file read, bytes (`--max-vox-mib`).
+    pub max_vox_bytes: u64,
 }
 
 /// Runs `sim vectors`: generates everything, then writes it, then prints a table per stage.
@@ -39,6 +41,7 @@ pub fn run_command(a: &VectorsCommand) -> Result<()> {
         width: a.width,
         height: a.height,
         depth: a.depth,
+        max_vox_bytes: a.max_vox_bytes,
     };
     // An --out that cannot be a folder fails before any work (write_files checks it again).
     crate::output::writer::refuse_stdout_folder("--out", &a.out)?;

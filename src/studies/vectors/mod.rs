@@ -93,6 +93,8 @@ pub struct VectorsOptions {
     pub height: u32,
     /// Depth of the deepest asset (`None`: the scene's depths).
     pub depth: Option<u8>,
+    /// Largest `.vox` asset file read, bytes (`--max-vox-mib`).
+    pub max_vox_bytes: u64,
 }
 
 impl Default for VectorsOptions {
@@ -105,6 +107,7 @@ impl Default for VectorsOptions {
             width: 32,
             height: 20,
             depth: None,
+            max_vox_bytes: crate::input::DEFAULT_VOX_CAP_BYTES,
         }
     }
 }
@@ -158,6 +161,7 @@ pub fn generate(opts: &VectorsOptions) -> Result<VectorSet, VectorsError> {
         Some(p) => Scene::load(p)?,
         None => Scene::default_car()?,
     };
+    scene.max_vox_bytes = opts.max_vox_bytes;
     if scene.file.resolution != (opts.width, opts.height) {
         scene.set_resolution(opts.width, opts.height)?;
     }

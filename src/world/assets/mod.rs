@@ -160,12 +160,11 @@ pub fn build_assets(
                     model,
                 } => {
                     let full = scene.base_dir.join(path);
-                    let v = vox::load_vox_model(&full, Some(depth), *model).map_err(|source| {
-                        AssetError::Vox {
+                    let v = vox::load_vox_model(&full, Some(depth), *model, scene.max_vox_bytes)
+                        .map_err(|source| AssetError::Vox {
                             asset: name.clone(),
                             source,
-                        }
-                    })?;
+                        })?;
                     if let Some(notice) = &v.notice {
                         // One line whatever the caller: a choice made for the user is never
                         // silent, and no caller of build_assets may forget to print it.

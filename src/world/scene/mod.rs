@@ -36,6 +36,9 @@ pub struct Scene {
     pub instance_asset: Vec<usize>,
     /// Where the scene came from, for messages.
     pub origin: String,
+    /// Largest `.vox` asset file read, in bytes (`--max-vox-mib`; default
+    /// [`crate::input::DEFAULT_VOX_CAP_BYTES`]).
+    pub max_vox_bytes: u64,
 }
 
 impl Scene {
@@ -56,10 +59,7 @@ impl Scene {
 
     /// Loads and validates a scene file.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
+        let text = crate::input::read_text(path, crate::input::Cap::config("scene"))?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Self::from_ron(&text, &path.display().to_string(), &base)
     }
@@ -229,6 +229,7 @@ impl Scene {
             base_dir: base_dir.to_path_buf(),
             instance_asset,
             origin: origin.to_string(),
+            max_vox_bytes: crate::input::DEFAULT_VOX_CAP_BYTES,
         };
         // Every frame's camera must be well formed, including interpolated ones.
         for f in 0..scene.file.frames {

@@ -49,12 +49,14 @@ impl Sorter {
     /// The stage of `hw` for a frame of `instances` instances.
     pub fn new(hw: &HwConfig, instances: usize) -> Self {
         let u = &hw.units.sorter;
+        // `validate` keeps the lanes within the datapath's 8-bit sorter.n.
+        let lanes = u8::try_from(hw.sorter_lanes).unwrap_or(u8::MAX);
         Self {
             pipe: UnitPipe::new(u.latency_cycles, u.ii),
             sort_cost: (0..=instances.min(SORT_COST_TABLE))
-                .map(|n| sort_cost_of(n, hw.sorter_lanes, u.latency_cycles))
+                .map(|n| sort_cost_of(n, lanes, u.latency_cycles))
                 .collect(),
-            lanes: hw.sorter_lanes,
+            lanes,
             network_latency: u.latency_cycles,
         }
     }

@@ -11,15 +11,10 @@ use super::{MAX_PLACED_VOXELS, MAX_UPSCALED_LEAVES};
 /// Why a `.vox` file could not be loaded. Every message names the file.
 #[derive(Debug, Error)]
 pub enum VoxError {
-    /// The file could not be read.
-    #[error("cannot read MagicaVoxel file {}: {source}", path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The OS error.
-        #[source]
-        source: std::io::Error,
-    },
+    /// The file could not be read, or is larger than its cap (boxed: the asset and sweep
+    /// errors that carry a `VoxError` stay small).
+    #[error(transparent)]
+    Input(Box<crate::input::InputError>),
     /// The bytes are not a (well-formed) `.vox` file.
     #[error("{} is not a valid MagicaVoxel file: {message}", path.display())]
     Parse {
@@ -143,4 +138,10 @@ pub enum VoxError {
         #[source]
         source: LeafSetError,
     },
+}
+
+impl From<crate::input::InputError> for VoxError {
+    fn from(e: crate::input::InputError) -> Self {
+        Self::Input(Box::new(e))
+    }
 }

@@ -148,9 +148,10 @@ pub struct VoxAsset {
 }
 
 /// Loads a `.vox` file as surface leaves; `depth: None` picks the smallest depth that holds
-/// the model. See the module documentation for the conventions.
-pub fn load_vox(path: &Path, depth: Option<u8>) -> Result<VoxAsset, VoxError> {
-    load_vox_model(path, depth, None)
+/// the model; a file larger than `max_bytes` is refused (read up to there only). See the
+/// module documentation for the conventions.
+pub fn load_vox(path: &Path, depth: Option<u8>, max_bytes: u64) -> Result<VoxAsset, VoxError> {
+    load_vox_model(path, depth, None, max_bytes)
 }
 
 /// Like [`load_vox`], with a choice of model: `Some(i)` loads the file's model `i` alone
@@ -159,12 +160,10 @@ pub fn load_vox_model(
     path: &Path,
     depth: Option<u8>,
     model: Option<usize>,
+    max_bytes: u64,
 ) -> Result<VoxAsset, VoxError> {
     check_requested_depth(path, depth)?;
-    let bytes = std::fs::read(path).map_err(|source| VoxError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = crate::input::read_bytes(path, crate::input::Cap::vox(max_bytes))?;
     load_vox_bytes_model(&bytes, path, depth, model)
 }
 

@@ -75,10 +75,14 @@ pub struct ModelLeaves {
     pub notice: Option<String>,
 }
 
-/// Loads `path` at its natural depth and lays its leaves out along the model's own axes;
-/// `model` chooses one of the file's models as [`load_vox_model`] does.
-pub fn load_model_frame(path: &Path, model: Option<usize>) -> Result<ModelLeaves, VoxError> {
-    let asset = load_vox_model(path, None, model)?;
+/// Loads `path` (at most `max_bytes` long) at its natural depth and lays its leaves out along
+/// the model's own axes; `model` chooses one of the file's models as [`load_vox_model`] does.
+pub fn load_model_frame(
+    path: &Path,
+    model: Option<usize>,
+    max_bytes: u64,
+) -> Result<ModelLeaves, VoxError> {
+    let asset = load_vox_model(path, None, model, max_bytes)?;
     // Natural depth: one leaf per file voxel (upscale 1), so leaf and voxel indices agree.
     debug_assert_eq!(asset.upscale, 1);
     let [d0, d1, d2] = asset.grid_dims.map(i64::from);

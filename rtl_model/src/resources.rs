@@ -4,7 +4,9 @@
 //!
 //! Pipeline position: the output of [`HwConfig::resources`](crate::cycle::hw_config::HwConfig::resources)
 //! (`cost::estimate`); `sim hardware`, the run report, `sim sweep` and the elaboration's
-//! savings read it.
+//! savings read it. Plain types with no dependency on the rest of the crate, so that a unit
+//! can price its own memory (`units::tile_list::resource_item`) and `cost` can add the lines
+//! up, without a unit importing `cost` (docs/architecture.md §1).
 
 use serde::{Deserialize, Serialize};
 use std::fmt;

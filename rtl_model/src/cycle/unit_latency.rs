@@ -2,7 +2,9 @@
 //! for the formats of a [`DatapathConfig`], as the hardware configuration's defaults and its
 //! lower limits.
 //!
-//! Pipeline position: read once per run, with the configurations. Each unit derives its own
+//! Pipeline position: read once per run, with the configurations; in `cycle` (not `cost`)
+//! because the hardware configuration's defaults are these timings, and `cycle` does not
+//! import the layer above it. Each unit derives its own
 //! stage count (`units::sphere::latency_cycles`, `units::sqrt::latency_cycles` of
 //! `units::sphere::sqrt_config`, `units::sorter::network_latency`,
 //! `units::transform::latency_cycles`, `units::reciprocal::latency_cycles`,
