@@ -673,11 +673,23 @@ fn every_model_of_the_samples_loads_by_index() {
         let counts = xyzi_voxel_counts(&std::fs::read(&path).unwrap());
         println!("{}: XYZI voxel counts {counts:?}", path.display());
         for (index, &count) in counts.iter().enumerate() {
-            let asset = load_vox_model(&path, None, Some(index)).unwrap();
+            let asset = load_vox_model(
+                &path,
+                None,
+                Some(index),
+                svo_sim::input::DEFAULT_VOX_CAP_BYTES,
+            )
+            .unwrap();
             assert_eq!(asset.voxels, count, "{} model {index}", path.display());
             assert_eq!(asset.file_models, counts.len());
         }
-        let err = load_vox_model(&path, None, Some(counts.len())).expect_err("past the end");
+        let err = load_vox_model(
+            &path,
+            None,
+            Some(counts.len()),
+            svo_sim::input::DEFAULT_VOX_CAP_BYTES,
+        )
+        .expect_err("past the end");
         assert!(matches!(err, VoxError::NoSuchModel { .. }), "{err:?}");
     }
 }

@@ -206,7 +206,7 @@ fn default_within_bound() {
 fn datapath_reciprocal_bounds_are_tight() {
     let seed = seed();
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed ^ 0x7167);
+    let mut rng = Rng::new(seed ^ 0x7167);
     for (name, dp) in datapaths::all() {
         let st = run(name, &dp.reciprocal, 20_000, &mut rng);
         println!("{name}: worst err/bound {:.4}", st.worst_ratio);

@@ -392,7 +392,7 @@ fn fixed_wrapper_exact_and_within_bound() {
 fn datapath_sqrt_bounds_are_tight() {
     let seed = seed();
     println!("seed = {seed} (SVO_TEST_SEED replays)");
-    let mut rng = Rng(seed ^ 0x5917);
+    let mut rng = Rng::new(seed ^ 0x5917);
     for (name, dp) in datapaths::all() {
         let cfg = rtl_model::units::sphere::sqrt_config(&dp.sphere);
         cfg.validate().unwrap();
