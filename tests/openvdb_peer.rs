@@ -59,7 +59,10 @@ fn cap_of(key: &str, bench: bool) -> [usize; 2] {
 fn over_cap(key: &str, ties: usize, slivers: usize, cap: [usize; 2]) -> Vec<String> {
     let mut out = Vec::new();
     if ties > cap[0] {
-        out.push(format!("{key}: {ties} ties, more than its cap of {}", cap[0]));
+        out.push(format!(
+            "{key}: {ties} ties, more than its cap of {}",
+            cap[0]
+        ));
     }
     if slivers > cap[1] {
         out.push(format!(
