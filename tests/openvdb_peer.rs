@@ -13,6 +13,9 @@
 //! - **real**: anything else, including a ray lying in a voxel plane that goes to another
 //!   cell than the plane rule's (`docs/render.md` §3). Required: 0.
 //!
+//! Ties and slivers are capped per camera at the counts measured ([`CAPS`]), so a regression in
+//! either walk that does not yet make a real difference still fails.
+//!
 //! The peer is built once with g++ against Debian's libopenvdb-dev 10 (plus libboost-dev and
 //! libtbb-dev, which it pulls in) into Cargo's test temp folder, keyed by its source. Without
 //! g++ or the OpenVDB headers, or without `../shared/data/vox`, the test prints why and
