@@ -13,6 +13,9 @@
 //! - **real**: anything else, including a ray lying in a voxel plane that goes to another
 //!   cell than the plane rule's (`docs/render.md` §3). Required: 0.
 //!
+//! Ties and slivers are capped per camera at the counts measured ([`CAPS`]), so a regression in
+//! either walk that does not yet make a real difference still fails.
+//!
 //! The peer is built once with g++ against Debian's libopenvdb-dev 10 (plus libboost-dev and
 //! libtbb-dev, which it pulls in) into Cargo's test temp folder, keyed by its source. Without
 //! g++ or the OpenVDB headers, or without `../shared/data/vox`, the test skips with a `SKIPPED`
@@ -36,7 +39,45 @@ mod common;
 /// ray 1e-9 after each span of leaf nodes without a hit.
 const SLIVER: f64 = 1e-8;
 
-const PEER_FLAGS: &[&str] = &["-std=c++17", "-O2", "-DNDEBUG", "-ffp-contract=off"];
+/// Ties and slivers allowed per camera, at what was measured (docs/render.md §7): `model/camera`,
+/// then `[ties, slivers]` in the test's images and in benchmark mode's 8× larger ones. Every
+/// camera not listed allows none. Both programs are deterministic (same rays, f64 without
+/// fused multiply-add), so the counts are exact and any more is a regression of one of the
+/// two walks (e.g. an edge or plane rule changed) that does not yet reach a real difference.
+const CAPS: &[(&str, [usize; 2], [usize; 2])] = &[
+    ("scene_store8/axis pinhole, odd size", [0, 2], [6, 14]),
+    ("chr_mayor/axis pinhole, odd size", [0, 0], [10, 2]),
+    ("alien_saucer2a/axis pinhole, odd size", [0, 0], [1, 7]),
+    ("scene_park/axis pinhole, odd size", [0, 14], [3, 20]),
+];
+
+/// The caps of camera `key` (`model/camera`): `[ties, slivers]`.
+fn cap_of(key: &str, bench: bool) -> [usize; 2] {
+    CAPS.iter()
+        .find(|(k, _, _)| *k == key)
+        .map_or([0, 0], |&(_, test, big)| if bench { big } else { test })
+}
+
+/// Names each of ties and slivers over its cap, for the final assertion.
+fn over_cap(key: &str, ties: usize, slivers: usize, cap: [usize; 2]) -> Vec<String> {
+    let mut out = Vec::new();
+    if ties > cap[0] {
+        out.push(format!(
+            "{key}: {ties} ties, more than its cap of {}",
+            cap[0]
+        ));
+    }
+    if slivers > cap[1] {
+        out.push(format!(
+            "{key}: {slivers} slivers, more than its cap of {}",
+            cap[1]
+        ));
+    }
+    out
+}
+
+/// `-O3` as OpenVDB's own release builds; `-O2` made the peer 1.4× slower (docs/render.md §7).
+const PEER_FLAGS: &[&str] = &["-std=c++17", "-O3", "-DNDEBUG", "-ffp-contract=off"];
 const PEER_LIBS: &[&str] = &["-lopenvdb", "-ltbb", "-lpthread"];
 
 /// Builds the peer (or reuses the build of the same source) and returns its path; `None`
@@ -428,6 +469,9 @@ fn reference_walk_agrees_with_openvdb() {
     let sim_bin = std::env::var("SVO_SIM_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_sim").into());
     let sim = sim_bin.as_str();
     let repeat = if bench { "3" } else { "1" };
+    // SVO_PEER_ONLY=veh_bus/oblique: only the cameras whose `model/camera` contains this text
+    // (one camera of the 20-camera benchmark takes seconds; all of them, minutes).
+    let only = std::env::var("SVO_PEER_ONLY").ok();
     let tmp = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join(format!("openvdb_peer_run_{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
@@ -439,7 +483,7 @@ fn reference_walk_agrees_with_openvdb() {
         "scene_park.vox",
     ];
     println!(
-        "{:<15} {:<23} {:>6} {:>6} {:>5} {:>7} {:>5} {:>9} {:>10} {:>8} {:>8}",
+        "{:<15} {:<23} {:>6} {:>6} {:>5} {:>7} {:>5} {:>9} {:>10} {:>8} {:>8} {:>8} {:>6}",
         "model",
         "camera",
         "pixels",
@@ -450,9 +494,12 @@ fn reference_walk_agrees_with_openvdb() {
         "max |dt|",
         "max sliver",
         "ref Mr/s",
-        "vdb Mr/s"
+        "vdb Mr/s",
+        "vdb med",
+        "ratio"
     );
     let mut total_real = 0;
+    let mut over: Vec<String> = Vec::new();
     let mut first_real: Vec<String> = Vec::new();
     for m in models {
         let path = vox_dir.join(m);
@@ -472,10 +519,15 @@ fn reference_walk_agrees_with_openvdb() {
         );
         let (mn, mx) = parse_box(&s);
         for cam in cameras(mn, mx, if bench { 8 } else { 1 }) {
+            let key = format!("{}/{}", m.trim_end_matches(".vox"), cam.name);
+            if only.as_ref().is_some_and(|o| !key.contains(o.as_str())) {
+                continue;
+            }
             let ours = tmp.join("ours.bin");
             let theirs = tmp.join("peer.bin");
             let (w, h) = (cam.w.to_string(), cam.h.to_string());
-            let mut c = Command::new(sim);
+            let mut c_ref = Command::new(sim);
+            let c = &mut c_ref;
             c.arg("render").arg(&path).args([
                 "--eye",
                 &v3(cam.eye),
@@ -498,8 +550,9 @@ fn reference_walk_agrees_with_openvdb() {
                 c.args(["--fov", &cam.value.to_string()]);
             }
             c.arg("--dump-hits").arg(&ours);
-            let s = run_ok(&mut c, "sim render");
-            let mut c = Command::new(&peer);
+            let s = run_ok(c, "sim render");
+            let mut c_peer = Command::new(&peer);
+            let c = &mut c_peer;
             c.arg(&path).arg(&theirs).args([&w, &h]);
             for v in [cam.eye, cam.look, cam.up] {
                 c.args(v.map(|x| x.to_string()));
@@ -510,7 +563,21 @@ fn reference_walk_agrees_with_openvdb() {
                 "2",
                 repeat,
             ]);
-            let p = run_ok(&mut c, "OpenVDB peer");
+            let p = run_ok(c, "OpenVDB peer");
+            // Speeds: in benchmark mode a second run of each in the other order (peer, then
+            // reference), so neither always runs first on a loaded machine; the best of both.
+            let mut ref_speed = number_before(&s, "Mrays/s");
+            let mut vdb_best: f64 = peer_value(&p, "trace_seconds")[0].parse().unwrap();
+            let mut vdb_median: f64 = peer_value(&p, "trace_median_seconds")[0].parse().unwrap();
+            if bench {
+                let p2 = run_ok(&mut c_peer, "OpenVDB peer");
+                let s2 = run_ok(&mut c_ref, "sim render");
+                ref_speed = ref_speed.max(number_before(&s2, "Mrays/s"));
+                let best2: f64 = peer_value(&p2, "trace_seconds")[0].parse().unwrap();
+                let median2: f64 = peer_value(&p2, "trace_median_seconds")[0].parse().unwrap();
+                vdb_best = vdb_best.min(best2);
+                vdb_median = vdb_median.min(median2);
+            }
             // Both read the model the same way: the same solid box, voxels and surface.
             let (pmn, pmx) = (peer_value(&p, "solid_min"), peer_value(&p, "solid_max"));
             let parse3 =
@@ -556,12 +623,11 @@ fn reference_walk_agrees_with_openvdb() {
                 }
                 counts[class as usize] += 1;
             }
-            let seconds: f64 = peer_value(&p, "trace_seconds")[0].parse().unwrap();
             let pixels = a.len();
-            let ref_speed = number_before(&s, "Mrays/s");
-            let vdb_speed = pixels as f64 / seconds.max(1e-9) / 1e6;
+            let vdb_speed = pixels as f64 / vdb_best.max(1e-9) / 1e6;
+            let vdb_median_speed = pixels as f64 / vdb_median.max(1e-9) / 1e6;
             println!(
-                "{:<15} {:<23} {:>6} {:>6} {:>5} {:>7} {:>5} {:>9.1e} {:>10.1e} {:>8.2} {:>8.2} {:>6.2}",
+                "{:<15} {:<23} {:>6} {:>6} {:>5} {:>7} {:>5} {:>9.1e} {:>10.1e} {:>8.2} {:>8.2} {:>8.2} {:>6.2}",
                 m.trim_end_matches(".vox"),
                 cam.name,
                 pixels,
@@ -573,12 +639,19 @@ fn reference_walk_agrees_with_openvdb() {
                 MAX_SLIVER.with(|m| m.get()),
                 ref_speed,
                 vdb_speed,
+                vdb_median_speed,
                 ref_speed / vdb_speed
             );
             total_real += counts[3];
+            over.extend(over_cap(&key, counts[1], counts[2], cap_of(&key, bench)));
         }
     }
     let _ = std::fs::remove_dir_all(&tmp);
+    assert!(
+        over.is_empty(),
+        "ties or slivers over their caps (a regression of one of the walks):\n{}",
+        over.join("\n")
+    );
     assert!(
         total_real == 0,
         "{total_real} real differences between the reference walk and OpenVDB; first:\n{}",
@@ -630,5 +703,28 @@ fn classifier_separates_ties_slivers_and_real_differences() {
             &rec(true, [0, 0, 0], 1.0, o, d)
         ),
         Class::Agree
+    );
+}
+
+/// The caps: a count at its cap passes, one more fails with exactly that message, and a
+/// camera without an entry allows none.
+#[test]
+fn ties_and_slivers_over_their_caps_fail() {
+    let key = "scene_park/axis pinhole, odd size";
+    assert_eq!(cap_of(key, false), [0, 14]);
+    assert_eq!(cap_of(key, true), [3, 20]);
+    assert!(over_cap(key, 0, 14, cap_of(key, false)).is_empty());
+    assert_eq!(
+        over_cap(key, 0, 15, cap_of(key, false)),
+        ["scene_park/axis pinhole, odd size: 15 slivers, more than its cap of 14"]
+    );
+    assert_eq!(
+        over_cap(key, 4, 20, cap_of(key, true)),
+        ["scene_park/axis pinhole, odd size: 4 ties, more than its cap of 3"]
+    );
+    assert_eq!(cap_of("veh_bus/oblique pinhole", true), [0, 0]);
+    assert_eq!(
+        over_cap("veh_bus/oblique pinhole", 1, 0, [0, 0]),
+        ["veh_bus/oblique pinhole: 1 ties, more than its cap of 0"]
     );
 }
