@@ -12,9 +12,14 @@
 //! images and their PNG encoding, the cycle model's BRAM and row traces); the hit dump and the
 //! report are written frame by frame.
 //!
-//! The available figure is `MemAvailable` of `/proc/meminfo`; on systems without it the check
-//! is skipped. The environment variable `SVO_SIM_MEM_AVAILABLE_MIB` replaces it (tests use it
-//! to make the refusal deterministic).
+//! The available figure is the smallest of what the machine and the process's own limits
+//! leave: `MemAvailable` of `/proc/meminfo`; the cgroup's `memory.max` less its
+//! `memory.current` (a container's limit, which `MemAvailable` does not see); and the soft
+//! address-space limit (`ulimit -v`, "Max address space" in `/proc/self/limits`) less the
+//! process's `VmSize` — the limit under which an allocation fails first. A source that is
+//! missing or unlimited is passed over; with none the check is skipped. The environment
+//! variable `SVO_SIM_MEM_AVAILABLE_MIB` replaces them all (tests use it to make the refusal
+//! deterministic).
 
 use super::Model;
 use thiserror::Error;
@@ -79,7 +84,7 @@ fn mib(bytes: u64) -> String {
 pub struct AvailableEnvError(String);
 
 /// The available memory in bytes and where the figure comes from: [`AVAILABLE_ENV`] if set,
-/// else `MemAvailable` of `/proc/meminfo`, else `None` (the check is skipped).
+/// else the smallest of [`machine_sources`], else `None` (the check is skipped).
 pub fn available_bytes() -> Result<Option<(u64, String)>, AvailableEnvError> {
     if let Ok(v) = std::env::var(AVAILABLE_ENV) {
         let mib: u64 = v.trim().parse().map_err(|_| AvailableEnvError(v.clone()))?;
@@ -88,19 +93,69 @@ pub fn available_bytes() -> Result<Option<(u64, String)>, AvailableEnvError> {
             format!("{AVAILABLE_ENV}={mib}"),
         )));
     }
-    let Ok(text) = std::fs::read_to_string("/proc/meminfo") else {
-        return Ok(None);
-    };
-    Ok(mem_available(&text).map(|b| (b, "MemAvailable in /proc/meminfo".to_string())))
+    Ok(machine_sources().into_iter().min_by_key(|(b, _)| *b))
+}
+
+/// What each limit this process runs under leaves, bytes, with the limit's name: the
+/// machine's `MemAvailable`, the cgroup (v2) limit less its use, and the address-space limit
+/// less the process's virtual size. Missing or unlimited sources are left out.
+pub fn machine_sources() -> Vec<(u64, String)> {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    let mut out = Vec::new();
+    if let Some(b) = read("/proc/meminfo").and_then(|t| mem_available(&t)) {
+        out.push((b, "MemAvailable in /proc/meminfo".to_string()));
+    }
+    if let (Some(max), Some(cur)) = (
+        read("/sys/fs/cgroup/memory.max"),
+        read("/sys/fs/cgroup/memory.current"),
+    ) {
+        if let Some(b) = cgroup_left(&max, &cur) {
+            out.push((b, "the cgroup's memory.max less memory.current".to_string()));
+        }
+    }
+    if let (Some(limits), Some(status)) = (read("/proc/self/limits"), read("/proc/self/status")) {
+        if let Some(b) = address_space_left(&limits, &status) {
+            out.push((
+                b,
+                "the address-space limit (ulimit -v) less this process's VmSize".to_string(),
+            ));
+        }
+    }
+    out
 }
 
 /// `MemAvailable` of a `/proc/meminfo` text, bytes.
 pub fn mem_available(meminfo: &str) -> Option<u64> {
-    let line = meminfo
-        .lines()
-        .find_map(|l| l.strip_prefix("MemAvailable:"))?;
+    kb_field(meminfo, "MemAvailable:")
+}
+
+/// A `NAME: N kB` field of a `/proc` text, bytes.
+fn kb_field(text: &str, name: &str) -> Option<u64> {
+    let line = text.lines().find_map(|l| l.strip_prefix(name))?;
     let kb: u64 = line.trim().strip_suffix("kB")?.trim().parse().ok()?;
     Some(kb.saturating_mul(1024))
+}
+
+/// What a cgroup v2 limit leaves: `memory.max` (a byte count, or `max` for none) less
+/// `memory.current`; `None` when unlimited or unreadable.
+pub fn cgroup_left(max: &str, current: &str) -> Option<u64> {
+    let max: u64 = max.trim().parse().ok()?;
+    let current: u64 = current.trim().parse().ok()?;
+    Some(max.saturating_sub(current))
+}
+
+/// What the soft address-space limit leaves: the "Max address space" line of
+/// `/proc/self/limits` (bytes, or `unlimited`) less `VmSize` of `/proc/self/status`; `None`
+/// when unlimited or unreadable.
+pub fn address_space_left(limits: &str, status: &str) -> Option<u64> {
+    let soft = limits
+        .lines()
+        .find_map(|l| l.strip_prefix("Max address space"))?
+        .split_whitespace()
+        .next()?;
+    let soft: u64 = soft.parse().ok()?;
+    let size = kb_field(status, "VmSize:")?;
+    Some(soft.saturating_sub(size))
 }
 
 /// Refuses a run whose estimate exceeds `available` (bytes, with its source's name).
@@ -146,6 +201,22 @@ mod tests {
         let text = "MemTotal:       24684084 kB\nMemFree: 1 kB\nMemAvailable:   23241464 kB\n";
         assert_eq!(mem_available(text), Some(23_241_464 * 1024));
         assert_eq!(mem_available("MemTotal: 5 kB\n"), None);
+    }
+
+    #[test]
+    fn cgroup_and_address_space_limits_are_read() {
+        assert_eq!(cgroup_left("4294967296\n", "1073741824\n"), Some(3 << 30));
+        assert_eq!(cgroup_left("max\n", "1073741824\n"), None);
+        let limits = "Limit                     Soft Limit           Hard Limit           Units     \n\
+                      Max address space         4096000000           unlimited            bytes     \n";
+        let status = "Name:\tsim\nVmPeak:\t  200000 kB\nVmSize:\t  100000 kB\n";
+        assert_eq!(
+            address_space_left(limits, status),
+            Some(4_096_000_000 - 102_400_000)
+        );
+        let unlimited =
+            "Max address space         unlimited            unlimited            bytes     \n";
+        assert_eq!(address_space_left(unlimited, status), None);
     }
 
     #[test]
