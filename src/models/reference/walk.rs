@@ -394,16 +394,19 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
         f.tm[k] = rf.mid(k, 0, 0);
     }
     f.next = first_child(f.t0, f.tm);
-    stack[0] = f;
+    // The current frame lives in a local (registers), not in `stack`: the next child label is
+    // carried from one step to the next, and through memory that chain would pay a store and
+    // a reload every step. `stack[..sp]` holds the ancestors only.
+    let mut top = f;
     let mut sp = 0usize;
     loop {
-        let top = &mut stack[sp];
         let c = top.next;
         if c >= 8 {
             if sp == 0 {
                 return None;
             }
             sp -= 1;
+            top = stack[sp];
             continue;
         }
         cnt.steps += 1;
@@ -479,8 +482,9 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
         };
         child.tm = std::array::from_fn(|k| rf.mid(k, level, coords[k]));
         child.next = first_child(child.t0, child.tm);
+        stack[sp] = top;
         sp += 1;
-        stack[sp] = child;
+        top = child;
         cnt.max_stack = cnt.max_stack.max(sp as u32 + 1);
     }
 }
