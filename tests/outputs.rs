@@ -220,3 +220,40 @@ fn report_json_dash_is_stdout_and_the_console_text_goes_to_stderr() {
         folder.stderr
     );
 }
+
+/// A `-` output whose reader leaves early (`sim --dump-hits - | head -c 20`) ends the run
+/// quietly with 141, as the console text's closed pipe does, not with an error report: before,
+/// it exited 1 with "error: … Broken pipe".
+#[test]
+fn a_dash_output_whose_reader_leaves_ends_quietly_with_141() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sim"))
+        .args([
+            "--model",
+            "reference",
+            "--width",
+            "320",
+            "--height",
+            "192",
+            "--frames",
+            "2",
+            "-q",
+            "--dump-hits",
+            "-",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("sim starts");
+    let mut head = [0u8; 20];
+    child
+        .stdout
+        .take()
+        .expect("piped stdout")
+        .read_exact(&mut head)
+        .expect("the dump's first bytes");
+    // The reader leaves here: stdout's pipe is closed once `take()`'s handle is dropped.
+    let out = child.wait_with_output().expect("sim ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "stderr: {stderr}");
+    assert!(!stderr.contains("error"), "stderr: {stderr}");
+}

@@ -118,6 +118,15 @@ fn quiet_on_broken_pipe() {
     }));
 }
 
+/// Whether `e` comes from writing to a pipe whose reader has gone (any cause in its chain is
+/// an I/O error of kind `BrokenPipe`).
+fn closed_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
 /// The exit of a process that received SIGINT or SIGTERM: removes every unfinished
 /// temporary, prints one line saying where the work stopped and what was kept, and returns
 /// 128 + the signal (130, 143). `r` is the command's result: an [`Interrupted`] error says
@@ -174,6 +183,9 @@ fn main() -> ExitCode {
     }
     match r {
         Ok(()) => ExitCode::SUCCESS,
+        // An output given as `-` whose reader closed the pipe (`--report-json - | head`): the
+        // same quiet 141 as the console text's closed pipe, not an error report.
+        Err(e) if closed_pipe(&e) => ExitCode::from(141),
         Err(e) => {
             eprintln!("error: {}", error_text(&e));
             ExitCode::FAILURE
