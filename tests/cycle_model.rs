@@ -286,6 +286,19 @@ fn run_reports(scene: &Scene, hw: &HwConfig, opts: CycleOptions) -> (Vec<String>
     (out, run.model().skipped_cycles())
 }
 
+/// Case `case` of a random-scene comparison: a random scene on random hardware, every even
+/// case with slow DRAM (100–499 cycles), where whole stretches of cycles are idle.
+fn random_case(rng: &mut SplitMix64, case: u32) -> (Scene, HwConfig) {
+    let text = random_scene(rng);
+    let mut hw = random_hw(rng);
+    if case % 2 == 0 {
+        hw.node_memory.dram.latency = 100 + rng.below(400) as u32;
+    }
+    let scene = Scene::from_ron(&text, "random", Path::new("."))
+        .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
+    (scene, hw)
+}
+
 /// Idle-cycle skipping (docs/cycle-model.md §3.3) changes nothing a report says: random
 /// scenes on random hardware — half of them with slow DRAM, where whole stretches are idle —
 /// give the same frames field for field whether idle cycles are skipped or stepped one by one.
@@ -296,13 +309,7 @@ fn idle_cycle_skipping_reports_as_stepping_every_cycle() {
     let mut rng = SplitMix64::derive(seed, "cycle_model_idle_skip");
     let (mut skipped, mut all) = (0u64, 0u64);
     for case in 0..10 {
-        let text = random_scene(&mut rng);
-        let mut hw = random_hw(&mut rng);
-        if case % 2 == 0 {
-            hw.node_memory.dram.latency = 100 + rng.below(400) as u32;
-        }
-        let scene = Scene::from_ron(&text, "random", Path::new("."))
-            .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
+        let (scene, hw) = random_case(&mut rng, case);
         let (a, (s, n)) = run_stepping(&scene, &hw, false);
         let (b, (s_b, n_b)) = run_stepping(&scene, &hw, true);
         assert_eq!((s_b, n_b), (0, n), "case {case}: stepping skips nothing");
@@ -331,13 +338,7 @@ fn evaluation_order_changes_no_report() {
     println!("seed {seed}");
     let mut rng = SplitMix64::derive(seed, "cycle_model_eval_order");
     for case in 0..6 {
-        let text = random_scene(&mut rng);
-        let mut hw = random_hw(&mut rng);
-        if case % 2 == 0 {
-            hw.node_memory.dram.latency = 100 + rng.below(400) as u32;
-        }
-        let scene = Scene::from_ron(&text, "random", Path::new("."))
-            .unwrap_or_else(|e| panic!("case {case}: {e}\n{text}"));
+        let (scene, hw) = random_case(&mut rng, case);
         // Odd cases are sampled (one band of 2 rows in 4), so the hold on the transform is
         // exercised too.
         let sample = (case % 2 == 1).then(|| SampleConfig::from_rate(0.25, 2, None, seed).unwrap());
