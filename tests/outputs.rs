@@ -40,6 +40,22 @@ fn tiny_report_run(report: &str, extra: &[&str]) -> Run {
     r
 }
 
+/// A one-frame 32×24 reference run with `extra`, whatever its outcome.
+fn tiny_run(extra: &[&str]) -> Run {
+    let mut args = vec![
+        "--model",
+        "reference",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--frames",
+        "1",
+    ];
+    args.extend_from_slice(extra);
+    run_sim(&args, None, Duration::from_secs(60))
+}
+
 /// The parsed report: an object naming the tool, with 2 frames.
 fn check_report(text: &str, what: &str) {
     let v: serde_json::Value = serde_json::from_str(text)
@@ -170,25 +186,7 @@ fn report_json_dash_is_stdout_and_the_console_text_goes_to_stderr() {
         r.stderr
     );
     // Two outputs cannot share standard output.
-    let two = run_sim(
-        &[
-            "--model",
-            "reference",
-            "--width",
-            "32",
-            "--height",
-            "24",
-            "--frames",
-            "1",
-            "--no-png",
-            "--report-json",
-            "-",
-            "--dump-hits",
-            "-",
-        ],
-        None,
-        Duration::from_secs(60),
-    );
+    let two = tiny_run(&["--no-png", "--report-json", "-", "--dump-hits", "-"]);
     assert!(!two.status.success());
     assert!(
         two.stderr
@@ -197,22 +195,7 @@ fn report_json_dash_is_stdout_and_the_console_text_goes_to_stderr() {
         two.stderr
     );
     // A folder of PNGs cannot be standard output.
-    let folder = run_sim(
-        &[
-            "--model",
-            "reference",
-            "--width",
-            "32",
-            "--height",
-            "24",
-            "--frames",
-            "1",
-            "--out",
-            "-",
-        ],
-        None,
-        Duration::from_secs(60),
-    );
+    let folder = tiny_run(&["--out", "-"]);
     assert!(!folder.status.success());
     assert!(
         folder.stderr.contains("cannot go to standard output"),
