@@ -162,10 +162,43 @@ fn random_dir(rng: &mut Rng, case: usize) -> DVec3 {
     )
 }
 
-#[test]
-fn fixed_walker_follows_the_reference_within_its_bound() {
-    let seed = seed();
-    println!("seed = {seed} (SVO_TEST_SEED replays)");
+/// The smallest margin m in [0, eps] for which `holds(m)` (monotone: true for every larger m),
+/// to 2^-30 of eps by bisection.
+fn needed_margin(eps: f64, holds: impl Fn(f64) -> bool) -> f64 {
+    let (mut lo, mut hi) = (0.0f64, eps);
+    if holds(lo) {
+        return 0.0;
+    }
+    for _ in 0..30 {
+        let mid = 0.5 * (lo + hi);
+        if holds(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
+/// How much of the walker's spatial bound the worst grazing difference must need: measured
+/// 0.017–0.025 on seeds 0xf10a7 and 1–5 (the bound sums every level's worst case, about 40–60×
+/// what one grazing corner needs); 0.01 leaves room for other seeds and fails if the bound grows
+/// by more than about 2×.
+const WALKER_BOUND_TIGHTNESS: f64 = 0.01;
+
+/// What one run of [`compare_walks`] saw.
+struct Comparison {
+    same: u64,
+    differing: u64,
+    hits: u64,
+    /// The largest margin a differing node needed, as a fraction of the bound.
+    worst_needed: f64,
+}
+
+/// Walks `cases` rays with both walkers and checks every difference against the bound. With
+/// `graze`, half the rays aim at a lattice corner of the deepest level, moved by a few LSBs of
+/// the position format: the rays for which the fixed walker's rounding decides the node.
+fn compare_walks(seed: u64, cases: usize, graze: bool) -> Comparison {
     let mut rng = Rng::new(seed);
     let cfg = config();
     cfg.validate().unwrap();
@@ -173,7 +206,7 @@ fn fixed_walker_follows_the_reference_within_its_bound() {
     let mut ov = Overflows::new(&["in", "walker/t"]);
     let (sin, sig) = (SignalId(0), SignalId(1));
     let (mut same, mut differing, mut hits) = (0u64, 0u64, 0u64);
-    let cases = 10_000;
+    let mut worst_needed = 0.0f64;
     for case in 0..cases {
         let a = &assets[case % assets.len()];
         let o = DVec3::new(
@@ -182,7 +215,16 @@ fn fixed_walker_follows_the_reference_within_its_bound() {
             rng.f(-3.0, 3.0) * a.half.z,
         );
         // Aim at a random point of the box most of the time, so most rays enter it.
-        let d = if case % 8 >= 4 {
+        let d = if case % 8 >= 4 && graze {
+            let cells = f64::from(1u32 << a.img.depth());
+            let nudge = 4.0 * cfg.pos.lsb();
+            let target = DVec3::new(
+                ((rng.f(0.0, cells)).floor() / cells * 2.0 - 1.0) * a.half.x + rng.f(-nudge, nudge),
+                ((rng.f(0.0, cells)).floor() / cells * 2.0 - 1.0) * a.half.y + rng.f(-nudge, nudge),
+                ((rng.f(0.0, cells)).floor() / cells * 2.0 - 1.0) * a.half.z + rng.f(-nudge, nudge),
+            );
+            (target - o).normalize()
+        } else if case % 8 >= 4 {
             let target = DVec3::new(
                 rng.f(-1.0, 1.0) * a.half.x,
                 rng.f(-1.0, 1.0) * a.half.y,
@@ -242,18 +284,35 @@ fn fixed_walker_follows_the_reference_within_its_bound() {
                 0.0
             };
         let eps = spatial_error_bound(&cfg, 0.5 * cfg.pos.lsb(), dir_err, reach, a.img.depth());
-        for node in fx_nodes.iter().filter(|n| !ref_nodes.contains(n)) {
+        let reference_stopped_early =
+            r.is_some() && ref_nodes.last().is_some_and(|n| !fx_nodes.contains(n));
+        for node in fx_nodes
+            .iter()
+            .filter(|n| !ref_nodes.contains(n) && !reference_stopped_early)
+        {
             let (lo, hi) = node_box(a.half, node.0, node.1);
+            worst_needed =
+                worst_needed.max(needed_margin(eps, |m| slab(o, d, lo - m, hi + m)) / eps);
             assert!(
                 slab(o, d, lo - eps, hi + eps),
                 "seed {seed} case {case}: fixed walker entered {node:?}, which the exact ray misses by more than {eps:e}\n o {o:?} d {d:?}"
             );
         }
-        for node in ref_nodes.iter().filter(|n| !fx_nodes.contains(n)) {
+        // A walk ends at its first hit: when one walker hit in a node only it entered (a node
+        // the other's ray passes within the bound, checked above for the fixed walker and
+        // below for the reference), the other walks on, and its later nodes are no difference.
+        let fixed_stopped_early = matches!(out, WalkOutcome::Hit(_))
+            && fx_nodes.last().is_some_and(|n| !ref_nodes.contains(n));
+        for node in ref_nodes
+            .iter()
+            .filter(|n| !fx_nodes.contains(n) && !fixed_stopped_early)
+        {
             let (lo, hi) = node_box(a.half, node.0, node.1);
+            worst_needed =
+                worst_needed.max(needed_margin(eps, |m| !slab(o, d, lo + m, hi - m)) / eps);
             assert!(
                 !slab(o, d, lo + eps, hi - eps),
-                "seed {seed} case {case}: fixed walker skipped {node:?}, which the exact ray enters deeper than {eps:e}\n o {o:?} d {d:?}"
+                "seed {seed} case {case}: fixed walker skipped {node:?}, which the exact ray enters deeper than {eps:e}\n o {o:?} d {d:?}\n reference {:?}\n fixed {:?}\n ref nodes {ref_nodes:?}\n fixed nodes {fx_nodes:?}", r.map(|h| h.voxel), out
             );
         }
         let common_ref: Vec<_> = ref_nodes.iter().filter(|n| fx_nodes.contains(n)).collect();
@@ -264,10 +323,47 @@ fn fixed_walker_follows_the_reference_within_its_bound() {
         );
     }
     println!("{cases} rays: {same} identical node sequences, {differing} differing within the bound; {hits} reference hits");
+    println!("largest margin a difference needed: {worst_needed:.3e} of the bound");
     assert_eq!(ov.total(), 0, "nothing may saturate for in-range inputs");
+    Comparison {
+        same,
+        differing,
+        hits,
+        worst_needed,
+    }
+}
+
+#[test]
+fn fixed_walker_follows_the_reference_within_its_bound() {
+    let seed = seed();
+    println!("seed = {seed} (SVO_TEST_SEED replays)");
+    let cases = 10_000;
+    let Comparison {
+        same, differing, ..
+    } = compare_walks(seed, cases, false);
+    assert!(same + differing == cases as u64);
     assert!(
         differing * 100 <= cases as u64,
         "differences should be rare: {differing}"
+    );
+}
+
+/// Tightness of the walker's spatial bound: rays that graze the deepest level's corners make the
+/// fixed walker's rounding decide nodes, and the largest margin such a difference needs must be
+/// at least [`WALKER_BOUND_TIGHTNESS`] of the bound. The bound sums worst cases over every
+/// level of the walk, so it is loose by design; the limit pins how loose, so that a bound grown
+/// by a slip (a term counted twice, a wrong LSB) fails here.
+#[test]
+fn walker_bound_is_needed_by_grazing_rays() {
+    let seed = seed();
+    println!("seed = {seed} (SVO_TEST_SEED replays)");
+    let c = compare_walks(seed, 10_000, true);
+    assert!(c.differing > 0, "grazing rays must make the walkers differ");
+    assert!(c.hits > 0);
+    assert!(
+        c.worst_needed >= WALKER_BOUND_TIGHTNESS,
+        "walker bound loose: the largest margin needed is {:.3e} of it (limit {WALKER_BOUND_TIGHTNESS:e})",
+        c.worst_needed
     );
 }
 
