@@ -18,19 +18,28 @@ TB = HERE.parent
 RTL = TB / "rtl"
 GEN = TB / "rdl" / "generated"
 
-# bench -> (top, sources, test module, extra Verilator build args)
+# bench -> (top, sources, test module, parameters)
+HIT_BUFFER = dict(NPIX=256, AW=8, INSTANCES=255, PAYW=8, HB_READ=4, WR_DEPTH=8)
 BENCHES = {
     "regs": (
         "tb_regs",
         [GEN / "svo_core_regs_pkg.sv", GEN / "svo_core_regs.sv", HERE / "tb_regs.sv"],
         "test_regs",
-        [],
+        {},
     ),
+    # The model's arrangement (one write port), checked cycle by cycle.
     "hit_buffer": (
         "svo_hit_buffer",
         [RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
         "test_hit_buffer",
-        [],
+        dict(HIT_BUFFER, WRITE_PORTS=1),
+    ),
+    # A write port per source (issue 28): content and order only.
+    "hit_buffer_2p": (
+        "svo_hit_buffer",
+        [RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
+        "test_hit_buffer",
+        dict(HIT_BUFFER, WRITE_PORTS=2),
     ),
 }
 
@@ -90,7 +99,7 @@ def main() -> int:
         return 2
     from cocotb_tools.runner import get_runner
 
-    top, sources, module, build_args = BENCHES[bench]
+    top, sources, module, parameters = BENCHES[bench]
     build_dir = Path(os.environ.get("SVO_COCOTB_BUILD", TB.parent / "target" / "cocotb")) / bench
     includes = []
     if bench == "regs":
@@ -104,7 +113,8 @@ def main() -> int:
         hdl_toplevel=top,
         includes=includes,
         build_dir=str(build_dir),
-        build_args=["-Wno-fatal", "-Wno-lint", "-Wno-style", "-Wno-TIMESCALEMOD", "-j", "2", *build_args],
+        build_args=["-Wno-fatal", "-Wno-lint", "-Wno-style", "-Wno-TIMESCALEMOD", "-j", "2"],
+        parameters=parameters,
         always=False,
     )
     t1 = time.monotonic()
@@ -113,6 +123,7 @@ def main() -> int:
         test_module=module,
         test_dir=str(HERE),
         build_dir=str(build_dir),
+        results_xml=str(build_dir / "results.xml"),
         extra_env=extra_env,
     )
     t2 = time.monotonic()
