@@ -125,8 +125,8 @@ fn registers_from_the_description_pass_and_one_corruption_is_one_failure() {
 /// frame's words written through the record port, then the rays decided with the group's dirty
 /// flags — every reused word, miss word and walk as the model's row says, at the model's
 /// cycles (L = 5 to walk, L + 1 to the write) with one write port, and in order with random
-/// back-pressure; the same content with two write ports. One flipped expected word is exactly
-/// one failure.
+/// back-pressure; the same content with two write ports. One flipped expected word, pixel or
+/// cycle is exactly one failure.
 #[test]
 fn hit_buffer_reuses_across_frames_as_the_model_rows_say() {
     let Some(venv) = venv() else { return };
@@ -142,14 +142,21 @@ fn hit_buffer_reuses_across_frames_as_the_model_rows_say() {
             "rows used:\n{text}"
         );
     }
-    // Row 5 is reused (its word comes from the previous frame).
-    let (ok, text, _) = bench(&venv, "hit_buffer", &["SVO_CORRUPT=5"]);
-    assert!(!ok, "{text}");
-    let (_, failed) = tally(&text, "hit_buffer: ");
-    assert_eq!(failed, 1, "{text}");
-    let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("FAIL ")).collect();
-    assert_eq!(fails.len(), 1, "{text}");
-    assert!(fails[0].contains("row 5 "), "{}", fails[0]);
+    // Row 5 is reused (its word comes from the previous frame), row 25 walks: a flipped word,
+    // a flipped pixel and a cycle one late are each exactly one failure, naming the row.
+    for (env, row) in [
+        ("SVO_CORRUPT=5", "row 5 "),
+        ("SVO_CORRUPT=25", "row 25:"),
+        ("SVO_CORRUPT_CYCLE=25", "row 25:"),
+    ] {
+        let (ok, text, _) = bench(&venv, "hit_buffer", &[env]);
+        assert!(!ok, "{env}:\n{text}");
+        let (_, failed) = tally(&text, "hit_buffer: ");
+        assert_eq!(failed, 1, "{env}:\n{text}");
+        let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("FAIL ")).collect();
+        assert_eq!(fails.len(), 1, "{env}:\n{text}");
+        assert!(fails[0].contains(row), "{env}: {}", fails[0]);
+    }
 }
 
 /// `fusesoc run` of the core's lint targets (testbench/svo_core.core): the hit buffer under

@@ -23,7 +23,7 @@ Rows whose single candidate's id is 255 or more (no instance register holds a di
 it; the RTL reads such an id as dirty) are left out, and counted in the output.
 Environment: SVO_VECTORS (default the committed vectors/), SVO_SEED (default 29, printed),
 SVO_CORRUPT=N flips bit 0 of row N's expected word (or pixel, for a ray to walk) in the clean
-pass: exactly one failure. Prints failures (first 20), then "hit_buffer: N passed, N failed".
+pass, SVO_CORRUPT_CYCLE=N adds one to row N's expected cycle there: each exactly one failure. Prints failures (first 20), then "hit_buffer: N passed, N failed".
 """
 import os
 import random
@@ -155,7 +155,8 @@ class Bench:
             self.cycle += 1
         return accepted, pushed, walked, written
 
-    def expect_frame(self, accepted, pushed, walked, written, miss_word, timing, corrupt_row, tag):
+    def expect_frame(self, accepted, pushed, walked, written, miss_word, timing, corrupt_row, tag,
+                     corrupt_cycle=None):
         """Compares one frame's outputs with the rows' expectations."""
         lat = self.lat
         by_pixel = {}
@@ -173,6 +174,8 @@ class Bench:
         order_direct = []
         for ray, c in accepted:
             r = ray
+            if corrupt_cycle is not None and r["row"] == corrupt_cycle:
+                c += 1
             if r["reuse"]:
                 want = ("write", r["reused_word"])
             elif r["candidates"] == 0:
@@ -210,12 +213,15 @@ async def reuse_across_frames_against_the_model_rows(dut):
     seed = int(os.environ.get("SVO_SEED", "29"))
     corrupt = os.environ.get("SVO_CORRUPT", "")
     corrupt_row = int(corrupt) if corrupt else None
+    corrupt_cycle_env = os.environ.get("SVO_CORRUPT_CYCLE", "")
+    corrupt_cycle = int(corrupt_cycle_env) if corrupt_cycle_env else None
     folder = Path(os.environ.get("SVO_VECTORS", REPO / "vectors"))
     npix = int(dut.NPIX.value)
     instances = int(dut.INSTANCES.value)
     ports = int(dut.WRITE_PORTS.value)
     print(f"hit_buffer: seed {seed}, vectors {folder}, WRITE_PORTS {ports}, HB_READ {int(dut.HB_READ.value)}"
-          + (f", corrupted row {corrupt_row}" if corrupt else ""))
+          + (f", corrupted row {corrupt_row}" if corrupt else "")
+          + (f", corrupted cycle of row {corrupt_cycle}" if corrupt_cycle is not None else ""))
     rng = random.Random(seed)
     rows = read_rows(folder)
     usable = [r for r in rows if not (r["candidates"] == 1 and r["candidate"] >= min(instances, 255))]
@@ -260,7 +266,8 @@ async def reuse_across_frames_against_the_model_rows(dut):
                 grows, others, (buf, cam, idirty), walk_p, extra_p, rng, timing,
                 corrupt_row if pass_name == "clean" else None)
             b.expect_frame(acc, pushed, walked, written, miss_word, timing and timing_checked,
-                           corrupt_row if pass_name == "clean" else None, tag + " frame B")
+                           corrupt_row if pass_name == "clean" else None, tag + " frame B",
+                           corrupt_cycle if pass_name == "clean" else None)
             b.check(int(dut.err_pixel.value) == 0, f"{tag}: err_pixel set")
     for line in b.failures[:20]:
         print("FAIL " + line)
