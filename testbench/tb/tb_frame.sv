@@ -4,7 +4,7 @@
 //
 // Pipeline position: all of it (docs/cycle-model.md §2.1). A testbench-level top: the RTL
 // units do every datapath operation — svo_raygen, svo_sphere ×8 lanes (square roots inside), svo_sorter,
-// svo_hit_check on a hit-buffer memory, svo_transform, svo_reciprocal ×3, svo_walker_root,
+// svo_hit_buffer (the hit buffer, svo_hit_check inside, its write FIFO and port), svo_transform, svo_reciprocal ×3, svo_walker_root,
 // one svo_walker (one context) on a fixed-latency node memory, svo_hit_pack — while the
 // testbench is the host (direction table, instance registers, the images in memory) and the
 // control between the units: valid/ready FIFOs of the cycle model's depths, its stage rules
@@ -62,7 +62,7 @@ module tb_frame;
     // The hit buffer's read (hit_buffer.read_latency_cycles, 4 by default) and the one
     // register of svo_hit_check and of svo_hit_pack; the other units' latencies are their
     // own LATENCY (read from the instances below, so a retimed unit needs no edit here).
-    localparam int HB_READ = 4, L_CK = HB_READ + 1, L_PK = 1;
+    localparam int HB_READ = 4, L_PK = 1;
 
     reg clk = 1'b0;
     always #5 clk = ~clk;
@@ -75,7 +75,6 @@ module tb_frame;
     reg [CB-1:0] cam [0:0];
     reg [31:0]   nodes [0:NODE_WORDS-1];
     reg [63:0]   attrs [0:(ATTR_RECORDS > 0 ? ATTR_RECORDS : 1)-1];
-    reg [71:0]   hitbuf [0:NPIX-1];
     int nb [0:15], ab [0:15];
     int mem_latency = 3;
     longint model_cycles = -1;
@@ -165,25 +164,34 @@ module tb_frame;
         .in_count(so_in_count), .in_keys(so_in_keys), .out_valid(so_out_valid),
         .out_count(so_out_count), .out_keys(so_out_keys));
 
-    // check: the hit buffer's 4-cycle read, then svo_hit_check.
-    reg ck_in_valid = 0;
-    reg [71:0] ck_in_word;
-    reg [15:0] ck_in_cands, ck_in_cand;
-    wire [72+32:0] ck_q;
-    wire ck_out_valid, ck_reuse, ck_hit;
-    wire [71:0] ck_reused_word;
-    wire [1:0] ck_kind;
-    wire [7:0] ck_inst, ck_nu, ck_nv, ck_r, ck_g, ck_b;
-    wire [21:0] ck_t;
-    svo_delay #(.W(72 + 33), .D(L_CK - 1), .RESET(1)) u_hb_read (.clk(clk), .rst(rst),
-        .d({ck_in_valid, ck_in_cands, ck_in_cand, ck_in_word}), .q(ck_q));
-    svo_hit_check u_check (.clk(clk), .rst(rst), .in_valid(ck_q[72+32]), .in_prev(ck_q[71:0]),
-        .in_buffer(1'b1), .in_camera_dirty(1'b1), .in_candidates(ck_q[72+31:72+16]),
-        .in_candidate(ck_q[72+15:72]), .in_instance_dirty(1'b1),
-        .out_valid(ck_out_valid), .out_kind(ck_kind), .out_hit(ck_hit), .out_instance(ck_inst),
-        .out_t(ck_t), .out_normal_u(ck_nu), .out_normal_v(ck_nv), .out_colour_r(ck_r),
-        .out_colour_g(ck_g), .out_colour_b(ck_b), .out_reuse(ck_reuse),
-        .out_reused_word(ck_reused_word));
+    // check and write: svo_hit_buffer (the hit buffer with its HB_READ-cycle read,
+    // svo_hit_check, the decision, record_to_write and the write port). This frame is the
+    // first: the buffer holds no earlier frame (buffer_valid 0), so nothing is reused; the
+    // dirty flags are the host's registers as they stand before any frame (all dirty).
+    // testbench/cocotb/test_hit_buffer.py checks reuse across frames.
+    reg hb_buffer_valid = 1'b0, hb_camera_dirty = 1'b1;
+    reg [LANES-1:0] hb_instance_dirty = '1;
+    reg hb_in_valid = 0, hb_rec_valid = 0, hb_walk_ready = 0;
+    reg [PIXW-1:0] hb_in_pixel, hb_rec_pixel;
+    reg [15:0] hb_in_cands, hb_in_cand;
+    reg [71:0] hb_rec_word;
+    wire hb_in_ready, hb_walk_valid, hb_rec_ready, hb_wr_valid, hb_wr_direct;
+    wire [PIXW-1:0] hb_walk_pixel, hb_wr_pixel;
+    wire [71:0] hb_wr_word;
+    /* verilator lint_off PINCONNECTEMPTY */
+    svo_hit_buffer #(.NPIX(NPIX), .AW(NPIX > 1 ? $clog2(NPIX) : 1), .PIXW(PIXW),
+        .INSTANCES(LANES), .HB_READ(HB_READ), .PAYW(1), .WR_DEPTH(D_RC_WR), .WRITE_PORTS(1))
+    u_hit_buffer (.clk(clk), .rst(rst), .buffer_valid(hb_buffer_valid),
+        .camera_dirty(hb_camera_dirty), .instance_dirty(hb_instance_dirty),
+        .miss_word(miss_word), .in_valid(hb_in_valid), .in_ready(hb_in_ready),
+        .in_pixel(hb_in_pixel), .in_candidates(hb_in_cands), .in_candidate(hb_in_cand),
+        .in_payload(1'b0), .walk_valid(hb_walk_valid), .walk_ready(hb_walk_ready),
+        .walk_pixel(hb_walk_pixel), .walk_payload(), .rec_valid(hb_rec_valid),
+        .rec_ready(hb_rec_ready), .rec_pixel(hb_rec_pixel), .rec_word(hb_rec_word),
+        .wr_valid(hb_wr_valid), .wr_pixel(hb_wr_pixel), .wr_word(hb_wr_word),
+        .wr_direct(hb_wr_direct), .wr1_valid(), .wr1_pixel(), .wr1_word(), .ev_reused(),
+        .ev_write_stall(), .ev_walk_stall(), .err_pixel());
+    /* verilator lint_on PINCONNECTEMPTY */
 
     // transform.
     reg tr_in_valid = 0;
@@ -292,8 +300,6 @@ module tb_frame;
     // =====================================================================================
     int   q_rg_sp[$], q_sp_so[$], q_so_ck[$], q_ck_tr[$], q_loop[$], q_tr_rc[$], q_rc_rt[$],
           q_wk_rc[$];
-    int q_rc_wr[$];
-    reg [71:0] q_rc_wr_word[$];
     int junk;
     reg [RTB-1:0] q_rt_dp[$];
     // Unit pipes: tags in flight (inside the RTL) and results waiting (model's elastic pipe).
@@ -303,9 +309,6 @@ module tb_frame;
     reg [LANES*32-1:0] sp_res_t[$];
     int so_fly[$], so_res[$];
     reg [32*40-1:0] so_res_keys[$];
-    int ck_fly[$], ck_res[$];
-    reg ck_res_reuse[$];
-    reg [71:0] ck_res_word[$];
     int tr_fly[$], tr_res[$];
     int rc_fly[$], rc_res[$];
     int rt_res[$];
@@ -349,7 +352,7 @@ module tb_frame;
     endfunction
 
     // Start-of-cycle occupancies (the registered valid/ready).
-    int o_rg_sp, o_sp_so, o_so_ck, o_ck_tr, o_loop, o_tr_rc, o_rc_rt, o_rt_dp, o_wk_rc, o_rc_wr;
+    int o_rg_sp, o_sp_so, o_so_ck, o_ck_tr, o_loop, o_tr_rc, o_rc_rt, o_rt_dp, o_wk_rc;
 
     // Collect unit results (valid in this cycle) into their pipes' result queues.
     task automatic collect;
@@ -372,11 +375,6 @@ module tb_frame;
         if (so_out_valid) begin
             so_res.push_back(so_fly.pop_front());
             so_res_keys.push_back(so_out_keys);
-        end
-        if (ck_out_valid) begin
-            ck_res.push_back(ck_fly.pop_front());
-            ck_res_reuse.push_back(ck_reuse);
-            ck_res_word.push_back(ck_reused_word);
         end
         if (tr_out_valid) begin
             int s = tr_fly.pop_front();
@@ -402,22 +400,17 @@ module tb_frame;
         end
     endtask
 
-    task automatic pop_check;
-        junk = ck_res.pop_front();
-        ck_res_reuse.delete(0);
-        ck_res_word.delete(0);
-    endtask
 
     `include "tb_frame_host.svh"
     // One model cycle, consumers first (write, record, walkers, root, reciprocal, transform,
     // check, sorter, sphere, raygen), FIFO valid/ready from the start-of-cycle occupancies.
     task automatic step;
-        bit rec_pushed, free_after;
+        bit free_after;
         o_rg_sp = q_rg_sp.size(); o_sp_so = q_sp_so.size(); o_so_ck = q_so_ck.size();
         o_ck_tr = q_ck_tr.size(); o_loop = q_loop.size(); o_tr_rc = q_tr_rc.size();
         o_rc_rt = q_rc_rt.size(); o_rt_dp = q_rt_dp.size(); o_wk_rc = q_wk_rc.size();
-        o_rc_wr = q_rc_wr.size();
-        rg_in_valid = 0; sp_in_valid = 0; so_in_valid = 0; ck_in_valid = 0; tr_in_valid = 0;
+        rg_in_valid = 0; sp_in_valid = 0; so_in_valid = 0; hb_in_valid = 0; tr_in_valid = 0;
+        hb_rec_valid = 0; hb_walk_ready = 0;
         rc_in_valid = 0; rt_in_valid = 0; wk_in_valid = 0; pk_in_valid = 0;
         collect();
         while (rt_bundle.size() > 0) begin
@@ -425,21 +418,25 @@ module tb_frame;
             q_rt_dp_wait.push_back(rt_bundle.pop_front());
         end
         // write: one record a cycle into the hit buffer.
-        if (o_rc_wr > 0) begin
-            int p;
-            reg [71:0] w;
-            p = q_rc_wr.pop_front();
-            w = q_rc_wr_word.pop_front();
-            hitbuf[p] = w;
-            check_pixel(p, w, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
+        // (svo_hit_buffer writes its FIFO's head this cycle; a word from the check stage, reused
+        // or the miss word, had no walk.)
+        if (hb_wr_valid) begin
+            int p = int'(hb_wr_pixel);
+            if (hb_wr_direct) begin
+                pix_walks[p] = 0; pix_hit[p] = 0;
+            end
+            check_pixel(p, hb_wr_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
             written++;
         end
         // record: the pack's result out, then the next walk result's decision.
-        rec_pushed = 0;
-        if (pk_res.size() > 0 && o_rc_wr < D_RC_WR) begin
-            q_rc_wr.push_back(pk_res.pop_front());
-            q_rc_wr_word.push_back(pk_res_word.pop_front());
-            rec_pushed = 1;
+        if (pk_res.size() > 0) begin
+            hb_rec_valid = 1;
+            hb_rec_pixel = PIXW'(pk_res[0]);
+            hb_rec_word = pk_res_word[0];
+            if (hb_rec_ready) begin                        // the FIFO's registered occupancy
+                junk = pk_res.pop_front();
+                pk_res_word.delete(0);
+            end
         end
         if (o_wk_rc > 0 && pk_fly.size() + pk_res.size() < L_PK) begin
             int s = q_wk_rc.pop_front();
@@ -544,31 +541,22 @@ module tb_frame;
                 tr_fly.push_back(s);
             end
         end
-        // check: reused words and rays without candidates to the write FIFO (after the
-        // record's claim), the others to check_to_transform.
-        if (ck_res.size() > 0) begin
-            int p = ck_res[0];
-            if (ck_res_reuse[0] || n_cands[p] == 0) begin
-                if (!rec_pushed && o_rc_wr < D_RC_WR) begin
-                    q_rc_wr.push_back(p);
-                    // A ray without candidates takes the frame's miss word (a host constant).
-                    q_rc_wr_word.push_back(ck_res_reuse[0] ? ck_res_word[0] : miss_word);
-                    pix_walks[p] = 0; pix_hit[p] = 0;
-                    pop_check();
-                end
-            end else if (o_ck_tr < D_CK_TR) begin
-                q_ck_tr.push_back(p);
-                pop_check();
-            end
+        // check: svo_hit_buffer decides its head ray (reused word or no candidate: into its
+        // write FIFO unless the record pushed this cycle; else out to check_to_transform) and
+        // takes the next ray from sorter_to_check while fewer than its capacity are inside,
+        // counting the one leaving. Its in_ready depends on rec_valid and walk_ready through
+        // that departure: #1 lets them settle before it is read (the edge is at +5).
+        hb_walk_ready = o_ck_tr < D_CK_TR;
+        if (o_so_ck > 0) begin
+            int p = q_so_ck[0];
+            hb_in_valid = 1;
+            hb_in_pixel = PIXW'(p);
+            hb_in_cands = 16'(n_cands[p]);
+            hb_in_cand = n_cands[p] == 1 ? 16'(cands[p][0][39:32]) : 16'd0;
         end
-        if (o_so_ck > 0 && ck_fly.size() + ck_res.size() < L_CK) begin
-            int p = q_so_ck.pop_front();
-            ck_in_word = hitbuf[p];                           // READ_FIRST
-            ck_in_cands = 16'(n_cands[p]);
-            ck_in_cand = n_cands[p] == 1 ? 16'(cands[p][0][39:32]) : 16'd0;
-            ck_in_valid = 1;
-            ck_fly.push_back(p);
-        end
+        #1;
+        if (hb_walk_valid && hb_walk_ready) q_ck_tr.push_back(int'(hb_walk_pixel));
+        if (hb_in_valid && hb_in_ready) junk = q_so_ck.pop_front();
         // sorter.
         if (so_res.size() > 0 && o_so_ck < D_SO_CK) begin
             int p = so_res.pop_front();
@@ -637,7 +625,6 @@ module tb_frame;
         $readmemh({dir, "/reciprocal_seed.hex"}, recip[0].u_recip.rom);
         $readmemh({dir, "/reciprocal_seed.hex"}, recip[1].u_recip.rom);
         $readmemh({dir, "/reciprocal_seed.hex"}, recip[2].u_recip.rom);
-        for (int p = 0; p < NPIX; p++) hitbuf[p] = '0;
         for (int s = 0; s < SLOTS; s++) slot_free[s] = 1;
         if (cam[0][frame_camera_vectors_pkg::INSTANCES_LSB +: 16] != NINST || NINST > LANES
             || NINST < 1)

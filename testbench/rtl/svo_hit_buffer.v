@@ -1,0 +1,293 @@
+// svo_hit_buffer: the hit buffer with its check stage and write port — reuse across frames
+// with the host's dirty flags, valid/ready with back-pressure on every side.
+//
+// Pipeline position: after the sorter, before the transform (rays to walk) and after the
+// record stage (docs/cycle-model.md §2.1: sorter_to_check → check → check_to_transform or
+// record_to_write → write). Cycle-exact with the cycle model's check and write stages
+// (src/models/cycle/stages/check.rs, write.rs) and the record stage's claim of the write
+// FIFO (record.rs):
+// - check: an elastic pipe of capacity L = HB_READ + 1 (the hit buffer's read latency plus
+//   svo_hit_check's register, units.hit_unpack). A ray accepted in cycle n reads the buffer
+//   at the edge ending n (READ_FIRST: a write of the same edge is not seen) and is decided in
+//   cycle n + L: reused (svo_hit_check's rule with this frame's dirty flags), or without
+//   candidates (the host's miss word), both straight to the write FIFO; else out to walk.
+//   `in_ready` is high while fewer than L rays are n_in, counting the one that leaves this
+//   cycle (so it depends combinationally on walk_ready and rec_valid, as the model's pipe
+//   frees its slot before it accepts).
+// - the write FIFO (record_to_write, WR_DEPTH deep, registered occupancy): the record stage
+//   (`rec_*`) has the port first; the check's word enters only in a cycle the record did not
+//   push. The head is written to the buffer every cycle (the write port is always ready) and
+//   shown on `wr_*` in that cycle.
+// WRITE_PORTS = 2 gives the check's words a FIFO and a buffer write port of their own (no
+// claim between the two sources; issue 28's second write path). The cycle model has one
+// port today, so only WRITE_PORTS = 1 is checked cycle by cycle against it (tb_frame.sv);
+// 2 is checked for content only (testbench/cocotb/test_hit_buffer.py).
+//
+// The buffer holds one word per pixel (NPIX words of WB bits, word layout as
+// svo_hit_pack.v) and keeps them across frames: frame f's check reads what frame f − 1 wrote.
+// Host inputs, constant during a frame: buffer_valid (the buffer holds a frame of this size
+// and camera), camera_dirty, instance_dirty (bit i: instance i moved; an instance id of
+// INSTANCES or more reads as dirty), miss_word. A pixel index of NPIX or more sets the sticky
+// err_pixel (its address wraps; never a silent overflow).
+// Events for the performance counters, one pulse per cycle: ev_reused (a reused word entered
+// the write FIFO), ev_write_stall (a decided word waited for the write port), ev_walk_stall (a
+// ray to walk waited for walk_ready).
+`timescale 1ns/1ps
+`default_nettype none
+module svo_hit_buffer #(
+    parameter NPIX        = 768,
+    parameter AW          = 10,     // address bits: 2^AW >= NPIX
+    parameter PIXW        = 32,
+    parameter INST_W      = 8,
+    parameter T_W         = 22,
+    parameter N_W         = 8,
+    parameter WB          = 2 + INST_W + T_W + 2 * N_W + 24,
+    parameter INSTANCES   = 8,
+    parameter HB_READ     = 4,      // hit_buffer read latency, cycles (>= 1)
+    parameter PAYW        = 1,      // side band carried with a ray to walk
+    parameter WR_DEPTH    = 8,      // record_to_write FIFO depth
+    parameter WRITE_PORTS = 1       // 1: shared write port (the model today); 2: one per source
+) (
+    input  wire                 clk,
+    input  wire                 rst,
+    // host, constant during a frame
+    input  wire                 buffer_valid,
+    input  wire                 camera_dirty,
+    input  wire [INSTANCES-1:0] instance_dirty,
+    input  wire [WB-1:0]        miss_word,
+    // rays from the sorter
+    input  wire                 in_valid,
+    output wire                 in_ready,
+    input  wire [PIXW-1:0]      in_pixel,
+    input  wire [15:0]          in_candidates,
+    input  wire [15:0]          in_candidate,     // the instance of candidate 0
+    input  wire [PAYW-1:0]      in_payload,
+    // rays to walk
+    output wire                 walk_valid,
+    input  wire                 walk_ready,
+    output wire [PIXW-1:0]      walk_pixel,
+    output wire [PAYW-1:0]      walk_payload,
+    // records from the record stage
+    input  wire                 rec_valid,
+    output wire                 rec_ready,
+    input  wire [PIXW-1:0]      rec_pixel,
+    input  wire [WB-1:0]        rec_word,
+    // the buffer's writes (port 0: records, and the check's words when WRITE_PORTS = 1)
+    output wire                 wr_valid,
+    output wire [PIXW-1:0]      wr_pixel,
+    output wire [WB-1:0]        wr_word,
+    output wire                 wr_direct,        // from the check (reused or no candidate)
+    output wire                 wr1_valid,        // port 1 (WRITE_PORTS = 2): the check's words
+    output wire [PIXW-1:0]      wr1_pixel,
+    output wire [WB-1:0]        wr1_word,
+    output wire                 ev_reused,
+    output wire                 ev_write_stall,
+    output wire                 ev_walk_stall,
+    output reg                  err_pixel
+);
+    localparam CAP = HB_READ + 1;                  // the check pipe's capacity = its latency
+    localparam CW = $clog2(CAP + 1);
+    localparam QW = CAP > 1 ? $clog2(CAP) : 1;
+    localparam FW = $clog2(WR_DEPTH + 1);
+    localparam WW = WR_DEPTH > 1 ? $clog2(WR_DEPTH) : 1;
+    localparam SB = PIXW + 1 + PAYW;               // side band: pixel, no candidate, payload
+    localparam QB = PIXW + 1 + 1 + WB + PAYW;      // queue: pixel, direct, reuse, word, payload
+    localparam integer Q_LAST_I = CAP - 1;
+    localparam integer F_LAST_I = WR_DEPTH - 1;
+    localparam [QW-1:0] Q_LAST = Q_LAST_I[QW-1:0];
+    localparam [WW-1:0] F_LAST = F_LAST_I[WW-1:0];
+    localparam integer CAP_I = CAP;
+    localparam integer DEPTH_I = WR_DEPTH;
+    localparam integer NPIX_I = NPIX;
+    localparam integer INSTANCES_I = INSTANCES;
+    localparam [CW-1:0] CAP_C = CAP_I[CW-1:0];
+    localparam [FW-1:0] DEPTH_C = DEPTH_I[FW-1:0];
+    localparam [AW:0] NPIX_C = NPIX_I[AW:0];
+    localparam IXW = INSTANCES > 1 ? $clog2(INSTANCES) : 1;
+    localparam [16:0] INSTANCES_C = INSTANCES_I[16:0];
+
+    // Elaboration checks: a parameter outside what this file implements is refused.
+    generate
+        if (WRITE_PORTS < 1 || WRITE_PORTS > 2) begin : bad_write_ports
+            svo_hit_buffer_WRITE_PORTS_must_be_1_or_2 bad();
+        end
+        if (HB_READ < 1) begin : bad_read
+            svo_hit_buffer_HB_READ_must_be_at_least_1 bad();
+        end
+        if ((1 << AW) < NPIX || AW >= PIXW || INSTANCES > 65536) begin : bad_aw
+            svo_hit_buffer_AW_must_fit_NPIX_and_be_below_PIXW bad();
+        end
+    endgenerate
+
+    // ---------------------------------------------------------------- the buffer
+    reg [WB-1:0] mem [0:NPIX-1];
+    wire          w0_en, w1_en;
+    wire [AW-1:0] w0_addr, w1_addr;
+    wire [WB-1:0] w0_data, w1_data;
+
+    // ---------------------------------------------------------------- check pipe
+    wire accept = in_valid && in_ready;
+    wire in_dirty = ({1'b0, in_candidate} >= INSTANCES_C) ? 1'b1
+                  : instance_dirty[in_candidate[IXW-1:0]];
+    // Stages 1..HB_READ: the read word and what the check needs; the side band runs one
+    // stage further, beside svo_hit_check's register.
+    reg [HB_READ:1]   s_valid;
+    reg [WB-1:0]      s_word  [1:HB_READ];
+    reg [15:0]        s_cands [1:HB_READ];
+    reg [15:0]        s_cand  [1:HB_READ];
+    reg [HB_READ:1]   s_dirty;
+    reg [SB-1:0]      s_side  [1:HB_READ + 1];
+    integer k;
+    always @(posedge clk) begin
+        s_valid[1] <= rst ? 1'b0 : accept;
+        s_word[1]  <= mem[in_pixel[AW-1:0]];       // READ_FIRST
+        s_cands[1] <= in_candidates;
+        s_cand[1]  <= in_candidate;
+        s_dirty[1] <= in_dirty;
+        s_side[1]  <= {in_pixel, in_candidates == 16'd0, in_payload};
+        for (k = 2; k <= HB_READ; k = k + 1) begin
+            s_valid[k] <= rst ? 1'b0 : s_valid[k - 1];
+            s_word[k]  <= s_word[k - 1];
+            s_cands[k] <= s_cands[k - 1];
+            s_cand[k]  <= s_cand[k - 1];
+            s_dirty[k] <= s_dirty[k - 1];
+        end
+        for (k = 2; k <= HB_READ + 1; k = k + 1) s_side[k] <= s_side[k - 1];
+        if (w0_en) mem[w0_addr] <= w0_data;
+        if (w1_en) mem[w1_addr] <= w1_data;
+    end
+
+    wire          p_valid, p_reuse;
+    wire [WB-1:0] p_reused;
+    /* verilator lint_off PINCONNECTEMPTY */
+    svo_hit_check #(.INST_W(INST_W), .T_W(T_W), .N_W(N_W), .WB(WB)) u_check (
+        .clk(clk), .rst(rst), .in_valid(s_valid[HB_READ]), .in_prev(s_word[HB_READ]),
+        .in_buffer(buffer_valid), .in_camera_dirty(camera_dirty),
+        .in_candidates(s_cands[HB_READ]), .in_candidate(s_cand[HB_READ]),
+        .in_instance_dirty(s_dirty[HB_READ]),
+        .out_valid(p_valid), .out_kind(), .out_hit(), .out_instance(), .out_t(),
+        .out_normal_u(), .out_normal_v(), .out_colour_r(), .out_colour_g(), .out_colour_b(),
+        .out_reuse(p_reuse), .out_reused_word(p_reused));
+    /* verilator lint_on PINCONNECTEMPTY */
+    wire [PIXW-1:0] p_pixel;
+    wire            p_nocand;
+    wire [PAYW-1:0] p_payload;
+    assign {p_pixel, p_nocand, p_payload} = s_side[HB_READ + 1];
+    wire          p_direct = p_reuse || p_nocand;
+    wire [WB-1:0] p_dword = p_reuse ? p_reused : miss_word;
+
+    // The decided rays that could not leave yet (at most CAP), oldest first; the head is the
+    // oldest of these, else svo_hit_check's output of this cycle.
+    reg [QB-1:0] q [0:CAP-1];
+    reg [QW-1:0] q_rd, q_wr;
+    reg [CW-1:0] q_n;
+    wire            q_any = q_n != {CW{1'b0}};
+    wire            h_valid = q_any || p_valid;
+    wire [QB-1:0]   h = q_any ? q[q_rd] : {p_pixel, p_direct, p_reuse, p_dword, p_payload};
+    wire [PIXW-1:0] h_pixel;
+    wire            h_direct, h_reuse;
+    wire [WB-1:0]   h_word;
+    wire [PAYW-1:0] h_payload;
+    assign {h_pixel, h_direct, h_reuse, h_word, h_payload} = h;
+
+    // ---------------------------------------------------------------- write FIFOs
+    reg [PIXW + WB:0] f0 [0:WR_DEPTH-1];            // {direct, pixel, word}
+    reg [WW-1:0] f0_rd, f0_wr;
+    reg [FW-1:0] f0_n;
+    wire rec_push = rec_valid && rec_ready;
+    assign rec_ready = f0_n < DEPTH_C;
+    wire f1_free;                                   // the check's FIFO has room
+    wire ck_room = (WRITE_PORTS == 1) ? (!rec_push && f0_n < DEPTH_C) : f1_free;
+    wire ck_push = h_valid && h_direct && ck_room;
+    assign walk_valid = h_valid && !h_direct;
+    assign walk_pixel = h_pixel;
+    assign walk_payload = h_payload;
+    wire pop = ck_push || (walk_valid && walk_ready);
+    wire f0_push_ck = (WRITE_PORTS == 1) && ck_push;
+    wire f0_push = rec_push || f0_push_ck;
+    assign wr_valid = f0_n != {FW{1'b0}};
+    assign {wr_direct, wr_pixel, wr_word} = f0[f0_rd];
+    assign w0_en = wr_valid;
+    assign w0_addr = wr_pixel[AW-1:0];
+    assign w0_data = wr_word;
+
+    // In the check pipe: every stage's valid bit, svo_hit_check's and the queue's.
+    reg [CW-1:0] n_in;
+    always @* begin
+        n_in = q_n + {{(CW - 1){1'b0}}, p_valid};
+        for (k = 1; k <= HB_READ; k = k + 1) n_in = n_in + {{(CW - 1){1'b0}}, s_valid[k]};
+    end
+    assign in_ready = n_in < CAP_C || (pop && n_in == CAP_C);
+
+    function out_of_range(input [PIXW-1:0] p);
+        out_of_range = (|p[PIXW-1:AW]) || {1'b0, p[AW-1:0]} >= NPIX_C;
+    endfunction
+
+    wire q_push = p_valid && (q_any || !pop);
+    wire q_pop = q_any && pop;
+    always @(posedge clk) begin
+        if (rst) begin
+            q_rd <= {QW{1'b0}};
+            q_wr <= {QW{1'b0}};
+            q_n <= {CW{1'b0}};
+            f0_rd <= {WW{1'b0}};
+            f0_wr <= {WW{1'b0}};
+            f0_n <= {FW{1'b0}};
+            err_pixel <= 1'b0;
+        end else begin
+            if (q_push) begin
+                q[q_wr] <= {p_pixel, p_direct, p_reuse, p_dword, p_payload};
+                q_wr <= (q_wr == Q_LAST) ? {QW{1'b0}} : q_wr + 1'b1;
+            end
+            if (q_pop) q_rd <= (q_rd == Q_LAST) ? {QW{1'b0}} : q_rd + 1'b1;
+            q_n <= q_n + {{(CW - 1){1'b0}}, q_push} - {{(CW - 1){1'b0}}, q_pop};
+            if (f0_push) begin
+                f0[f0_wr] <= rec_push ? {1'b0, rec_pixel, rec_word} : {1'b1, h_pixel, h_word};
+                f0_wr <= (f0_wr == F_LAST) ? {WW{1'b0}} : f0_wr + 1'b1;
+            end
+            if (wr_valid) f0_rd <= (f0_rd == F_LAST) ? {WW{1'b0}} : f0_rd + 1'b1;
+            f0_n <= f0_n + {{(FW - 1){1'b0}}, f0_push} - {{(FW - 1){1'b0}}, wr_valid};
+            if ((accept && out_of_range(in_pixel)) || (rec_push && out_of_range(rec_pixel)))
+                err_pixel <= 1'b1;
+        end
+    end
+
+    // The check's own FIFO and write port (WRITE_PORTS = 2), else nothing.
+    generate
+        if (WRITE_PORTS == 2) begin : port1
+            reg [PIXW + WB - 1:0] f1 [0:WR_DEPTH-1];
+            reg [WW-1:0] f1_rd, f1_wr;
+            reg [FW-1:0] f1_n;
+            assign f1_free = f1_n < DEPTH_C;
+            assign wr1_valid = f1_n != {FW{1'b0}};
+            assign {wr1_pixel, wr1_word} = f1[f1_rd];
+            always @(posedge clk) begin
+                if (rst) begin
+                    f1_rd <= {WW{1'b0}};
+                    f1_wr <= {WW{1'b0}};
+                    f1_n <= {FW{1'b0}};
+                end else begin
+                    if (ck_push) begin
+                        f1[f1_wr] <= {h_pixel, h_word};
+                        f1_wr <= (f1_wr == F_LAST) ? {WW{1'b0}} : f1_wr + 1'b1;
+                    end
+                    if (wr1_valid) f1_rd <= (f1_rd == F_LAST) ? {WW{1'b0}} : f1_rd + 1'b1;
+                    f1_n <= f1_n + {{(FW - 1){1'b0}}, ck_push} - {{(FW - 1){1'b0}}, wr1_valid};
+                end
+            end
+        end else begin : port1_none
+            assign f1_free = 1'b0;
+            assign wr1_valid = 1'b0;
+            assign wr1_pixel = {PIXW{1'b0}};
+            assign wr1_word = {WB{1'b0}};
+        end
+    endgenerate
+    assign w1_en = wr1_valid;
+    assign w1_addr = wr1_pixel[AW-1:0];
+    assign w1_data = wr1_word;
+
+    assign ev_reused = ck_push && h_reuse;
+    assign ev_write_stall = h_valid && h_direct && !ck_room;
+    assign ev_walk_stall = walk_valid && !walk_ready;
+endmodule
+`default_nettype wire
