@@ -49,8 +49,9 @@ pub struct OnChipConfig {
     /// read (a CAM on the bank queue's word addresses; the return crossbar broadcasts the
     /// word). Default true: every walk reads its asset's root word and the few words below
     /// it, so without combining those words' banks serve every walk `ports_per_bank` at a
-    /// time (the car at 1280×768: 25 of a node read's 32 cycles were spent waiting for a
-    /// port). False is the arrangement before issue 28 (`configs/baseline.ron`).
+    /// time. The car at 1280×768, frame 0, 4 cache banks: 158.1 fps and 14.7 cycles of port
+    /// wait per node read without, 183.3 fps and 2.2 with (docs/cycle-model.md §3.6). False is
+    /// the arrangement before issue 28 (a baseline configuration keeps it).
     pub combine: bool,
 }
 
@@ -95,16 +96,19 @@ pub struct CacheConfig {
     pub attr_cached: bool,
     /// Line-interleaved banks (bank = line mod banks; a power of two, at most the number of
     /// sets), each with its own request queue, tag and data arrays of `size_bytes / banks`
-    /// and `ports` lookup ports, behind the walker-to-bank crossbar. Default 1 (one array,
-    /// as before issue 28): with `miss_queue` the cache's 2 ports serve the car's ~1.2
-    /// lookups per cycle; more banks pay off only with more walkers (the crossbar costs
-    /// LUTs, [`NodeMemoryConfig::fabric`]).
+    /// and `ports` lookup ports, behind the walker-to-bank crossbar. Default 4: the car at
+    /// 1280×768 (32 walkers) asks ~1.3 lookups per cycle on average but in bursts, and with one
+    /// 2-port array a node read waited 16 of its 23 cycles for a lookup port; 4 banks bring
+    /// that to 2 (+20 % fps, docs/cycle-model.md §3.6). A bank of 64 KiB is still two
+    /// UltraRAMs per copy, so the blocks are those of one array; the crossbar costs LUTs
+    /// ([`NodeMemoryConfig::fabric_items`]). 1 is the arrangement before issue 28.
     pub banks: u32,
     /// Entries of the miss queue (hit under miss): a miss that finds every MSHR taken and
     /// no fill of its line in flight leaves its bank's lookup pipeline for this queue, in
     /// order, and takes the next MSHR that frees, so the lookups behind it go on. 0: no
     /// queue, the bank's pipeline stalls in order until an MSHR frees (the cache before
-    /// issue 28, `configs/baseline.ron`); when the queue is full it stalls too. Default 32,
+    /// issue 28; a baseline configuration keeps it); when the queue is full it stalls too.
+    /// Default 32,
     /// as many as the MSHRs: a queued miss then waits at most one round of fills.
     pub miss_queue: u32,
 }
@@ -118,7 +122,7 @@ impl Default for CacheConfig {
             hit_latency: 4,
             ports: 2,
             attr_cached: true,
-            banks: 1,
+            banks: 4,
             miss_queue: 32,
         }
     }

@@ -15,9 +15,13 @@
 //! # The three places a read can be served
 //!
 //! 1. **On-chip node store** (block RAM): the top [`OnChipConfig::levels`] levels of the tree.
-//!    Fixed latency, `banks` word-interleaved banks of `ports_per_bank` ports each.
+//!    Fixed latency, `banks` word-interleaved banks of `ports_per_bank` ports each, each bank
+//!    with its request queue; with `combine`, reads of a word already queued share its read.
 //! 2. **Cache** (set-associative, LRU, UltraRAM-sized) in front of external DRAM, shared by the
-//!    rest of the node image and the attribute array.
+//!    rest of the node image and the attribute array: `banks` line-interleaved banks, each
+//!    with its request queue and `ports` lookup ports, and a miss queue (hit under miss).
+//!    Requests reach a bank's queue through the walker-to-bank crossbar (what it costs:
+//!    [`crossbar`]).
 //! 3. **External DRAM**: a fixed latency, a peak byte rate per cycle, and a limited number of
 //!    outstanding line fills (MSHRs). A miss fills a whole cache line.
 //!
@@ -65,10 +69,16 @@
 //!   [`super::clocked`]: what a walker sees in cycle `c` depends only on requests made in
 //!   earlier cycles. Skipping cycles is safe: `tick_into(c, ..)` processes every cycle before
 //!   `c`.
-//! * **Order.** In each cycle the requests waiting for a resource are served in the order
-//!   (request cycle, requester id, request id): older first, then the lower requester, then the
-//!   earlier call. Nothing depends on hash order or wall time, so the same request sequence
-//!   gives the same completions and statistics on every run.
+//! * **Order.** Each bank's queue (on chip and cache) is served in the order (request cycle,
+//!   requester id, request id): older first, then the lower requester, then the earlier call.
+//!   The crossbar puts a request in its bank's queue in the cycle it is made (no cycle of its
+//!   own: the queue's input register is the crossbar's output register); the model does not
+//!   limit how many requests one queue takes per cycle (each context has at most one read
+//!   out, so a queue holds at most the pool's contexts). The cache banks take MSHRs (and miss
+//!   queue entries) in a rotating priority: in cycle `k` bank `k mod banks` first, then the
+//!   next. The miss queue is served before any lookup of the cycle, in its own order.
+//!   Nothing depends on hash order or wall time, so the same request sequence gives the same
+//!   completions and statistics on every run.
 //! * **Latency.** A request made in cycle `c` and served (given a port) in cycle `s ≥ c`
 //!   completes at
 //!   - on chip: `s + onchip.latency`;
@@ -77,15 +87,25 @@
 //!     `s + dram.latency + ⌈line_bytes / bytes_per_cycle⌉` (the fill data is forwarded to the
 //!     waiting reads as it is written, so no hit latency is added);
 //!   - miss to a line already being filled (merged): with that fill.
-//! * **Ports.** Each on-chip bank serves at most `ports_per_bank` reads per cycle; the cache
-//!   pipeline looks up at most `cache.ports` reads per cycle. The rest wait to the next cycle
-//!   (counted as port-wait request-cycles).
-//! * **MSHRs.** A miss needs a free MSHR unless its line is already in flight (then it merges;
-//!   an MSHR takes any number of merged reads). When none is free the in-order lookup pipeline
-//!   stalls until a fill completes, as a non-blocking cache does when its miss table is full:
-//!   reads behind the stalled one wait too (counted as MSHR-wait request-cycles, and the cycle
-//!   as an MSHR-full cycle). An MSHR is freed, and the line installed as most recently used,
-//!   in the cycle its fill completes; a lookup in that same cycle hits.
+//! * **Ports.** Each on-chip bank serves at most `ports_per_bank` distinct words per cycle;
+//!   with `onchip.combine` a read of a word whose read is already scheduled at its bank in
+//!   this cycle or a later one is served with it (same cycle, no port; counted as combined).
+//!   Each cache bank (bank = line mod `cache.banks`) looks up at most `cache.ports` reads per
+//!   cycle. The rest wait to the next cycle (counted as port-wait request-cycles; the cache
+//!   banks' share also as cache port-wait).
+//! * **MSHRs and hit under miss.** A miss needs a free MSHR unless its line is already in
+//!   flight (then it merges; an MSHR takes any number of merged reads). When none is free the
+//!   miss leaves its bank's pipeline for the miss queue (`cache.miss_queue` entries; its
+//!   served cycle stays its lookup cycle), so the lookups behind it go on: hits under a miss.
+//!   At the start of each cycle, after the fills that complete, the queue's head merges into
+//!   a fill of its line in flight or takes a free MSHR, in order, until one can do neither
+//!   (request-cycles spent there counted as miss-queue wait when a read leaves). The queue
+//!   does not replay through the tags: a queued miss whose line was filled meanwhile fetches
+//!   it again. When the miss queue is full (always, with 0 entries) the bank's in-order
+//!   pipeline stalls until a fill completes, as a non-blocking cache does when its miss table
+//!   is full: reads behind the stalled one wait too (counted as MSHR-wait request-cycles, and
+//!   the cycle as an MSHR-full cycle). An MSHR is freed, and the line installed as most
+//!   recently used, in the cycle its fill completes; a lookup in that same cycle hits.
 //! * **Bandwidth.** Fills share one data bus of `bytes_per_cycle` bytes per cycle, in the
 //!   order they were issued. A fill issued in cycle `s` may start to transfer at cycle
 //!   `s + latency` (latency overlaps with other fills' transfers) and occupies `line_bytes` of
@@ -100,10 +120,11 @@
 //!
 //! # Files
 //!
-//! [`config`] (the configuration and its block count), [`layout`] (the address map and the
-//! on-chip whitelist), [`request`] (requests, completions, refusals), [`stats`] (the
-//! counters), and the three places a read is served: `onchip.rs` (bank ports), `cache.rs`
-//! (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus). This file holds the model
+//! [`config`] (the configuration and its block count), [`crossbar`] (the logic around the
+//! blocks: crossbars, bank and miss queues, MSHR search, in LUTs and FFs), [`layout`] (the
+//! address map and the on-chip whitelist), [`request`] (requests, completions, refusals),
+//! [`stats`] (the counters), and the three places a read is served: `onchip.rs` (bank ports
+//! and combining), `cache.rs` (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus). This file holds the model
 //! that arbitrates them cycle by cycle ([`NodeMemory`]).
 
 mod cache;
@@ -433,7 +454,7 @@ impl NodeMemory {
         //    Then the miss queue takes the MSHRs freed, in order (a queued miss to a line
         //    in flight merges).
         while let Some(&(r, looked_up)) = self.miss_q.front() {
-            let Some((source, done)) = self.to_dram(r, k) else {
+            let Some((source, done)) = self.send_to_dram(r, k) else {
                 break;
             };
             self.miss_q.pop_front();
@@ -546,7 +567,7 @@ impl NodeMemory {
             self.stats.cache_hits += 1;
             return Some((Source::CacheHit, k + u64::from(self.cfg.cache.hit_latency)));
         }
-        self.to_dram(r, k)
+        self.send_to_dram(r, k)
     }
 
     /// A read that missed the tags (or is not cached) goes to DRAM in cycle `k`: it merges
@@ -555,7 +576,7 @@ impl NodeMemory {
     /// the queue does not replay through the tags, so if its line arrived while it waited
     /// (a fill issued by another miss and completed) it fetches the line again.
     #[inline]
-    fn to_dram(&mut self, r: Req, k: u64) -> Option<(Source, u64)> {
+    fn send_to_dram(&mut self, r: Req, k: u64) -> Option<(Source, u64)> {
         let line = line_of(r.kind, r.addr, self.line_bytes);
         let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
         let (source, done) = self.dram.miss(line, cached, k)?;
