@@ -545,6 +545,40 @@ fn configurations_are_validated() {
         (
             {
                 let mut c = d.clone();
+                c.cache.banks = 3;
+                c
+            },
+            "cache.banks = 3",
+        ),
+        (
+            {
+                // 1 KiB of 4 ways × 64 bytes is 4 sets: at most 4 banks.
+                let mut c = d.clone();
+                c.cache.size_bytes = 1024;
+                c.cache.banks = 8;
+                c
+            },
+            "cache.banks = 8 must be a power of two from 1 to 4",
+        ),
+        (
+            {
+                let mut c = d.clone();
+                c.cache.banks = 128;
+                c
+            },
+            "cache.banks = 128",
+        ),
+        (
+            {
+                let mut c = d.clone();
+                c.cache.miss_queue = 4097;
+                c
+            },
+            "cache.miss_queue = 4097",
+        ),
+        (
+            {
+                let mut c = d.clone();
                 c.dram.latency = 0;
                 c
             },
