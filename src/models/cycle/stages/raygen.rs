@@ -107,7 +107,8 @@ impl Raygen {
         }
         if self.jumped {
             return Err(CycleError::Config(format!(
-                "ray_order = {:?} cannot be timed with --sample: sampled timing times bands of                  rows, which only the scanline order generates together",
+                "ray_order = {:?} cannot be timed with --sample: sampled timing times bands of \
+                 rows, which only the scanline order generates together",
                 self.order
             )));
         }
