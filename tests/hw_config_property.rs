@@ -20,8 +20,8 @@
 use proptest::prelude::*;
 use proptest::test_runner::{TestCaseError, TestRunner};
 use rtl_model::cycle::hw_config::{
-    FifoDepths, FrameSize, HitBuffer, HwConfig, Part, Placement, StackStorage, UnitTiming,
-    UnitTimings, WalkerPool,
+    FifoDepths, FrameSize, HitBuffer, HwConfig, Part, Placement, RayOrder, StackStorage,
+    UnitTiming, UnitTimings, WalkerPool,
 };
 use rtl_model::cycle::memory::{CacheConfig, DramConfig, NodeMemoryConfig, OnChipConfig};
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -51,7 +51,7 @@ fn field(lo: u32, hi: u32) -> BoxedStrategy<u32> {
 type Beyond = fn(&mut HwConfig);
 
 /// Every field's step beyond its limits.
-const BEYOND: [Beyond; 24] = [
+const BEYOND: [Beyond; 27] = [
     |h| h.part.name.clear(),
     |h| h.part.dsp48e2 = 0,
     |h| h.part.bram36 = 0,
@@ -76,6 +76,9 @@ const BEYOND: [Beyond; 24] = [
     |h| h.node_memory.dram.latency = (1 << 20) + 1,
     |h| h.hit_buffer.read_ports = 3,
     |h| h.hit_buffer.read_latency_cycles = 0,
+    |h| h.node_memory.cache.banks = 3,
+    |h| h.node_memory.cache.miss_queue = 4097,
+    |h| h.ray_order = RayOrder::Tiles(0),
 ];
 
 fn flag() -> BoxedStrategy<bool> {
@@ -221,14 +224,16 @@ fn node_memory() -> impl Strategy<Value = NodeMemoryConfig> {
         field(1, 1 << 20),
         field(1, 4096),
         field(1, 2),
+        flag(),
     )
         .prop_map(
-            |(levels, max_bytes, latency, banks, ports_per_bank)| OnChipConfig {
+            |(levels, max_bytes, latency, banks, ports_per_bank, combine)| OnChipConfig {
                 levels,
                 max_bytes,
                 latency,
                 banks,
                 ports_per_bank,
+                combine,
             },
         );
     // A cache of 2^s sets × ways × 2^k-byte lines (up to and past the 64 MiB limit), or none,
@@ -241,9 +246,11 @@ fn node_memory() -> impl Strategy<Value = NodeMemoryConfig> {
         field(1, 1 << 20),
         field(1, 4096),
         flag(),
+        prop_oneof![4 => (0u32..=6).prop_map(|b| 1 << b), 1 => field(0, 128)],
+        field(0, 4096),
     )
         .prop_map(
-            |(k, ways, s, size, hit_latency, ports, attr_cached)| CacheConfig {
+            |(k, ways, s, size, hit_latency, ports, attr_cached, banks, miss_queue)| CacheConfig {
                 size_bytes: size.unwrap_or_else(|| {
                     (1u64 << s)
                         .saturating_mul(u64::from(ways))
@@ -254,6 +261,8 @@ fn node_memory() -> impl Strategy<Value = NodeMemoryConfig> {
                 hit_latency,
                 ports,
                 attr_cached,
+                banks,
+                miss_queue,
             },
         );
     let dram = (field(1, 1 << 20), field(1, 4096), field(1, 4096)).prop_map(
@@ -306,6 +315,11 @@ fn hw_config() -> impl Strategy<Value = HwConfig> {
         node_memory(),
         hit_buffer(),
         placement(),
+        prop_oneof![
+            Just(RayOrder::Scanline),
+            Just(RayOrder::Morton),
+            field(0, 64).prop_map(RayOrder::Tiles)
+        ],
     )
         .prop_map(
             |(
@@ -326,6 +340,7 @@ fn hw_config() -> impl Strategy<Value = HwConfig> {
                 node_memory,
                 hit_buffer,
                 direction_table,
+                ray_order,
             )| HwConfig {
                 part,
                 clock_mhz,
@@ -345,6 +360,7 @@ fn hw_config() -> impl Strategy<Value = HwConfig> {
                 node_memory,
                 hit_buffer,
                 direction_table,
+                ray_order,
             },
         );
     // One configuration in three has one field beyond its limit.

@@ -63,8 +63,9 @@ fn resource_estimate_of_the_default() {
     assert_eq!(item(&r, "hit_buffer"), (1, 0, 0, 240));
     assert_eq!(item(&r, "direction_table"), (1, 0, 0, 480));
     assert_eq!(item(&r, "node_onchip"), (4, 0, 64, 0));
-    assert_eq!(item(&r, "cache_data"), (2, 0, 0, 16));
-    assert_eq!(item(&r, "cache_tags"), (2, 0, 8, 0));
+    // 4 banks × 2 lookup ports: eight copies of 64 KiB (2 URAM288 each), eight tag copies.
+    assert_eq!(item(&r, "cache_data"), (8, 0, 0, 16));
+    assert_eq!(item(&r, "cache_tags"), (8, 0, 8, 0));
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
         (416, 296, 736)

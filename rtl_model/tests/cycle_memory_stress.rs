@@ -56,6 +56,14 @@ fn random_config(rng: &mut Rng) -> NodeMemoryConfig {
         1 + rng.below(12) as u32,
     );
     cfg.cache.attr_cached = rng.below(3) != 0;
+    // Half the configurations use issue 28's mechanisms: combining at the on-chip banks, cache
+    // banks (a power of two up to the sets), a miss queue.
+    if rng.below(2) == 0 {
+        cfg.onchip.combine = rng.below(2) == 0;
+        let max_banks = if size == 0 { 8 } else { sets.min(8) };
+        cfg.cache.banks = 1 << rng.below(u64::from(max_banks.trailing_zeros()) + 1);
+        cfg.cache.miss_queue = rng.below(6) as u32;
+    }
     cfg
 }
 
@@ -164,8 +172,9 @@ fn random_stress_invariants() {
             _ => (0u8, 4 * u64::from(c.addr) / line),
         };
         let beats = line.div_ceil(u64::from(cfg.dram.bytes_per_cycle));
-        let mut per_bank: HashMap<(u32, u64), u32> = HashMap::new();
-        let mut per_cache_cycle: HashMap<u64, u32> = HashMap::new();
+        let mut ports_used: HashSet<(u32, u64, u32)> = HashSet::new();
+        let cache_bank = |c: &Completion| line_key(c).1 % u64::from(cfg.cache.banks);
+        let mut per_cache_cycle: HashMap<(u64, u64), u32> = HashMap::new();
         let mut fills: HashMap<(u8, u64), Vec<&Completion>> = HashMap::new();
         for (i, r) in reqs.iter().enumerate() {
             let c = by_id[&(i as u64)];
@@ -183,11 +192,14 @@ fn random_stress_invariants() {
                     assert!(onchip, "{what}");
                     assert_eq!(bank, r.addr % cfg.onchip.banks);
                     assert_eq!(c.cycle_done - c.cycle_served, u64::from(cfg.onchip.latency));
-                    *per_bank.entry((bank, c.cycle_served)).or_default() += 1;
+                    // Combined reads of one word share a port read.
+                    ports_used.insert((bank, c.cycle_served, c.addr));
                 }
                 src => {
                     assert!(!onchip, "{what}");
-                    *per_cache_cycle.entry(c.cycle_served).or_default() += 1;
+                    *per_cache_cycle
+                        .entry((cache_bank(c), c.cycle_served))
+                        .or_default() += 1;
                     match src {
                         Source::CacheHit => {
                             assert!(cfg.cache.size_bytes > 0);
@@ -210,17 +222,34 @@ fn random_stress_invariants() {
             }
         }
         let bank_ports = cfg.onchip.ports_per_bank;
+        let mut per_bank: HashMap<(u32, u64), u32> = HashMap::new();
+        for &(bank, cycle, _) in &ports_used {
+            *per_bank.entry((bank, cycle)).or_default() += 1;
+        }
         assert!(per_bank.values().all(|&n| n <= bank_ports), "{what}");
+        if !cfg.onchip.combine {
+            assert_eq!(s.onchip_combined, 0, "{what}");
+        }
         assert!(
             per_cache_cycle.values().all(|&n| n <= cfg.cache.ports),
             "{what}"
         );
-        assert!(max_in_flight(&done) <= cfg.dram.mshrs as usize, "{what}");
-        // A merged read joined a fill of its line that was in flight when it was served.
+        // A read from the miss queue holds its MSHR from a later cycle than its lookup, so the
+        // fills' [served, done) intervals bound the MSHRs in use only without the queue.
+        if s.miss_queued == 0 {
+            assert!(max_in_flight(&done) <= cfg.dram.mshrs as usize, "{what}");
+        }
+        // A merged read joined a fill of its line that was in flight when it was served (or,
+        // from the miss queue, when it left the queue: after its lookup).
         for c in done.iter().filter(|c| c.source == Source::Merged) {
+            let queued = s.miss_queued > 0;
             let f = fills[&line_key(c)]
                 .iter()
-                .find(|f| f.cycle_served <= c.cycle_served && c.cycle_served < f.cycle_done)
+                .find(|f| {
+                    (queued || f.cycle_served <= c.cycle_served)
+                        && c.cycle_served < f.cycle_done
+                        && f.cycle_done == c.cycle_done
+                })
                 .unwrap_or_else(|| panic!("{what}: merged read {c:?} without its fill"));
             assert_eq!(f.cycle_done, c.cycle_done);
         }
@@ -229,12 +258,18 @@ fn random_stress_invariants() {
         for c in &done {
             let key = match c.source {
                 Source::OnChip { bank } => (true, bank),
-                _ => (false, 0),
+                _ => (false, cache_bank(c) as u32),
             };
             queues.entry(key).or_default().push(c);
         }
-        for q in queues.values_mut() {
+        for (key, q) in queues.iter_mut() {
             q.sort_by_key(|c| (c.cycle_requested, c.requester, c.id));
+            if key.0 && cfg.onchip.combine {
+                // A combined read joins the entry of its word wherever it is in the queue;
+                // the entries themselves (each word's first read) keep the order.
+                let mut seen = HashSet::new();
+                q.retain(|c| seen.insert((c.cycle_served, c.addr)));
+            }
             assert!(
                 q.windows(2).all(|w| w[0].cycle_served <= w[1].cycle_served),
                 "{what}"
@@ -506,6 +541,40 @@ fn configurations_are_validated() {
                 c
             },
             "larger",
+        ),
+        (
+            {
+                let mut c = d.clone();
+                c.cache.banks = 3;
+                c
+            },
+            "cache.banks = 3",
+        ),
+        (
+            {
+                // 1 KiB of 4 ways × 64 bytes is 4 sets: at most 4 banks.
+                let mut c = d.clone();
+                c.cache.size_bytes = 1024;
+                c.cache.banks = 8;
+                c
+            },
+            "cache.banks = 8 must be a power of two from 1 to 4",
+        ),
+        (
+            {
+                let mut c = d.clone();
+                c.cache.banks = 128;
+                c
+            },
+            "cache.banks = 128",
+        ),
+        (
+            {
+                let mut c = d.clone();
+                c.cache.miss_queue = 4097;
+                c
+            },
+            "cache.miss_queue = 4097",
         ),
         (
             {

@@ -235,10 +235,15 @@ impl HwConfig {
         let onchip = format!(
             "top {levels} levels, capacity {cap} bytes in {banks} banks of 1024 × 32-bit BRAM36"
         );
-        let data =
-            format!("{size} bytes, {ways} ways, {line}-byte lines; one URAM copy per lookup port");
-        let tags = format!("{sets} sets × {ways} ways, one BRAM36 copy per lookup port");
-        let ports = u64::from(c.ports);
+        let cb = c.banks;
+        let data = format!(
+            "{size} bytes, {ways} ways, {line}-byte lines in {cb} banks; one URAM copy per bank \
+             and lookup port"
+        );
+        let tags = format!(
+            "{sets} sets × {ways} ways in {cb} banks, one BRAM36 copy per bank and lookup port"
+        );
+        let ports = u64::from(c.ports) * u64::from(cb);
         [
             (
                 "node_onchip",

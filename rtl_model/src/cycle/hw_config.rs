@@ -20,6 +20,7 @@
 
 use super::fifo;
 use super::memory::NodeMemoryConfig;
+pub use super::ray_order::RayOrder;
 use crate::datapath::DatapathConfig;
 use crate::svo::MAX_DEPTH;
 use crate::units::transform;
@@ -426,6 +427,10 @@ pub struct HwConfig {
     /// With the 105-bit hit record (`include_voxel`) the two tables no longer fit the
     /// part's URAM together, and this is the one to move out.
     pub direction_table: Placement,
+    /// The order ray generation visits the pixels in (`cycle::ray_order`): `Scanline`,
+    /// `Tiles(n)` or `Morton`. Timing only: neighbouring rays in flight together share node
+    /// reads. Default `Scanline`, the order before issue 28.
+    pub ray_order: RayOrder,
 }
 
 impl Default for HwConfig {
@@ -453,6 +458,7 @@ impl HwConfig {
             node_memory: NodeMemoryConfig::default(),
             hit_buffer: HitBuffer::default(),
             direction_table: Placement::Uram,
+            ray_order: RayOrder::Scanline,
         }
     }
 
@@ -531,6 +537,7 @@ impl HwConfig {
             ));
         }
         self.validate_node_memory()?;
+        self.ray_order.validate()?;
         let hb = &self.hit_buffer;
         // Every pixel is read once (reuse check) and written once (write-back) per frame.
         in_range("hit_buffer.read_ports", u32::from(hb.read_ports), 1, 2)?;

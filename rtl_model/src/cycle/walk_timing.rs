@@ -75,6 +75,7 @@ impl WalkTiming {
                 latency,
                 banks: 1,
                 ports_per_bank: 1,
+                combine: false,
             },
             cache: CacheConfig {
                 size_bytes: 64,
@@ -83,6 +84,8 @@ impl WalkTiming {
                 hit_latency: latency,
                 ports: 1,
                 attr_cached: true,
+                banks: 1,
+                miss_queue: 0,
             },
             dram: DramConfig::default(),
         };

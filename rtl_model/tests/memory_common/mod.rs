@@ -39,6 +39,8 @@ pub fn config(
             latency: onchip_latency,
             banks,
             ports_per_bank,
+            // The arrangement before issue 28: these tests pin its timing.
+            combine: false,
         },
         cache: CacheConfig {
             size_bytes: cache_bytes,
@@ -47,6 +49,8 @@ pub fn config(
             hit_latency,
             ports: cache_ports,
             attr_cached: true,
+            banks: 1,
+            miss_queue: 0,
         },
         dram: DramConfig {
             latency: dram_latency,

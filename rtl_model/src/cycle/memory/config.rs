@@ -45,6 +45,14 @@ pub struct OnChipConfig {
     /// Ports per bank per cycle (2 = true dual port, the BRAM36 maximum). Reads beyond this in
     /// a cycle wait. Default 2.
     pub ports_per_bank: u32,
+    /// Whether reads of a word already queued at its bank join that entry and share its port
+    /// read (a CAM on the bank queue's word addresses; the return crossbar broadcasts the
+    /// word). Default true: every walk reads its asset's root word and the few words below
+    /// it, so without combining those words' banks serve every walk `ports_per_bank` at a
+    /// time. The car at 1280×768, frame 0, 4 cache banks: 158.1 fps and 14.7 cycles of port
+    /// wait per node read without, 183.3 fps and 2.2 with (docs/cycle-model.md §3.6). False is
+    /// the arrangement before issue 28 (a baseline configuration keeps it).
+    pub combine: bool,
 }
 
 impl Default for OnChipConfig {
@@ -55,6 +63,7 @@ impl Default for OnChipConfig {
             latency: 3,
             banks: 4,
             ports_per_bank: 2,
+            combine: true,
         }
     }
 }
@@ -85,6 +94,23 @@ pub struct CacheConfig {
     /// neighbouring voxels read neighbouring records (the array is in Morton order), eight to a
     /// 64-byte line.
     pub attr_cached: bool,
+    /// Line-interleaved banks (bank = line mod banks; a power of two, at most the number of
+    /// sets), each with its own request queue, tag and data arrays of `size_bytes / banks`
+    /// and `ports` lookup ports, behind the walker-to-bank crossbar. Default 4: the car at
+    /// 1280×768 (32 walkers) asks ~1.3 lookups per cycle on average but in bursts, and with one
+    /// 2-port array a node read waited 16 of its 23 cycles for a lookup port; 4 banks bring
+    /// that to 2 (+20 % fps, docs/cycle-model.md §3.6). A bank of 64 KiB is still two
+    /// UltraRAMs per copy, so the blocks are those of one array; the crossbar costs LUTs
+    /// ([`NodeMemoryConfig::fabric_items`]). 1 is the arrangement before issue 28.
+    pub banks: u32,
+    /// Entries of the miss queue (hit under miss): a miss that finds every MSHR taken and
+    /// no fill of its line in flight leaves its bank's lookup pipeline for this queue, in
+    /// order, and takes the next MSHR that frees, so the lookups behind it go on. 0: no
+    /// queue, the bank's pipeline stalls in order until an MSHR frees (the cache before
+    /// issue 28; a baseline configuration keeps it); when the queue is full it stalls too.
+    /// Default 32,
+    /// as many as the MSHRs: a queued miss then waits at most one round of fills.
+    pub miss_queue: u32,
 }
 
 impl Default for CacheConfig {
@@ -96,6 +122,8 @@ impl Default for CacheConfig {
             hit_latency: 4,
             ports: 2,
             attr_cached: true,
+            banks: 4,
+            miss_queue: 32,
         }
     }
 }
@@ -180,7 +208,21 @@ pub enum ConfigError {
     /// More on-chip levels than an image can have.
     #[error("onchip.levels = {0} is more than the deepest tree has (21)")]
     Levels(u8),
+    /// The cache banks are not a power of two up to [`MAX_CACHE_BANKS`] and the sets.
+    #[error("cache.banks = {banks} must be a power of two from 1 to {max} (the cache's sets, at most {MAX_CACHE_BANKS})")]
+    CacheBanks {
+        /// Banks asked for.
+        banks: u32,
+        /// The most there can be.
+        max: u64,
+    },
+    /// The miss queue is longer than [`MAX_PARALLEL`].
+    #[error("cache.miss_queue = {0} is above {MAX_PARALLEL}")]
+    MissQueue(u32),
 }
+
+/// Most cache banks: a 64 × W crossbar is already far larger than the cache's control.
+pub const MAX_CACHE_BANKS: u32 = 64;
 
 impl NodeMemoryConfig {
     /// Checks every field; the model is only built from a configuration that passes.
@@ -227,6 +269,20 @@ impl NodeMemoryConfig {
                 });
             }
         }
+        let max_banks = if c.size_bytes == 0 {
+            u64::from(MAX_CACHE_BANKS)
+        } else {
+            self.cache_sets().min(u64::from(MAX_CACHE_BANKS))
+        };
+        if !c.banks.is_power_of_two() || u64::from(c.banks) > max_banks {
+            return Err(ConfigError::CacheBanks {
+                banks: c.banks,
+                max: max_banks,
+            });
+        }
+        if c.miss_queue > MAX_PARALLEL {
+            return Err(ConfigError::MissQueue(c.miss_queue));
+        }
         let d = &self.dram;
         lat("dram.latency", d.latency)?;
         count("dram.bytes_per_cycle", d.bytes_per_cycle)?;
@@ -243,10 +299,12 @@ impl NodeMemoryConfig {
     /// Memory blocks this configuration needs, for the resource report. `onchip_words` is
     /// the on-chip store's size ([`MemoryLayout::onchip_words`](super::MemoryLayout::onchip_words)).
     ///
-    /// Counting rules: an on-chip bank is BRAM36 blocks of 1024 × 32-bit words; the cache data
-    /// array is one UltraRAM copy (32 KiB as 4096 × 64 bits) per lookup port, each copy with
-    /// one read port for lookups and one write port for refills; the tag array (tag, valid,
-    /// LRU state, under 36 bits per way) is BRAM36 per lookup port, 1024 entries each.
+    /// Counting rules: an on-chip bank is BRAM36 blocks of 1024 × 32-bit words; each cache
+    /// bank's data array (`size_bytes / banks`) is one UltraRAM copy (32 KiB as 4096 × 64
+    /// bits) per lookup port, each copy with one read port for lookups and one write port
+    /// for refills; each bank's tag array (tag, valid, LRU state, under 36 bits per way) is
+    /// BRAM36 per lookup port, 1024 entries each. Banking is free in blocks while a bank
+    /// holds at least 32 KiB; below that each bank still takes a whole UltraRAM.
     pub fn resources(&self, onchip_words: u64) -> MemoryResources {
         let banks = u64::from(self.onchip.banks.max(1));
         let onchip_bram36 = if onchip_words == 0 {
@@ -254,10 +312,11 @@ impl NodeMemoryConfig {
         } else {
             banks * onchip_words.div_ceil(banks).div_ceil(1024)
         };
-        let ports = u64::from(self.cache.ports);
-        let cache_uram = ports * self.cache.size_bytes.div_ceil(32 * 1024);
+        let copies = u64::from(self.cache.ports) * u64::from(self.cache.banks.max(1));
+        let per_bank = |total: u64| total / u64::from(self.cache.banks.max(1));
+        let cache_uram = copies * per_bank(self.cache.size_bytes).div_ceil(32 * 1024);
         let tag_entries = self.cache_sets() * u64::from(self.cache.ways);
-        let cache_tag_bram36 = ports * tag_entries.div_ceil(1024);
+        let cache_tag_bram36 = copies * per_bank(tag_entries).div_ceil(1024);
         MemoryResources {
             onchip_bram36,
             cache_uram,

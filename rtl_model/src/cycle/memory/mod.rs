@@ -15,9 +15,13 @@
 //! # The three places a read can be served
 //!
 //! 1. **On-chip node store** (block RAM): the top [`OnChipConfig::levels`] levels of the tree.
-//!    Fixed latency, `banks` word-interleaved banks of `ports_per_bank` ports each.
+//!    Fixed latency, `banks` word-interleaved banks of `ports_per_bank` ports each, each bank
+//!    with its request queue; with `combine`, reads of a word already queued share its read.
 //! 2. **Cache** (set-associative, LRU, UltraRAM-sized) in front of external DRAM, shared by the
-//!    rest of the node image and the attribute array.
+//!    rest of the node image and the attribute array: `banks` line-interleaved banks, each
+//!    with its request queue and `ports` lookup ports, and a miss queue (hit under miss).
+//!    Requests reach a bank's queue through the walker-to-bank crossbar (what it costs:
+//!    [`crossbar`]).
 //! 3. **External DRAM**: a fixed latency, a peak byte rate per cycle, and a limited number of
 //!    outstanding line fills (MSHRs). A miss fills a whole cache line.
 //!
@@ -65,10 +69,16 @@
 //!   [`super::clocked`]: what a walker sees in cycle `c` depends only on requests made in
 //!   earlier cycles. Skipping cycles is safe: `tick_into(c, ..)` processes every cycle before
 //!   `c`.
-//! * **Order.** In each cycle the requests waiting for a resource are served in the order
-//!   (request cycle, requester id, request id): older first, then the lower requester, then the
-//!   earlier call. Nothing depends on hash order or wall time, so the same request sequence
-//!   gives the same completions and statistics on every run.
+//! * **Order.** Each bank's queue (on chip and cache) is served in the order (request cycle,
+//!   requester id, request id): older first, then the lower requester, then the earlier call.
+//!   The crossbar puts a request in its bank's queue in the cycle it is made (no cycle of its
+//!   own: the queue's input register is the crossbar's output register); the model does not
+//!   limit how many requests one queue takes per cycle (each context has at most one read
+//!   out, so a queue holds at most the pool's contexts). The cache banks take MSHRs (and miss
+//!   queue entries) in a rotating priority: in cycle `k` bank `k mod banks` first, then the
+//!   next. The miss queue is served before any lookup of the cycle, in its own order.
+//!   Nothing depends on hash order or wall time, so the same request sequence gives the same
+//!   completions and statistics on every run.
 //! * **Latency.** A request made in cycle `c` and served (given a port) in cycle `s ≥ c`
 //!   completes at
 //!   - on chip: `s + onchip.latency`;
@@ -77,15 +87,25 @@
 //!     `s + dram.latency + ⌈line_bytes / bytes_per_cycle⌉` (the fill data is forwarded to the
 //!     waiting reads as it is written, so no hit latency is added);
 //!   - miss to a line already being filled (merged): with that fill.
-//! * **Ports.** Each on-chip bank serves at most `ports_per_bank` reads per cycle; the cache
-//!   pipeline looks up at most `cache.ports` reads per cycle. The rest wait to the next cycle
-//!   (counted as port-wait request-cycles).
-//! * **MSHRs.** A miss needs a free MSHR unless its line is already in flight (then it merges;
-//!   an MSHR takes any number of merged reads). When none is free the in-order lookup pipeline
-//!   stalls until a fill completes, as a non-blocking cache does when its miss table is full:
-//!   reads behind the stalled one wait too (counted as MSHR-wait request-cycles, and the cycle
-//!   as an MSHR-full cycle). An MSHR is freed, and the line installed as most recently used,
-//!   in the cycle its fill completes; a lookup in that same cycle hits.
+//! * **Ports.** Each on-chip bank serves at most `ports_per_bank` distinct words per cycle;
+//!   with `onchip.combine` a read of a word whose read is already scheduled at its bank in
+//!   this cycle or a later one is served with it (same cycle, no port; counted as combined).
+//!   Each cache bank (bank = line mod `cache.banks`) looks up at most `cache.ports` reads per
+//!   cycle. The rest wait to the next cycle (counted as port-wait request-cycles; the cache
+//!   banks' share also as cache port-wait).
+//! * **MSHRs and hit under miss.** A miss needs a free MSHR unless its line is already in
+//!   flight (then it merges; an MSHR takes any number of merged reads). When none is free the
+//!   miss leaves its bank's pipeline for the miss queue (`cache.miss_queue` entries; its
+//!   served cycle stays its lookup cycle), so the lookups behind it go on: hits under a miss.
+//!   At the start of each cycle, after the fills that complete, the queue's head merges into
+//!   a fill of its line in flight or takes a free MSHR, in order, until one can do neither
+//!   (request-cycles spent there counted as miss-queue wait when a read leaves). The queue
+//!   does not replay through the tags: a queued miss whose line was filled meanwhile fetches
+//!   it again. When the miss queue is full (always, with 0 entries) the bank's in-order
+//!   pipeline stalls until a fill completes, as a non-blocking cache does when its miss table
+//!   is full: reads behind the stalled one wait too (counted as MSHR-wait request-cycles, and
+//!   the cycle as an MSHR-full cycle). An MSHR is freed, and the line installed as most
+//!   recently used, in the cycle its fill completes; a lookup in that same cycle hits.
 //! * **Bandwidth.** Fills share one data bus of `bytes_per_cycle` bytes per cycle, in the
 //!   order they were issued. A fill issued in cycle `s` may start to transfer at cycle
 //!   `s + latency` (latency overlaps with other fills' transfers) and occupies `line_bytes` of
@@ -100,14 +120,16 @@
 //!
 //! # Files
 //!
-//! [`config`] (the configuration and its block count), [`layout`] (the address map and the
-//! on-chip whitelist), [`request`] (requests, completions, refusals), [`stats`] (the
-//! counters), and the three places a read is served: `onchip.rs` (bank ports), `cache.rs`
-//! (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus). This file holds the model
+//! [`config`] (the configuration and its block count), [`crossbar`] (the logic around the
+//! blocks: crossbars, bank and miss queues, MSHR search, in LUTs and FFs), [`layout`] (the
+//! address map and the on-chip whitelist), [`request`] (requests, completions, refusals),
+//! [`stats`] (the counters), and the three places a read is served: `onchip.rs` (bank ports
+//! and combining), `cache.rs` (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus). This file holds the model
 //! that arbitrates them cycle by cycle ([`NodeMemory`]).
 
 mod cache;
 pub mod config;
+pub mod crossbar;
 mod dram;
 pub mod layout;
 mod onchip;
@@ -119,8 +141,9 @@ pub use crate::svo::FetchKind;
 pub use cache::ATTR_REGION_BASE;
 pub use config::{
     CacheConfig, ConfigError, DramConfig, MemoryResources, NodeMemoryConfig, OnChipConfig,
-    MAX_CACHE_BYTES, MAX_LATENCY, MAX_PARALLEL,
+    MAX_CACHE_BANKS, MAX_CACHE_BYTES, MAX_LATENCY, MAX_PARALLEL,
 };
+pub use crossbar::MemoryFabricItem;
 pub use layout::{LayoutError, MemoryLayout, MAX_ONCHIP_BITMAP_WORDS};
 pub use request::{Completion, RequestError, RequestId, Source, MAX_CYCLE};
 pub use stats::{KindCounts, NodeMemoryStats};
@@ -162,10 +185,13 @@ pub struct NodeMemory {
     /// The on-chip banks' ports. An on-chip read's service cycle is known when it arrives,
     /// so it goes straight to `pending` instead of waiting in a queue of its own.
     banks: Banks,
-    /// Requests waiting for a cache lookup port, in service order.
-    cache_q: VecDeque<Req>,
+    /// Per cache bank, the requests waiting for one of its lookup ports, in service order.
+    cache_q: Vec<VecDeque<Req>>,
     /// Requests in `cache_q`.
     waiting: usize,
+    /// The miss queue: misses that found every MSHR taken, with the cycle of their lookup,
+    /// in order (hit under miss, `cache.miss_queue` entries).
+    miss_q: VecDeque<(Req, u64)>,
     tags: Tags,
     /// Bytes of a cache line (the divisor of [`line_of`]).
     line_bytes: u64,
@@ -179,6 +205,7 @@ impl NodeMemory {
     pub fn new(cfg: NodeMemoryConfig, layout: MemoryLayout) -> Result<Self, ConfigError> {
         cfg.validate()?;
         let tags = Tags::new(cfg.cache_sets(), cfg.cache.ways);
+        let cache_q = vec![VecDeque::new(); cfg.cache.banks as usize];
         let stats = NodeMemoryStats {
             dram_peak_bytes_per_cycle: u64::from(cfg.dram.bytes_per_cycle),
             ..Default::default()
@@ -193,8 +220,9 @@ impl NodeMemory {
             next_id: 0,
             future: BinaryHeap::new(),
             arrivals: Vec::new(),
-            cache_q: VecDeque::new(),
+            cache_q,
             waiting: 0,
+            miss_q: VecDeque::new(),
             tags,
             pending: CompletionWheel::default(),
             stats,
@@ -219,7 +247,11 @@ impl NodeMemory {
     /// Requests made and not yet returned by [`tick_into`](Self::tick_into) or
     /// [`drain`](Self::drain).
     pub fn outstanding(&self) -> usize {
-        self.future.len() + self.arrivals.len() + self.waiting + self.pending.len()
+        self.future.len()
+            + self.arrivals.len()
+            + self.waiting
+            + self.miss_q.len()
+            + self.pending.len()
     }
 
     /// Whether every request has been returned.
@@ -334,6 +366,7 @@ impl NodeMemory {
         while !(self.future.is_empty()
             && self.arrivals.is_empty()
             && self.waiting == 0
+            && self.miss_q.is_empty()
             && self.dram.is_idle())
         {
             let k = self.next;
@@ -418,12 +451,23 @@ impl NodeMemory {
         // 1. Fills that complete now install their line and free their MSHR, before this
         //    cycle's lookups (so a lookup in the completion cycle hits).
         self.dram.retire(k, &mut self.tags);
+        //    Then the miss queue takes the MSHRs freed, in order (a queued miss to a line
+        //    in flight merges).
+        while let Some(&(r, looked_up)) = self.miss_q.front() {
+            let Some((source, done)) = self.send_to_dram(r, k) else {
+                break;
+            };
+            self.miss_q.pop_front();
+            self.stats.miss_queue_wait += k - looked_up;
+            self.complete(r, looked_up, done, source);
+        }
         // 2. Requests of this cycle are arbitrated in (requester, id) order: all are of cycle k
         //    (`arrivals` holds those made for `next` = k, the heap any made earlier for k) and
         //    everything before them is from an earlier cycle, so taking them in this order
         //    keeps each bank and the cache queue in (cycle, requester, id) service order.
-        //    An on-chip read is given its bank's next free port at once; a cached one joins
-        //    the cache queue.
+        //    An on-chip read is given its bank's next free port (or, combining, the read of
+        //    its word already queued there) at once; a cached one crosses to its cache
+        //    bank's queue (line mod banks).
         while let Some(Reverse(r)) = self.future.peek().copied() {
             if r.cycle > k {
                 break;
@@ -440,13 +484,16 @@ impl NodeMemory {
             let r = self.arrivals[i];
             let onchip = r.kind != FetchKind::Attr && self.layout.is_onchip(r.addr);
             if onchip {
-                let (bank, served) = self.banks.serve(r.addr, k);
+                let (bank, served, combined) = self.banks.serve(r.addr, k);
                 // Waiting in cycles k .. served − 1.
                 self.stats.port_wait += served - k;
                 self.stats.onchip_reads += 1;
+                self.stats.onchip_combined += u64::from(combined);
                 self.complete(r, served, served + latency, Source::OnChip { bank });
             } else {
-                self.cache_q.push_back(r);
+                let line = line_of(r.kind, r.addr, self.line_bytes);
+                let bank = (line % self.cache_q.len() as u64) as usize;
+                self.cache_q[bank].push_back(r);
                 self.waiting += 1;
             }
         }
@@ -460,29 +507,48 @@ impl NodeMemory {
         }
         // A bank has a request left waiting after this cycle's service.
         let mut port_conflict = self.banks.busy_until() > k;
-        // 4. The cache pipeline, in order.
-        let mut blocked = false;
-        for _ in 0..self.cfg.cache.ports {
-            let Some(&r) = self.cache_q.front() else {
-                break;
-            };
-            let Some(source_done) = self.lookup(r, k) else {
-                blocked = true;
-                break;
-            };
-            self.cache_q.pop_front();
-            self.waiting -= 1;
-            self.complete(r, k, source_done.1, source_done.0);
-        }
-        let left = self.cache_q.len() as u64;
-        if left > 0 {
-            if blocked {
-                self.stats.mshr_full_cycles += 1;
-                self.stats.mshr_wait += left;
-            } else {
-                port_conflict = true;
-                self.stats.port_wait += left;
+        // 4. Each cache bank's lookup pipeline, in order within the bank; the banks take
+        //    MSHRs in a rotating priority starting at bank k mod banks.
+        let banks = self.cache_q.len();
+        let mut blocked_any = false;
+        for j in 0..banks {
+            let b = (j + (k % banks as u64) as usize) % banks;
+            let mut blocked = false;
+            for _ in 0..self.cfg.cache.ports {
+                let Some(&r) = self.cache_q[b].front() else {
+                    break;
+                };
+                match self.lookup(r, k) {
+                    Some((source, done)) => self.complete(r, k, done, source),
+                    None if self.miss_q.len() < self.cfg.cache.miss_queue as usize => {
+                        // Hit under miss: the miss leaves the pipeline for the miss queue.
+                        self.miss_q.push_back((r, k));
+                        self.stats.miss_queued += 1;
+                        let n = self.miss_q.len() as u64;
+                        self.stats.miss_queue_max = self.stats.miss_queue_max.max(n);
+                    }
+                    None => {
+                        blocked = true;
+                        break;
+                    }
+                }
+                self.cache_q[b].pop_front();
+                self.waiting -= 1;
             }
+            let left = self.cache_q[b].len() as u64;
+            if left > 0 {
+                if blocked {
+                    blocked_any = true;
+                    self.stats.mshr_wait += left;
+                } else {
+                    port_conflict = true;
+                    self.stats.port_wait += left;
+                    self.stats.cache_port_wait += left;
+                }
+            }
+        }
+        if blocked_any {
+            self.stats.mshr_full_cycles += 1;
         }
         if port_conflict {
             self.stats.port_conflict_cycles += 1;
@@ -501,6 +567,18 @@ impl NodeMemory {
             self.stats.cache_hits += 1;
             return Some((Source::CacheHit, k + u64::from(self.cfg.cache.hit_latency)));
         }
+        self.send_to_dram(r, k)
+    }
+
+    /// A read that missed the tags (or is not cached) goes to DRAM in cycle `k`: it merges
+    /// into the fill of its line in flight or issues one, and is counted; `None` when every
+    /// MSHR is taken (nothing changes then). A read from the miss queue comes here directly:
+    /// the queue does not replay through the tags, so if its line arrived while it waited
+    /// (a fill issued by another miss and completed) it fetches the line again.
+    #[inline]
+    fn send_to_dram(&mut self, r: Req, k: u64) -> Option<(Source, u64)> {
+        let line = line_of(r.kind, r.addr, self.line_bytes);
+        let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
         let (source, done) = self.dram.miss(line, cached, k)?;
         let merged = source == Source::Merged;
         if !merged {

@@ -6,8 +6,15 @@
 //! on-chip read of the cycle its bank's next free port. A bank serves at a fixed rate, so a
 //! read's service cycle is known the moment it joins the bank's queue: it needs no queue of
 //! its own, only the bank's next free port.
+//!
+//! With `combine` the bank's queue is a CAM on word addresses: a read of a word that is
+//! already queued at the bank (its read scheduled in this cycle or a later one) joins that
+//! entry and is served by the same port read, the crossbar broadcasting the word to every
+//! requester. Every walk reads its asset's root word and the first levels below it, so
+//! without combining those few words' banks serve them `ports_per_bank` at a time.
 
 use super::config::OnChipConfig;
+use std::collections::VecDeque;
 
 /// The next free read port of an on-chip bank: `used` of its ports are taken in `cycle`.
 #[derive(Clone, Copy, Debug, Default)]
@@ -30,6 +37,11 @@ pub(super) struct Banks {
     busy_until: u64,
     /// Cycles before this one are counted in `port_conflict_cycles`.
     conflicts_counted: u64,
+    /// Whether same-word reads queued at a bank share one port read.
+    combine: bool,
+    /// Per bank (with `combine`), the reads scheduled and not yet before the current cycle:
+    /// (cycle served, word), in service order.
+    queued: Vec<VecDeque<(u64, u32)>>,
 }
 
 impl Banks {
@@ -41,14 +53,26 @@ impl Banks {
             ports: cfg.ports_per_bank.max(1),
             busy_until: 0,
             conflicts_counted: 0,
+            combine: cfg.combine,
+            queued: vec![VecDeque::new(); if cfg.combine { cfg.banks as usize } else { 0 }],
         }
     }
 
     /// Gives a read of word `addr` arriving in cycle `k` its bank's next free port, in
-    /// arrival order: returns (bank, cycle served). It waits in cycles `k .. served − 1`.
+    /// arrival order, or (with `combine`) the port read of the same word already queued:
+    /// returns (bank, cycle served, combined). It waits in cycles `k .. served − 1`.
     #[inline]
-    pub(super) fn serve(&mut self, addr: u32, k: u64) -> (u32, u64) {
+    pub(super) fn serve(&mut self, addr: u32, k: u64) -> (u32, u64, bool) {
         let bank = addr % self.count;
+        if self.combine {
+            let q = &mut self.queued[bank as usize];
+            while q.front().is_some_and(|&(s, _)| s < k) {
+                q.pop_front();
+            }
+            if let Some(&(s, _)) = q.iter().find(|&&(_, a)| a == addr) {
+                return (bank, s, true);
+            }
+        }
         let slot = &mut self.slots[bank as usize];
         if slot.cycle < k {
             *slot = BankSlot { cycle: k, used: 0 };
@@ -62,7 +86,10 @@ impl Banks {
             };
         }
         self.busy_until = self.busy_until.max(served);
-        (bank, served)
+        if self.combine {
+            self.queued[bank as usize].push_back((served, addr));
+        }
+        (bank, served, false)
     }
 
     /// The last cycle in which a bank serves a read that waited (0 when none has).

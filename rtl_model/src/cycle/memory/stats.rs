@@ -77,9 +77,21 @@ pub struct NodeMemoryStats {
     pub dram_max_bytes_in_cycle: u64,
     /// Cycles in which at least one read waited because its bank or the cache had no free port.
     pub port_conflict_cycles: u64,
-    /// Request-cycles spent waiting for a port.
+    /// Request-cycles spent waiting for a port (on-chip bank or cache bank).
     pub port_wait: u64,
-    /// Cycles in which the cache pipeline stalled on a miss with no free MSHR.
+    /// Of `port_wait`, the request-cycles spent in a cache bank's queue.
+    pub cache_port_wait: u64,
+    /// On-chip reads that shared the port read of the same word queued at their bank
+    /// (`onchip.combine`).
+    pub onchip_combined: u64,
+    /// Misses that found every MSHR taken and waited in the miss queue (hit under miss).
+    pub miss_queued: u64,
+    /// Request-cycles spent in the miss queue (counted when a read leaves it).
+    pub miss_queue_wait: u64,
+    /// Most reads in the miss queue at once.
+    pub miss_queue_max: u64,
+    /// Cycles in which a cache bank's pipeline stalled on a miss with no free MSHR and no
+    /// room in the miss queue.
     pub mshr_full_cycles: u64,
     /// Request-cycles spent waiting behind such a stall.
     pub mshr_wait: u64,
