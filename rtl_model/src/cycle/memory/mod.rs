@@ -109,6 +109,7 @@
 mod cache;
 pub mod config;
 mod dram;
+pub mod dramsim3;
 pub mod layout;
 mod onchip;
 pub mod request;
@@ -118,12 +119,12 @@ pub mod stats;
 pub use crate::svo::FetchKind;
 pub use cache::ATTR_REGION_BASE;
 pub use config::{
-    CacheConfig, ConfigError, DramConfig, MemoryResources, NodeMemoryConfig, OnChipConfig,
-    MAX_CACHE_BYTES, MAX_LATENCY, MAX_PARALLEL,
+    CacheConfig, ConfigError, DramBackend, DramConfig, MemoryResources, NodeMemoryConfig,
+    OnChipConfig, MAX_CACHE_BYTES, MAX_LATENCY, MAX_PARALLEL,
 };
 pub use layout::{LayoutError, MemoryLayout, MAX_ONCHIP_BITMAP_WORDS};
 pub use request::{Completion, RequestError, RequestId, Source, MAX_CYCLE};
-pub use stats::{KindCounts, NodeMemoryStats};
+pub use stats::{DramDeviceStats, KindCounts, NodeMemoryStats};
 
 use super::completion_wheel::CompletionWheel;
 use cache::{line_of, Tags};
@@ -147,7 +148,7 @@ use std::collections::{BinaryHeap, VecDeque};
 /// assert_eq!((done[1].id, done[1].source), (b, Source::Miss));
 /// assert_eq!(done[1].cycle_done, 10 + 60 + 1); // latency + one 64-byte beat
 /// ```
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct NodeMemory {
     cfg: NodeMemoryConfig,
     layout: MemoryLayout,
@@ -175,18 +176,28 @@ pub struct NodeMemory {
 }
 
 impl NodeMemory {
-    /// A model with empty caches at cycle 0.
+    /// A model with empty caches at cycle 0, behind a pipeline clocked at 300 MHz.
     pub fn new(cfg: NodeMemoryConfig, layout: MemoryLayout) -> Result<Self, ConfigError> {
+        Self::with_clock(cfg, layout, 300)
+    }
+
+    /// A model with empty caches at cycle 0, behind a pipeline clocked at `clock_mhz` (which
+    /// only the DRAMsim3 backend needs: it runs at the device's own clock).
+    pub fn with_clock(
+        cfg: NodeMemoryConfig,
+        layout: MemoryLayout,
+        clock_mhz: u32,
+    ) -> Result<Self, ConfigError> {
         cfg.validate()?;
         let tags = Tags::new(cfg.cache_sets(), cfg.cache.ways);
         let stats = NodeMemoryStats {
-            dram_peak_bytes_per_cycle: u64::from(cfg.dram.bytes_per_cycle),
+            dram_peak_bytes_per_cycle: cfg.dram.peak_bytes_per_cycle(clock_mhz),
             ..Default::default()
         };
         Ok(Self {
             banks: Banks::new(&cfg.onchip),
             line_bytes: u64::from(cfg.cache.line_bytes),
-            dram: Dram::new(&cfg),
+            dram: Dram::new(&cfg, clock_mhz)?,
             cfg,
             layout,
             next: 0,
@@ -219,7 +230,11 @@ impl NodeMemory {
     /// Requests made and not yet returned by [`tick_into`](Self::tick_into) or
     /// [`drain`](Self::drain).
     pub fn outstanding(&self) -> usize {
-        self.future.len() + self.arrivals.len() + self.waiting + self.pending.len()
+        self.future.len()
+            + self.arrivals.len()
+            + self.waiting
+            + self.pending.len()
+            + self.dram.parked()
     }
 
     /// Whether every request has been returned.
@@ -307,6 +322,9 @@ impl NodeMemory {
         if let Some(Reverse(r)) = self.future.peek() {
             at(r.cycle.max(self.next));
         }
+        if let Some(c) = self.dram.parked_bound(self.next) {
+            at(c);
+        }
         bound
     }
 
@@ -362,6 +380,7 @@ impl NodeMemory {
         let mut s = self.stats.clone();
         s.window_cycles = self.next.saturating_sub(s.window_start);
         s.port_conflict_cycles += self.banks.conflicts_before(self.next);
+        s.dram_device = self.dram.device_stats();
         s
     }
 
@@ -370,6 +389,7 @@ impl NodeMemory {
     pub fn reset_stats(&mut self) -> NodeMemoryStats {
         let out = self.stats();
         self.banks.counted_to(self.next);
+        self.dram.reset_device_stats();
         self.stats = NodeMemoryStats {
             window_start: self.next,
             dram_peak_bytes_per_cycle: out.dram_peak_bytes_per_cycle,
@@ -417,7 +437,9 @@ impl NodeMemory {
     fn step(&mut self, k: u64) {
         // 1. Fills that complete now install their line and free their MSHR, before this
         //    cycle's lookups (so a lookup in the completion cycle hits).
-        self.dram.retire(k, &mut self.tags);
+        for (r, served, done, source) in self.dram.retire(k, &mut self.tags) {
+            self.complete(r, served, done, source);
+        }
         // 2. Requests of this cycle are arbitrated in (requester, id) order: all are of cycle k
         //    (`arrivals` holds those made for `next` = k, the heap any made earlier for k) and
         //    everything before them is from an earlier cycle, so taking them in this order
@@ -472,7 +494,9 @@ impl NodeMemory {
             };
             self.cache_q.pop_front();
             self.waiting -= 1;
-            self.complete(r, k, source_done.1, source_done.0);
+            if let Some(done) = source_done.1 {
+                self.complete(r, k, done, source_done.0);
+            } // else parked in its MSHR until DRAMsim3 returns the fill (`dram.retire`)
         }
         let left = self.cache_q.len() as u64;
         if left > 0 {
@@ -493,15 +517,16 @@ impl NodeMemory {
     /// Looks up a read in cycle `k`: where it is served and when it completes, or `None` when
     /// it misses with every MSHR taken (nothing changes then).
     #[inline]
-    fn lookup(&mut self, r: Req, k: u64) -> Option<(Source, u64)> {
+    fn lookup(&mut self, r: Req, k: u64) -> Option<(Source, Option<u64>)> {
         let line = line_of(r.kind, r.addr, self.line_bytes);
         let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
         if cached && self.tags.touch(line) {
             self.stats.cache_lookups += 1;
             self.stats.cache_hits += 1;
-            return Some((Source::CacheHit, k + u64::from(self.cfg.cache.hit_latency)));
+            let done = k + u64::from(self.cfg.cache.hit_latency);
+            return Some((Source::CacheHit, Some(done)));
         }
-        let (source, done) = self.dram.miss(line, cached, k)?;
+        let (source, done) = self.dram.miss(r, line, cached, k)?;
         let merged = source == Source::Merged;
         if !merged {
             self.stats.dram_fills += 1;
