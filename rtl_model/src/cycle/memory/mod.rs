@@ -92,8 +92,12 @@
 //!   the bus's byte budget; a cycle never moves more than `bytes_per_cycle` bytes, also when
 //!   the line is not a multiple of it (two fills then share a cycle).
 //!
-//! Simplifications (stated so reports can be read correctly): DRAM refresh, bank and row
-//! effects are folded into the fixed latency; refills write the cache through their own port
+//! With the DRAMsim3 backend ([`DramBackend::DramSim3`], `dramsim3.rs`) a fill's completion
+//! is DRAMsim3's instead, known only when DRAMsim3 returns it: reads waiting for it are parked
+//! in its MSHR until then (`dram.rs`), and the bandwidth is the device's.
+//!
+//! Simplifications (stated so reports can be read correctly): with the built-in backend, DRAM
+//! refresh, bank and row effects are folded into the fixed latency; refills write the cache through their own port
 //! (the data array is built from 1R1W copies, see [`NodeMemoryConfig::resources`]); the
 //! on-chip store is read only during a frame (it is loaded between frames), so it has no
 //! read-during-write case.
@@ -103,7 +107,8 @@
 //! [`config`] (the configuration and its block count), [`layout`] (the address map and the
 //! on-chip whitelist), [`request`] (requests, completions, refusals), [`stats`] (the
 //! counters), and the three places a read is served: `onchip.rs` (bank ports), `cache.rs`
-//! (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus). This file holds the model
+//! (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus; the DRAMsim3 backend in
+//! [`dramsim3`]). This file holds the model
 //! that arbitrates them cycle by cycle ([`NodeMemory`]).
 
 mod cache;
