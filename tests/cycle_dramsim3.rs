@@ -118,3 +118,25 @@ fn dramsim3_reports_the_same_with_idle_cycles_skipped_or_stepped() {
         assert_eq!(x, y, "frame {f}: skipping changed the report");
     }
 }
+
+#[test]
+fn the_hardware_file_refuses_a_bad_dramsim3_backend_naming_the_field() {
+    let mut hw = dramsim3_hw(3);
+    let e = hw.validate().unwrap_err();
+    assert!(
+        e.starts_with("node_memory.dram.backend.channels = 3 must be 1, 2, 4 or 8"),
+        "{e}"
+    );
+    hw = dramsim3_hw(2);
+    hw.node_memory.dram.backend = DramBackend::DramSim3 {
+        config: "HBM2_4Gb_x128".into(),
+        channels: 2,
+        controller_latency: 30,
+    };
+    let e = hw.validate().unwrap_err();
+    assert!(
+        e.starts_with("node_memory.dram.backend.config = \"HBM2_4Gb_x128\" is not a bundled"),
+        "{e}"
+    );
+    assert!(dramsim3_hw(2).validate().is_ok());
+}

@@ -407,3 +407,33 @@ impl DramSim3 {
         &self._dir.0
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dramsim3_writes_only_into_its_scratch_directory_which_goes_with_it() {
+        let cwd_before: Vec<_> = std::fs::read_dir(".")
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        let mut d = DramSim3::new("DDR4_8Gb_x16_2400", 2, 1, 64, 300).unwrap();
+        let dir = d.dir().to_path_buf();
+        assert!(dir.starts_with(std::env::temp_dir()), "{}", dir.display());
+        d.issue(5);
+        let mut done = Vec::new();
+        // Past one statistics epoch, so DRAMsim3 writes its file.
+        d.advance(EPOCH_DRAM_CLOCKS / 4 + 10, &mut done);
+        assert_eq!(done.len(), 1);
+        assert!(dir.join("dramsim3epoch.json").exists());
+        assert_eq!(d.stats().epochs, 2, "one record per channel");
+        drop(d);
+        assert!(!dir.exists(), "{} left behind", dir.display());
+        let cwd_after: Vec<_> = std::fs::read_dir(".")
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(cwd_before, cwd_after);
+    }
+}
