@@ -270,6 +270,7 @@ fn node_memory() -> impl Strategy<Value = NodeMemoryConfig> {
             latency,
             bytes_per_cycle,
             mshrs,
+            ..DramConfig::default()
         },
     );
     (onchip, cache, dram).prop_map(|(onchip, cache, dram)| NodeMemoryConfig {

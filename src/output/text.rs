@@ -191,6 +191,23 @@ fn stage_tables(mut s: String, c: &CycleFrame, cyc: f64) -> String {
         m.dram_bandwidth_pct,
         m.mean_latency
     );
+    if let Some(d) = &m.dram_device {
+        let _ = writeln!(
+            s,
+            "  DRAM (DRAMsim3 {}): {} fills in {} bursts, {:.1} bytes/cycle achieved; row-buffer hit rate {:.1}% ({} of {} reads), {} activates, {} row conflicts, {} refreshes; queue full {} DRAM clocks",
+            d.device,
+            d.fills,
+            d.transactions,
+            d.bytes_per_cycle,
+            100.0 * d.row_hit_rate,
+            d.row_hits,
+            d.read_cmds,
+            d.activates,
+            d.row_conflicts,
+            d.refreshes,
+            d.queue_full_clocks
+        );
+    }
     let o = &c.ops_per_pixel;
     let _ = writeln!(
         s,

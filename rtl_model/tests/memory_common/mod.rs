@@ -56,6 +56,7 @@ pub fn config(
             latency: dram_latency,
             bytes_per_cycle,
             mshrs,
+            ..DramConfig::default()
         },
     }
 }

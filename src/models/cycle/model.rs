@@ -131,8 +131,9 @@ impl CycleModel {
         hw.validate()
             .map_err(|e| CycleError::Config(e.to_string()))?;
         let pixels = width as usize * height as usize;
-        let mem = NodeMemory::new(hw.node_memory.clone(), layout.layout.clone())
-            .map_err(|e| CycleError::Config(e.to_string()))?;
+        let mem =
+            NodeMemory::with_clock(hw.node_memory.clone(), layout.layout.clone(), hw.clock_mhz)
+                .map_err(|e| CycleError::Config(e.to_string()))?;
         let pool = WalkerPoolModel::new(&hw.walker_pool)?;
         let ports = hw.hit_buffer.read_ports + hw.hit_buffer.write_ports;
         let bram = Bram::new(pixels.max(1), ports, 0u128)

@@ -7,7 +7,7 @@
 
 use rtl_model::cycle::fifo::FifoStats;
 use rtl_model::cycle::hw_config::HwConfig;
-use rtl_model::cycle::memory::NodeMemoryStats;
+use rtl_model::cycle::memory::{DramDeviceStats, NodeMemoryStats};
 use rtl_model::cycle::stage_stats::StageCycles;
 use rtl_model::cycle::walker_pool::PoolCycles;
 use serde::Serialize;
@@ -54,6 +54,55 @@ pub struct MemoryReport {
     pub mshr_wait: u64,
     /// Request-cycles waiting for a port.
     pub port_wait: u64,
+    /// The DRAMsim3 device's figures, when it times the fills (absent with the built-in
+    /// DRAM model).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dram_device: Option<DramDeviceReport>,
+}
+
+/// The DRAMsim3 backend over the frame (docs/cycle-model.md, DRAM; docs/report.md).
+#[derive(Clone, Debug, Serialize)]
+pub struct DramDeviceReport {
+    /// The device (bundled DRAMsim3 configuration).
+    pub device: String,
+    /// Line fills and the read bursts they made.
+    pub fills: u64,
+    /// Read bursts (DRAMsim3 transactions).
+    pub transactions: u64,
+    /// Achieved bandwidth, bytes per pipeline cycle (completed bursts over the frame).
+    pub bytes_per_cycle: f64,
+    /// Row-buffer hit rate of the READ commands (from DRAMsim3's epochs in the frame).
+    pub row_hit_rate: f64,
+    /// READ commands, and of them row-buffer hits.
+    pub read_cmds: u64,
+    /// Row-buffer hits.
+    pub row_hits: u64,
+    /// ACTIVATE commands.
+    pub activates: u64,
+    /// Row conflicts: precharges forced by a request to another row of an open bank.
+    pub row_conflicts: u64,
+    /// REFRESH commands.
+    pub refreshes: u64,
+    /// DRAM clocks a burst waited for room in DRAMsim3's transaction queue.
+    pub queue_full_clocks: u64,
+}
+
+impl DramDeviceReport {
+    fn of(d: &DramDeviceStats, window_cycles: u64) -> Self {
+        Self {
+            device: d.device.clone(),
+            fills: d.fills,
+            transactions: d.transactions,
+            bytes_per_cycle: d.bytes as f64 / window_cycles.max(1) as f64,
+            row_hit_rate: d.row_hit_rate(),
+            read_cmds: d.read_cmds,
+            row_hits: d.row_hits,
+            activates: d.activates,
+            row_conflicts: d.row_conflicts,
+            refreshes: d.refreshes,
+            queue_full_clocks: d.queue_full_clocks,
+        }
+    }
 }
 
 impl MemoryReport {
@@ -70,6 +119,10 @@ impl MemoryReport {
             mean_latency: m.avg_latency(),
             mshr_wait: m.mshr_wait,
             port_wait: m.port_wait,
+            dram_device: m
+                .dram_device
+                .as_ref()
+                .map(|d| DramDeviceReport::of(d, m.window_cycles)),
         }
     }
 }

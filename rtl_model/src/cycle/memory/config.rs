@@ -128,22 +128,29 @@ impl Default for CacheConfig {
     }
 }
 
-/// External DRAM behind the cache.
+/// External DRAM behind the cache: the MSHRs in front of it and the model of the DRAM itself.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DramConfig {
-    /// Cycles from a fill's issue to its first data (≥ 1). Default 60 at 300 MHz: DDR4's
-    /// ~100 ns loaded access (30 cycles) plus about as much again for the memory controller,
-    /// the AXI interconnect and clock-domain crossings.
+    /// Cycles from a fill's issue to its first data (≥ 1), for the [`DramBackend::BuiltIn`]
+    /// model. Default 60 at 300 MHz: DDR4's ~100 ns loaded access (30 cycles) plus about as
+    /// much again for the memory controller, the AXI interconnect and clock-domain crossings.
+    /// With [`DramBackend::DramSim3`] the fills take the device's timing instead and this field
+    /// must stay at its default (it still gives the nominal DRAM latency of an external hit
+    /// buffer and of the watchdog).
     pub latency: u32,
-    /// Peak bytes per cycle on the data bus (≥ 1). Default 64: one DDR4-2400 channel, 64 bits
-    /// wide, gives 19.2 GB/s, which is 64 B per cycle at 300 MHz.
+    /// Peak bytes per cycle on the data bus (≥ 1), for the [`DramBackend::BuiltIn`] model.
+    /// Default 64: one DDR4-2400 channel, 64 bits wide, gives 19.2 GB/s, which is 64 B per
+    /// cycle at 300 MHz. With [`DramBackend::DramSim3`] the peak follows from the device and
+    /// the channel count, and this field must stay at its default.
     pub bytes_per_cycle: u32,
     /// Outstanding line fills (MSHRs, ≥ 1). Default 32, a miss table a 300 MHz design can
     /// search in one cycle. By Little's law 32 fills of 64 B per (60 + 1) cycles cap miss
     /// bandwidth at about 33.6 B/cycle (52 % of peak): the walkers' scattered reads are bound
     /// by latency long before bandwidth, and the scaling benchmark sweeps this.
     pub mshrs: u32,
+    /// What times the line fills: the built-in fixed-latency bus (default) or DRAMsim3.
+    pub backend: DramBackend,
 }
 
 impl Default for DramConfig {
@@ -152,8 +159,47 @@ impl Default for DramConfig {
             latency: 60,
             bytes_per_cycle: 64,
             mshrs: 32,
+            backend: DramBackend::BuiltIn,
         }
     }
+}
+
+impl DramConfig {
+    /// Peak bytes per pipeline cycle at `clock_mhz`: `bytes_per_cycle` for the built-in
+    /// model; for DRAMsim3, 16 bytes per DRAM clock per channel (a 64-bit DDR bus) converted
+    /// to pipeline cycles and rounded to the nearest byte (128 for two DDR4-2400 channels at
+    /// 300 MHz). Meaningful for a validated configuration.
+    pub fn peak_bytes_per_cycle(&self, clock_mhz: u32) -> u64 {
+        match &self.backend {
+            DramBackend::BuiltIn => u64::from(self.bytes_per_cycle),
+            DramBackend::DramSim3 {
+                config, channels, ..
+            } => super::dramsim3::device(config).map_or(0, |d| {
+                super::dramsim3::peak_bytes_per_cycle(&d, *channels, clock_mhz)
+            }),
+        }
+    }
+}
+
+/// The model that times the line fills behind the MSHRs (docs/cycle-model.md, DRAM).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum DramBackend {
+    /// A fixed latency and one data bus of `bytes_per_cycle` (fast; an approximation with no
+    /// banks, rows, refresh or scheduling).
+    #[default]
+    BuiltIn,
+    /// DRAMsim3 (the `dramsim3` crate): banks, bank groups, row buffers, refresh and the
+    /// controller's scheduling of a JEDEC device, clocked at its own rate against the
+    /// pipeline clock.
+    DramSim3 {
+        /// The device: one of [`super::dramsim3::CONFIG_NAMES`], e.g. `"DDR4_8Gb_x16_2400"`.
+        config: String,
+        /// Independent channels (1, 2, 4 or 8), each with its own 64-bit bus and controller.
+        channels: u32,
+        /// Cycles of the pipeline clock added to every fill for the memory controller's
+        /// front end, the AXI interconnect and the clock-domain crossings (≥ 1).
+        controller_latency: u32,
+    },
 }
 
 /// The node-memory configuration: on-chip store, cache and external DRAM. Latencies are in
@@ -205,6 +251,30 @@ pub enum ConfigError {
         /// Line bytes.
         line: u32,
     },
+    /// A DRAMsim3 device name that is not bundled.
+    #[error("dram.backend.config = {name:?} is not a bundled DRAMsim3 device (one of {known})")]
+    DramDevice {
+        /// The name given.
+        name: String,
+        /// The names there are.
+        known: String,
+    },
+    /// A DRAMsim3 channel count that is not 1, 2, 4 or 8.
+    #[error("dram.backend.channels = {0} must be 1, 2, 4 or 8")]
+    DramChannels(u32),
+    /// A field of the built-in DRAM model set while another backend times the fills.
+    #[error("dram.{field} = {value} applies to the BuiltIn DRAM backend only; with DramSim3 leave it at its default {default}")]
+    BuiltInOnly {
+        /// The field.
+        field: &'static str,
+        /// Its value.
+        value: u32,
+        /// Its default.
+        default: u32,
+    },
+    /// DRAMsim3 could not be started (its scratch directory or configuration file).
+    #[error("dram.backend: DRAMsim3 could not be started: {0}")]
+    DramSim3Start(String),
     /// More on-chip levels than an image can have.
     #[error("onchip.levels = {0} is more than the deepest tree has (21)")]
     Levels(u8),
@@ -287,6 +357,36 @@ impl NodeMemoryConfig {
         lat("dram.latency", d.latency)?;
         count("dram.bytes_per_cycle", d.bytes_per_cycle)?;
         count("dram.mshrs", d.mshrs)?;
+        if let DramBackend::DramSim3 {
+            config,
+            channels,
+            controller_latency,
+        } = &d.backend
+        {
+            let base = DramConfig::default();
+            for (field, value, default) in [
+                ("latency", d.latency, base.latency),
+                ("bytes_per_cycle", d.bytes_per_cycle, base.bytes_per_cycle),
+            ] {
+                if value != default {
+                    return Err(ConfigError::BuiltInOnly {
+                        field,
+                        value,
+                        default,
+                    });
+                }
+            }
+            if super::dramsim3::device(config).is_none() {
+                return Err(ConfigError::DramDevice {
+                    name: config.clone(),
+                    known: super::dramsim3::CONFIG_NAMES.join(", "),
+                });
+            }
+            if !matches!(channels, 1 | 2 | 4 | 8) {
+                return Err(ConfigError::DramChannels(*channels));
+            }
+            lat("dram.backend.controller_latency", *controller_latency)?;
+        }
         Ok(())
     }
 

@@ -112,8 +112,12 @@
 //!   the bus's byte budget; a cycle never moves more than `bytes_per_cycle` bytes, also when
 //!   the line is not a multiple of it (two fills then share a cycle).
 //!
-//! Simplifications (stated so reports can be read correctly): DRAM refresh, bank and row
-//! effects are folded into the fixed latency; refills write the cache through their own port
+//! With the DRAMsim3 backend ([`DramBackend::DramSim3`], `dramsim3.rs`) a fill's completion
+//! is DRAMsim3's instead, known only when DRAMsim3 returns it: reads waiting for it are parked
+//! in its MSHR until then (`dram.rs`), and the bandwidth is the device's.
+//!
+//! Simplifications (stated so reports can be read correctly): with the built-in backend, DRAM
+//! refresh, bank and row effects are folded into the fixed latency; refills write the cache through their own port
 //! (the data array is built from 1R1W copies, see [`NodeMemoryConfig::resources`]); the
 //! on-chip store is read only during a frame (it is loaded between frames), so it has no
 //! read-during-write case.
@@ -124,13 +128,15 @@
 //! blocks: crossbars, bank and miss queues, MSHR search, in LUTs and FFs), [`layout`] (the
 //! address map and the on-chip whitelist), [`request`] (requests, completions, refusals),
 //! [`stats`] (the counters), and the three places a read is served: `onchip.rs` (bank ports
-//! and combining), `cache.rs` (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus). This file holds the model
+//! and combining), `cache.rs` (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus; the DRAMsim3
+//! backend in [`dramsim3`]). This file holds the model
 //! that arbitrates them cycle by cycle ([`NodeMemory`]).
 
 mod cache;
 pub mod config;
 pub mod crossbar;
 mod dram;
+pub mod dramsim3;
 pub mod layout;
 mod onchip;
 pub mod request;
@@ -140,13 +146,13 @@ pub mod stats;
 pub use crate::svo::FetchKind;
 pub use cache::ATTR_REGION_BASE;
 pub use config::{
-    CacheConfig, ConfigError, DramConfig, MemoryResources, NodeMemoryConfig, OnChipConfig,
-    MAX_CACHE_BANKS, MAX_CACHE_BYTES, MAX_LATENCY, MAX_PARALLEL,
+    CacheConfig, ConfigError, DramBackend, DramConfig, MemoryResources, NodeMemoryConfig,
+    OnChipConfig, MAX_CACHE_BANKS, MAX_CACHE_BYTES, MAX_LATENCY, MAX_PARALLEL,
 };
 pub use crossbar::MemoryFabricItem;
 pub use layout::{LayoutError, MemoryLayout, MAX_ONCHIP_BITMAP_WORDS};
 pub use request::{Completion, RequestError, RequestId, Source, MAX_CYCLE};
-pub use stats::{KindCounts, NodeMemoryStats};
+pub use stats::{DramDeviceStats, KindCounts, NodeMemoryStats};
 
 use super::completion_wheel::CompletionWheel;
 use cache::{line_of, Tags};
@@ -170,7 +176,7 @@ use std::collections::{BinaryHeap, VecDeque};
 /// assert_eq!((done[1].id, done[1].source), (b, Source::Miss));
 /// assert_eq!(done[1].cycle_done, 10 + 60 + 1); // latency + one 64-byte beat
 /// ```
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct NodeMemory {
     cfg: NodeMemoryConfig,
     layout: MemoryLayout,
@@ -201,19 +207,29 @@ pub struct NodeMemory {
 }
 
 impl NodeMemory {
-    /// A model with empty caches at cycle 0.
+    /// A model with empty caches at cycle 0, behind a pipeline clocked at 300 MHz.
     pub fn new(cfg: NodeMemoryConfig, layout: MemoryLayout) -> Result<Self, ConfigError> {
+        Self::with_clock(cfg, layout, 300)
+    }
+
+    /// A model with empty caches at cycle 0, behind a pipeline clocked at `clock_mhz` (which
+    /// only the DRAMsim3 backend needs: it runs at the device's own clock).
+    pub fn with_clock(
+        cfg: NodeMemoryConfig,
+        layout: MemoryLayout,
+        clock_mhz: u32,
+    ) -> Result<Self, ConfigError> {
         cfg.validate()?;
         let tags = Tags::new(cfg.cache_sets(), cfg.cache.ways);
         let cache_q = vec![VecDeque::new(); cfg.cache.banks as usize];
         let stats = NodeMemoryStats {
-            dram_peak_bytes_per_cycle: u64::from(cfg.dram.bytes_per_cycle),
+            dram_peak_bytes_per_cycle: cfg.dram.peak_bytes_per_cycle(clock_mhz),
             ..Default::default()
         };
         Ok(Self {
             banks: Banks::new(&cfg.onchip),
             line_bytes: u64::from(cfg.cache.line_bytes),
-            dram: Dram::new(&cfg),
+            dram: Dram::new(&cfg, clock_mhz)?,
             cfg,
             layout,
             next: 0,
@@ -252,6 +268,7 @@ impl NodeMemory {
             + self.waiting
             + self.miss_q.len()
             + self.pending.len()
+            + self.dram.parked()
     }
 
     /// Whether every request has been returned.
@@ -339,6 +356,9 @@ impl NodeMemory {
         if let Some(Reverse(r)) = self.future.peek() {
             at(r.cycle.max(self.next));
         }
+        if let Some(c) = self.dram.parked_bound(self.next) {
+            at(c);
+        }
         bound
     }
 
@@ -395,6 +415,7 @@ impl NodeMemory {
         let mut s = self.stats.clone();
         s.window_cycles = self.next.saturating_sub(s.window_start);
         s.port_conflict_cycles += self.banks.conflicts_before(self.next);
+        s.dram_device = self.dram.device_stats();
         s
     }
 
@@ -403,6 +424,7 @@ impl NodeMemory {
     pub fn reset_stats(&mut self) -> NodeMemoryStats {
         let out = self.stats();
         self.banks.counted_to(self.next);
+        self.dram.reset_device_stats();
         self.stats = NodeMemoryStats {
             window_start: self.next,
             dram_peak_bytes_per_cycle: out.dram_peak_bytes_per_cycle,
@@ -450,7 +472,9 @@ impl NodeMemory {
     fn step(&mut self, k: u64) {
         // 1. Fills that complete now install their line and free their MSHR, before this
         //    cycle's lookups (so a lookup in the completion cycle hits).
-        self.dram.retire(k, &mut self.tags);
+        for (r, served, done, source) in self.dram.retire(k, &mut self.tags) {
+            self.complete(r, served, done, source);
+        }
         //    Then the miss queue takes the MSHRs freed, in order (a queued miss to a line
         //    in flight merges).
         while let Some(&(r, looked_up)) = self.miss_q.front() {
@@ -459,7 +483,9 @@ impl NodeMemory {
             };
             self.miss_q.pop_front();
             self.stats.miss_queue_wait += k - looked_up;
-            self.complete(r, looked_up, done, source);
+            if let Some(done) = done {
+                self.complete(r, looked_up, done, source);
+            } // else parked in its MSHR until DRAMsim3 returns the fill (`dram.retire`)
         }
         // 2. Requests of this cycle are arbitrated in (requester, id) order: all are of cycle k
         //    (`arrivals` holds those made for `next` = k, the heap any made earlier for k) and
@@ -519,7 +545,9 @@ impl NodeMemory {
                     break;
                 };
                 match self.lookup(r, k) {
-                    Some((source, done)) => self.complete(r, k, done, source),
+                    Some((source, Some(done))) => self.complete(r, k, done, source),
+                    // Parked in its MSHR until DRAMsim3 returns the fill (`dram.retire`).
+                    Some((_, None)) => {}
                     None if self.miss_q.len() < self.cfg.cache.miss_queue as usize => {
                         // Hit under miss: the miss leaves the pipeline for the miss queue.
                         self.miss_q.push_back((r, k));
@@ -559,13 +587,14 @@ impl NodeMemory {
     /// Looks up a read in cycle `k`: where it is served and when it completes, or `None` when
     /// it misses with every MSHR taken (nothing changes then).
     #[inline]
-    fn lookup(&mut self, r: Req, k: u64) -> Option<(Source, u64)> {
+    fn lookup(&mut self, r: Req, k: u64) -> Option<(Source, Option<u64>)> {
         let line = line_of(r.kind, r.addr, self.line_bytes);
         let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
         if cached && self.tags.touch(line) {
             self.stats.cache_lookups += 1;
             self.stats.cache_hits += 1;
-            return Some((Source::CacheHit, k + u64::from(self.cfg.cache.hit_latency)));
+            let done = k + u64::from(self.cfg.cache.hit_latency);
+            return Some((Source::CacheHit, Some(done)));
         }
         self.send_to_dram(r, k)
     }
@@ -576,10 +605,10 @@ impl NodeMemory {
     /// the queue does not replay through the tags, so if its line arrived while it waited
     /// (a fill issued by another miss and completed) it fetches the line again.
     #[inline]
-    fn send_to_dram(&mut self, r: Req, k: u64) -> Option<(Source, u64)> {
+    fn send_to_dram(&mut self, r: Req, k: u64) -> Option<(Source, Option<u64>)> {
         let line = line_of(r.kind, r.addr, self.line_bytes);
         let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
-        let (source, done) = self.dram.miss(line, cached, k)?;
+        let (source, done) = self.dram.miss(r, line, cached, k)?;
         let merged = source == Source::Merged;
         if !merged {
             self.stats.dram_fills += 1;

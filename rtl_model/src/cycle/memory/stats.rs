@@ -103,6 +103,57 @@ pub struct NodeMemoryStats {
     pub latency_sum: u64,
     /// Largest (done − requested).
     pub latency_max: u64,
+    /// The DRAMsim3 device's own counters, when it times the fills (`None` with the built-in
+    /// DRAM model).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dram_device: Option<DramDeviceStats>,
+}
+
+/// Counters of the DRAMsim3 backend over a window. Fills, transactions and bytes are counted
+/// by the model; the command counters come from DRAMsim3's epoch statistics and cover the
+/// epochs that ended in the window (docs/cycle-model.md, DRAM).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DramDeviceStats {
+    /// The device (a bundled DRAMsim3 configuration name).
+    pub device: String,
+    /// Line fills issued.
+    pub fills: u64,
+    /// Read transactions (bursts) they made.
+    pub transactions: u64,
+    /// Bytes of the transactions that completed.
+    pub bytes: u64,
+    /// DRAM clocks at which a transaction waited because DRAMsim3's queue was full.
+    pub queue_full_clocks: u64,
+    /// DRAMsim3 epochs (per channel) counted below.
+    pub epochs: u64,
+    /// READ commands issued.
+    pub read_cmds: u64,
+    /// Of those, reads to the open row (row-buffer hits).
+    pub row_hits: u64,
+    /// ACTIVATE commands (row opens).
+    pub activates: u64,
+    /// Precharges forced by a request to another row of an open bank (row conflicts).
+    pub row_conflicts: u64,
+    /// REFRESH commands.
+    pub refreshes: u64,
+}
+
+impl DramDeviceStats {
+    /// Row-buffer hits over read commands; 0 without reads.
+    pub fn row_hit_rate(&self) -> f64 {
+        ratio(self.row_hits, self.read_cmds)
+    }
+
+    /// Adds one epoch record of one channel (DRAMsim3's JSON object).
+    pub(super) fn add_epoch(&mut self, v: &serde_json::Value) {
+        let get = |k: &str| v.get(k).and_then(serde_json::Value::as_u64).unwrap_or(0);
+        self.epochs += 1;
+        self.read_cmds += get("num_read_cmds");
+        self.row_hits += get("num_read_row_hits");
+        self.activates += get("num_act_cmds");
+        self.row_conflicts += get("num_ondemand_pres");
+        self.refreshes += get("num_ref_cmds");
+    }
 }
 
 impl NodeMemoryStats {
