@@ -16,6 +16,7 @@ pub mod frame_models;
 pub mod frames;
 pub mod memory;
 pub mod parallel;
+pub mod peer_bench;
 pub mod ranges;
 pub mod render;
 pub mod run_files;

@@ -3,7 +3,7 @@
 
 use crate::args::{ModelArg, SceneArgs};
 use anyhow::Result;
-use clap::Args;
+use clap::{Args, Subcommand};
 use std::path::PathBuf;
 use svo_sim::models::cycle::sample::SampleConfig;
 use svo_sim::run::bench::{
@@ -17,7 +17,11 @@ use svo_sim::world::assets::Asset;
 use svo_sim::world::scene::Scene;
 
 #[derive(Args, Debug)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct BenchArgs {
+    /// `peer`: the reference against the OpenVDB peer on the 20 benchmark cameras.
+    #[command(subcommand)]
+    sub: Option<BenchSub>,
     /// Scene, resolution, frames, depth and threads (bench defaults: 1280x768, 8 frames,
     /// depth 11).
     #[command(flatten)]
@@ -62,6 +66,86 @@ pub struct BenchArgs {
     /// band in rays that walk, docs/cycle-model.md §3.5).
     #[arg(long, value_name = "ROWS")]
     sample_warm: Option<u32>,
+}
+
+#[derive(Subcommand, Debug)]
+enum BenchSub {
+    /// The f64 reference (`sim render`) against the OpenVDB peer of tests/openvdb_peer/peer.cpp
+    /// on the 20 benchmark cameras (five shared models × four cameras, docs/render.md §7): same
+    /// rays, same threads, rounds alternating which program runs first; prints each camera's
+    /// best and median Mrays/s, the ratios reference / peer and the smallest ratio. Builds the
+    /// peer with g++ and OpenVDB 10 (libopenvdb-dev) unless --peer is given.
+    Peer(PeerArgs),
+}
+
+#[derive(Args, Debug)]
+struct PeerArgs {
+    /// The folder of the shared .vox models (veh_bus, scene_store8, chr_mayor,
+    /// alien_saucer2a, scene_park).
+    #[arg(long, value_name = "DIR", default_value = "../shared/data/vox")]
+    vox_dir: PathBuf,
+    /// A built peer binary (default: build tests/openvdb_peer/peer.cpp, embedded in this
+    /// binary, into --peer-cache, or reuse the build of the same source there).
+    #[arg(long, value_name = "PATH")]
+    peer: Option<PathBuf>,
+    /// Where the peer is built and its scratch hit records go (default: the system's temporary
+    /// folder, svo_sim_openvdb_peer).
+    #[arg(long, value_name = "DIR")]
+    peer_cache: Option<PathBuf>,
+    /// Runs of each program per camera, alternating which runs first; best and median of them.
+    #[arg(long, default_value_t = 4)]
+    rounds: u32,
+    /// Traces per run (each program reports its fastest; the peer after one untimed warm-up).
+    #[arg(long, default_value_t = 3)]
+    repeat: u32,
+    /// Worker threads of both programs.
+    #[arg(long, default_value_t = 2)]
+    threads: u32,
+    /// Image sides: the test's (160×120, 161×121, 64–128²) times this.
+    #[arg(long, default_value_t = 8)]
+    scale: u32,
+    /// Only the cameras whose `model/camera` contains this text (e.g. `scene_park/ortho`).
+    #[arg(long, value_name = "TEXT")]
+    only: Option<String>,
+}
+
+/// `sim bench peer`.
+fn bench_peer(a: &PeerArgs) -> Result<()> {
+    use svo_sim::run::peer_bench::{
+        build_peer, header_text, row_text, run_peer_bench, summary_text, PeerBenchOptions,
+    };
+    let cache = a
+        .peer_cache
+        .clone()
+        .unwrap_or_else(|| std::env::temp_dir().join("svo_sim_openvdb_peer"));
+    let peer = match &a.peer {
+        Some(p) if !p.is_file() => anyhow::bail!("--peer {}: no such file", p.display()),
+        Some(p) => p.clone(),
+        None => build_peer(&cache)?,
+    };
+    let o = PeerBenchOptions {
+        vox_dir: a.vox_dir.clone(),
+        sim: std::env::current_exe()?,
+        peer,
+        rounds: a.rounds,
+        repeat: a.repeat,
+        threads: a.threads,
+        scale: a.scale,
+        only: a.only.clone(),
+        scratch: cache,
+    };
+    println!(
+        "reference (sim render) against the OpenVDB peer {}: {} threads, {} rounds of {} traces \
+         each, alternating; Mrays/s, ratio = reference / peer",
+        o.peer.display(),
+        o.threads,
+        o.rounds,
+        o.repeat
+    );
+    println!("{}", header_text());
+    let rows = run_peer_bench(&o, &mut |r| println!("{}", row_text(r)))?;
+    print!("{}", summary_text(&rows));
+    Ok(())
 }
 
 /// The sample of `--sample RATE` or `--sample-validate RATE`, with `--sample-band` and
@@ -226,6 +310,9 @@ fn bench_cycle(a: &BenchArgs, scene: &Scene, assets: &[Asset]) -> Result<()> {
 
 /// Runs `sim bench`.
 pub fn run_command(a: BenchArgs) -> Result<()> {
+    if let Some(BenchSub::Peer(p)) = &a.sub {
+        return bench_peer(p);
+    }
     if a.model != ModelArg::Cycle {
         for (given, flag) in [
             (a.sample.is_some(), "--sample"),

@@ -51,7 +51,8 @@ pub struct WalkCounters {
     pub steps: u64,
     /// Descriptor fetches (root and every descent).
     pub fetches: u64,
-    /// Deepest stack reached (frames).
+    /// Deepest stack a walk keeping every ancestor would reach (frames): the deepest node
+    /// entered's level + 1.
     pub max_stack: u32,
 }
 
@@ -78,19 +79,47 @@ fn min3(v: [f64; 3]) -> f64 {
     v[0].min(v[1]).min(v[2])
 }
 
+/// `max3` of a node's or child's t0 in a walk of `ONLY` (see [`walk_loop`]): with
+/// `ONLY` < 3 the other two axes are zero axes whose t0 is −∞ in every node the walk examines,
+/// so the maximum is axis `ONLY`'s value, bit for bit (max(−∞, x) = x).
+#[inline]
+fn enter_of<const ONLY: usize>(t0: [f64; 3]) -> f64 {
+    if ONLY < 3 {
+        t0[ONLY]
+    } else {
+        max3(t0)
+    }
+}
+
+/// `min3` of t1 in a walk of `ONLY`: the zero axes' t1 are +∞ (min(+∞, x) = x).
+#[inline]
+fn exit_of<const ONLY: usize>(t1: [f64; 3]) -> f64 {
+    if ONLY < 3 {
+        t1[ONLY]
+    } else {
+        min3(t1)
+    }
+}
+
 /// Table 1/2 of Revelles: the first child crossed. The entry plane is that of the largest
 /// t0; for each other axis, the upper half is entered if that axis' midpoint was crossed
 /// before the entry, i.e. tm < max t0.
 #[inline]
-fn first_child(t0: [f64; 3], tm: [f64; 3]) -> u8 {
-    let enter = max3(t0);
+fn first_child<const ONLY: usize>(t0: [f64; 3], tm: [f64; 3]) -> u8 {
+    let enter = enter_of::<ONLY>(t0);
     (u8::from(tm[0] < enter) << 2) | (u8::from(tm[1] < enter) << 1) | u8::from(tm[2] < enter)
 }
 
 /// Table 3 of Revelles: the next child after `c`, from the exit plane (the smallest t1);
 /// 8 when the ray leaves the parent.
 #[inline]
-fn next_child(c: u8, t1: [f64; 3]) -> u8 {
+fn next_child<const ONLY: usize>(c: u8, t1: [f64; 3]) -> u8 {
+    if ONLY < 3 {
+        // Only axis ONLY moves: the other two t1 are +∞ and every t1 of ONLY is finite
+        // (`walk_loop`'s guard), so the exit plane is always ONLY's.
+        let bit = 4 >> ONLY;
+        return if c & bit != 0 { 8 } else { c | bit };
+    }
     // Both flags first, then a select the compiler can make without branches: the exit
     // axis is data-dependent and a branch on it mispredicts often.
     let x = t1[0] <= t1[1] && t1[0] <= t1[2];
@@ -384,19 +413,57 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
     }
     cnt.fetches += 1;
     cnt.max_stack = cnt.max_stack.max(1);
-    let mut f = Frame {
+    let root = Frame {
         t0,
         t1,
         node: tree.root(),
         ..Frame::default()
     };
+    // A ray along a grid axis (an orthographic camera looking along x, y or z, or a pinhole's
+    // centre ray) moves on one axis only: the loop specialised for it drops the two zero axes'
+    // child selection and interval work, which are constants there. Only when that axis' t0
+    // and t1 at the root are finite (then so is every t of it below, by monotonicity), which
+    // is what makes the specialised loop take the same steps to the same hit.
+    let zero = u8::from(rf.zero[0]) << 2 | u8::from(rf.zero[1]) << 1 | u8::from(rf.zero[2]);
+    let finite = |k: usize| t0[k].is_finite() && t1[k].is_finite();
+    let clip = (ts0, ts1);
+    match zero {
+        0b011 if finite(0) => walk_loop::<T, V, CLIP, 0>(tree, &rf, root, clip, cnt, visit, stack),
+        0b101 if finite(1) => walk_loop::<T, V, CLIP, 1>(tree, &rf, root, clip, cnt, visit, stack),
+        0b110 if finite(2) => walk_loop::<T, V, CLIP, 2>(tree, &rf, root, clip, cnt, visit, stack),
+        _ => walk_loop::<T, V, CLIP, 3>(tree, &rf, root, clip, cnt, visit, stack),
+    }
+}
+
+/// The walk's loop from the root frame `root` (its t0 and t1 set), clipped to the ray's
+/// t-interval `clip` in the solid box with `CLIP`. `ONLY` < 3: the ray moves on axis `ONLY`
+/// alone (the other two are zero axes) and its t-values on it are finite; 3: any ray.
+///
+/// Why `ONLY` < 3 takes the same steps to the same hit as 3: on a zero axis every node the
+/// walk examines has t0 = −∞ and t1 = +∞ there, and its midpoint is ±∞ by the origin's side
+/// (§3.3). `first_child` then picks the origin's side on the zero axes, and `next_child` never
+/// leaves through a zero axis (its t1 = +∞ exceeds the finite t1 of `ONLY`), so no child on
+/// the other side is ever examined; the children examined have t0 = −∞, t1 = +∞ on the zero
+/// axes, so max t0 and min t1 are `ONLY`'s values and the entry face is `ONLY`'s.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn walk_loop<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool, const ONLY: usize>(
+    tree: &T,
+    rf: &RayFrame,
+    root: Frame<T::Node>,
+    (ts0, ts1): (f64, f64),
+    cnt: &mut WalkCounters,
+    visit: &mut V,
+    stack: &mut [Frame<T::Node>],
+) -> Option<WalkHit<T::Leaf>> {
+    let mut f = root;
     for k in 0..3 {
         f.tm[k] = rf.mid(k, 0, 0);
     }
-    f.next = first_child(f.t0, f.tm);
+    f.next = first_child::<ONLY>(f.t0, f.tm);
     // The current frame lives in a local (registers), not in `stack`: the next child label is
     // carried from one step to the next, and through memory that chain would pay a store and
-    // a reload every step. `stack[..sp]` holds the ancestors only.
+    // a reload every step. `stack[..sp]` holds the ancestors with children left to examine.
     let mut top = f;
     let mut sp = 0usize;
     loop {
@@ -413,7 +480,11 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
         let mut ct0 = [0.0; 3];
         let mut ct1 = [0.0; 3];
         for k in 0..3 {
-            if c & (4 >> k) != 0 {
+            if ONLY < 3 && k != ONLY {
+                // A zero axis: constants in every child examined (see above).
+                ct0[k] = f64::NEG_INFINITY;
+                ct1[k] = f64::INFINITY;
+            } else if c & (4 >> k) != 0 {
                 ct0[k] = top.tm[k];
                 ct1[k] = top.t1[k];
             } else {
@@ -421,14 +492,14 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
                 ct1[k] = top.tm[k];
             }
         }
-        top.next = next_child(c, ct1);
+        top.next = next_child::<ONLY>(c, ct1);
         let real = c ^ rf.a;
         // An empty child is skipped whatever its interval: test the cheap bit first.
         if !tree.may_have_child(&top.node, real) {
             continue;
         }
-        let enter = max3(ct0);
-        let exit = min3(ct1);
+        let enter = enter_of::<ONLY>(ct0);
+        let exit = exit_of::<ONLY>(ct1);
         if !(enter < exit && exit > 0.0) {
             continue;
         }
@@ -452,7 +523,9 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
             Child::Empty => continue,
             Child::Node(n) => n,
             Child::Leaf(leaf) => {
-                let axis = if ct0[0] >= ct0[1] && ct0[0] >= ct0[2] {
+                let axis = if ONLY < 3 {
+                    ONLY
+                } else if ct0[0] >= ct0[1] && ct0[0] >= ct0[2] {
                     0
                 } else if ct0[1] >= ct0[2] {
                     1
@@ -481,10 +554,15 @@ fn walk_core<T: Octree, V: FnMut(u8, [u32; 3]), const CLIP: bool>(
             coords,
         };
         child.tm = std::array::from_fn(|k| rf.mid(k, level, coords[k]));
-        child.next = first_child(child.t0, child.tm);
-        stack[sp] = top;
-        sp += 1;
+        child.next = first_child::<ONLY>(child.t0, child.tm);
+        // A parent with no child left to examine is not kept: the walk would only pop it and
+        // move on to its parent. (The stack then holds fewer frames than the level; the
+        // counter still reports the depth, root and every ancestor, as before.)
+        if top.next < 8 {
+            stack[sp] = top;
+            sp += 1;
+        }
         top = child;
-        cnt.max_stack = cnt.max_stack.max(sp as u32 + 1);
+        cnt.max_stack = cnt.max_stack.max(u32::from(level) + 1);
     }
 }
