@@ -75,7 +75,7 @@ fn check_scene(ron: &str, what: &str) -> u64 {
             &mut fresh,
             RenderOptions {
                 use_hit_buffer: false,
-                early_termination: true,
+                ..RenderOptions::default()
             },
         );
         assert_eq!(full.hit_buffer_reused, 0);
@@ -196,7 +196,7 @@ fn previous_frame_sphere_count_would_leave_stale_pixels() {
     let (w, h) = scene.file.resolution;
     let full = RenderOptions {
         use_hit_buffer: false,
-        early_termination: true,
+        ..RenderOptions::default()
     };
     let mut prev: Vec<HitRecord> = Vec::new();
     let mut stale = 0;

@@ -471,6 +471,7 @@ fn reference_frames_match_world_space_brute_force() {
             let opts = RenderOptions {
                 use_hit_buffer: false,
                 early_termination,
+                ..RenderOptions::default()
             };
             render_frame(&input, &mut buffer, opts);
             buffer.records

@@ -72,6 +72,10 @@ pub struct OptionsReport {
     pub hit_buffer: bool,
     /// Early termination on.
     pub early_termination: bool,
+    /// Bounding-sphere culling on.
+    pub culling: bool,
+    /// Front-to-back sorting of the candidates on.
+    pub sort: bool,
     /// Worker threads.
     pub threads: usize,
 }

@@ -20,7 +20,7 @@ pub fn run_header(scene: &Scene, options: &RenderOptions, threads: usize) -> Str
     let (w, h) = scene.file.resolution;
     let on = |b: bool| if b { "on" } else { "off" };
     format!(
-        "sim: {} — {}x{}, {} frames, {} instances, {} threads, hit buffer {}, early termination {}",
+        "sim: {} — {}x{}, {} frames, {} instances, {} threads, hit buffer {}, early termination {}, culling {}, sort {}",
         scene.origin,
         w,
         h,
@@ -29,6 +29,8 @@ pub fn run_header(scene: &Scene, options: &RenderOptions, threads: usize) -> Str
         threads,
         on(options.use_hit_buffer),
         on(options.early_termination),
+        on(options.culling),
+        on(options.sort),
     )
 }
 

@@ -42,7 +42,7 @@ pub fn reference_speed(scene: &Scene, assets: &[Asset]) -> Result<[ReferenceSpee
         let mut buffer = HitBuffer::new(w, h);
         let opts = RenderOptions {
             use_hit_buffer,
-            early_termination: true,
+            ..RenderOptions::default()
         };
         let (mut rays, mut secs, mut first) = (0u64, 0f64, 0f64);
         for f in 0..scene.file.frames {
@@ -132,7 +132,7 @@ pub fn fixed_speed(
     let half: Vec<f64> = assets.iter().map(|a| a.half_size).collect();
     let full = RenderOptions {
         use_hit_buffer: false,
-        early_termination: true,
+        ..RenderOptions::default()
     };
     let mut out = Vec::new();
     for f in 0..scene.file.frames {

@@ -11,7 +11,7 @@ use crate::models::cycle::runner::CycleRun;
 use crate::models::cycle::waves::PipelineWaves;
 use crate::models::cycle::{CycleFrame, CycleOptions};
 use crate::models::fixed::bound::mismatch_explained;
-use crate::models::fixed::render_frame_fixed;
+use crate::models::fixed::render_frame_fixed_with;
 use crate::models::fixed::{compare, to_hit_records, FixedBuffer, FixedStats};
 use crate::models::reference::{FrameInput, FrameStats, HitRecord};
 use crate::output::report::FrameReport;
@@ -84,8 +84,7 @@ impl FrameModel {
                 })
             }
             Self::Fixed(buffer) => {
-                let fx =
-                    render_frame_fixed(input, buffer, &cfg.datapath, cfg.options.use_hit_buffer)?;
+                let fx = render_frame_fixed_with(input, buffer, &cfg.datapath, cfg.options)?;
                 (fx, None, 0.0, &**buffer)
             }
             Self::Cycle(cr) => {
@@ -139,6 +138,7 @@ fn cycle_run(cfg: &RunConfig, assets: &[Asset]) -> Result<CycleRun> {
         },
     )?;
     run.set_two_level(cfg.elaboration.as_ref().and_then(|e| e.two_level));
+    run.set_switches(cfg.options.ray_switches());
     Ok(run)
 }
 

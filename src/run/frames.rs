@@ -22,7 +22,7 @@ use crate::output::report::{
 };
 use crate::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
-use anyhow::{bail, Result};
+use anyhow::Result;
 use rtl_model::cost::ResourceReport;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
@@ -291,6 +291,8 @@ fn run_report(
             },
             hit_buffer: cfg.options.use_hit_buffer,
             early_termination: cfg.options.early_termination,
+            culling: cfg.options.culling,
+            sort: cfg.options.sort,
             threads: rayon::current_num_threads(),
         },
         assets: assets.iter().map(AssetReport::from).collect(),
@@ -309,9 +311,6 @@ fn run_report(
 /// Checks the options against the model and validates the configurations the model uses;
 /// returns the cycle model's resource estimate.
 fn check(cfg: &RunConfig) -> Result<Option<ResourceReport>> {
-    if cfg.model != Model::Reference && !cfg.options.early_termination {
-        bail!("--no-early-termination applies to --model reference only: the fixed-point and cycle models are the hardware, which always terminates early");
-    }
     if cfg.model != Model::Reference {
         cfg.datapath
             .validate()

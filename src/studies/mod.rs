@@ -3,11 +3,13 @@
 //! [`sweep`] (accuracy against cost, Pareto fronts), [`drift`] (fixed-point error over a long
 //! animation), [`stress`] (stiff and extreme cases with a verdict each) [`fuzz`] (mutated inputs for the parsers), [`vectors`] (HDL
 //! test vectors from adversarial cases, a real frame and random stimulus) and [`synthesis`]
-//! (the RTL units through Yosys, beside the resource estimate).
+//! (the RTL units through Yosys, beside the resource estimate), [`instances`] (fps against
+//! instance count) and [`paper`] (the paper's Fig. 7: static against animated car).
 
 pub mod drift;
 pub mod fuzz;
 pub mod instances;
+pub mod paper;
 pub mod stress;
 pub mod sweep;
 pub mod synthesis;

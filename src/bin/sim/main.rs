@@ -14,6 +14,7 @@ mod drift;
 mod fuzz;
 mod hardware;
 mod instances;
+mod paper;
 mod render;
 mod run;
 mod stress;
@@ -70,6 +71,11 @@ enum Command {
     /// (1 … 10,000 instances, still and moving camera), the functional models' speed and the
     /// hit buffer's reuse (docs/instances.md); writes instances.md, .json and .png.
     Instances(instances::InstancesArgs),
+    /// The paper's experiment (Espe et al. 2019, Fig. 7): the static car as one SVO against
+    /// the animated car without and with §4's optimisations, timed by the reference (best of
+    /// N) and the cycle model, at 640x384 and 1280x768 (docs/paper.md); writes paper.md, .csv,
+    /// .json and .png.
+    Paper(paper::PaperArgs),
     /// Write HDL test vectors of every stage ($readmemh hex, JSON manifests, SystemVerilog
     /// packages) from adversarial cases, a real frame and seeded random stimulus
     /// (docs/vectors.md).
@@ -172,6 +178,7 @@ fn main() -> ExitCode {
         Some(Command::Drift(a)) => drift::drift_command(a),
         Some(Command::Fuzz(a)) => fuzz::fuzz_command(a),
         Some(Command::Instances(a)) => instances::instances_command(a),
+        Some(Command::Paper(a)) => paper::paper_command(a),
         Some(Command::Vectors(a)) => vectors::vectors_command(a),
         Some(Command::Render(a)) => render::render_command(a),
         Some(Command::Stress(a)) => stress::stress_command(a),

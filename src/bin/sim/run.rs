@@ -31,9 +31,18 @@ pub struct RunArgs {
     /// Trace every pixel of every frame (no reuse across frames).
     #[arg(long)]
     no_hit_buffer: bool,
-    /// Walk every candidate instead of stopping at the first certain hit.
+    /// Walk every candidate instead of stopping at the first certain hit (all three models;
+    /// images unchanged).
     #[arg(long)]
     no_early_termination: bool,
+    /// Make every instance a candidate of every ray, whether its bounding sphere is pierced or
+    /// not (all three models; images unchanged; docs/paper.md §2).
+    #[arg(long)]
+    no_culling: bool,
+    /// Walk the candidates in instance order instead of front to back (early termination then
+    /// cannot apply; all three models; images unchanged; docs/paper.md §2).
+    #[arg(long)]
+    no_sort: bool,
     /// Write every pixel's hit record here (binary, or CSV if the name ends in .csv;
     /// format in docs/hit-dump.md; `-`: standard output, binary).
     #[arg(long, value_name = "FILE")]
@@ -163,6 +172,8 @@ impl RunArgs {
             options: RenderOptions {
                 use_hit_buffer: !self.no_hit_buffer,
                 early_termination: !self.no_early_termination,
+                culling: !self.no_culling,
+                sort: !self.no_sort,
             },
             out_dir: (!self.no_png).then(|| self.out.clone()),
             report_json: self.report_json.clone(),

@@ -10,7 +10,7 @@ use crate::models::fixed::plan::FramePlan;
 use crate::models::fixed::row_feed::RowFeed;
 use crate::models::fixed::trace::RowTrace;
 use crate::models::fixed::{render_streamed, FixedBuffer, FixedError, FixedStats};
-use crate::models::reference::FrameInput;
+use crate::models::reference::{FrameInput, RaySwitches};
 use crate::world::assets::Asset;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::{overflow_table, DatapathConfig};
@@ -41,6 +41,8 @@ pub struct CycleRun {
     instance_asset: Vec<usize>,
     /// The two-level instance scheme's list memory, when used (`set_two_level`).
     two_level: Option<rtl_model::units::tile_list::TileListConfig>,
+    /// Culling, sorting and early termination (`set_switches`; all on by default).
+    switches: RaySwitches,
 }
 
 /// One frame's results.
@@ -79,6 +81,7 @@ impl CycleRun {
             buffer: FixedBuffer::new(width, height),
             instance_asset: instance_asset.to_vec(),
             two_level: None,
+            switches: RaySwitches::default(),
         })
     }
 
@@ -86,6 +89,12 @@ impl CycleRun {
     /// (`None`: the flat scheme). The records do not change; the sphere stage's passes do.
     pub fn set_two_level(&mut self, tl: Option<rtl_model::units::tile_list::TileListConfig>) {
         self.two_level = tl;
+    }
+
+    /// Culling, sorting and early termination from the next frame on (docs/paper.md §2): the
+    /// functional model's walk lists follow them and the pipeline times what they leave.
+    pub fn set_switches(&mut self, s: RaySwitches) {
+        self.switches = s;
     }
 
     /// The functional model's buffer after the last frame (equal to the cycle model's).
@@ -109,7 +118,8 @@ impl CycleRun {
     ) -> Result<CycleFrameResult, CycleRunError> {
         let start = Instant::now();
         let mut host_ov = overflow_table();
-        let mut plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?;
+        let mut plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?
+            .with_switches(self.switches);
         if let Some(tl) = &self.two_level {
             let lanes = self.model.config().sphere_units;
             crate::models::fixed::cull::install_lists(&mut plan, input, tl, lanes);
@@ -166,7 +176,8 @@ impl CycleRun {
         corrupt: &mut dyn FnMut(usize, &mut RowTrace),
     ) -> Result<CycleFrame, CycleRunError> {
         let mut host_ov = overflow_table();
-        let plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?;
+        let plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?
+            .with_switches(self.switches);
         let (w, h) = (self.buffer.width, self.buffer.height);
         let rendered = RowFeed::new(h as usize);
         let FixedBuffer {

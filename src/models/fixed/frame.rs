@@ -7,7 +7,7 @@
 use super::plan::{FramePlan, PixelCounters};
 use super::row_feed::{FeedGuard, RowFeed};
 use super::trace::{NoPixelObserver, PixelObserver, RowRecorder, RowTrace};
-use crate::models::reference::{FrameInput, HitRecord};
+use crate::models::reference::{FrameInput, HitRecord, RenderOptions};
 use crate::world::scene::FrameState;
 use rayon::prelude::*;
 use rtl_model::datapath::{overflow_table, DatapathConfig};
@@ -112,9 +112,25 @@ pub fn render_frame_fixed(
     cfg: &DatapathConfig,
     use_hit_buffer: bool,
 ) -> Result<FixedStats, FixedError> {
+    let opts = RenderOptions {
+        use_hit_buffer,
+        ..RenderOptions::default()
+    };
+    render_frame_fixed_with(input, buffer, cfg, opts)
+}
+
+/// [`render_frame_fixed`] with every switch of `opts` (culling, sorting, early termination,
+/// hit buffer).
+pub fn render_frame_fixed_with(
+    input: &FrameInput<'_>,
+    buffer: &mut FixedBuffer,
+    cfg: &DatapathConfig,
+    opts: RenderOptions,
+) -> Result<FixedStats, FixedError> {
     let start = Instant::now();
     let mut host_ov = overflow_table();
-    let plan = FramePlan::new(input, buffer, cfg, use_hit_buffer, &mut host_ov)?;
+    let plan = FramePlan::new(input, buffer, cfg, opts.use_hit_buffer, &mut host_ov)?
+        .with_switches(opts.ray_switches());
     let mut st = render_planned(&plan, buffer);
     if let Some(ov) = st.overflows.as_mut() {
         ov.merge(&host_ov);

@@ -18,6 +18,6 @@ pub mod trace;
 
 pub use accuracy::{compare, diff_image, Accuracy};
 pub use frame::{
-    render_frame_fixed, render_streamed, to_hit_records, FixedBuffer, FixedError, FixedRecord,
-    FixedStats,
+    render_frame_fixed, render_frame_fixed_with, render_streamed, to_hit_records, FixedBuffer,
+    FixedError, FixedRecord, FixedStats,
 };

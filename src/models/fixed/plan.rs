@@ -15,7 +15,7 @@ use super::trace::{NoPixelObserver, PixelObserver};
 use crate::models::reference::cull::TileLists;
 use crate::models::reference::hit_buffer::Dirty;
 use crate::models::reference::ray::primary_ray;
-use crate::models::reference::{FrameInput, SphereCount};
+use crate::models::reference::{FrameInput, RaySwitches, SphereCount};
 use crate::world::assets::{Asset, AssetTree};
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
@@ -140,7 +140,14 @@ pub struct FramePlan<'a> {
     /// The two-level scheme's per-tile instance lists, when used (`super::cull`); `None`
     /// tests every instance (the flat scheme).
     pub lists: Option<TileLists>,
+    /// Culling, sorting and early termination (all on unless [`FramePlan::with_switches`]).
+    switches: RaySwitches,
 }
+
+/// The sort key of a candidate whose bounding sphere the ray misses (walked only without
+/// culling): above every key the sorter's format can hold, so it is never taken for a pierced
+/// sphere's, and early termination skips it once a hit is found (its entry is +∞).
+pub const NOT_PIERCED: i64 = i64::MAX;
 
 const SPHERE_SIG: SphereSignals = SphereSignals {
     tca: signals::SPHERE_TCA,
@@ -269,7 +276,25 @@ impl<'a> FramePlan<'a> {
             t_fmt: cfg.walker.t,
             key_fmt: cfg.sorter.key,
             lists: None,
+            switches: RaySwitches::default(),
         })
+    }
+
+    /// The plan with culling, sorting and early termination as `s` says.
+    pub fn with_switches(mut self, s: RaySwitches) -> Self {
+        self.switches = s;
+        self
+    }
+
+    /// Culling, sorting and early termination of this plan.
+    pub fn switches(&self) -> RaySwitches {
+        self.switches
+    }
+
+    /// The spheres a walk list's ray pierced (its entries with a key): the record's "nature
+    /// of the hit".
+    pub fn sphere_count(cands: &[(i64, u16)]) -> SphereCount {
+        SphereCount::from_count(cands.iter().filter(|c| c.0 != NOT_PIERCED).count())
     }
 
     /// Instances in the frame.
@@ -345,12 +370,58 @@ impl<'a> FramePlan<'a> {
         self.sorter.sort_in_place(cands, &mut c.sorter);
     }
 
+    /// The pierced candidates (instance order, as the sphere tests list them) made into the
+    /// walk list the switches ask for: sorted front to back (or left in instance order), then
+    /// without culling every other instance added with key [`NOT_PIERCED`] — after the sorted
+    /// ones, or in its place in instance order when unsorted.
+    pub fn order(&self, cands: &mut Vec<(i64, u16)>, c: &mut PixelCounters) {
+        let s = self.switches;
+        if s.sort {
+            self.sort(cands, c);
+        }
+        let n = self.insts.len();
+        if s.culling || cands.len() >= n {
+            return;
+        }
+        if s.sort {
+            let pierced: Vec<u16> = cands.iter().map(|c| c.1).collect();
+            cands.extend(
+                (0..n as u16)
+                    .filter(|i| !pierced.contains(i))
+                    .map(|i| (NOT_PIERCED, i)),
+            );
+        } else {
+            let mut all = vec![(NOT_PIERCED, 0u16); n];
+            for (i, a) in all.iter_mut().enumerate() {
+                a.1 = i as u16;
+            }
+            for &(key, i) in cands.iter() {
+                all[usize::from(i)].0 = key;
+            }
+            *cands = all;
+        }
+    }
+
+    /// The walk list of direction `d` against every instance: sphere tests, then
+    /// [`FramePlan::order`] (what the cycle model's cross-check recomputes).
+    pub fn walk_list(&self, d: [i64; 3], out: &mut Vec<(i64, u16)>, c: &mut PixelCounters) {
+        self.candidates(d, out, c);
+        self.order(out, c);
+    }
+
     /// The hit-buffer rule: the refreshed word if `prev` (the buffer's word) can be reused for
     /// a ray with these candidates, `None` if the ray must be traced.
+    /// `cands` is the ray's walk list: only its pierced entries count (without culling it
+    /// lists every instance).
     pub fn reuse(&self, prev: u128, cands: &[(i64, u16)], c: &mut PixelCounters) -> Option<u128> {
-        let (candidate, instance_dirty) = match cands {
+        let mut pierced = cands.iter().filter(|c| c.0 != NOT_PIERCED);
+        let (first, count) = match pierced.next() {
+            Some(f) => (Some(f), 1 + pierced.count()),
+            None => (None, 0),
+        };
+        let (candidate, instance_dirty) = match (first, count) {
             // An instance the frame does not know is treated as moved: never reused.
-            [(_, k)] => (
+            (Some((_, k)), 1) => (
                 *k,
                 self.dirty
                     .instances
@@ -363,7 +434,7 @@ impl<'a> FramePlan<'a> {
         let inp = ReuseInputs {
             buffer: self.use_hit_buffer,
             camera_dirty: self.dirty.camera,
-            candidates: cands.len(),
+            candidates: count,
             candidate,
             instance_dirty,
         };
@@ -377,9 +448,10 @@ impl<'a> FramePlan<'a> {
     }
 
     /// Early termination: whether the best hit so far (walker t) is no farther than the next
-    /// candidate's entry key.
+    /// candidate's entry key. Never without early termination or without sorting (no order
+    /// puts the remaining candidates behind the best hit).
     pub fn stops(&self, best_t: WalkerT, key: i64) -> bool {
-        best_t.at_most(self.t_fmt, key, self.key_fmt)
+        self.switches.terminates() && best_t.at_most(self.t_fmt, key, self.key_fmt)
     }
 
     /// Transform, reciprocals and walk of direction `d` in instance `k`, reporting the walk to
@@ -547,7 +619,7 @@ impl<'a> FramePlan<'a> {
         self.candidates_observed(p, d, cands, c, obs);
         let spheres = SphereCount::from_count(cands.len());
         obs.on_candidates(cands);
-        self.sort(cands, c);
+        self.order(cands, c);
         obs.on_sorted(cands);
         if let Some(word) = self.reuse(rec.word, cands, c) {
             rec.word = word;

@@ -18,13 +18,25 @@ use rtl_model::svo::LeafAttr;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
-/// Switches of the reference renderer.
+/// Switches of the renderer: the paper's §4 optimisations, each of which can be switched off
+/// to measure what it saves (`sim paper`, docs/paper.md). None of them changes an image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RenderOptions {
     /// Reuse unchanged pixels through the hit buffer.
     pub use_hit_buffer: bool,
-    /// Walk candidates front to back and stop once the nearest hit is certain.
+    /// Walk candidates front to back and stop once the nearest hit is certain. Needs `sort`:
+    /// without a front-to-back order no candidate is certain to be behind the best hit, so
+    /// with `sort` off every candidate is walked whatever this says.
     pub early_termination: bool,
+    /// Drop the instances whose bounding sphere the ray misses. Off: every instance is a
+    /// candidate and is walked. The sphere tests still run: their count is the record's
+    /// "nature of the hit" and the hit buffer's reuse condition, and their entry distance the
+    /// sort key; an instance whose sphere is missed has no entry (+∞): it sorts after every
+    /// pierced one, and early termination skips it once a hit is found.
+    pub culling: bool,
+    /// Order the candidates front to back by entry distance. Off: candidates are walked in
+    /// instance order (and early termination cannot apply).
+    pub sort: bool,
 }
 
 impl Default for RenderOptions {
@@ -32,7 +44,53 @@ impl Default for RenderOptions {
         Self {
             use_hit_buffer: true,
             early_termination: true,
+            culling: true,
+            sort: true,
         }
+    }
+}
+
+impl RenderOptions {
+    /// Every §4 optimisation off: the paper's case (b).
+    pub const NONE: Self = Self {
+        use_hit_buffer: false,
+        early_termination: false,
+        culling: false,
+        sort: false,
+    };
+
+    /// The per-ray switches (everything but the hit buffer, which works across frames).
+    pub fn ray_switches(&self) -> RaySwitches {
+        RaySwitches {
+            culling: self.culling,
+            sort: self.sort,
+            early_termination: self.early_termination,
+        }
+    }
+}
+
+/// The per-ray switches of [`RenderOptions`] as the fixed-point and cycle models take them
+/// (their hit-buffer switch is a separate argument, as it has always been).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RaySwitches {
+    /// [`RenderOptions::culling`].
+    pub culling: bool,
+    /// [`RenderOptions::sort`].
+    pub sort: bool,
+    /// [`RenderOptions::early_termination`].
+    pub early_termination: bool,
+}
+
+impl Default for RaySwitches {
+    fn default() -> Self {
+        RenderOptions::default().ray_switches()
+    }
+}
+
+impl RaySwitches {
+    /// Whether early termination can stop a ray: asked for, and the candidates in order.
+    pub fn terminates(&self) -> bool {
+        self.early_termination && self.sort
     }
 }
 
@@ -136,11 +194,25 @@ fn trace(ray: &Ray, p: u32, ctx: &FrameCtx<'_>, prev: &HitRecord, row: &mut RowS
     };
     st.sphere_tests += tested as u64;
     st.spheres_culled += (tested - cands.len()) as u64;
-    let spheres = SphereCount::from_count(cands.len());
+    let pierced = cands.len();
+    let spheres = SphereCount::from_count(pierced);
+    if !opts.culling && pierced < insts.len() {
+        // No culling: every instance is a candidate; one whose sphere the ray misses has no
+        // entry distance (+∞) and comes after the pierced ones, in instance order.
+        let mut k = 0;
+        for i in 0..insts.len() as u16 {
+            if cands.get(k).is_some_and(|c| c.1 == i) {
+                k += 1;
+            } else {
+                cands.push((f64::INFINITY, i));
+            }
+        }
+    }
     if cands.is_empty() {
         return HitRecord::MISS;
     }
-    if opts.use_hit_buffer && !dirty.camera && cands.len() == 1 {
+    if opts.use_hit_buffer && !dirty.camera && pierced == 1 {
+        // The one pierced sphere: the only one with a finite entry.
         let i = cands[0].1;
         if !dirty.instances[usize::from(i)] && (!prev.hit || prev.instance == i) {
             st.hit_buffer_reused += 1;
@@ -150,21 +222,27 @@ fn trace(ray: &Ray, p: u32, ctx: &FrameCtx<'_>, prev: &HitRecord, row: &mut RowS
     }
     st.candidates += cands.len() as u64;
     st.candidates_max = st.candidates_max.max(cands.len() as u32);
-    // Front to back by entry distance; ties by instance index (insertion sort: stable, and
-    // the candidate lists are short).
-    for k in 1..cands.len() {
-        let mut j = k;
-        while j > 0 && cands[j - 1].0 > cands[j].0 {
-            cands.swap(j - 1, j);
-            j -= 1;
+    if opts.sort {
+        // Front to back by entry distance; ties by instance index (insertion sort: stable,
+        // and the candidate lists are short).
+        for k in 1..cands.len() {
+            let mut j = k;
+            while j > 0 && cands[j - 1].0 > cands[j].0 {
+                cands.swap(j - 1, j);
+                j -= 1;
+            }
         }
+    } else if !opts.culling {
+        // Instance order (the pierced ones were listed first above).
+        cands.sort_unstable_by_key(|c| c.1);
     }
+    let terminates = opts.ray_switches().terminates();
     let mut best = HitRecord {
         spheres,
         ..HitRecord::MISS
     };
     for (k, &(t_enter, i)) in cands.iter().enumerate() {
-        if opts.early_termination && best.hit && best.t <= t_enter {
+        if terminates && best.hit && best.t <= t_enter {
             st.early_terminations += 1;
             st.walks_skipped += (cands.len() - k) as u64;
             break;

@@ -19,7 +19,8 @@ pub mod stats;
 pub mod walk;
 
 pub use frame::{
-    render_frame, render_frame_two_level, render_frame_with_progress, FrameInput, RenderOptions,
+    render_frame, render_frame_two_level, render_frame_with_progress, FrameInput, RaySwitches,
+    RenderOptions,
 };
 pub use hit_buffer::HitBuffer;
 pub use record::{HitRecord, SphereCount};

@@ -288,7 +288,7 @@ pub fn run_drift(
     };
     let no_hb = RenderOptions {
         use_hit_buffer: false,
-        early_termination: true,
+        ..RenderOptions::default()
     };
     let mut reference = HitBuffer::new(w, h);
     let mut buffers: Vec<FixedBuffer> = Mode::ALL.iter().map(|_| FixedBuffer::new(w, h)).collect();

@@ -288,7 +288,7 @@ pub fn speed(case: &CrowdCase, reps: u32) -> Result<SpeedRow, String> {
     };
     let no_hb = RenderOptions {
         use_hit_buffer: false,
-        early_termination: true,
+        ..RenderOptions::default()
     };
     let mut best = [f64::INFINITY; 4];
     for _ in 0..reps.max(1) {

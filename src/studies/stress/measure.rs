@@ -178,7 +178,7 @@ pub fn measure(
     };
     let opts = RenderOptions {
         use_hit_buffer: false,
-        early_termination: true,
+        ..RenderOptions::default()
     };
     let mut reference = HitBuffer::new(w, h);
     render_frame(&frame, &mut reference, opts);

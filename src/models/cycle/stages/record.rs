@@ -10,7 +10,7 @@
 
 use super::{id, internal, FrameCounts, FrameInputs, Ray, RaySlots, Rec, Walk};
 use crate::models::cycle::model::CycleError;
-use crate::models::reference::SphereCount;
+use crate::models::fixed::plan::FramePlan;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
@@ -133,7 +133,7 @@ impl Record {
             ));
         }
         let word = if frame.setup.cross_check {
-            let spheres = SphereCount::from_count(s.cands.len());
+            let spheres = FramePlan::sphere_count(&s.cands);
             frame
                 .plan
                 .finish(s.best_full, spheres, &mut frame.xc_counters)

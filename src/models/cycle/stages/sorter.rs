@@ -5,10 +5,13 @@
 //! occupies the network for the passes `units::sorter::pipe_cost` gives its candidate count
 //! (from the trace) and leaves after the network's latency plus the merges. Under cross-check
 //! this stage re-runs the sphere tests and the sort from the ray's direction and compares the
-//! list with the trace (§2.4).
+//! list with the trace (§2.4). With sorting switched off (`--no-sort`, docs/paper.md §2) a
+//! ray passes the network's registers in one issue, in instance order; without culling only
+//! the pierced candidates are sorted, the others follow.
 
 use super::{hand_on, id, internal, FrameCounts, FrameInputs, Ray};
 use crate::models::cycle::model::CycleError;
+use crate::models::fixed::plan::NOT_PIERCED;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
@@ -84,8 +87,7 @@ impl Sorter {
                     let d = frame.dir[pixel as usize];
                     frame
                         .plan
-                        .candidates(d, &mut frame.xc_cands, &mut frame.xc_counters);
-                    frame.plan.sort(&mut frame.xc_cands, &mut frame.xc_counters);
+                        .walk_list(d, &mut frame.xc_cands, &mut frame.xc_counters);
                     if frame.xc_cands.as_slice() != tr.candidates_of(pw) {
                         return Err(frame.mismatch(
                             pixel,
@@ -97,10 +99,23 @@ impl Sorter {
                         ));
                     }
                 }
-                let n = usize::from(pw.cand_len);
-                let (passes, extra) = match self.sort_cost.get(n) {
-                    Some(&c) => c,
-                    None => sort_cost_of(n, self.lanes, self.network_latency),
+                let (passes, extra) = if frame.plan.switches().sort {
+                    // The network sorts the pierced candidates; without culling the others
+                    // follow them unsorted (`FramePlan::order`).
+                    let cands = tr.candidates_of(pw);
+                    let n = if frame.plan.switches().culling {
+                        cands.len()
+                    } else {
+                        cands.iter().filter(|c| c.0 != NOT_PIERCED).count()
+                    };
+                    match self.sort_cost.get(n) {
+                        Some(&c) => c,
+                        None => sort_cost_of(n, self.lanes, self.network_latency),
+                    }
+                } else {
+                    // No sorting: the candidates pass the network's registers in instance
+                    // order, one issue per ray, no merges.
+                    (1, 0)
                 };
                 self.pipe.accept(now, ray, passes, extra);
             }

@@ -1,0 +1,88 @@
+//! `sim paper` end to end at a tiny size: the four files are written, the table has the four
+//! cases with a ratio of 1 for (a), the reference's walks grow from (c) to (b), and bad options
+//! are refused naming the option with nothing written.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("svo_paper_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn sim(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_sim"))
+        .args(args)
+        .output()
+        .expect("run sim")
+}
+
+#[test]
+fn paper_writes_table_csv_json_and_chart() {
+    let out = scratch("ok");
+    let o = sim(&[
+        "paper",
+        "--frames",
+        "2",
+        "--resolution",
+        "48x32",
+        "--repeats",
+        "1",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    for f in ["paper.md", "paper.csv", "paper.json", "paper.png"] {
+        assert!(out.join(f).is_file(), "{f} missing; stdout:\n{stdout}");
+    }
+    // Progress went to stderr, the table to stdout.
+    assert!(stderr.contains("reference run 1/1"), "{stderr}");
+    assert!(stdout.contains("### 48×32"), "{stdout}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("paper.json")).expect("json"))
+            .expect("parse");
+    let rows = json.as_array().expect("rows");
+    let ids: Vec<&str> = rows
+        .iter()
+        .map(|r| r["case"].as_str().unwrap_or(""))
+        .collect();
+    assert_eq!(ids, ["a", "a'", "b", "c"]);
+    assert_eq!(rows[0]["reference_vs_a"].as_f64(), Some(1.0));
+    assert_eq!(rows[0]["cycle_vs_a"].as_f64(), Some(1.0));
+    let walks = |k: usize| rows[k]["walks"].as_u64().unwrap_or(0);
+    assert!(walks(2) > walks(3), "(b) walks more than (c)");
+    let cyc = |k: usize| rows[k]["cycles"].as_u64().unwrap_or(0);
+    assert!(cyc(2) > cyc(3), "(b) takes more cycles than (c)");
+    let csv = std::fs::read_to_string(out.join("paper.csv")).expect("csv");
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn paper_refuses_bad_options_and_writes_nothing() {
+    let out = scratch("bad");
+    let o_str = out.to_str().expect("utf-8").to_string();
+    for (args, msg) in [
+        (
+            vec!["--resolution", "2000x10"],
+            "--resolution 2000x10: at most 1280x768",
+        ),
+        (
+            vec!["--resolution", "640"],
+            "--resolution 640: expected WxH",
+        ),
+        (vec!["--frames", "0"], "--frames 0: must be within 1 and 48"),
+        (vec!["--repeats", "0", "--no-cycle"], "nothing to measure"),
+    ] {
+        let mut a = vec!["paper", "--out", &o_str];
+        a.extend(args.iter().copied());
+        let o = sim(&a);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?} accepted");
+        assert!(stderr.contains(msg), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    }
+}
