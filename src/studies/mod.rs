@@ -3,9 +3,11 @@
 //! [`sweep`] (accuracy against cost, Pareto fronts), [`drift`] (fixed-point error over a long
 //! animation), [`stress`] (stiff and extreme cases with a verdict each) [`fuzz`] (mutated inputs for the parsers), [`vectors`] (HDL
 //! test vectors from adversarial cases, a real frame and random stimulus) and [`synthesis`]
-//! (the RTL units through Yosys, beside the resource estimate).
+//! (the RTL units through Yosys, beside the resource estimate), [`explore`] (the hardware
+//! design space: fps against resources over hardware fields, with its Pareto fronts).
 
 pub mod drift;
+pub mod explore;
 pub mod fuzz;
 pub mod instances;
 pub mod stress;
