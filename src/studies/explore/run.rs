@@ -5,9 +5,10 @@
 //! Pipeline position: between the space ([`super::space`]) and the outputs ([`super::output`],
 //! [`super::plot`]). Per scene the assets are built once; the points run on all cores
 //! (`run::parallel::map_in_order`), each a fresh `CycleRun` of its hardware on the default
-//! datapath, as configured (no scene-driven elaboration: the explored hardware is priced and
-//! timed as written). Rows come back in the points' order, so the result does not depend on
-//! the thread count.
+//! datapath elaborated for the scene as `sim` elaborates it (`run::elaborate`: units the scene
+//! does not need are dropped, many instances take the two-level scheme), timed and priced as
+//! elaborated, with the instance lists' memory. Rows come back in the points' order, so the
+//! result does not depend on the thread count.
 
 use super::space::{Point, SceneSpec, Space};
 use crate::error::{AssetError, SceneError};
@@ -15,6 +16,7 @@ use crate::models::cycle::runner::{CycleRun, CycleRunError};
 use crate::models::cycle::sample::{SampleConfig, DEFAULT_BAND_ROWS};
 use crate::models::cycle::CycleOptions;
 use crate::models::reference::FrameInput;
+use crate::run::elaborate::{analyse, plan};
 use crate::run::parallel::map_in_order;
 use crate::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
@@ -105,7 +107,26 @@ pub struct Usage {
 /// The usage of `hw` on datapath `dp`: the resource estimate's hard blocks and the fabric
 /// estimate's LUTs and flip-flops.
 pub fn usage(hw: &HwConfig, dp: &DatapathConfig) -> Result<Usage, String> {
-    let r = hw.resources(dp)?;
+    usage_with_lists(hw, dp, None)
+}
+
+/// [`usage`], with the two-level instance scheme's list memory when elaboration chose it
+/// (`units::tile_list::resource_item`, as the run's resource table adds it).
+pub fn usage_with_lists(
+    hw: &HwConfig,
+    dp: &DatapathConfig,
+    lists: Option<&rtl_model::units::tile_list::TileListConfig>,
+) -> Result<Usage, String> {
+    let mut r = hw.resources(dp)?;
+    if let Some(tl) = lists {
+        let f = &hw.frame;
+        r.push(rtl_model::units::tile_list::resource_item(
+            tl,
+            hw.sphere_units,
+            f.width,
+            f.height,
+        ));
+    }
     let (lut, ff) = hw.fabric(dp)?.iter().fold((0u64, 0u64), |(l, f), it| {
         let t = it.total();
         (l.saturating_add(t.lut), f.saturating_add(t.ff))
@@ -194,6 +215,7 @@ pub struct ExploreResult {
 struct Prepared {
     scene: Scene,
     assets: Vec<Asset>,
+    facts: crate::models::cycle::elaboration::SceneFacts,
 }
 
 fn scene_name(spec: &SceneSpec, taken: &[SceneInfo]) -> String {
@@ -235,14 +257,19 @@ fn prepare(spec: &SceneSpec, name: &str, max_vox_bytes: u64) -> Result<Prepared,
     };
     let depths = effective_depths(&scene, spec.depth).map_err(asset_err)?;
     let assets = build_assets(&scene, &depths, Materialise::Auto).map_err(asset_err)?;
-    Ok(Prepared { scene, assets })
+    let facts =
+        analyse::analyse(&scene, spec.depth, &DatapathConfig::default()).map_err(asset_err)?;
+    Ok(Prepared {
+        scene,
+        assets,
+        facts,
+    })
 }
 
 /// Mean cycles per frame of `hw` over the prepared scene.
 fn cycles_per_frame(
     p: &Prepared,
-    hw: &HwConfig,
-    dp: &DatapathConfig,
+    e: &plan::Plan,
     sample: Option<SampleConfig>,
     fail: &dyn Fn(CycleRunError) -> ExploreError,
     name: &str,
@@ -252,8 +279,10 @@ fn cycles_per_frame(
         sample,
         ..CycleOptions::default()
     };
+    let (hw, dp) = (&e.hardware, &e.datapath);
     let mut run =
         CycleRun::new(hw, dp, &p.assets, &p.scene.instance_asset, (w, h), opts).map_err(fail)?;
+    run.set_two_level(e.two_level);
     let half: Vec<f64> = p.assets.iter().map(|a| a.half_size).collect();
     let mut cycles = 0u64;
     let frames = p.scene.file.frames;
@@ -271,7 +300,11 @@ fn cycles_per_frame(
             assets: &p.assets,
             state: &state,
         };
-        cycles += run.frame(&input, dp, true).map_err(fail)?.cycles.cycles;
+        cycles += run
+            .frame(&input, dp, e.use_hit_buffer)
+            .map_err(fail)?
+            .cycles
+            .cycles;
     }
     Ok(cycles as f64 / f64::from(frames.max(1)))
 }
@@ -319,13 +352,6 @@ pub fn run_explore(
     max_vox_bytes: u64,
     mut progress: impl FnMut(&ExploreRow, usize, usize),
 ) -> Result<ExploreResult, ExploreError> {
-    let mut usages = Vec::with_capacity(points.len());
-    for p in points {
-        usages.push(usage(&p.hw, dp).map_err(|message| ExploreError::Estimate {
-            point: p.id,
-            message,
-        })?);
-    }
     let sample = space.sample.map(|s| SampleConfig {
         period: (1.0 / s.rate).round() as u32,
         band_rows: s.band_rows.unwrap_or(DEFAULT_BAND_ROWS),
@@ -357,7 +383,17 @@ pub fn run_explore(
                     scene: name.clone(),
                     source,
                 };
-                let c = cycles_per_frame(&prepared, &p.hw, dp, sample, &fail, &name)?;
+                // The hardware `sim` would run for this scene: scene-driven elaboration
+                // (docs/elaboration.md) of the point's hardware, timed and priced as built.
+                let e = plan::plan(&prepared.facts, &p.hw, dp, true);
+                let estimate = |message| ExploreError::Estimate {
+                    point: p.id,
+                    message,
+                };
+                e.hardware.validate_for(&e.datapath).map_err(estimate)?;
+                let u = usage_with_lists(&e.hardware, &e.datapath, e.two_level.as_ref())
+                    .map_err(estimate)?;
+                let c = cycles_per_frame(&prepared, &e, sample, &fail, &name)?;
                 let clock = f64::from(p.hw.clock_mhz) * 1e6;
                 Ok::<_, ExploreError>(ExploreRow {
                     point: p.id,
@@ -367,7 +403,7 @@ pub fn run_explore(
                     cycles_per_frame: c,
                     fps: if c > 0.0 { clock / c } else { 0.0 },
                     rays_per_clock: if c > 0.0 { pixels / c } else { 0.0 },
-                    usage: usages[k].clone(),
+                    usage: u,
                     front: [false; 5],
                     best: false,
                 })

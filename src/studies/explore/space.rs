@@ -344,12 +344,16 @@ impl Space {
             path: shown.clone(),
             message,
         };
-        let file: SpaceFile = ron::from_str(text).map_err(|e| SpaceError::Malformed {
-            path: shown.clone(),
-            line: e.position.line,
-            col: e.position.col,
-            message: e.code.to_string(),
-        })?;
+        // Implicit `Some`: `depth: 11` and `base: "hw.ron"` read as `Some(…)`.
+        let file: SpaceFile = ron::Options::default()
+            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+            .from_str(text)
+            .map_err(|e| SpaceError::Malformed {
+                path: shown.clone(),
+                line: e.position.line,
+                col: e.position.col,
+                message: e.code.to_string(),
+            })?;
         let base_path = file.base.as_ref().map(PathBuf::from);
         let base =
             crate::run::config_files::load_hardware(base_path.as_deref()).map_err(|source| {
@@ -405,6 +409,8 @@ impl Space {
                 return Err(err("named twice".into()));
             }
             let values = expand(v).map_err(err)?;
+            // The path first (its error names no value), then each value through the schema.
+            set_path(&mut tree.clone(), name, &values[0]).map_err(err)?;
             for x in &values {
                 hardware_with(&tree, &[(name, x)])
                     .map_err(|(_, m)| err(format!("value {}: {m}", value_text(x))))?;
