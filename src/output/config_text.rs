@@ -165,7 +165,7 @@ fn fabric_text(items: &[rtl_model::cost::FabricItem], part_luts: u64) -> String 
     );
     let _ = writeln!(
         s,
-        "//   {:<16} {:>5} {:>9} {:>9}  formula",
+        "//   {:<30} {:>5} {:>9} {:>9}  formula",
         "component", "n", "LUT", "FF"
     );
     let (mut lut, mut ff) = (0u64, 0u64);
@@ -175,7 +175,7 @@ fn fabric_text(items: &[rtl_model::cost::FabricItem], part_luts: u64) -> String 
         ff = ff.saturating_add(t.ff);
         let _ = writeln!(
             s,
-            "//   {:<16} {:>5} {:>9} {:>9}  {}{}",
+            "//   {:<30} {:>5} {:>9} {:>9}  {}{}",
             it.name,
             it.instances,
             t.lut,
@@ -191,17 +191,17 @@ fn fabric_text(items: &[rtl_model::cost::FabricItem], part_luts: u64) -> String 
             format!("{:.1}%", 100.0 * u as f64 / a as f64)
         }
     };
-    let _ = writeln!(s, "//   {:<16} {:>5} {lut:>9} {ff:>9}", "used", "");
+    let _ = writeln!(s, "//   {:<30} {:>5} {lut:>9} {ff:>9}", "used", "");
     let _ = writeln!(
         s,
-        "//   {:<16} {:>5} {part_luts:>9} {:>9}",
+        "//   {:<30} {:>5} {part_luts:>9} {:>9}",
         "available",
         "",
         part_luts.saturating_mul(2)
     );
     let _ = writeln!(
         s,
-        "//   {:<16} {:>5} {:>9} {:>9}",
+        "//   {:<30} {:>5} {:>9} {:>9}",
         "utilisation",
         "",
         pct(lut, part_luts),

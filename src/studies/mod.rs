@@ -4,9 +4,11 @@
 //! animation), [`stress`] (stiff and extreme cases with a verdict each) [`fuzz`] (mutated inputs for the parsers), [`vectors`] (HDL
 //! test vectors from adversarial cases, a real frame and random stimulus) and [`synthesis`]
 //! (the RTL units through Yosys, beside the resource estimate), [`instances`] (fps against
-//! instance count) and [`paper`] (the paper's Fig. 7: static against animated car).
+//! instance count), [`paper`] (the paper's Fig. 7: static against animated car) and [`explore`]
+//! (the hardware design space: fps against resources over hardware fields, with its Pareto fronts).
 
 pub mod drift;
+pub mod explore;
 pub mod fuzz;
 pub mod instances;
 pub mod paper;

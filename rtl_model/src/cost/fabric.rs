@@ -69,7 +69,8 @@ pub struct FabricItem {
     pub instances: u64,
     /// One instance.
     pub per_instance: Fabric,
-    /// Whether the figure is calibrated on the unit's synthesis (every unit with RTL is).
+    /// Whether the figure is calibrated on the unit's synthesis (every unit with RTL is; the
+    /// structures of `cost::structures` are not).
     pub calibrated: bool,
     /// The formula, as printed.
     pub formula: String,
@@ -257,12 +258,14 @@ impl HwConfig {
 
     /// LUTs and flip-flops per unit of this configuration with datapath `dp` (the model of
     /// this module), with the part's LUTs; an error when either configuration is invalid.
-    /// Counted: sphere lanes, their square roots, the sorter, transform, reciprocal and
-    /// walker-root units, each walker as the RTL walker (its step logic and one context; the
-    /// registers of its other contexts are not counted), and the hit-buffer check and pack.
-    /// Not counted: FIFOs, ray generation (the host writes the direction table; `svo_raygen`
+    /// Counted, calibrated on synthesis: sphere lanes, their square roots, the sorter,
+    /// transform, reciprocal and walker-root units, each walker as the RTL walker (its step
+    /// logic and one context), and the hit-buffer check and pack; then, by the first-order
+    /// formulas of `cost::structures` (uncalibrated): the walkers' other contexts, every FIFO
+    /// between stages (the loop-back FIFO included), the MSHR CAM and the cache control.
+    /// Not counted: ray generation (the host writes the direction table; `svo_raygen`
     /// is priced by [`HwConfig::unit_estimate`] only, for a design that fills it on chip),
-    /// the memory controller and host interface.
+    /// the walkers' path to the memory ports, the memory controller and host interface.
     pub fn fabric(&self, dp: &DatapathConfig) -> Result<Vec<FabricItem>, String> {
         self.validate()?;
         dp.validate().map_err(|m| format!("datapath: {m}"))?;
@@ -287,6 +290,7 @@ impl HwConfig {
         push("walker", self.walker_pool.walkers);
         push("hit_check", 1);
         push("hit_pack", 1);
+        items.extend(super::structures::structure_items(self, dp));
         Ok(items)
     }
 }

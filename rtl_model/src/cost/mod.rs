@@ -15,7 +15,8 @@
 //!   the [`ResourceReport`] of `HwConfig::resources` (`crate::resources` holds its
 //!   types, below the units, which price their own memories with them);
 //! - [`fabric`] estimates LUTs and flip-flops per unit, calibrated on the Yosys synthesis
-//!   of the RTL; [`timing`] is the clock rule applied to the logic levels of that synthesis;
+//!   of the RTL, and [`structures`] the contexts, FIFOs, MSHR CAM and cache control by
+//!   formula; [`timing`] is the clock rule applied to the logic levels of that synthesis;
 //! - [`pricing`] is what `sim sweep` prices per configuration;
 //! - [`bounds`] names the error bounds that add up several units' terms (the direction error
 //!   of a walk).
@@ -26,6 +27,7 @@ pub mod bounds;
 pub mod estimate;
 pub mod fabric;
 pub mod pricing;
+pub mod structures;
 pub mod timing;
 
 pub use crate::resources::{ResourceItem, ResourceReport, Resources};

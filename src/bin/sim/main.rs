@@ -11,6 +11,7 @@ mod args;
 mod bench;
 mod datapath;
 mod drift;
+mod explore;
 mod fuzz;
 mod hardware;
 mod instances;
@@ -63,6 +64,11 @@ enum Command {
     /// Error over animation run time: fixed-point pose paths over a long animation
     /// (docs/drift.md); writes drift.csv, drift.json and drift.png.
     Drift(drift::DriftArgs),
+    /// The hardware design space: every point of a space of hardware fields (lists or ranges,
+    /// by their path in the hardware file) on its scenes through the cycle model, priced by
+    /// the resource and fabric estimates (docs/explore.md); writes explore.csv, explore.json
+    /// and the Pareto fronts of fps against LUT, FF, DSP48E2, BRAM36 and URAM288 as PNG.
+    Explore(explore::ExploreArgs),
     /// Seeded mutation fuzzing of the input parsers (.vox, scene, hardware and datapath RON):
     /// every input must end in a result or a clear error; panics and hangs are saved and
     /// fail the run (docs/fuzz.md).
@@ -176,6 +182,7 @@ fn main() -> ExitCode {
         Some(Command::Datapath(a)) => datapath::datapath_command(a),
         Some(Command::Hardware(a)) => hardware::hardware_command(a),
         Some(Command::Drift(a)) => drift::drift_command(a),
+        Some(Command::Explore(a)) => explore::explore_command(a),
         Some(Command::Fuzz(a)) => fuzz::fuzz_command(a),
         Some(Command::Instances(a)) => instances::instances_command(a),
         Some(Command::Paper(a)) => paper::paper_command(a),

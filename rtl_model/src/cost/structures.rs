@@ -1,0 +1,297 @@
+//! The fabric of the structures between and around the units: the walker contexts beyond the
+//! one the RTL walker holds, the FIFOs between stages, the miss-status (MSHR) CAM and the
+//! cache's control. None has RTL yet, so each is a first-order formula from its bit widths,
+//! not a calibration; `docs/cycle-model.md` §1.5 ("Structures") gives every formula and why.
+//!
+//! Pipeline position: the second half of [`HwConfig::fabric`](crate::cycle::hw_config::HwConfig::fabric)
+//! (`cost::fabric` adds the calibrated units, this file the rest), read once per
+//! configuration by `sim hardware` and `sim explore`.
+//!
+//! Adding a structure (a crossbar, request queues per bank, …) is one function here that
+//! returns its [`FabricItem`] from the hardware fields that size it, listed in
+//! [`structure_items`], and one row in the docs table; a structure the model does not have
+//! is not priced.
+
+use super::fabric::{Fabric, FabricItem};
+use crate::cycle::hw_config::HwConfig;
+use crate::datapath::DatapathConfig;
+
+/// LUTs of one RAM32M16 (UltraScale+ LUT-RAM: 32 deep × 14 bits with one write and one read
+/// port, in one CLB's eight LUTs).
+const RAM32M16_LUTS: u64 = 8;
+/// Bits a RAM32M16 holds per entry in simple dual-port use (7 ports of 2 bits).
+const RAM32M16_BITS: u64 = 14;
+/// RAM64M8: 64 deep × 7 bits (simple dual port) in eight LUTs.
+const RAM64M8_BITS: u64 = 7;
+/// Bits of a node-memory byte address: 32-bit word indices of 4-byte words.
+const BYTE_ADDRESS_BITS: u64 = 34;
+/// Bits of the word a cache lookup returns (a node word in the low half, or an attribute
+/// record whole, as the walker's 64-bit read port).
+const READ_WORD_BITS: u64 = 64;
+
+/// ⌈log₂ n⌉, at least 1 (a counter or index of `n` values).
+pub fn clog2(n: u64) -> u64 {
+    u64::from(64 - n.saturating_sub(1).leading_zeros()).max(1)
+}
+
+/// LUTs of a LUT-RAM of `depth` entries × `bits` bits with one write and one read port:
+/// RAM32M16 (8 LUTs per 14 bits) up to 32 entries, else RAM64M8 (8 LUTs per 7 bits) per 64
+/// entries.
+pub fn lutram_luts(depth: u64, bits: u64) -> u64 {
+    if depth == 0 || bits == 0 {
+        0
+    } else if depth <= 32 {
+        RAM32M16_LUTS * bits.div_ceil(RAM32M16_BITS)
+    } else {
+        RAM32M16_LUTS * bits.div_ceil(RAM64M8_BITS) * depth.div_ceil(64)
+    }
+}
+
+/// LUTs of an equality compare of `bits` bits: LUT6s of three bit pairs each, then the AND
+/// of their outputs six at a time.
+pub fn compare_luts(bits: u64) -> u64 {
+    let pairs = bits.div_ceil(3);
+    pairs + if pairs > 1 { pairs.div_ceil(6) } else { 0 }
+}
+
+/// LUTs per bit of an `n`:1 multiplexer: a LUT6 selects one of 4 (MUXF7/F8 join them), so
+/// ⌈(n − 1)/3⌉.
+pub fn mux_luts_per_bit(n: u64) -> u64 {
+    n.saturating_sub(1).div_ceil(3)
+}
+
+/// Bits of a ray-slot tag: which in-flight ray a walk, a read or a result belongs to.
+fn slot_bits(hw: &HwConfig) -> u64 {
+    clog2(u64::from(hw.ray_slots()))
+}
+
+/// Bits of a pixel index in the hardware frame.
+fn pixel_bits(hw: &HwConfig) -> u64 {
+    clog2(hw.frame.pixels())
+}
+
+/// Bits of one walker context: what `testbench/rtl/svo_walker.v` keeps for its one walk
+/// between steps, all of which a second context must hold too. With TI = t + 1 (the ±∞
+/// sentinels) and GW = pos + 2 + stack_depth (a zero axis's centre, `GW` of the RTL):
+/// the walk's constants 3 + 3 + 32 + slot tag (zero axes, mirror mask, attribute base); the
+/// top frame 9 TI + 6 GW + 157 (t0, t1, midpoints, g and d, address, descriptor, next child,
+/// level, coordinates, valid-children counts); the child in flight 9 TI + 3 GW + 135 (its
+/// t0, t1, midpoints, g, first child, level, coordinates, address, far address, leaf and
+/// root bits); the stack pointer ⌈log₂ D⌉ + 1; the step and fetch counters 64.
+pub fn context_bits(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
+    let ti = u64::from(dp.walker.t.width) + 1;
+    let gw = u64::from(dp.walker.pos.width) + 2 + u64::from(hw.walker_pool.stack_depth);
+    let depth = u64::from(hw.walker_pool.stack_depth);
+    let constants = 3 + 3 + 32 + slot_bits(hw);
+    let top = 9 * ti + 6 * gw + 157;
+    let child = 9 * ti + 3 * gw + 135;
+    constants + top + child + clog2(depth) + 1 + 64
+}
+
+/// The walker contexts beyond the first: with R > 1 contexts a walker keeps them in a
+/// LUT-RAM context file of R entries × [`context_bits`] (one write port: a step's
+/// write-back and a read's arrival share it), plus a ready bit per context and the
+/// round-robin pick of the next ready context (R LUTs, ⌈log₂ R⌉ FFs for the pointer). One
+/// context is the RTL walker's own registers (in its calibration), so R = 1 adds nothing.
+fn walker_contexts(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
+    let r = u64::from(hw.walker_pool.contexts_per_walker);
+    let b = context_bits(hw, dp);
+    let per = if r > 1 {
+        Fabric {
+            lut: lutram_luts(r, b) + r,
+            ff: r + clog2(r),
+        }
+    } else {
+        Fabric::default()
+    };
+    FabricItem {
+        name: "walker_contexts",
+        instances: u64::from(hw.walker_pool.walkers),
+        per_instance: per,
+        calibrated: false,
+        formula: format!(
+            "per walker: LUT-RAM {r} × {b}-bit contexts + {r} pick LUTs; {r} ready + ⌈log₂ {r}⌉ FF (none at R = 1)"
+        ),
+    }
+}
+
+/// Bits of one entry of each FIFO of the model, in pipeline order, with its depth. A ray is
+/// its pixel, direction and origin as ray generation writes them; its candidates are the
+/// sorter's lanes of (key, instance); a walk carries its ray-slot tag and the operands of
+/// the next unit (the transform's outputs, the reciprocals, the walker's inputs); a result is
+/// the walker's outputs without its counters; a record is the hit word and its pixel.
+pub fn fifo_entries(hw: &HwConfig, dp: &DatapathConfig) -> Vec<(&'static str, u64, u64)> {
+    let w = |f: crate::fixed::Format| u64::from(f.width);
+    let (p, s) = (pixel_bits(hw), slot_bits(hw));
+    let ray = p + 3 * w(dp.raygen.dir) + 3 * w(dp.raygen.pos);
+    let lanes = u64::from(hw.sorter_lanes);
+    let candidates = lanes * (w(dp.sorter.key) + u64::from(dp.hit_record.instance_bits));
+    let inst = u64::from(dp.hit_record.instance_bits);
+    let t = &dp.transform;
+    let k = &dp.walker;
+    let to_reciprocal = s + inst + 3 * w(t.local_pos) + 3 * w(t.local_dir);
+    let to_root = s + inst + 3 * w(k.pos) + 3 * w(k.inv) + 3;
+    let to_walker = s + 1 + 6 * (w(k.t) + 1) + 3 * (w(k.pos) + 1) + 3 * w(k.pos) + 6 + 64;
+    let result = s + 2 + w(k.t) + 60 + 5 + 32 + 2;
+    let record = u64::from(dp.hit_record.word_bits()) + p;
+    let f = &hw.fifos;
+    let d = |x: u32| u64::from(x);
+    vec![
+        ("fifo.raygen_to_sphere", d(f.raygen_to_sphere), ray),
+        (
+            "fifo.sphere_to_sorter",
+            d(f.sphere_to_sorter),
+            ray + candidates,
+        ),
+        (
+            "fifo.sorter_to_check",
+            d(f.sorter_to_check),
+            ray + candidates,
+        ),
+        (
+            "fifo.check_to_transform",
+            d(f.check_to_transform),
+            ray + candidates,
+        ),
+        (
+            "fifo.loop_back",
+            u64::from(hw.ray_slots()),
+            ray + candidates,
+        ),
+        (
+            "fifo.transform_to_reciprocal",
+            d(f.transform_to_reciprocal),
+            to_reciprocal,
+        ),
+        ("fifo.reciprocal_to_root", d(f.reciprocal_to_root), to_root),
+        ("fifo.root_to_dispatch", d(f.root_to_dispatch), to_walker),
+        ("fifo.walker_to_record", d(f.walker_to_record), result),
+        ("fifo.record_to_write", d(f.record_to_write), record),
+    ]
+}
+
+/// One FIFO of `depth` entries of `bits` bits: its storage in LUT-RAM ([`lutram_luts`]),
+/// the output register (`bits` FFs), read and write pointers and a count of ⌈log₂ D⌉ + 1
+/// bits each (3 of them in FFs, their increments and the full/empty compares in as many
+/// LUTs).
+pub fn fifo_fabric(depth: u64, bits: u64) -> Fabric {
+    let ptr = clog2(depth) + 1;
+    Fabric {
+        lut: lutram_luts(depth, bits) + 3 * ptr,
+        ff: bits + 3 * ptr,
+    }
+}
+
+fn fifos(hw: &HwConfig, dp: &DatapathConfig) -> Vec<FabricItem> {
+    fifo_entries(hw, dp)
+        .into_iter()
+        .map(|(name, depth, bits)| FabricItem {
+            name,
+            instances: 1,
+            per_instance: fifo_fabric(depth, bits),
+            calibrated: false,
+            formula: format!("{depth} × {bits} bits in LUT-RAM, output register, pointers"),
+        })
+        .collect()
+}
+
+/// The miss-status registers: M entries of a valid bit, the line address (34 − log₂ line
+/// bytes) and the first requester's slot tag in FFs; every lookup port compares every
+/// entry's line address ([`compare_luts`]) and picks a free entry (M LUTs). The list of
+/// merged requesters behind an entry is not counted.
+fn mshr_cam(hw: &HwConfig) -> FabricItem {
+    let nm = &hw.node_memory;
+    let m = u64::from(nm.dram.mshrs);
+    let line = u64::from(nm.cache.line_bytes.max(1));
+    // `line_bytes` is a validated power of two from 8 to 4096.
+    let a = BYTE_ADDRESS_BITS.saturating_sub(clog2(line));
+    let s = slot_bits(hw);
+    let ports = u64::from(nm.cache.ports.max(1));
+    FabricItem {
+        name: "mshr_cam",
+        instances: 1,
+        per_instance: Fabric {
+            lut: ports * m * compare_luts(a) + m,
+            ff: m * (1 + a + s),
+        },
+        calibrated: false,
+        formula: format!(
+            "{m} entries × (1 + {a}-bit line + {s}-bit tag) FF; {ports} ports × {m} × compare({a}) + {m} LUT"
+        ),
+    }
+}
+
+/// The cache's control per lookup port (none when the cache is disabled): the tag compare
+/// of every way (tag T = 34 − log₂ line − log₂ sets, plus its valid bit), the way select of
+/// the 64-bit word, and the LRU state of every set (W·⌈log₂ W⌉ bits) in a LUT-RAM copy per
+/// port with its update (as many LUTs as state bits); FFs: the address and word through
+/// the hit latency's stages and the W tags read.
+fn cache_control(hw: &HwConfig) -> Option<FabricItem> {
+    let nm = &hw.node_memory;
+    let c = &nm.cache;
+    let sets = nm.cache_sets();
+    if c.size_bytes == 0 || sets == 0 {
+        return None;
+    }
+    let ways = u64::from(c.ways);
+    let line = u64::from(c.line_bytes);
+    let index = if sets > 1 { clog2(sets) } else { 0 };
+    let tag = BYTE_ADDRESS_BITS.saturating_sub(clog2(line) + index);
+    let lru = ways * clog2(ways);
+    let lut = ways * compare_luts(tag + 1)
+        + READ_WORD_BITS * mux_luts_per_bit(ways)
+        + lutram_luts(sets, lru)
+        + lru;
+    let ff = u64::from(c.hit_latency) * (BYTE_ADDRESS_BITS + READ_WORD_BITS) + ways * (tag + 1);
+    Some(FabricItem {
+        name: "cache_control",
+        instances: u64::from(c.ports),
+        per_instance: Fabric { lut, ff },
+        calibrated: false,
+        formula: format!(
+            "per port: {ways} × compare({}) + 64 × mux({ways}) + LUT-RAM {sets} × {lru} LRU + {lru} LUT; {} × (34 + 64) + {ways} × {} FF",
+            tag + 1,
+            c.hit_latency,
+            tag + 1
+        ),
+    })
+}
+
+/// Every structure of this configuration, in pipeline order: walker contexts, the FIFOs,
+/// the MSHR CAM and the cache control.
+pub fn structure_items(hw: &HwConfig, dp: &DatapathConfig) -> Vec<FabricItem> {
+    let mut items = vec![walker_contexts(hw, dp)];
+    items.extend(fifos(hw, dp));
+    items.push(mshr_cam(hw));
+    items.extend(cache_control(hw));
+    items
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_building_blocks_count_as_documented() {
+        assert_eq!(
+            (clog2(1), clog2(2), clog2(8), clog2(9), clog2(320)),
+            (1, 1, 3, 4, 9)
+        );
+        assert_eq!(lutram_luts(8, 14), 8);
+        assert_eq!(lutram_luts(32, 15), 16);
+        assert_eq!(lutram_luts(33, 7), 8);
+        assert_eq!(lutram_luts(1024, 8), 8 * 2 * 16);
+        assert_eq!(
+            (compare_luts(3), compare_luts(28), compare_luts(19)),
+            (1, 12, 9)
+        );
+        assert_eq!(
+            (
+                mux_luts_per_bit(1),
+                mux_luts_per_bit(4),
+                mux_luts_per_bit(8)
+            ),
+            (0, 1, 3)
+        );
+    }
+}

@@ -1,0 +1,172 @@
+//! The fabric estimate's structures (`cost::structures`, docs/cycle-model.md §1.5,
+//! "Structures"): each item's formula pinned on a hand-computed configuration, with the
+//! numbers worked out here from the formats' widths (no code shared with the estimate), and
+//! each pin shown failing once when the configuration it was computed for is corrupted.
+
+use rtl_model::cost::FabricItem;
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::datapath::DatapathConfig;
+
+/// The hand-computed configuration: 2 walkers of 4 contexts, a 64 × 64 frame, 16 MSHRs, a
+/// 64 KiB two-way cache of 64-byte lines with two ports, the other fields at their defaults.
+fn hand() -> HwConfig {
+    let mut hw = HwConfig::default();
+    hw.walker_pool.walkers = 2;
+    hw.walker_pool.contexts_per_walker = 4;
+    hw.frame.width = 64;
+    hw.frame.height = 64;
+    hw.node_memory.dram.mshrs = 16;
+    hw.node_memory.cache.size_bytes = 64 * 1024;
+    hw.node_memory.cache.ways = 2;
+    hw.node_memory.cache.line_bytes = 64;
+    hw.node_memory.cache.ports = 2;
+    hw
+}
+
+/// The widths the numbers below assume (the default datapath's).
+fn assumed_widths(dp: &DatapathConfig) {
+    assert_eq!(dp.walker.t.width, 62, "walker.t");
+    assert_eq!(dp.walker.pos.width, 40, "walker.pos");
+    assert_eq!(dp.raygen.dir.width, 32, "raygen.dir");
+    assert_eq!(dp.raygen.pos.width, 40, "raygen.pos");
+    assert_eq!(dp.sorter.key.width, 32, "sorter.key");
+    assert_eq!(dp.hit_record.instance_bits, 8, "instance bits");
+    assert_eq!(dp.hit_record.word_bits(), 72, "record word");
+}
+
+/// One pinned item: its name, instances, and one instance's LUTs and FFs.
+type Pin = (&'static str, u64, u64, u64);
+
+/// The pins of [`hand`], each worked out by hand. Shared: ray slots 2 × 4 + 64
+/// (`fifos.root_to_dispatch`) = 72, so a slot tag is ⌈log₂ 72⌉ = 7 bits; a pixel of the
+/// 4,096-pixel frame 12 bits.
+fn pins() -> Vec<Pin> {
+    // Context bits: TI = 63, GW = 40 + 2 + 21 = 63. Constants 3 + 3 + 32 + 7 = 45; top frame
+    // 9·63 + 6·63 + 157 = 1102; child 9·63 + 3·63 + 135 = 891; stack pointer ⌈log₂ 21⌉ + 1 = 6;
+    // counters 64: 2108 bits. Four contexts in RAM32M16: 8 LUTs × ⌈2108 / 14⌉ = 151, + 4 pick
+    // LUTs; FFs 4 ready + ⌈log₂ 4⌉ = 2.
+    let contexts = ("walker_contexts", 2, 8 * 151 + 4, 4 + 2);
+    // record_to_write: 8 × (72 + 12) = 84 bits: RAM32M16 8 × ⌈84 / 14⌉ = 48 LUTs; pointers
+    // 3 × (⌈log₂ 8⌉ + 1) = 12 LUTs and FFs; the output register 84 FFs.
+    let record = ("fifo.record_to_write", 1, 48 + 12, 84 + 12);
+    // loop_back: 72 entries (the ray slots) of a ray 12 + 3·32 + 3·40 = 228 and 8 lanes of
+    // (32 + 8): 548 bits. RAM64M8: 8 × ⌈548 / 7⌉ = 79 × ⌈72 / 64⌉ = 2: 1264 LUTs; pointers
+    // 3 × (7 + 1) = 24.
+    let loop_back = ("fifo.loop_back", 1, 8 * 79 * 2 + 24, 548 + 24);
+    // MSHR CAM: line address 34 − 6 = 28 bits; 16 × (1 + 28 + 7) FFs; compare(28) = 10 pairs
+    // + ⌈10 / 6⌉ = 12 LUTs, for 2 ports × 16 entries, + 16 for the free-entry pick.
+    let mshr = ("mshr_cam", 1, 2 * 16 * 12 + 16, 16 * 36);
+    // Cache control per port: 65,536 / (2 × 64) = 512 sets, tag 34 − 6 − 9 = 19 (+ valid =
+    // 20: compare 7 pairs + 2 = 9 LUTs per way); way select 64 × ⌈1 / 3⌉; LRU 2 × 1 bits per
+    // set in RAM64M8 8 × ⌈2 / 7⌉ × ⌈512 / 64⌉ = 64, + 2 update LUTs. FFs 4 × (34 + 64) + 2 × 20.
+    let cache = ("cache_control", 2, 2 * 9 + 64 + 64 + 2, 4 * 98 + 2 * 20);
+    vec![contexts, record, loop_back, mshr, cache]
+}
+
+/// Whether `items` hold the pin: the item is there with its instances, LUTs and FFs.
+fn check(items: &[FabricItem], (name, n, lut, ff): Pin) -> Result<(), String> {
+    let it = items
+        .iter()
+        .find(|it| it.name == name)
+        .ok_or_else(|| format!("{name}: missing"))?;
+    let got = (it.instances, it.per_instance.lut, it.per_instance.ff);
+    if got != (n, lut, ff) || it.calibrated {
+        return Err(format!(
+            "{name}: (instances, LUT, FF) = {got:?}, calibrated {}; expected ({n}, {lut}, {ff}), uncalibrated",
+            it.calibrated
+        ));
+    }
+    Ok(())
+}
+
+#[test]
+fn each_structure_matches_its_hand_computed_formula() {
+    let dp = DatapathConfig::default();
+    assumed_widths(&dp);
+    let items = hand().fabric(&dp).unwrap();
+    for pin in pins() {
+        if let Err(m) = check(&items, pin) {
+            panic!("{m}");
+        }
+    }
+    // Every FIFO of the model is priced once, in pipeline order, after the contexts.
+    let names: Vec<&str> = items.iter().map(|it| it.name).collect();
+    let fifos: Vec<&str> = names
+        .iter()
+        .copied()
+        .filter(|n| n.starts_with("fifo."))
+        .collect();
+    assert_eq!(fifos.len(), 10, "{names:?}");
+    assert_eq!(fifos[4], "fifo.loop_back");
+}
+
+#[test]
+fn each_pin_fails_when_its_configuration_is_corrupted() {
+    let dp = DatapathConfig::default();
+    // One corruption per pin, and that pin fails with its own message (others that share
+    // the field, e.g. the slot tag, may fail beside it).
+    type Corrupt = fn(&mut HwConfig);
+    let corruptions: [(&str, Corrupt); 5] = [
+        ("walker_contexts", |hw| {
+            hw.walker_pool.contexts_per_walker = 40
+        }),
+        ("fifo.record_to_write", |hw| hw.fifos.record_to_write = 40),
+        ("fifo.loop_back", |hw| hw.sorter_lanes = 9),
+        ("mshr_cam", |hw| hw.node_memory.dram.mshrs = 17),
+        ("cache_control", |hw| hw.node_memory.cache.ways = 4),
+    ];
+    for (target, corrupt) in corruptions {
+        let mut hw = hand();
+        corrupt(&mut hw);
+        // sorter_lanes must equal the datapath's lanes for `validate_for`, not for the
+        // estimate, which prices it as configured.
+        let items = hw.fabric(&dp).unwrap();
+        let failed: Vec<&str> = pins()
+            .into_iter()
+            .filter(|&p| check(&items, p).is_err())
+            .map(|p| p.0)
+            .collect();
+        assert!(
+            failed.contains(&target),
+            "corrupting for {target}: failed {failed:?}"
+        );
+        let m = check(&items, pins().into_iter().find(|p| p.0 == target).unwrap()).unwrap_err();
+        assert!(m.starts_with(target), "{m}");
+        eprintln!("corrupted for {target}: {m} (failed: {failed:?})");
+    }
+}
+
+#[test]
+fn one_context_and_no_cache_add_nothing() {
+    let dp = DatapathConfig::default();
+    let mut hw = hand();
+    hw.walker_pool.contexts_per_walker = 1;
+    hw.node_memory.cache.size_bytes = 0;
+    let items = hw.fabric(&dp).unwrap();
+    let ctx = items
+        .iter()
+        .find(|it| it.name == "walker_contexts")
+        .unwrap();
+    assert_eq!((ctx.per_instance.lut, ctx.per_instance.ff), (0, 0));
+    assert!(items.iter().all(|it| it.name != "cache_control"));
+    // The MSHRs still merge uncached reads.
+    assert!(items.iter().any(|it| it.name == "mshr_cam"));
+}
+
+#[test]
+fn more_contexts_cost_more_fabric_per_walker() {
+    let dp = DatapathConfig::default();
+    let total = |contexts: u32| {
+        let mut hw = HwConfig::default();
+        hw.walker_pool.contexts_per_walker = contexts;
+        hw.fabric(&dp)
+            .unwrap()
+            .iter()
+            .map(|it| it.total().lut)
+            .sum::<u64>()
+    };
+    // 32 contexts fit a RAM32M16 column as 8 do; 64 take RAM64M8.
+    assert!(total(2) > total(1));
+    assert!(total(8) > total(2));
+    assert!(total(64) > total(32) + 32 * 1000);
+}
