@@ -257,11 +257,32 @@ fn cache_control(hw: &HwConfig) -> Option<FabricItem> {
     })
 }
 
+/// The node memory's logic around its blocks, as the memory model lists it
+/// (`NodeMemoryConfig::fabric_items`, `cycle/memory/crossbar.rs`): the walker-to-bank
+/// crossbars, the bank queues (with the on-chip combining CAM) and the miss queue. Its "MSHR
+/// search" item is left out: [`mshr_cam`] counts the same comparators with the ports' copies.
+fn memory_logic(hw: &HwConfig) -> impl Iterator<Item = FabricItem> {
+    let pool = &hw.walker_pool;
+    let contexts = pool.walkers.saturating_mul(pool.contexts_per_walker);
+    hw.node_memory
+        .fabric_items(pool.walkers, contexts)
+        .into_iter()
+        .filter(|i| i.name != "MSHR search")
+        .map(|i| FabricItem {
+            name: i.name,
+            instances: 1,
+            per_instance: Fabric { lut: i.lut, ff: i.ff },
+            calibrated: false,
+            formula: i.formula,
+        })
+}
+
 /// Every structure of this configuration, in pipeline order: walker contexts, the FIFOs,
-/// the MSHR CAM and the cache control.
+/// the node memory's crossbars and queues, the MSHR CAM and the cache control.
 pub fn structure_items(hw: &HwConfig, dp: &DatapathConfig) -> Vec<FabricItem> {
     let mut items = vec![walker_contexts(hw, dp)];
     items.extend(fifos(hw, dp));
+    items.extend(memory_logic(hw));
     items.push(mshr_cam(hw));
     items.extend(cache_control(hw));
     items
