@@ -119,8 +119,6 @@ struct Wires {
     walked: bool,
     /// Walks are in the walk section or may still come.
     more_walks: bool,
-    /// The record stage took the write FIFO's port this cycle.
-    took_write_port: bool,
     /// The record stage has been evaluated (and has freed the slots of its records).
     record_done: bool,
 }
@@ -137,28 +135,44 @@ pub struct Fifos {
     rt_dp: Fifo<Walk>,
     wk_rc: Fifo<Walk>,
     rc_wr: Fifo<Rec>,
+    /// The check stage's own write FIFO, used with two hit-buffer write paths
+    /// (`hit_buffer.write_ports: 2`); otherwise it stays empty and out of the report.
+    ck_wr: Fifo<Rec>,
+    /// Whether `ck_wr` is in use.
+    two_write_paths: bool,
 }
 
 fn fifo<T>(id: StageId, depth: u32, now: u64) -> Result<Fifo<T>, CycleError> {
-    Fifo::new_at(id, depth as usize, now).map_err(|e| CycleError::Config(e.to_string()))
+    wide(id, depth, 1, now)
+}
+
+/// A FIFO of `ports` pushes and pops per cycle (the walk section's, docs/cycle-model.md §2.1).
+fn wide<T>(id: StageId, depth: u32, ports: u32, now: u64) -> Result<Fifo<T>, CycleError> {
+    Fifo::new_wide_at(id, depth as usize, ports as usize, now)
+        .map_err(|e| CycleError::Config(e.to_string()))
 }
 
 impl Fifos {
     /// Empty FIFOs of `hw`'s depths, out of reset at cycle `now`; the loop-back FIFO has one
-    /// entry per ray slot.
+    /// entry per ray slot. The walk section's FIFOs, from the walk queue to the write FIFO,
+    /// take `hw.walk_lanes()` pushes and pops per cycle; the check stage's own write FIFO
+    /// has `record_to_write`'s depth.
     fn new(hw: &HwConfig, ray_slots: u32, now: u64) -> Result<Self, CycleError> {
         let fd = &hw.fifos;
+        let k = hw.walk_lanes();
         Ok(Self {
             rg_sp: fifo(id::F_RG_SP, fd.raygen_to_sphere, now)?,
             sp_so: fifo(id::F_SP_SO, fd.sphere_to_sorter, now)?,
             so_ck: fifo(id::F_SO_CK, fd.sorter_to_check, now)?,
-            ck_tr: fifo(id::F_CK_TR, fd.check_to_transform, now)?,
-            loop_back: fifo(id::F_LOOP, ray_slots, now)?,
-            tr_rc: fifo(id::F_TR_RC, fd.transform_to_reciprocal, now)?,
-            rc_rt: fifo(id::F_RC_RT, fd.reciprocal_to_root, now)?,
-            rt_dp: fifo(id::F_RT_DP, fd.root_to_dispatch, now)?,
-            wk_rc: fifo(id::F_WK_RC, fd.walker_to_record, now)?,
-            rc_wr: fifo(id::F_RC_WR, fd.record_to_write, now)?,
+            ck_tr: wide(id::F_CK_TR, fd.check_to_transform, k, now)?,
+            loop_back: wide(id::F_LOOP, ray_slots, k, now)?,
+            tr_rc: wide(id::F_TR_RC, fd.transform_to_reciprocal, k, now)?,
+            rc_rt: wide(id::F_RC_RT, fd.reciprocal_to_root, k, now)?,
+            rt_dp: wide(id::F_RT_DP, fd.root_to_dispatch, k, now)?,
+            wk_rc: wide(id::F_WK_RC, fd.walker_to_record, k, now)?,
+            rc_wr: wide(id::F_RC_WR, fd.record_to_write, k, now)?,
+            ck_wr: fifo(id::F_CK_WR, fd.record_to_write, now)?,
+            two_write_paths: hw.hit_buffer.write_ports >= 2,
         })
     }
 
@@ -197,12 +211,13 @@ impl Fifos {
         ]
     }
 
-    /// Name, depth and counters of each FIFO, for the report.
-    fn stats(&self) -> [(&'static str, usize, FifoStats); 10] {
+    /// Name, depth and counters of each FIFO, for the report (`check_to_write` only with two
+    /// write paths).
+    fn stats(&self) -> Vec<(&'static str, usize, FifoStats)> {
         fn s<T>(name: &'static str, f: &Fifo<T>) -> (&'static str, usize, FifoStats) {
             (name, f.depth(), f.stats())
         }
-        [
+        let mut v = vec![
             s("raygen_to_sphere", &self.rg_sp),
             s("sphere_to_sorter", &self.sp_so),
             s("sorter_to_check", &self.so_ck),
@@ -213,7 +228,11 @@ impl Fifos {
             s("root_to_dispatch", &self.rt_dp),
             s("walker_to_record", &self.wk_rc),
             s("record_to_write", &self.rc_wr),
-        ]
+        ];
+        if self.two_write_paths {
+            v.push(s("check_to_write", &self.ck_wr));
+        }
+        v
     }
 }
 
@@ -410,7 +429,6 @@ impl<'f> Pipeline<'f> {
             ],
             walked: c.walks_entered > 0,
             more_walks: c.more_walks(),
-            took_write_port: false,
             record_done: false,
         };
         match self.order {
@@ -479,11 +497,13 @@ impl<'f> Pipeline<'f> {
             }
         };
         Ok(match stage {
-            S_WRITE => self
-                .write
-                .eval(&mut f.rc_wr, &mut m.bram, self.log, c, now)?,
+            S_WRITE => {
+                let second = f.two_write_paths.then_some(&mut f.ck_wr);
+                self.write
+                    .eval(&mut f.rc_wr, second, &mut m.bram, self.log, c, now)?
+            }
             S_RECORD => {
-                let (state, took) = self.record.eval(
+                let (state, _pushed) = self.record.eval(
                     &mut f.wk_rc,
                     &mut f.loop_back,
                     &mut f.rc_wr,
@@ -493,7 +513,6 @@ impl<'f> Pipeline<'f> {
                     wires.walked,
                     now,
                 )?;
-                wires.took_write_port = took;
                 wires.record_done = true;
                 state
             }
@@ -531,11 +550,15 @@ impl<'f> Pipeline<'f> {
             }
             S_CHECK => {
                 record_first("the check stage")?;
+                let to_write = if f.two_write_paths {
+                    &mut f.ck_wr
+                } else {
+                    &mut f.rc_wr
+                };
                 self.check.eval(
                     &mut f.so_ck,
                     &mut f.ck_tr,
-                    &mut f.rc_wr,
-                    wires.took_write_port,
+                    to_write,
                     &mut m.bram,
                     &mut self.frame,
                     c,
@@ -574,6 +597,7 @@ impl<'f> Pipeline<'f> {
             + f.rt_dp.moved()
             + f.wk_rc.moved()
             + f.rc_wr.moved()
+            + f.ck_wr.moved()
             + self.raygen.next_pixel()
             + self.machine.pool.activity()
     }
@@ -634,6 +658,7 @@ impl<'f> Pipeline<'f> {
             fifo.skip_idle(k);
         }
         f.rc_wr.skip_idle(k);
+        f.ck_wr.skip_idle(k);
         let m = &mut *self.machine;
         m.bram.skip_idle(k);
         m.pool.skip_idle(k);
@@ -676,6 +701,7 @@ impl<'f> Pipeline<'f> {
                 &mut f.rt_dp,
                 &mut f.wk_rc,
                 &mut f.rc_wr,
+                &mut f.ck_wr,
                 &mut m.bram,
             ])
             .map_err(internal)?;

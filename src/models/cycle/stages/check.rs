@@ -5,7 +5,9 @@
 //! `record_to_write` (reused pixels and rays without candidates) (docs/cycle-model.md §2.1).
 //! The read goes to this model's own hit-buffer BRAM (READ_FIRST, written by its own write
 //! stage in the previous frame); the decision is this model's own and is checked against the
-//! functional model's (§2.4). The record stage has priority on the write FIFO.
+//! functional model's (§2.4). With one hit-buffer write path the record stage has priority on
+//! the write FIFO (it is evaluated first and takes its ports); with two
+//! (`hit_buffer.write_ports: 2`) this stage has its own write FIFO.
 
 use super::{id, internal, FrameCounts, FrameInputs, Ray, Rec};
 use crate::models::cycle::model::CycleError;
@@ -42,9 +44,9 @@ impl Check {
         }
     }
 
-    /// One cycle: the ready ray is decided and leaves into `to_walk` or `to_write` (unless
-    /// the record stage `took_write_port` this cycle); the next ray enters from `input` and
-    /// reads `bram`. `upstream_more`: the sorter had rays still to pass as the cycle started.
+    /// One cycle: the ready ray is decided and leaves into `to_walk` or `to_write` (if the
+    /// write FIFO has a port and room left after the record stage); the next ray enters from
+    /// `input` and reads `bram`. `upstream_more`: the sorter had rays still to pass as the cycle started.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn eval(
@@ -52,7 +54,6 @@ impl Check {
         input: &mut Fifo<Ray>,
         to_walk: &mut Fifo<Ray>,
         to_write: &mut Fifo<Rec>,
-        took_write_port: bool,
         bram: &mut Bram<u128>,
         frame: &mut FrameInputs<'_>,
         counts: &mut FrameCounts,
@@ -87,7 +88,7 @@ impl Check {
             });
             if let Some(word) = direct {
                 // Reused word, or a ray with no candidate: straight to the write port.
-                if !took_write_port && to_write.ready() {
+                if to_write.can_push() {
                     if let Some((mut ray, _)) = self.pipe.pop(now) {
                         let _ = ray.leave(id::CHECK, now);
                         counts.reused += u64::from(reuse.is_some());

@@ -7,17 +7,17 @@
 //! its first walk enters here and keeps it until its record leaves; `loop_back` has one entry
 //! per slot, so it can always take a returning walk and the loop cannot deadlock.
 
-use super::{hand_on, id, internal, units_ii, FrameInputs, Ray, RaySlots, Walk};
+use super::{hand_on_lanes, id, internal, FrameInputs, Ray, RaySlots, Walk};
 use crate::models::cycle::model::CycleError;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
-use rtl_model::cycle::unit_pipe::UnitPipe;
+use rtl_model::cycle::unit_lanes::UnitLanes;
 
 /// The transform stage.
 pub struct Transform {
-    pipe: UnitPipe<Stamped<Walk>>,
+    pipe: UnitLanes<Stamped<Walk>>,
 }
 
 impl Transform {
@@ -28,16 +28,18 @@ impl Transform {
         self.pipe.next_change(now)
     }
 
-    /// The stage of `hw` (`transform_units` units act as one of a shorter II).
+    /// The stage of `hw`: `transform_units` units side by side, each taking a walk per
+    /// initiation interval.
     pub fn new(hw: &HwConfig) -> Self {
         let u = &hw.units.transform;
         Self {
-            pipe: UnitPipe::new(u.latency_cycles, units_ii(u.ii, hw.transform_units)),
+            pipe: UnitLanes::new(hw.transform_units, u.latency_cycles, u.ii),
         }
     }
 
-    /// One cycle: the ready walk leaves into `out`; then a returning walk from `loop_back`
-    /// enters, or else the first walk of a new ray from `new_rays` if a slot is free.
+    /// One cycle: the ready walks leave into `out`; then, while a unit is free, a returning
+    /// walk from `loop_back` enters, or else the first walk of a new ray from `new_rays` if a
+    /// slot is free.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn eval(
@@ -50,14 +52,14 @@ impl Transform {
         more_walks: bool,
         now: u64,
     ) -> Result<StageState, CycleError> {
-        let pushed = hand_on(&mut self.pipe, id::TRANSFORM, out, now)?;
-        if self.pipe.can_accept(now) {
-            if loop_back.valid() {
+        let pushed = hand_on_lanes(&mut self.pipe, id::TRANSFORM, out, now)?;
+        while self.pipe.can_accept(now) {
+            if loop_back.can_pop() {
                 if let Some(mut w) = loop_back.try_pop().map_err(internal)? {
                     w.enter(id::TRANSFORM, now);
                     self.pipe.accept(now, w, 1, 0);
                 }
-            } else if new_rays.valid() && slots.has_free() {
+            } else if new_rays.can_pop() && slots.has_free() {
                 if let Some(ray) = new_rays.try_pop().map_err(internal)? {
                     let pixel = ray.payload.pixel;
                     let (tr, pw, _) = frame.trace_at(pixel)?;
@@ -66,6 +68,8 @@ impl Transform {
                     w.enter(id::TRANSFORM, now);
                     self.pipe.accept(now, w, 1, 0);
                 }
+            } else {
+                break;
             }
         }
         Ok(self.pipe.state(now, !pushed, more_walks))
