@@ -52,7 +52,7 @@ use super::stages::transform::Transform;
 use super::stages::walkers::Walkers;
 use super::stages::write::Write;
 use super::stages::{id, internal, FrameCounts, FrameInputs, Ray, RaySlots, Rec, Walk};
-use super::stats::CycleFrame;
+use super::stats::{CycleFrame, StallCounts};
 use rtl_model::cycle::clocked::{Commit, StageId, StageStamp};
 use rtl_model::cycle::fifo::{Fifo, FifoStats};
 use rtl_model::cycle::hw_config::HwConfig;
@@ -119,6 +119,8 @@ struct Wires {
     walked: bool,
     /// Walks are in the walk section or may still come.
     more_walks: bool,
+    /// Rays of the frame are still to leave the check stage.
+    more_rays: bool,
     /// The record stage has been evaluated (and has freed the slots of its records).
     record_done: bool,
 }
@@ -282,6 +284,12 @@ pub struct Pipeline<'f> {
     hold: Option<(usize, u64)>,
     /// The stages' evaluation order within a clock.
     order: EvalOrder,
+    /// The frame's per-cause stall counters so far (the pipeline's; the pool's and the
+    /// memory's are added in the report).
+    stalls: StallCounts,
+    /// Which of the pipeline's stall causes held in the last cycle stepped (what skipped
+    /// cycles repeat): walk issue, write port, ray generation.
+    stall_now: [bool; 3],
 }
 
 impl<'f> Pipeline<'f> {
@@ -339,6 +347,8 @@ impl<'f> Pipeline<'f> {
             carry: None,
             hold: None,
             order: EvalOrder::default(),
+            stalls: StallCounts::default(),
+            stall_now: [false; 3],
         })
     }
 
@@ -429,6 +439,7 @@ impl<'f> Pipeline<'f> {
             ],
             walked: c.walks_entered > 0,
             more_walks: c.more_walks(),
+            more_rays: c.passed[3] < c.pixels,
             record_done: false,
         };
         match self.order {
@@ -457,6 +468,14 @@ impl<'f> Pipeline<'f> {
         for (row, &s) in self.stages.iter_mut().zip(st.iter()) {
             row.count(s);
         }
+        // Per-cause stalls (docs/cycle-model.md §2.6); a held sampling transform is starved
+        // by design, not by ray generation.
+        self.stall_now = [
+            self.transform.issue_stall || self.recip.issue_stall || self.root.issue_stall,
+            self.check.write_blocked,
+            self.transform.input_starved && self.hold.is_none(),
+        ];
+        self.count_stalls(1);
         self.sample_waves(now);
         self.edge()?;
         self.watch(now)?;
@@ -472,6 +491,16 @@ impl<'f> Pipeline<'f> {
             self.skip_idle(now)?;
         }
         Ok(())
+    }
+
+    /// Adds `k` cycles of the last cycle's stall causes.
+    #[inline]
+    fn count_stalls(&mut self, k: u64) {
+        let [issue, write, raygen] = self.stall_now;
+        let s = &mut self.stalls;
+        s.walk_issue += u64::from(issue) * k;
+        s.write_port += u64::from(write) * k;
+        s.ray_generation += u64::from(raygen) * k;
     }
 
     /// Evaluates stage `stage` (an `S_*` row) for cycle `now`. `wires` carries the two
@@ -544,6 +573,7 @@ impl<'f> Pipeline<'f> {
                         &mut self.slots,
                         &self.frame,
                         wires.more_walks,
+                        wires.more_rays,
                         now,
                     )?
                 }
@@ -644,6 +674,7 @@ impl<'f> Pipeline<'f> {
         for (row, &s) in self.stages.iter_mut().zip(self.states.iter()) {
             row.count_many(s, k);
         }
+        self.count_stalls(k);
         let f = &mut self.fifos;
         for fifo in [&mut f.rg_sp, &mut f.sp_so, &mut f.so_ck, &mut f.ck_tr] {
             fifo.skip_idle(k);
@@ -786,6 +817,10 @@ impl<'f> Pipeline<'f> {
             c.reused,
             c.early,
             c.walks_entered,
+            StallCounts {
+                write_bank_conflicts: self.write.bank_conflicts,
+                ..self.stalls
+            },
             sim_wall_s,
         )
     }

@@ -25,6 +25,9 @@ pub struct Check {
     /// The record word of a ray with no candidate: the same for every such ray of the frame
     /// (the plan's background record), computed once.
     miss_word: Option<u128>,
+    /// This cycle a decided word waited for the write path (the frame's
+    /// `stalls.write_port`).
+    pub write_blocked: bool,
 }
 
 impl Check {
@@ -41,6 +44,7 @@ impl Check {
         Self {
             pipe: UnitPipe::new(latency, 1),
             miss_word: None,
+            write_blocked: false,
         }
     }
 
@@ -61,6 +65,7 @@ impl Check {
         now: u64,
     ) -> Result<StageState, CycleError> {
         let mut blocked = false;
+        self.write_blocked = false;
         if let Some(&(ref ray, prev)) = self.pipe.ready(now) {
             let pixel = ray.payload.pixel;
             let (tr, pw, _) = frame.trace_at(pixel)?;
@@ -102,6 +107,7 @@ impl Check {
                     }
                 } else {
                     blocked = true;
+                    self.write_blocked = true;
                 }
             } else if to_walk.ready() {
                 if let Some((mut ray, _)) = self.pipe.pop(now) {

@@ -20,6 +20,9 @@ pub struct PassThrough {
     stage: StageId,
     /// Initiation intervals a walk occupies the unit for.
     passes: u64,
+    /// This cycle a walk waited at the input with every unit busy and room after them (the
+    /// walk-issue limit, the frame's `stalls.walk_issue`).
+    pub issue_stall: bool,
 }
 
 impl PassThrough {
@@ -45,6 +48,7 @@ impl PassThrough {
             pipe: UnitLanes::new(walks, u.latency_cycles, u.ii),
             stage: id::RECIP,
             passes,
+            issue_stall: false,
         }
     }
 
@@ -55,6 +59,7 @@ impl PassThrough {
             pipe: UnitLanes::new(hw.walker_root_units, u.latency_cycles, u.ii),
             stage: id::ROOT,
             passes: 1,
+            issue_stall: false,
         }
     }
 
@@ -76,6 +81,7 @@ impl PassThrough {
                 self.pipe.accept(now, w, self.passes, 0);
             }
         }
+        self.issue_stall = input.can_pop() && !self.pipe.can_accept(now) && out.ready();
         Ok(self.pipe.state(now, !pushed, more_walks))
     }
 }

@@ -18,6 +18,12 @@ use rtl_model::cycle::unit_lanes::UnitLanes;
 /// The transform stage.
 pub struct Transform {
     pipe: UnitLanes<Stamped<Walk>>,
+    /// This cycle a walk waited at the input with every unit busy and room after them: the
+    /// walk-issue limit (the frame's `stalls.walk_issue`).
+    pub issue_stall: bool,
+    /// This cycle a unit was free and no walk was at either input though rays were still to
+    /// come: the walk section waited for ray generation (`stalls.ray_generation`).
+    pub input_starved: bool,
 }
 
 impl Transform {
@@ -34,12 +40,15 @@ impl Transform {
         let u = &hw.units.transform;
         Self {
             pipe: UnitLanes::new(hw.transform_units, u.latency_cycles, u.ii),
+            issue_stall: false,
+            input_starved: false,
         }
     }
 
     /// One cycle: the ready walks leave into `out`; then, while a unit is free, a returning
     /// walk from `loop_back` enters, or else the first walk of a new ray from `new_rays` if a
-    /// slot is free.
+    /// slot is free. `frame_more_rays`: rays of the frame are still to leave the check stage
+    /// (what `input_starved` needs).
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn eval(
@@ -50,6 +59,7 @@ impl Transform {
         slots: &mut RaySlots,
         frame: &FrameInputs<'_>,
         more_walks: bool,
+        frame_more_rays: bool,
         now: u64,
     ) -> Result<StageState, CycleError> {
         let pushed = hand_on_lanes(&mut self.pipe, id::TRANSFORM, out, now)?;
@@ -72,6 +82,12 @@ impl Transform {
                 break;
             }
         }
+        let waiting = loop_back.can_pop() || (new_rays.can_pop() && slots.has_free());
+        self.issue_stall = waiting && !self.pipe.can_accept(now) && out.ready();
+        self.input_starved = !loop_back.valid()
+            && !new_rays.valid()
+            && self.pipe.can_accept(now)
+            && frame_more_rays;
         Ok(self.pipe.state(now, !pushed, more_walks))
     }
 }
