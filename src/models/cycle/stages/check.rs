@@ -38,11 +38,13 @@ impl Check {
         self.pipe.next_change(now)
     }
 
-    /// The stage of `hw`: the hit buffer's read latency (0 without one) and the unpacking.
+    /// The stage of `hw`: the hit buffer's read latency (0 without one) and the unpacking, at
+    /// the unpacking unit's initiation interval (before: always 1, the field was ignored).
     pub fn new(hw: &HwConfig) -> Self {
-        let latency = hw.hit_buffer_read_cycles() + hw.units.hit_unpack.latency_cycles;
+        let u = &hw.units.hit_unpack;
+        let latency = hw.hit_buffer_read_cycles() + u.latency_cycles;
         Self {
-            pipe: UnitPipe::new(latency, 1),
+            pipe: UnitPipe::new(latency, u.ii),
             miss_word: None,
             write_blocked: false,
         }
