@@ -223,7 +223,7 @@ pub fn assets_table(assets: &[AssetReport]) -> String {
 
 /// The closing summary, and with the cycle model its frame rate and the resource estimate.
 /// The `--lift` line: the frame rate with `limit` made ideal against the run's
-/// (docs/cycle-model.md §2.6).
+/// (docs/cycle-model.md §2.2).
 pub fn lift_line(limit: &str, before: &CycleSummary, after: &CycleSummary) -> String {
     let gain = 100.0 * (after.fps_at_clock / before.fps_at_clock.max(f64::MIN_POSITIVE) - 1.0);
     format!(

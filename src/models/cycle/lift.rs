@@ -1,5 +1,5 @@
 //! `--lift LIMIT`: the hardware with one limit of the bound line made ideal, so that a second
-//! run says how much frame rate that limit alone costs (docs/cycle-model.md §2.6).
+//! run says how much frame rate that limit alone costs (docs/cycle-model.md §2.2).
 //!
 //! Pipeline position: beside the cycle model, read once per run by `sim --lift`; it changes
 //! the hardware configuration only, never the datapath, so images and hit dumps of the lifted

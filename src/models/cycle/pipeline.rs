@@ -468,12 +468,15 @@ impl<'f> Pipeline<'f> {
         for (row, &s) in self.stages.iter_mut().zip(st.iter()) {
             row.count(s);
         }
-        // Per-cause stalls (docs/cycle-model.md §2.6); a held sampling transform is starved
-        // by design, not by ray generation.
+        // Per-cause stalls (docs/cycle-model.md §2.2). A transform starved while the check
+        // stage holds a word for the write path waits for that path, not for ray generation
+        // (the rays behind the held one cannot pass); a held sampling transform is starved by
+        // design.
+        let write_blocked = self.check.write_blocked;
         self.stall_now = [
             self.transform.issue_stall || self.recip.issue_stall || self.root.issue_stall,
-            self.check.write_blocked,
-            self.transform.input_starved && self.hold.is_none(),
+            write_blocked,
+            self.transform.input_starved && !write_blocked && self.hold.is_none(),
         ];
         self.count_stalls(1);
         self.sample_waves(now);

@@ -120,7 +120,7 @@ impl OpCounts {
     }
 }
 
-/// Per-cause stall counters of a frame (docs/cycle-model.md §2.6): what each limit held back.
+/// Per-cause stall counters of a frame (docs/cycle-model.md §2.2): what each limit held back.
 /// The pipeline's are cycles; the node memory's are request-cycles (one read waiting one cycle
 /// counts one), a split of the reads' summed latency.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -146,10 +146,11 @@ pub struct StallCounts {
     pub mshr_full: u64,
     /// Node reads: the nominal latency of on-chip and cache hits (request-cycles).
     pub hit_latency: u64,
-    /// Node reads: the nominal DRAM latency of the fills (fills × `dram.latency`).
+    /// Node reads: the DRAM latency: the fills' nominal latency (fills × `dram.latency`) and
+    /// the part of the rest (below) the bus was idle for.
     pub dram_latency: u64,
-    /// Node reads: the rest of their latency: waiting for the DRAM bus (bandwidth) and for a
-    /// fill in flight (merged misses).
+    /// Node reads: the rest of their latency (waiting for the DRAM bus, or for a fill in
+    /// flight), times the fraction of cycles the DRAM bus was busy: the bandwidth's share.
     pub dram_bandwidth: u64,
 }
 
@@ -161,10 +162,16 @@ impl StallCounts {
         self.mshr_full = m.mshr_wait;
         self.hit_latency = m.onchip_reads * u64::from(nm.onchip.latency)
             + m.cache_lookups * u64::from(nm.cache.hit_latency);
-        self.dram_latency = m.dram_fills * u64::from(nm.dram.latency);
-        self.dram_bandwidth = m.latency_sum.saturating_sub(
-            self.memory_ports + self.mshr_full + self.hit_latency + self.dram_latency,
-        );
+        let fills = m.dram_fills * u64::from(nm.dram.latency);
+        // The rest of the reads' latency waited for the DRAM bus or for a fill in flight (a
+        // merged miss). A read can only queue for the bus while the bus is busy, so the rest
+        // is split by the bus's busy fraction: that share to bandwidth, the other to latency.
+        let rest = m
+            .latency_sum
+            .saturating_sub(self.memory_ports + self.mshr_full + self.hit_latency + fills);
+        let busy = m.dram_busy_cycles.min(m.window_cycles) as f64 / m.window_cycles.max(1) as f64;
+        self.dram_bandwidth = (rest as f64 * busy).round() as u64;
+        self.dram_latency = fills + (rest - self.dram_bandwidth.min(rest));
         self
     }
 
@@ -183,7 +190,7 @@ impl StallCounts {
     }
 }
 
-/// The limits the bound line names and `--lift` can lift (docs/cycle-model.md §2.6).
+/// The limits the bound line names and `--lift` can lift (docs/cycle-model.md §2.2).
 pub const LIMITS: [&str; 10] = [
     "clock",
     "walk_issue",
@@ -341,7 +348,7 @@ impl CycleFrame {
     }
 }
 
-/// The limit (docs/cycle-model.md §2.6): `clock` if the frame ran at 0.9 rays per cycle or more;
+/// The limit (docs/cycle-model.md §2.2): `clock` if the frame ran at 0.9 rays per cycle or more;
 /// a front-end unit busy every cycle; otherwise the pipeline-level cause that held back the
 /// most cycles — walks waiting for an issue unit (`walk_issue`), words waiting for the
 /// hit-buffer write path (`write_port`), the walk section waiting for rays
