@@ -100,7 +100,12 @@ fn baseline_file_gives_the_golden_cycles_of_its_time() {
         &json_s,
     ];
     let r = run_sim(&args, Some(&repo()), Duration::from_secs(600));
-    assert!(r.status.success(), "sim {args:?}\n{}\n{}", r.stdout, r.stderr);
+    assert!(
+        r.status.success(),
+        "sim {args:?}\n{}\n{}",
+        r.stdout,
+        r.stderr
+    );
     let rep: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).expect("report")).expect("JSON");
     let _ = std::fs::remove_dir_all(&dir);
@@ -110,5 +115,8 @@ fn baseline_file_gives_the_golden_cycles_of_its_time() {
         .iter()
         .map(|f| f["cycles"].as_u64().expect("cycles"))
         .collect();
-    assert_eq!(cycles, BASELINE_CYCLES, "cycles per frame on configs/baseline.ron");
+    assert_eq!(
+        cycles, BASELINE_CYCLES,
+        "cycles per frame on configs/baseline.ron"
+    );
 }

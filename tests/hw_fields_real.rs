@@ -44,65 +44,261 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
     ("clock_mhz", |h| h.clock_mhz = 250, Changes),
     ("frame.width", |h| h.frame.width = 640, Changes),
     ("frame.height", |h| h.frame.height = 384, Changes),
-    ("units.raygen.latency_cycles", |h| h.units.raygen.latency_cycles += 40, Changes),
+    (
+        "units.raygen.latency_cycles",
+        |h| h.units.raygen.latency_cycles += 40,
+        Changes,
+    ),
     ("units.raygen.ii", |h| h.units.raygen.ii = 2, Changes),
-    ("units.sphere.latency_cycles", |h| h.units.sphere.latency_cycles += 40, Changes),
+    (
+        "units.sphere.latency_cycles",
+        |h| h.units.sphere.latency_cycles += 40,
+        Changes,
+    ),
     ("units.sphere.ii", |h| h.units.sphere.ii = 2, Changes),
-    ("units.sqrt.latency_cycles", |h| h.units.sqrt.latency_cycles += 40, Changes),
+    (
+        "units.sqrt.latency_cycles",
+        |h| h.units.sqrt.latency_cycles += 40,
+        Changes,
+    ),
     ("units.sqrt.ii", |h| h.units.sqrt.ii = 2, Changes),
-    ("units.sorter.latency_cycles", |h| h.units.sorter.latency_cycles += 40, Changes),
+    (
+        "units.sorter.latency_cycles",
+        |h| h.units.sorter.latency_cycles += 40,
+        Changes,
+    ),
     ("units.sorter.ii", |h| h.units.sorter.ii = 2, Changes),
-    ("units.transform.latency_cycles", |h| h.units.transform.latency_cycles += 40, Changes),
+    (
+        "units.transform.latency_cycles",
+        |h| h.units.transform.latency_cycles += 40,
+        Changes,
+    ),
     ("units.transform.ii", |h| h.units.transform.ii = 2, Changes),
-    ("units.reciprocal.latency_cycles", |h| h.units.reciprocal.latency_cycles += 40, Changes),
-    ("units.reciprocal.ii", |h| h.units.reciprocal.ii = 2, Changes),
-    ("units.walker_root.latency_cycles", |h| h.units.walker_root.latency_cycles += 40, Changes),
-    ("units.walker_root.ii", |h| h.units.walker_root.ii = 2, Changes),
-    ("units.hit_pack.latency_cycles", |h| h.units.hit_pack.latency_cycles += 40, Changes),
+    (
+        "units.reciprocal.latency_cycles",
+        |h| h.units.reciprocal.latency_cycles += 40,
+        Changes,
+    ),
+    (
+        "units.reciprocal.ii",
+        |h| h.units.reciprocal.ii = 2,
+        Changes,
+    ),
+    (
+        "units.walker_root.latency_cycles",
+        |h| h.units.walker_root.latency_cycles += 40,
+        Changes,
+    ),
+    (
+        "units.walker_root.ii",
+        |h| h.units.walker_root.ii = 2,
+        Changes,
+    ),
+    (
+        "units.hit_pack.latency_cycles",
+        |h| h.units.hit_pack.latency_cycles += 40,
+        Changes,
+    ),
     ("units.hit_pack.ii", |h| h.units.hit_pack.ii = 2, Changes),
-    ("units.hit_unpack.latency_cycles", |h| h.units.hit_unpack.latency_cycles += 40, Changes),
-    ("units.hit_unpack.ii", |h| h.units.hit_unpack.ii = 2, Changes),
+    (
+        "units.hit_unpack.latency_cycles",
+        |h| h.units.hit_unpack.latency_cycles += 40,
+        Changes,
+    ),
+    (
+        "units.hit_unpack.ii",
+        |h| h.units.hit_unpack.ii = 2,
+        Changes,
+    ),
     ("sphere_units", |h| h.sphere_units = 2, Changes),
-    ("sorter_lanes", |h| h.sorter_lanes = 4, Refused("sorter_lanes = 4 must equal")),
+    (
+        "sorter_lanes",
+        |h| h.sorter_lanes = 4,
+        Refused("sorter_lanes = 4 must equal"),
+    ),
     ("transform_units", |h| h.transform_units = 2, Changes),
-    ("transform_products", |h| h.transform_products = false, Changes),
+    (
+        "transform_products",
+        |h| h.transform_products = false,
+        Changes,
+    ),
     ("reciprocal_units", |h| h.reciprocal_units = 6, Changes),
     ("walker_root_units", |h| h.walker_root_units = 2, Changes),
-    ("walker_pool.walkers", |h| h.walker_pool.walkers = 2, Changes),
-    ("walker_pool.contexts_per_walker", |h| h.walker_pool.contexts_per_walker = 1, Changes),
-    ("walker_pool.step_cycles", |h| h.walker_pool.step_cycles = 3, Changes),
-    ("walker_pool.step_latency_cycles", |h| h.walker_pool.step_latency_cycles = 9, Changes),
-    ("walker_pool.stack_depth", |h| h.walker_pool.stack_depth = 40, Changes),
-    ("walker_pool.stack", |h| h.walker_pool.stack = StackStorage::ExactPop, Changes),
-    ("fifos.raygen_to_sphere", |h| h.fifos.raygen_to_sphere = 1, Changes),
-    ("fifos.sphere_to_sorter", |h| h.fifos.sphere_to_sorter = 1, Changes),
-    ("fifos.sorter_to_check", |h| h.fifos.sorter_to_check = 1, Changes),
-    ("fifos.check_to_transform", |h| h.fifos.check_to_transform = 1, Changes),
-    ("fifos.transform_to_reciprocal", |h| h.fifos.transform_to_reciprocal = 1, Changes),
-    ("fifos.reciprocal_to_root", |h| h.fifos.reciprocal_to_root = 1, Changes),
-    ("fifos.root_to_dispatch", |h| h.fifos.root_to_dispatch = 1, Changes),
-    ("fifos.walker_to_record", |h| h.fifos.walker_to_record = 1, Changes),
-    ("fifos.record_to_write", |h| h.fifos.record_to_write = 1, Changes),
-    ("node_memory.onchip.levels", |h| h.node_memory.onchip.levels = 0, Changes),
-    ("node_memory.onchip.max_bytes", |h| h.node_memory.onchip.max_bytes *= 4, Changes),
-    ("node_memory.onchip.latency", |h| h.node_memory.onchip.latency = 20, Changes),
-    ("node_memory.onchip.banks", |h| h.node_memory.onchip.banks = 16, Changes),
-    ("node_memory.onchip.ports_per_bank", |h| h.node_memory.onchip.ports_per_bank = 1, Changes),
-    ("node_memory.cache.size_bytes", |h| h.node_memory.cache.size_bytes *= 4, Changes),
-    ("node_memory.cache.ways", |h| h.node_memory.cache.ways = 1, Changes),
-    ("node_memory.cache.line_bytes", |h| h.node_memory.cache.line_bytes = 16, Changes),
-    ("node_memory.cache.hit_latency", |h| h.node_memory.cache.hit_latency = 20, Changes),
-    ("node_memory.cache.ports", |h| h.node_memory.cache.ports = 1, Changes),
-    ("node_memory.cache.attr_cached", |h| h.node_memory.cache.attr_cached = false, Changes),
-    ("node_memory.dram.latency", |h| h.node_memory.dram.latency = 300, Changes),
-    ("node_memory.dram.bytes_per_cycle", |h| h.node_memory.dram.bytes_per_cycle = 1, Changes),
-    ("node_memory.dram.mshrs", |h| h.node_memory.dram.mshrs = 1, Changes),
-    ("hit_buffer.present", |h| h.hit_buffer.present = false, Changes),
-    ("hit_buffer.placement", |h| h.hit_buffer.placement = Placement::Bram, Changes),
-    ("hit_buffer.read_ports", |h| h.hit_buffer.read_ports = 2, Refused("hit_buffer.read_ports = 2")),
-    ("hit_buffer.write_ports", |h| h.hit_buffer.write_ports = 2, Changes),
-    ("hit_buffer.read_latency_cycles", |h| h.hit_buffer.read_latency_cycles = 40, Changes),
-    ("direction_table", |h| h.direction_table = Placement::External, Changes),
+    (
+        "walker_pool.walkers",
+        |h| h.walker_pool.walkers = 2,
+        Changes,
+    ),
+    (
+        "walker_pool.contexts_per_walker",
+        |h| h.walker_pool.contexts_per_walker = 1,
+        Changes,
+    ),
+    (
+        "walker_pool.step_cycles",
+        |h| h.walker_pool.step_cycles = 3,
+        Changes,
+    ),
+    (
+        "walker_pool.step_latency_cycles",
+        |h| h.walker_pool.step_latency_cycles = 9,
+        Changes,
+    ),
+    (
+        "walker_pool.stack_depth",
+        |h| h.walker_pool.stack_depth = 40,
+        Changes,
+    ),
+    (
+        "walker_pool.stack",
+        |h| h.walker_pool.stack = StackStorage::ExactPop,
+        Changes,
+    ),
+    (
+        "fifos.raygen_to_sphere",
+        |h| h.fifos.raygen_to_sphere = 1,
+        Changes,
+    ),
+    (
+        "fifos.sphere_to_sorter",
+        |h| h.fifos.sphere_to_sorter = 1,
+        Changes,
+    ),
+    (
+        "fifos.sorter_to_check",
+        |h| h.fifos.sorter_to_check = 1,
+        Changes,
+    ),
+    (
+        "fifos.check_to_transform",
+        |h| h.fifos.check_to_transform = 1,
+        Changes,
+    ),
+    (
+        "fifos.transform_to_reciprocal",
+        |h| h.fifos.transform_to_reciprocal = 1,
+        Changes,
+    ),
+    (
+        "fifos.reciprocal_to_root",
+        |h| h.fifos.reciprocal_to_root = 1,
+        Changes,
+    ),
+    (
+        "fifos.root_to_dispatch",
+        |h| h.fifos.root_to_dispatch = 1,
+        Changes,
+    ),
+    (
+        "fifos.walker_to_record",
+        |h| h.fifos.walker_to_record = 1,
+        Changes,
+    ),
+    (
+        "fifos.record_to_write",
+        |h| h.fifos.record_to_write = 1,
+        Changes,
+    ),
+    (
+        "node_memory.onchip.levels",
+        |h| h.node_memory.onchip.levels = 0,
+        Changes,
+    ),
+    (
+        "node_memory.onchip.max_bytes",
+        |h| h.node_memory.onchip.max_bytes *= 4,
+        Changes,
+    ),
+    (
+        "node_memory.onchip.latency",
+        |h| h.node_memory.onchip.latency = 20,
+        Changes,
+    ),
+    (
+        "node_memory.onchip.banks",
+        |h| h.node_memory.onchip.banks = 16,
+        Changes,
+    ),
+    (
+        "node_memory.onchip.ports_per_bank",
+        |h| h.node_memory.onchip.ports_per_bank = 1,
+        Changes,
+    ),
+    (
+        "node_memory.cache.size_bytes",
+        |h| h.node_memory.cache.size_bytes *= 4,
+        Changes,
+    ),
+    (
+        "node_memory.cache.ways",
+        |h| h.node_memory.cache.ways = 1,
+        Changes,
+    ),
+    (
+        "node_memory.cache.line_bytes",
+        |h| h.node_memory.cache.line_bytes = 16,
+        Changes,
+    ),
+    (
+        "node_memory.cache.hit_latency",
+        |h| h.node_memory.cache.hit_latency = 20,
+        Changes,
+    ),
+    (
+        "node_memory.cache.ports",
+        |h| h.node_memory.cache.ports = 1,
+        Changes,
+    ),
+    (
+        "node_memory.cache.attr_cached",
+        |h| h.node_memory.cache.attr_cached = false,
+        Changes,
+    ),
+    (
+        "node_memory.dram.latency",
+        |h| h.node_memory.dram.latency = 300,
+        Changes,
+    ),
+    (
+        "node_memory.dram.bytes_per_cycle",
+        |h| h.node_memory.dram.bytes_per_cycle = 1,
+        Changes,
+    ),
+    (
+        "node_memory.dram.mshrs",
+        |h| h.node_memory.dram.mshrs = 1,
+        Changes,
+    ),
+    (
+        "hit_buffer.present",
+        |h| h.hit_buffer.present = false,
+        Changes,
+    ),
+    (
+        "hit_buffer.placement",
+        |h| h.hit_buffer.placement = Placement::Bram,
+        Changes,
+    ),
+    (
+        "hit_buffer.read_ports",
+        |h| h.hit_buffer.read_ports = 2,
+        Refused("hit_buffer.read_ports = 2"),
+    ),
+    (
+        "hit_buffer.write_ports",
+        |h| h.hit_buffer.write_ports = 2,
+        Changes,
+    ),
+    (
+        "hit_buffer.read_latency_cycles",
+        |h| h.hit_buffer.read_latency_cycles = 40,
+        Changes,
+    ),
+    (
+        "direction_table",
+        |h| h.direction_table = Placement::External,
+        Changes,
+    ),
 ];
 
 /// Every leaf path of a RON value.
@@ -149,9 +345,16 @@ fn every_field_of_the_schema_is_in_the_list() {
         "hardware fields this test does not know: {unknown:?}; add a line to FIELDS in \
          tests/hw_fields_real.rs showing what each changes (or that it is refused)"
     );
-    assert!(stale.is_empty(), "FIELDS lists fields the schema does not have: {stale:?}");
+    assert!(
+        stale.is_empty(),
+        "FIELDS lists fields the schema does not have: {stale:?}"
+    );
     // Shown failing once: a list without one field names it.
-    let cut: Vec<&str> = names.iter().copied().filter(|&n| n != "clock_mhz").collect();
+    let cut: Vec<&str> = names
+        .iter()
+        .copied()
+        .filter(|&n| n != "clock_mhz")
+        .collect();
     assert_eq!(coverage(&cut).0, vec!["clock_mhz".to_string()]);
 }
 
@@ -215,7 +418,12 @@ fn base_of(hw: &HwConfig) -> (Vec<u64>, String, String) {
 }
 
 /// What changing one field did: `Ok(what)` or the failure.
-fn judge(name: &str, mutate: Mutate, expect: Expect, base: &(Vec<u64>, String, String)) -> Result<String, String> {
+fn judge(
+    name: &str,
+    mutate: Mutate,
+    expect: Expect,
+    base: &(Vec<u64>, String, String),
+) -> Result<String, String> {
     let mut hw = HwConfig::default();
     mutate(&mut hw);
     if hw == HwConfig::default() {
@@ -244,7 +452,9 @@ fn judge(name: &str, mutate: Mutate, expect: Expect, base: &(Vec<u64>, String, S
                 what.push("cost estimate".to_string());
             }
             if what.is_empty() {
-                Err(format!("{name}: accepted and ignored: neither timing nor cost changed"))
+                Err(format!(
+                    "{name}: accepted and ignored: neither timing nor cost changed"
+                ))
             } else {
                 Ok(what.join(", "))
             }
@@ -269,7 +479,8 @@ fn every_field_changes_timing_or_cost_or_is_refused() {
     slow.clock_mhz = 250;
     let e = judge("clock_mhz", |h| h.clock_mhz = 250, Changes, &base_of(&slow));
     assert!(
-        e.as_ref().is_err_and(|e| e.contains("accepted and ignored")),
+        e.as_ref()
+            .is_err_and(|e| e.contains("accepted and ignored")),
         "{e:?}"
     );
 }

@@ -195,7 +195,10 @@ impl HwConfig {
             "hit_buffer",
             2,
             used,
-            format!("{}; 2 banks on pixel parity, one write path each", item.note),
+            format!(
+                "{}; 2 banks on pixel parity, one write path each",
+                item.note
+            ),
         )
     }
 

@@ -66,12 +66,7 @@ pub fn lift(hw: &HwConfig, limit: &str) -> Result<HwConfig, String> {
                 names()
             ))
         }
-        other => {
-            return Err(format!(
-                "--lift {other}: unknown limit; one of {}",
-                names()
-            ))
-        }
+        other => return Err(format!("--lift {other}: unknown limit; one of {}", names())),
     }
     h.validate()
         .map_err(|e| format!("--lift {limit}: the lifted hardware is refused: {e}"))?;
@@ -94,7 +89,10 @@ mod tests {
             assert_ne!(h, hw, "{name} changed nothing");
         }
         let e = lift(&hw, "bogus").expect_err("unknown");
-        assert!(e.contains("unknown limit") && e.contains("walk_issue"), "{e}");
+        assert!(
+            e.contains("unknown limit") && e.contains("walk_issue"),
+            "{e}"
+        );
         assert!(lift(&hw, "clock").is_err());
     }
 }

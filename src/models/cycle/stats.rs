@@ -403,7 +403,8 @@ pub(crate) fn bound_of(
         pct(st.ray_generation),
         pct(st.walkers_full)
     );
-    let reads = st.memory_ports + st.mshr_full + st.hit_latency + st.dram_latency + st.dram_bandwidth;
+    let reads =
+        st.memory_ports + st.mshr_full + st.hit_latency + st.dram_latency + st.dram_bandwidth;
     let rp = |n: u64| 100.0 * n as f64 / reads.max(1) as f64;
     let pool = format!(
         "walker-cycles: {:.0}% issuing, {:.0}% waiting on node reads, {:.0}% on the step pipeline, {:.0}% empty; read latency: ports {:.0}%, MSHR full {:.0}%, hit latency {:.0}%, DRAM latency {:.0}%, DRAM bus and merges {:.0}%",
@@ -460,5 +461,42 @@ pub(crate) fn bound_of(
     Bound {
         limit: "walkers".into(),
         reason,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limit(w: &PoolCycles, st: &StallCounts, cycles: u64, pixels: u64) -> String {
+        bound_of(&HwConfig::default(), &[], w, st, cycles, pixels).limit
+    }
+
+    #[test]
+    fn the_rule_names_the_largest_cause_and_splits_a_full_pool() {
+        let mut w = PoolCycles::default();
+        let mut st = StallCounts {
+            walk_issue: 600,
+            write_port: 100,
+            ray_generation: 50,
+            ..StallCounts::default()
+        };
+        assert_eq!(limit(&w, &st, 1000, 500), "walk_issue");
+        assert_eq!(limit(&w, &st, 1000, 950), "clock", "0.95 rays per cycle");
+        // Corrupted: the write port's counter above the walk issue's names the write port.
+        st.write_port = 700;
+        assert_eq!(limit(&w, &st, 1000, 500), "write_port");
+        // A full pool waiting on reads names the largest part of their latency...
+        st.walkers_full = 900;
+        w.memory_wait = 800;
+        w.issuing = 100;
+        st.dram_latency = 5000;
+        st.memory_ports = 20_000;
+        assert_eq!(limit(&w, &st, 1000, 500), "memory_ports");
+        st.dram_latency = 30_000;
+        assert_eq!(limit(&w, &st, 1000, 500), "dram_latency");
+        // ...and one that issues names the walkers.
+        w.issuing = 900;
+        assert_eq!(limit(&w, &st, 1000, 500), "walkers");
     }
 }

@@ -84,10 +84,8 @@ impl Transform {
         }
         let waiting = loop_back.can_pop() || (new_rays.can_pop() && slots.has_free());
         self.issue_stall = waiting && !self.pipe.can_accept(now) && out.ready();
-        self.input_starved = !loop_back.valid()
-            && !new_rays.valid()
-            && self.pipe.can_accept(now)
-            && frame_more_rays;
+        self.input_starved =
+            !loop_back.valid() && !new_rays.valid() && self.pipe.can_accept(now) && frame_more_rays;
         Ok(self.pipe.state(now, !pushed, more_walks))
     }
 }

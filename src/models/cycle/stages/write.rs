@@ -24,7 +24,6 @@ pub struct Write {
     pub bank_conflicts: u64,
 }
 
-
 impl Write {
     /// The stage, keeping the stamps of the first `log_limit` records of the run.
     pub fn new(log_limit: usize) -> Self {
