@@ -64,56 +64,61 @@ fn bound(hw: &HwConfig) -> (String, String) {
     (c.bound.limit, format!("{} — {stalls}", c.bound.reason))
 }
 
+/// The default hardware, to change field by field.
+fn base() -> HwConfig {
+    HwConfig::default()
+}
+
 /// Hand-built cases: the limit, and the hardware where it binds.
 fn cases() -> Vec<(&'static str, HwConfig)> {
     let mut v = Vec::new();
-    let mut h = HwConfig::default();
+    let mut h = base();
     fast_memory(&mut h);
     h.units.transform.ii = 3;
     v.push(("walk_issue", h));
-    let mut h = HwConfig::default();
+    let mut h = base();
     fast_memory(&mut h);
     h.transform_units = 4;
     h.reciprocal_units = 12;
     h.walker_root_units = 4;
     h.fifos.record_to_write = 1;
     v.push(("write_port", h));
-    let mut h = HwConfig::default();
+    let mut h = base();
     fast_memory(&mut h);
     h.units.raygen.ii = 8;
     v.push(("ray_generation", h));
-    let mut h = HwConfig::default();
+    let mut h = base();
     h.node_memory.onchip.max_bytes = 1 << 26;
     h.node_memory.onchip.levels = 21;
     h.node_memory.onchip.latency = 1;
     h.walker_pool.walkers = 1;
     h.walker_pool.contexts_per_walker = 1;
     v.push(("walkers", h));
-    let mut h = HwConfig::default();
+    let mut h = base();
     h.node_memory.onchip.levels = 0;
     h.node_memory.cache.ports = 1;
     h.node_memory.cache.size_bytes = 1 << 24;
     h.node_memory.dram.mshrs = 4096;
     v.push(("memory_ports", h));
-    let mut h = HwConfig::default();
+    let mut h = base();
     h.node_memory.onchip.levels = 0;
     h.node_memory.cache.size_bytes = 4096;
     h.node_memory.cache.ports = 8;
     h.node_memory.dram.mshrs = 1;
     v.push(("mshr_full", h));
-    let mut h = HwConfig::default();
+    let mut h = base();
     h.node_memory.onchip.latency = 300;
     h.node_memory.cache.hit_latency = 300;
     h.node_memory.cache.size_bytes = 1 << 24;
     v.push(("hit_latency", h));
-    let mut h = HwConfig::default();
+    let mut h = base();
     h.node_memory.onchip.levels = 0;
     h.node_memory.cache.size_bytes = 4096;
     h.node_memory.cache.ports = 8;
     h.node_memory.dram.mshrs = 4096;
     h.node_memory.dram.latency = 3000;
     v.push(("dram_latency", h));
-    let mut h = HwConfig::default();
+    let mut h = base();
     h.node_memory.onchip.levels = 0;
     h.node_memory.cache.size_bytes = 4096;
     h.node_memory.cache.ports = 8;

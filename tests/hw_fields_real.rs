@@ -475,8 +475,10 @@ fn every_field_changes_timing_or_cost_or_is_refused() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     // Shown failing once: with the baseline taken on the changed hardware itself (as if the
     // model ignored the field), the change is caught as ignored.
-    let mut slow = HwConfig::default();
-    slow.clock_mhz = 250;
+    let slow = HwConfig {
+        clock_mhz: 250,
+        ..HwConfig::default()
+    };
     let e = judge("clock_mhz", |h| h.clock_mhz = 250, Changes, &base_of(&slow));
     assert!(
         e.as_ref()
