@@ -281,7 +281,7 @@ fn node_memory() -> impl Strategy<Value = NodeMemoryConfig> {
 }
 
 fn hit_buffer() -> impl Strategy<Value = HitBuffer> {
-    // At most 2 ports in all on chip; 2 + 2 only externally.
+    // One read port is the only value (2 is refused); 1 or 2 write paths anywhere.
     let ports =
         prop_oneof![4 => Just((1u8, 1u8)), 1 => Just((2, 1)), 1 => Just((1, 2)), 1 => Just((2, 2))];
     (flag(), placement(), ports, field(1, 100_000)).prop_map(

@@ -7,7 +7,7 @@
 //! values (the scene, the renderer's switches, [`Destinations`]), not the run's configuration,
 //! so that this layer does not import the run layer (docs/architecture.md §1).
 
-use super::report::{AssetReport, FrameReport, Summary};
+use super::report::{AssetReport, CycleSummary, FrameReport, Summary};
 use crate::models::cycle::CycleFrame;
 use crate::models::reference::{FrameStats, RenderOptions};
 use crate::world::scene::Scene;
@@ -241,6 +241,20 @@ pub fn assets_table(assets: &[AssetReport]) -> String {
 }
 
 /// The closing summary, and with the cycle model its frame rate and the resource estimate.
+/// The `--lift` line: the frame rate with `limit` made ideal against the run's
+/// (docs/cycle-model.md §2.2).
+pub fn lift_line(limit: &str, before: &CycleSummary, after: &CycleSummary) -> String {
+    let gain = 100.0 * (after.fps_at_clock / before.fps_at_clock.max(f64::MIN_POSITIVE) - 1.0);
+    format!(
+        "lift {limit}: {:.1} → {:.1} fps ({gain:+.1}%), {:.3} → {:.3} rays/cycle; bound then: {}",
+        before.fps_at_clock,
+        after.fps_at_clock,
+        before.rays_per_cycle,
+        after.rays_per_cycle,
+        after.bound
+    )
+}
+
 pub fn summary(s: &Summary) -> String {
     let mut t = format!(
         "summary: {} frames, {} rays in {:.3} s = {:.2} M rays/s; hit buffer reused {} pixels ({:.1}%); {} walker steps; assets built in {:.2} s",

@@ -180,7 +180,26 @@ impl HwConfig {
             return ResourceItem::new("hit_buffer", 0, Resources::default(), note);
         }
         let bits = dp.hit_record.word_bits();
-        self.per_pixel_item("hit_buffer", self.hit_buffer.placement, bits, "records")
+        let item = self.per_pixel_item("hit_buffer", self.hit_buffer.placement, bits, "records");
+        if self.hit_buffer.write_ports < 2 || self.hit_buffer.placement == Placement::External {
+            return item;
+        }
+        // Two write paths: two banks on pixel parity, each of half the pixels rounded up to
+        // whole blocks (`HitBuffer::write_ports`).
+        let half = self.frame.pixels().div_ceil(2);
+        let used = match self.hit_buffer.placement {
+            Placement::Bram => Resources::bram36(2 * bram36_count(bits, half)),
+            _ => Resources::uram288(2 * uram288_count(bits, half)),
+        };
+        ResourceItem::new(
+            "hit_buffer",
+            2,
+            used,
+            format!(
+                "{}; 2 banks on pixel parity, one write path each",
+                item.note
+            ),
+        )
     }
 
     fn direction_table_item(&self, dp: &DatapathConfig) -> ResourceItem {

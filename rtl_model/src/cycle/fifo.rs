@@ -197,10 +197,16 @@ pub struct Fifo<T> {
     items: VecDeque<Stamped<T>>,
     /// Registered occupancy: what `ready`, `valid` and the counters use all cycle.
     occupancy: usize,
-    pending: Option<Stamped<T>>,
-    push_driven: bool,
-    pop_driven: bool,
-    popped: bool,
+    /// Pushes of this cycle, in order, waiting for the edge.
+    pending: Vec<Stamped<T>>,
+    /// Pushes and pops a cycle may drive (1 for an ordinary FIFO; `k` for the k-wide FIFOs of
+    /// the walk section, docs/cycle-model.md §2.1).
+    ports: usize,
+    /// Times the producer / consumer side was driven this cycle.
+    pushes_now: usize,
+    pops_now: usize,
+    /// Items handed out this cycle.
+    taken: usize,
     /// This cycle's consumer asked while empty / producer offered while full.
     starved_now: bool,
     full_now: bool,
@@ -217,6 +223,14 @@ pub struct Fifo<T> {
 impl<T> Fifo<T> {
     /// An empty FIFO of `depth` entries at cycle 0, stamping items with `stage`.
     pub fn new(stage: StageId, depth: usize) -> Result<Self, FifoError> {
+        Self::new_wide(stage, depth, 1)
+    }
+
+    /// An empty FIFO of `depth` entries at cycle 0 whose producer may push, and consumer pop,
+    /// up to `ports` items per cycle (at least 1): the joint of a `ports`-wide datapath. Each
+    /// push and pop of a cycle sees the registered occupancy less what that side has already
+    /// done in the cycle, never the other side's moves (the module doc's rule, per port).
+    pub fn new_wide(stage: StageId, depth: usize, ports: usize) -> Result<Self, FifoError> {
         if depth == 0 {
             return Err(FifoError::ZeroDepth);
         }
@@ -229,10 +243,11 @@ impl<T> Fifo<T> {
             now: 0,
             items: VecDeque::with_capacity(depth),
             occupancy: 0,
-            pending: None,
-            push_driven: false,
-            pop_driven: false,
-            popped: false,
+            pending: Vec::with_capacity(ports.max(1)),
+            ports: ports.max(1),
+            pushes_now: 0,
+            pops_now: 0,
+            taken: 0,
             starved_now: false,
             full_now: false,
             last_starved: false,
@@ -248,9 +263,38 @@ impl<T> Fifo<T> {
     /// An empty FIFO that comes out of reset at cycle `cycle` (a pipeline rebuilt between
     /// frames while the clock and the memories keep running).
     pub fn new_at(stage: StageId, depth: usize, cycle: u64) -> Result<Self, FifoError> {
-        let mut f = Self::new(stage, depth)?;
+        Self::new_wide_at(stage, depth, 1, cycle)
+    }
+
+    /// [`Fifo::new_wide`] out of reset at cycle `cycle`.
+    pub fn new_wide_at(
+        stage: StageId,
+        depth: usize,
+        ports: usize,
+        cycle: u64,
+    ) -> Result<Self, FifoError> {
+        let mut f = Self::new_wide(stage, depth, ports)?;
         f.now = cycle;
         Ok(f)
+    }
+
+    /// Pushes and pops per cycle.
+    pub fn ports(&self) -> usize {
+        self.ports
+    }
+
+    /// Whether one more push would be taken this cycle: a producer port is left and the
+    /// registered occupancy plus this cycle's pushes is below the depth.
+    #[inline]
+    pub fn can_push(&self) -> bool {
+        self.pushes_now < self.ports && self.occupancy + self.pending.len() < self.depth
+    }
+
+    /// Whether one more pop would return an item this cycle: a consumer port is left and an
+    /// item that was inside at the start of the cycle has not been handed out.
+    #[inline]
+    pub fn can_pop(&self) -> bool {
+        self.pops_now < self.ports && self.taken < self.occupancy
     }
 
     /// The stage id this FIFO stamps items with.
@@ -282,7 +326,7 @@ impl<T> Fifo<T> {
     /// The head item, for a consumer that decides on its content before asking. `None` when
     /// empty, and also once the head has been popped this cycle (it has been handed over).
     pub fn peek(&self) -> Option<&Stamped<T>> {
-        if self.popped {
+        if self.pops_now >= self.ports || self.taken >= self.occupancy {
             None
         } else {
             self.items.front()
@@ -318,16 +362,18 @@ impl<T> Fifo<T> {
     /// the start of the cycle; it is stamped as entering now and becomes visible after the
     /// edge. Otherwise the item comes back with the reason.
     pub fn try_push(&mut self, item: Stamped<T>) -> Result<(), Rejected<T>> {
-        if self.push_driven {
+        if self.pushes_now >= self.ports {
             self.stats.misuse = self.stats.misuse.saturating_add(1);
             return Err(Rejected {
                 item,
                 reason: Refusal::AlreadyDriven,
             });
         }
-        self.push_driven = true;
-        if !self.ready() {
-            self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
+        self.pushes_now += 1;
+        if self.occupancy + self.pending.len() >= self.depth {
+            if !self.full_now {
+                self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
+            }
             self.full_now = true;
             return Err(Rejected {
                 item,
@@ -341,14 +387,18 @@ impl<T> Fifo<T> {
     /// The consumer asserts ready this cycle. Returns the head, stamped as leaving now, if the
     /// FIFO was not empty at the start of the cycle; `Ok(None)` (a starved cycle) otherwise.
     pub fn try_pop(&mut self) -> Result<Option<Stamped<T>>, FifoError> {
-        if self.pop_driven {
+        if self.pops_now >= self.ports {
             self.stats.misuse = self.stats.misuse.saturating_add(1);
             return Err(FifoError::PopSideDriven { cycle: self.now });
         }
-        self.pop_driven = true;
-        if !self.valid() {
-            self.stats.starved_cycles = self.stats.starved_cycles.saturating_add(1);
-            self.starved_now = true;
+        self.pops_now += 1;
+        if self.taken >= self.occupancy {
+            // Starved only when nothing was inside at all; a wide consumer that asks for more
+            // than there is has not starved.
+            if self.occupancy == 0 && !self.starved_now {
+                self.stats.starved_cycles = self.stats.starved_cycles.saturating_add(1);
+                self.starved_now = true;
+            }
             return Ok(None);
         }
         Ok(self.take())
@@ -357,16 +407,16 @@ impl<T> Fifo<T> {
     /// Push half of a handshake that has fired: stamp and hold for the edge.
     fn accept(&mut self, mut item: Stamped<T>) {
         item.enter(self.stage, self.now);
-        self.pending = Some(item);
+        self.pending.push(item);
         self.stats.pushes = self.stats.pushes.saturating_add(1);
     }
 
     /// Pop half of a handshake that has fired: hand out the head, stamped.
     fn take(&mut self) -> Option<Stamped<T>> {
-        // `valid` guarantees an item: storage holds `occupancy` items until the single pop
-        // of the cycle. `?` keeps the impossible case quiet instead of panicking.
+        // The caller checked `taken < occupancy`: storage holds the items of the start of the
+        // cycle not yet handed out. `?` keeps the impossible case quiet instead of panicking.
         let mut item = self.items.pop_front()?;
-        self.popped = true;
+        self.taken += 1;
         self.stats.pops = self.stats.pops.saturating_add(1);
         match item.leave(self.stage, self.now) {
             Ok(latency) => {
@@ -391,17 +441,20 @@ pub fn forward<T>(from: &mut Fifo<T>, to: &mut Fifo<T>) -> Result<bool, FifoErro
             to: to.now,
         });
     }
-    if from.pop_driven {
+    if from.pops_now >= from.ports {
         from.stats.misuse = from.stats.misuse.saturating_add(1);
         return Err(FifoError::PopSideDriven { cycle: from.now });
     }
-    if to.push_driven {
+    if to.pushes_now >= to.ports {
         to.stats.misuse = to.stats.misuse.saturating_add(1);
         return Err(FifoError::PushSideDriven { cycle: to.now });
     }
-    let (valid, ready) = (from.valid(), to.ready());
-    from.pop_driven = true;
-    to.push_driven = true;
+    let (valid, ready) = (
+        from.taken < from.occupancy,
+        to.occupancy + to.pending.len() < to.depth,
+    );
+    from.pops_now += 1;
+    to.pushes_now += 1;
     if valid && !ready {
         to.stats.full_cycles = to.stats.full_cycles.saturating_add(1);
         to.full_now = true;
@@ -427,9 +480,7 @@ impl<T> Commit for Fifo<T> {
     fn commit(&mut self) {
         // This cycle's occupancy sample, in bulk with the cycles before it at the same level.
         self.unsampled += 1;
-        if let Some(item) = self.pending.take() {
-            self.items.push_back(item);
-        }
+        self.items.extend(self.pending.drain(..));
         let occupancy = self.items.len();
         if occupancy != self.occupancy {
             let s = &mut self.stats;
@@ -438,9 +489,9 @@ impl<T> Commit for Fifo<T> {
             self.occupancy = occupancy;
             s.max_occupancy = s.max_occupancy.max(occupancy as u64);
         }
-        self.push_driven = false;
-        self.pop_driven = false;
-        self.popped = false;
+        self.pushes_now = 0;
+        self.pops_now = 0;
+        self.taken = 0;
         self.last_starved = std::mem::take(&mut self.starved_now);
         self.last_full = std::mem::take(&mut self.full_now);
         self.now = self.now.saturating_add(1);

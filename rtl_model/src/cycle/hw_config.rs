@@ -324,9 +324,16 @@ pub struct HitBuffer {
     /// (a quarter of the part's) against 1,920 BRAM36 (89 % of them);
     /// `docs/units/hit-record.md` §6.
     pub placement: Placement,
-    /// Read ports per cycle. Default 1: the reuse check reads each pixel once per frame.
+    /// Read ports per cycle. 1, the only value: the check stage reads one pixel per cycle
+    /// (one ray per clock), so a second read port would never be used and is refused.
     pub read_ports: u8,
-    /// Write ports per cycle. Default 1: the write-back writes each pixel once per frame.
+    /// Write paths per cycle, 1 or 2. Default 1: the records of walked rays and the words the
+    /// check stage writes straight back (reused pixels, rays without a candidate) share one
+    /// write port, the record stage first (`stages/check.rs`). 2: the buffer is built as two
+    /// banks interleaved on pixel parity, each a simple-dual-port memory (read port, write
+    /// port) of half the pixels, so the same URAM288 count up to rounding; the record stage
+    /// and the check stage each have their own write FIFO, and both write in one cycle unless
+    /// their pixels fall in the same bank (the record first, the check's waits a cycle).
     pub write_ports: u8,
     /// Cycles from read address to word. Default 4: URAM read, output register and two
     /// pipeline registers of the cascade and output multiplexer of a 240-block array spread
@@ -395,7 +402,8 @@ pub struct HwConfig {
     /// Lanes of the sorting network, 1 to [`MAX_SORTER_LANES`] (255); must equal the
     /// datapath's `sorter.n`. Default 8.
     pub sorter_lanes: u32,
-    /// Transform units. Default 1: one walk per cycle, while the default scene needs about
+    /// Transform units, each taking one walk per initiation interval: `n` units are `n`
+    /// parallel walk-issue lanes (docs/cycle-model.md §2.1). Default 1: one walk per cycle, while the default scene needs about
     /// 0.3 at either target (150 fps with a still camera: 0.49 rays × 0.63 walks per cycle;
     /// 67 fps with a moving one: 0.22 × 1.32).
     pub transform_units: u32,
@@ -404,10 +412,12 @@ pub struct HwConfig {
     /// the unit o − c and its rounding, exactly, with no DSP48E2 and
     /// `units::transform::LATENCY_WITHOUT_PRODUCTS` stages.
     pub transform_products: bool,
-    /// Reciprocal units, one axis each. Default 3: one walk's three axes per cycle.
+    /// Reciprocal units, one axis each: every three are one walk-issue lane (one walk per
+    /// cycle); 1 or 2 take a walk in several passes; other values above 3 that are not a
+    /// multiple of 3 are refused. Default 3: one walk's three axes per cycle.
     pub reciprocal_units: u32,
-    /// Walker-root units (root slabs), shared by the pool as a stage before the dispatcher.
-    /// Default 1: one walk per cycle like the transform; one per walker would cost 36 DSP
+    /// Walker-root units (root slabs), shared by the pool as a stage before the dispatcher;
+    /// `n` units are `n` walk-issue lanes. Default 1: one walk per cycle like the transform; one per walker would cost 36 DSP
     /// each for a unit busy one cycle in a dozen.
     pub walker_root_units: u32,
     /// The walker pool.
@@ -499,6 +509,14 @@ impl HwConfig {
             .map_err(|e| format!("{e} (it must equal the datapath's sorter.n, an 8-bit field)"))?;
         in_range("transform_units", self.transform_units, 1, MAX_UNITS)?;
         in_range("reciprocal_units", self.reciprocal_units, 1, MAX_UNITS)?;
+        if self.reciprocal_units > 3 && self.reciprocal_units % 3 != 0 {
+            return Err(format!(
+                "reciprocal_units = {} must be 1, 2 or a multiple of 3: a walk issue lane takes \
+                 one walk's three axes at once, so {} unit(s) would be priced and never used",
+                self.reciprocal_units,
+                self.reciprocal_units % 3
+            ));
+        }
         in_range("walker_root_units", self.walker_root_units, 1, MAX_UNITS)?;
         let w = &self.walker_pool;
         in_range("walker_pool.walkers", w.walkers, 1, MAX_UNITS)?;
@@ -539,18 +557,17 @@ impl HwConfig {
         self.validate_node_memory()?;
         self.ray_order.validate()?;
         let hb = &self.hit_buffer;
-        // Every pixel is read once (reuse check) and written once (write-back) per frame.
-        in_range("hit_buffer.read_ports", u32::from(hb.read_ports), 1, 2)?;
-        in_range("hit_buffer.write_ports", u32::from(hb.write_ports), 1, 2)?;
-        if hb.placement != Placement::External
-            && u32::from(hb.read_ports) + u32::from(hb.write_ports) > 2
-        {
+        // Every pixel is read once (reuse check) and written once (write-back) per frame; the
+        // check stage reads one pixel per cycle, so a second read port would stay unused.
+        if hb.read_ports != 1 {
             return Err(format!(
-                "hit_buffer.read_ports + write_ports = {} exceeds the 2 ports of an on-chip \
-                 block RAM",
-                u32::from(hb.read_ports) + u32::from(hb.write_ports)
+                "hit_buffer.read_ports = {} is not supported: the check stage reads one pixel \
+                 per cycle (one ray per clock), so the buffer has exactly 1 read port",
+                hb.read_ports
             ));
         }
+        // 2 write paths are two banks of one read and one write port each (see the field).
+        in_range("hit_buffer.write_ports", u32::from(hb.write_ports), 1, 2)?;
         in_range(
             "hit_buffer.read_latency_cycles",
             hb.read_latency_cycles,
@@ -558,6 +575,24 @@ impl HwConfig {
             MAX_LATENCY,
         )?;
         Ok(())
+    }
+
+    /// Walks the reciprocal units take per cycle: one per three units (a walk's three axes);
+    /// with fewer than three units, one walk in several passes.
+    pub fn reciprocal_walk_lanes(&self) -> u32 {
+        (self.reciprocal_units / 3).max(1)
+    }
+
+    /// Width of the walk section's glue: the FIFOs from the transform to the dispatcher and the
+    /// loop back, the dispatcher, the walker pool's retire port and the record stage take up to
+    /// this many walks per cycle. The widest of the walk-issue units (`transform_units`,
+    /// [`reciprocal_walk_lanes`](Self::reciprocal_walk_lanes), `walker_root_units`), so that
+    /// the glue never binds before the units the configuration paid for
+    /// (docs/cycle-model.md §2.1, "Walk issue of width k").
+    pub fn walk_lanes(&self) -> u32 {
+        self.transform_units
+            .max(self.reciprocal_walk_lanes())
+            .max(self.walker_root_units)
     }
 
     fn ray_slots_wide(&self) -> u64 {

@@ -11,6 +11,7 @@ pub mod hw_config;
 pub mod memory;
 pub mod ray_order;
 pub mod stage_stats;
+pub mod unit_lanes;
 pub mod unit_latency;
 pub mod unit_pipe;
 pub mod walk_op;

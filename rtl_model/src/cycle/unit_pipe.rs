@@ -74,6 +74,12 @@ impl<T> UnitPipe<T> {
         self.accepted_this_cycle = true;
     }
 
+    /// The cycle the head transaction's result is (or was) ready, if there is a head.
+    #[inline]
+    pub fn ready_at(&self) -> Option<u64> {
+        self.items.front().map(|&(r, _)| r)
+    }
+
     /// The head transaction if its result is ready in cycle `now`.
     #[inline]
     pub fn ready(&self, now: u64) -> Option<&T> {

@@ -6,6 +6,7 @@ use crate::args::{parse_window, ModelArg, SceneArgs};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
+use svo_sim::models::cycle::lift::lift;
 use svo_sim::models::cycle::sample::SampleConfig;
 use svo_sim::models::cycle::waves::WaveWindow;
 use svo_sim::models::reference::RenderOptions;
@@ -125,6 +126,12 @@ pub struct RunArgs {
     /// Seed of the sample's random start (--sample).
     #[arg(long, value_name = "N", default_value_t = 0, requires = "sample")]
     sample_seed: u64,
+    /// Cycle model: after the run, run again with LIMIT made ideal (walk_issue, write_port,
+    /// walkers, memory_ports, mshr_full, hit_latency, dram_latency, dram_bandwidth; or
+    /// `bound`: the limit the run's bound line names) and print the frame rate gained. The
+    /// second run writes nothing (docs/cycle-model.md §2.2).
+    #[arg(long, value_name = "LIMIT", conflicts_with_all = ["vcd", "transaction_log"])]
+    lift: Option<String>,
 }
 
 impl RunArgs {
@@ -225,6 +232,13 @@ fn say(to_stderr: bool, text: impl std::fmt::Display) {
 pub fn run_command(a: RunArgs) -> Result<()> {
     a.scene.set_threads()?;
     let mut cfg = a.config()?;
+    if a.lift.is_some() && cfg.model != Model::Cycle {
+        anyhow::bail!("--lift re-runs the cycle model: use it with --model cycle");
+    }
+    // An unknown limit is refused before the first run, not after it.
+    if let Some(l) = a.lift.as_deref().filter(|&l| l != "bound") {
+        lift(&cfg.hardware, l).map_err(anyhow::Error::msg)?;
+    }
     let dash = |p: Option<&std::path::Path>| p.is_some_and(|p| p.as_os_str() == "-");
     let e_out = [
         cfg.report_json.as_deref(),
@@ -265,6 +279,28 @@ pub fn run_command(a: RunArgs) -> Result<()> {
         say(e_out, text::assets_table(&out.report.assets));
     }
     say(e_out, text::summary(&out.report.summary));
+    if let (Some(limit), Some(before)) = (a.lift.as_deref(), out.report.summary.cycle.as_ref()) {
+        let limit = if limit == "bound" {
+            before.bound.as_str()
+        } else {
+            limit
+        };
+        let hw = lift(&cfg.hardware, limit).map_err(anyhow::Error::msg)?;
+        let quiet = RunConfig {
+            hardware: hw,
+            out_dir: None,
+            report_json: None,
+            dump_hits: None,
+            vcd: None,
+            transaction_log: None,
+            progress_every: None,
+            ..cfg.clone()
+        };
+        let lifted = run(&quiet, |_, _| {})?;
+        if let Some(after) = lifted.report.summary.cycle.as_ref() {
+            say(e_out, text::lift_line(limit, before, after));
+        }
+    }
     let written = text::written(&cfg.destinations(), out.report.summary.frames);
     if !written.is_empty() {
         say(e_out, written);

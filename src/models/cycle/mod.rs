@@ -10,6 +10,7 @@
 
 pub mod elaboration;
 pub mod layout;
+pub mod lift;
 pub mod model;
 pub mod pipeline;
 pub mod runner;

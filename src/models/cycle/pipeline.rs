@@ -52,7 +52,7 @@ use super::stages::transform::Transform;
 use super::stages::walkers::Walkers;
 use super::stages::write::Write;
 use super::stages::{id, internal, FrameCounts, FrameInputs, Ray, RaySlots, Rec, Walk};
-use super::stats::CycleFrame;
+use super::stats::{CycleFrame, StallCounts};
 use rtl_model::cycle::clocked::{Commit, StageId, StageStamp};
 use rtl_model::cycle::fifo::{Fifo, FifoStats};
 use rtl_model::cycle::hw_config::HwConfig;
@@ -119,8 +119,8 @@ struct Wires {
     walked: bool,
     /// Walks are in the walk section or may still come.
     more_walks: bool,
-    /// The record stage took the write FIFO's port this cycle.
-    took_write_port: bool,
+    /// Rays of the frame are still to leave the check stage.
+    more_rays: bool,
     /// The record stage has been evaluated (and has freed the slots of its records).
     record_done: bool,
 }
@@ -137,28 +137,44 @@ pub struct Fifos {
     rt_dp: Fifo<Walk>,
     wk_rc: Fifo<Walk>,
     rc_wr: Fifo<Rec>,
+    /// The check stage's own write FIFO, used with two hit-buffer write paths
+    /// (`hit_buffer.write_ports: 2`); otherwise it stays empty and out of the report.
+    ck_wr: Fifo<Rec>,
+    /// Whether `ck_wr` is in use.
+    two_write_paths: bool,
 }
 
 fn fifo<T>(id: StageId, depth: u32, now: u64) -> Result<Fifo<T>, CycleError> {
-    Fifo::new_at(id, depth as usize, now).map_err(|e| CycleError::Config(e.to_string()))
+    wide(id, depth, 1, now)
+}
+
+/// A FIFO of `ports` pushes and pops per cycle (the walk section's, docs/cycle-model.md §2.1).
+fn wide<T>(id: StageId, depth: u32, ports: u32, now: u64) -> Result<Fifo<T>, CycleError> {
+    Fifo::new_wide_at(id, depth as usize, ports as usize, now)
+        .map_err(|e| CycleError::Config(e.to_string()))
 }
 
 impl Fifos {
     /// Empty FIFOs of `hw`'s depths, out of reset at cycle `now`; the loop-back FIFO has one
-    /// entry per ray slot.
+    /// entry per ray slot. The walk section's FIFOs, from the walk queue to the write FIFO,
+    /// take `hw.walk_lanes()` pushes and pops per cycle; the check stage's own write FIFO
+    /// has `record_to_write`'s depth.
     fn new(hw: &HwConfig, ray_slots: u32, now: u64) -> Result<Self, CycleError> {
         let fd = &hw.fifos;
+        let k = hw.walk_lanes();
         Ok(Self {
             rg_sp: fifo(id::F_RG_SP, fd.raygen_to_sphere, now)?,
             sp_so: fifo(id::F_SP_SO, fd.sphere_to_sorter, now)?,
             so_ck: fifo(id::F_SO_CK, fd.sorter_to_check, now)?,
-            ck_tr: fifo(id::F_CK_TR, fd.check_to_transform, now)?,
-            loop_back: fifo(id::F_LOOP, ray_slots, now)?,
-            tr_rc: fifo(id::F_TR_RC, fd.transform_to_reciprocal, now)?,
-            rc_rt: fifo(id::F_RC_RT, fd.reciprocal_to_root, now)?,
-            rt_dp: fifo(id::F_RT_DP, fd.root_to_dispatch, now)?,
-            wk_rc: fifo(id::F_WK_RC, fd.walker_to_record, now)?,
-            rc_wr: fifo(id::F_RC_WR, fd.record_to_write, now)?,
+            ck_tr: wide(id::F_CK_TR, fd.check_to_transform, k, now)?,
+            loop_back: wide(id::F_LOOP, ray_slots, k, now)?,
+            tr_rc: wide(id::F_TR_RC, fd.transform_to_reciprocal, k, now)?,
+            rc_rt: wide(id::F_RC_RT, fd.reciprocal_to_root, k, now)?,
+            rt_dp: wide(id::F_RT_DP, fd.root_to_dispatch, k, now)?,
+            wk_rc: wide(id::F_WK_RC, fd.walker_to_record, k, now)?,
+            rc_wr: wide(id::F_RC_WR, fd.record_to_write, k, now)?,
+            ck_wr: fifo(id::F_CK_WR, fd.record_to_write, now)?,
+            two_write_paths: hw.hit_buffer.write_ports >= 2,
         })
     }
 
@@ -197,12 +213,13 @@ impl Fifos {
         ]
     }
 
-    /// Name, depth and counters of each FIFO, for the report.
-    fn stats(&self) -> [(&'static str, usize, FifoStats); 10] {
+    /// Name, depth and counters of each FIFO, for the report (`check_to_write` only with two
+    /// write paths).
+    fn stats(&self) -> Vec<(&'static str, usize, FifoStats)> {
         fn s<T>(name: &'static str, f: &Fifo<T>) -> (&'static str, usize, FifoStats) {
             (name, f.depth(), f.stats())
         }
-        [
+        let mut v = vec![
             s("raygen_to_sphere", &self.rg_sp),
             s("sphere_to_sorter", &self.sp_so),
             s("sorter_to_check", &self.so_ck),
@@ -213,7 +230,11 @@ impl Fifos {
             s("root_to_dispatch", &self.rt_dp),
             s("walker_to_record", &self.wk_rc),
             s("record_to_write", &self.rc_wr),
-        ]
+        ];
+        if self.two_write_paths {
+            v.push(s("check_to_write", &self.ck_wr));
+        }
+        v
     }
 }
 
@@ -263,6 +284,12 @@ pub struct Pipeline<'f> {
     hold: Option<(usize, u64)>,
     /// The stages' evaluation order within a clock.
     order: EvalOrder,
+    /// The frame's per-cause stall counters so far (the pipeline's; the pool's and the
+    /// memory's are added in the report).
+    stalls: StallCounts,
+    /// Which of the pipeline's stall causes held in the last cycle stepped (what skipped
+    /// cycles repeat): walk issue, write port, ray generation.
+    stall_now: [bool; 3],
 }
 
 impl<'f> Pipeline<'f> {
@@ -320,6 +347,8 @@ impl<'f> Pipeline<'f> {
             carry: None,
             hold: None,
             order: EvalOrder::default(),
+            stalls: StallCounts::default(),
+            stall_now: [false; 3],
         })
     }
 
@@ -410,7 +439,7 @@ impl<'f> Pipeline<'f> {
             ],
             walked: c.walks_entered > 0,
             more_walks: c.more_walks(),
-            took_write_port: false,
+            more_rays: c.passed[3] < c.pixels,
             record_done: false,
         };
         match self.order {
@@ -439,6 +468,17 @@ impl<'f> Pipeline<'f> {
         for (row, &s) in self.stages.iter_mut().zip(st.iter()) {
             row.count(s);
         }
+        // Per-cause stalls (docs/cycle-model.md §2.2). A transform starved while the check
+        // stage holds a word for the write path waits for that path, not for ray generation
+        // (the rays behind the held one cannot pass); a held sampling transform is starved by
+        // design.
+        let write_blocked = self.check.write_blocked;
+        self.stall_now = [
+            self.transform.issue_stall || self.recip.issue_stall || self.root.issue_stall,
+            write_blocked,
+            self.transform.input_starved && !write_blocked && self.hold.is_none(),
+        ];
+        self.count_stalls(1);
         self.sample_waves(now);
         self.edge()?;
         self.watch(now)?;
@@ -454,6 +494,16 @@ impl<'f> Pipeline<'f> {
             self.skip_idle(now)?;
         }
         Ok(())
+    }
+
+    /// Adds `k` cycles of the last cycle's stall causes.
+    #[inline]
+    fn count_stalls(&mut self, k: u64) {
+        let [issue, write, raygen] = self.stall_now;
+        let s = &mut self.stalls;
+        s.walk_issue += u64::from(issue) * k;
+        s.write_port += u64::from(write) * k;
+        s.ray_generation += u64::from(raygen) * k;
     }
 
     /// Evaluates stage `stage` (an `S_*` row) for cycle `now`. `wires` carries the two
@@ -479,11 +529,13 @@ impl<'f> Pipeline<'f> {
             }
         };
         Ok(match stage {
-            S_WRITE => self
-                .write
-                .eval(&mut f.rc_wr, &mut m.bram, self.log, c, now)?,
+            S_WRITE => {
+                let second = f.two_write_paths.then_some(&mut f.ck_wr);
+                self.write
+                    .eval(&mut f.rc_wr, second, &mut m.bram, self.log, c, now)?
+            }
             S_RECORD => {
-                let (state, took) = self.record.eval(
+                let (state, _pushed) = self.record.eval(
                     &mut f.wk_rc,
                     &mut f.loop_back,
                     &mut f.rc_wr,
@@ -493,7 +545,6 @@ impl<'f> Pipeline<'f> {
                     wires.walked,
                     now,
                 )?;
-                wires.took_write_port = took;
                 wires.record_done = true;
                 state
             }
@@ -525,17 +576,22 @@ impl<'f> Pipeline<'f> {
                         &mut self.slots,
                         &self.frame,
                         wires.more_walks,
+                        wires.more_rays,
                         now,
                     )?
                 }
             }
             S_CHECK => {
                 record_first("the check stage")?;
+                let to_write = if f.two_write_paths {
+                    &mut f.ck_wr
+                } else {
+                    &mut f.rc_wr
+                };
                 self.check.eval(
                     &mut f.so_ck,
                     &mut f.ck_tr,
-                    &mut f.rc_wr,
-                    wires.took_write_port,
+                    to_write,
                     &mut m.bram,
                     &mut self.frame,
                     c,
@@ -574,6 +630,7 @@ impl<'f> Pipeline<'f> {
             + f.rt_dp.moved()
             + f.wk_rc.moved()
             + f.rc_wr.moved()
+            + f.ck_wr.moved()
             + self.raygen.next_pixel()
             + self.machine.pool.activity()
     }
@@ -620,6 +677,7 @@ impl<'f> Pipeline<'f> {
         for (row, &s) in self.stages.iter_mut().zip(self.states.iter()) {
             row.count_many(s, k);
         }
+        self.count_stalls(k);
         let f = &mut self.fifos;
         for fifo in [&mut f.rg_sp, &mut f.sp_so, &mut f.so_ck, &mut f.ck_tr] {
             fifo.skip_idle(k);
@@ -634,6 +692,7 @@ impl<'f> Pipeline<'f> {
             fifo.skip_idle(k);
         }
         f.rc_wr.skip_idle(k);
+        f.ck_wr.skip_idle(k);
         let m = &mut *self.machine;
         m.bram.skip_idle(k);
         m.pool.skip_idle(k);
@@ -676,6 +735,7 @@ impl<'f> Pipeline<'f> {
                 &mut f.rt_dp,
                 &mut f.wk_rc,
                 &mut f.rc_wr,
+                &mut f.ck_wr,
                 &mut m.bram,
             ])
             .map_err(internal)?;
@@ -760,6 +820,10 @@ impl<'f> Pipeline<'f> {
             c.reused,
             c.early,
             c.walks_entered,
+            StallCounts {
+                write_bank_conflicts: self.write.bank_conflicts,
+                ..self.stalls
+            },
             sim_wall_s,
         )
     }

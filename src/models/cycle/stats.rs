@@ -173,10 +173,95 @@ impl OpCounts {
     }
 }
 
+/// Per-cause stall counters of a frame (docs/cycle-model.md §2.2): what each limit held back.
+/// The pipeline's are cycles; the node memory's are request-cycles (one read waiting one cycle
+/// counts one), a split of the reads' summed latency.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct StallCounts {
+    /// Cycles in which a walk waited at a transform, reciprocal or walker-root unit with
+    /// every unit of the stage busy and room after it: the walk-issue width.
+    pub walk_issue: u64,
+    /// Cycles in which the check stage held a decided word (reused pixel, ray without a
+    /// candidate) because its write path had no port or room.
+    pub write_port: u64,
+    /// Cycles in which the check stage's word waited because the record's write took its
+    /// hit-buffer bank (two write paths).
+    pub write_bank_conflicts: u64,
+    /// Cycles in which the transform had a free unit and no walk at its inputs while rays of
+    /// the frame were still to come: the walk section waited for ray generation (ray
+    /// generation, spheres, sorter, check).
+    pub ray_generation: u64,
+    /// Cycles in which a walk waited at the dispatcher with every context busy.
+    pub walkers_full: u64,
+    /// Node reads: request-cycles waiting for a bank's or the cache's port.
+    pub memory_ports: u64,
+    /// Node reads: request-cycles waiting behind a miss with no free MSHR.
+    pub mshr_full: u64,
+    /// Node reads: the nominal latency of on-chip and cache hits (request-cycles).
+    pub hit_latency: u64,
+    /// Node reads: the DRAM latency: the fills' nominal latency (fills × `dram.latency`) and
+    /// the part of the rest (below) the bus was idle for.
+    pub dram_latency: u64,
+    /// Node reads: the rest of their latency (waiting for the DRAM bus, or for a fill in
+    /// flight), times the fraction of cycles the DRAM bus was busy: the bandwidth's share.
+    pub dram_bandwidth: u64,
+}
+
+impl StallCounts {
+    /// The node memory's part, from its statistics and `hw`'s nominal latencies.
+    pub fn with_memory(mut self, hw: &HwConfig, m: &NodeMemoryStats) -> Self {
+        let nm = &hw.node_memory;
+        self.memory_ports = m.port_wait;
+        self.mshr_full = m.mshr_wait;
+        self.hit_latency = m.onchip_reads * u64::from(nm.onchip.latency)
+            + m.cache_lookups * u64::from(nm.cache.hit_latency);
+        let fills = m.dram_fills * u64::from(nm.dram.latency);
+        // The rest of the reads' latency waited for the DRAM bus or for a fill in flight (a
+        // merged miss). A read can only queue for the bus while the bus is busy, so the rest
+        // is split by the bus's busy fraction: that share to bandwidth, the other to latency.
+        let rest = m
+            .latency_sum
+            .saturating_sub(self.memory_ports + self.mshr_full + self.hit_latency + fills);
+        let busy = m.dram_busy_cycles.min(m.window_cycles) as f64 / m.window_cycles.max(1) as f64;
+        self.dram_bandwidth = (rest as f64 * busy).round() as u64;
+        self.dram_latency = fills + (rest - self.dram_bandwidth.min(rest));
+        self
+    }
+
+    /// The counters with `o`'s added.
+    pub fn add(&mut self, o: &Self) {
+        self.walk_issue += o.walk_issue;
+        self.write_port += o.write_port;
+        self.write_bank_conflicts += o.write_bank_conflicts;
+        self.ray_generation += o.ray_generation;
+        self.walkers_full += o.walkers_full;
+        self.memory_ports += o.memory_ports;
+        self.mshr_full += o.mshr_full;
+        self.hit_latency += o.hit_latency;
+        self.dram_latency += o.dram_latency;
+        self.dram_bandwidth += o.dram_bandwidth;
+    }
+}
+
+/// The limits the bound line names and `--lift` can lift (docs/cycle-model.md §2.2).
+pub const LIMITS: [&str; 10] = [
+    "clock",
+    "walk_issue",
+    "write_port",
+    "ray_generation",
+    "walkers",
+    "memory_ports",
+    "mshr_full",
+    "hit_latency",
+    "dram_latency",
+    "dram_bandwidth",
+];
+
 /// Which limit holds the frame rate.
 #[derive(Clone, Debug, Serialize)]
 pub struct Bound {
-    /// `clock` (the front end at one ray per cycle), `walkers`, `memory`, or a fixed unit.
+    /// One of [`LIMITS`] (`clock`: the front end at one ray per cycle), or a front-end unit
+    /// (`sphere`, `sorter`, `check`) busy every cycle.
     pub limit: String,
     /// Why, with the figures.
     pub reason: String,
@@ -216,6 +301,8 @@ pub struct CycleFrame {
     pub traced: u64,
     /// Operations per pixel.
     pub ops_per_pixel: OpCounts,
+    /// Per-cause stall counters.
+    pub stalls: StallCounts,
     /// Which limit holds.
     pub bound: Bound,
     /// Wall time of the cycle simulation (without the functional model), seconds.
@@ -249,6 +336,7 @@ impl CycleFrame {
         reused: u64,
         early: u64,
         traced: u64,
+        stalls: StallCounts,
         sim_wall_s: f64,
     ) -> Self {
         let c = cycles.max(1) as f64;
@@ -264,7 +352,12 @@ impl CycleFrame {
                 mean_latency: s.mean_latency(),
             })
             .collect();
-        let bound = bound_of(hw, &stages, &walkers, cycles, pixels);
+        let stalls = StallCounts {
+            walkers_full: walkers.dispatch_stalls,
+            ..stalls
+        }
+        .with_memory(hw, &mem);
+        let bound = bound_of(hw, &stages, &walkers, &stalls, cycles, pixels);
         Self {
             frame,
             cycles,
@@ -280,6 +373,7 @@ impl CycleFrame {
             early_terminations: early,
             traced,
             ops_per_pixel: OpCounts::default(),
+            stalls,
             bound,
             sim_wall_s,
             sampled: None,
@@ -299,6 +393,7 @@ impl CycleFrame {
             hw,
             &self.stages,
             &self.walkers,
+            &self.stalls,
             est.cycles_simulated,
             est.pixels_timed,
         );
@@ -306,29 +401,24 @@ impl CycleFrame {
     }
 }
 
-/// The limit: the front end if ray generation was busy nearly every cycle; otherwise the
-/// walker pool, split by what its walker-cycles were spent on (issuing: the walkers' step
-/// rate; waiting on reads: memory); a fixed unit if it was busy nearly every cycle.
-fn bound_of(
+/// The limit (docs/cycle-model.md §2.2): `clock` if the frame ran at 0.9 rays per cycle or more;
+/// a front-end unit busy every cycle; otherwise the pipeline-level cause that held back the
+/// most cycles — walks waiting for an issue unit (`walk_issue`), words waiting for the
+/// hit-buffer write path (`write_port`), the walk section waiting for rays
+/// (`ray_generation`), or walks waiting for a context (the pool full). A full pool is then
+/// split by what its walker-cycles were spent on: issuing or the step pipeline (`walkers`),
+/// or waiting on node reads, named by the largest part of their latency (`memory_ports`,
+/// `mshr_full`, `hit_latency`, `dram_latency`, `dram_bandwidth`).
+pub(crate) fn bound_of(
     hw: &HwConfig,
     stages: &[StageCycles],
     w: &PoolCycles,
+    st: &StallCounts,
     cycles: u64,
     pixels: u64,
 ) -> Bound {
     let c = cycles.max(1) as f64;
-    // A unit's throughput use: transactions per cycle (every unit here has II 1 per
-    // transaction; a long pipeline with one item inside is not "busy" in this sense).
-    let share = |n: &str| {
-        stages
-            .iter()
-            .find(|s| s.name == n)
-            .map_or(0.0, |s| s.transactions as f64 / c)
-    };
-    let wc = (w.issuing + w.memory_wait + w.latency_wait + w.backpressured + w.empty).max(1) as f64;
-    let issuing = w.issuing as f64 / wc;
-    let mem = w.memory_wait as f64 / wc;
-    let lat = w.latency_wait as f64 / wc;
+    let pct = |n: u64| 100.0 * n as f64 / c;
     let raygen = pixels as f64 / c;
     if raygen >= 0.9 {
         return Bound {
@@ -339,15 +429,15 @@ fn bound_of(
             ),
         };
     }
-    for unit in [
-        "transform",
-        "reciprocal",
-        "root",
-        "sorter",
-        "sphere",
-        "check",
-    ] {
-        if share(unit) >= 0.95 && issuing < 0.5 {
+    // A front-end unit's throughput use: transactions per cycle.
+    let share = |n: &str| {
+        stages
+            .iter()
+            .find(|s| s.name == n)
+            .map_or(0.0, |s| s.transactions as f64 / c)
+    };
+    for unit in ["sorter", "sphere", "check"] {
+        if share(unit) >= 0.95 {
             return Bound {
                 limit: unit.into(),
                 reason: format!(
@@ -357,22 +447,109 @@ fn bound_of(
             };
         }
     }
-    let detail = format!(
-        "walker-cycles: {:.0}% issuing, {:.0}% waiting on node reads, {:.0}% on the step pipeline, {:.0}% empty",
-        100.0 * issuing,
-        100.0 * mem,
-        100.0 * lat,
-        100.0 * w.empty as f64 / wc
+    let wc = (w.issuing + w.memory_wait + w.latency_wait + w.backpressured + w.empty).max(1) as f64;
+    let stalls = format!(
+        "stalled cycles: walk issue {:.0}%, write port {:.0}% (bank conflicts {:.0}%), waiting for rays {:.0}%, contexts full {:.0}%",
+        pct(st.walk_issue),
+        pct(st.write_port),
+        pct(st.write_bank_conflicts),
+        pct(st.ray_generation),
+        pct(st.walkers_full)
     );
-    if mem > issuing && mem > lat {
-        Bound {
-            limit: "memory".into(),
-            reason: detail,
+    let reads =
+        st.memory_ports + st.mshr_full + st.hit_latency + st.dram_latency + st.dram_bandwidth;
+    let rp = |n: u64| 100.0 * n as f64 / reads.max(1) as f64;
+    let pool = format!(
+        "walker-cycles: {:.0}% issuing, {:.0}% waiting on node reads, {:.0}% on the step pipeline, {:.0}% empty; read latency: ports {:.0}%, MSHR full {:.0}%, hit latency {:.0}%, DRAM latency {:.0}%, DRAM bus and merges {:.0}%",
+        100.0 * w.issuing as f64 / wc,
+        100.0 * w.memory_wait as f64 / wc,
+        100.0 * w.latency_wait as f64 / wc,
+        100.0 * w.empty as f64 / wc,
+        rp(st.memory_ports),
+        rp(st.mshr_full),
+        rp(st.hit_latency),
+        rp(st.dram_latency),
+        rp(st.dram_bandwidth)
+    );
+    let reason = format!("{stalls}; {pool}");
+    // The pipeline-level cause that held back the most cycles (ties: the order below).
+    let causes = [
+        ("walkers", st.walkers_full),
+        ("walk_issue", st.walk_issue),
+        ("write_port", st.write_port),
+        ("ray_generation", st.ray_generation),
+    ];
+    let mut top = causes[0];
+    for c in causes {
+        if c.1 > top.1 {
+            top = c;
         }
-    } else {
-        Bound {
-            limit: "walkers".into(),
-            reason: detail,
+    }
+    if top.0 != "walkers" {
+        return Bound {
+            limit: top.0.into(),
+            reason,
+        };
+    }
+    // The pool is full: what are its contexts doing?
+    if w.memory_wait > w.issuing + w.latency_wait {
+        let parts = [
+            ("memory_ports", st.memory_ports),
+            ("mshr_full", st.mshr_full),
+            ("hit_latency", st.hit_latency),
+            ("dram_latency", st.dram_latency),
+            ("dram_bandwidth", st.dram_bandwidth),
+        ];
+        let mut worst = parts[0];
+        for p in parts {
+            if p.1 > worst.1 {
+                worst = p;
+            }
         }
+        return Bound {
+            limit: worst.0.into(),
+            reason,
+        };
+    }
+    Bound {
+        limit: "walkers".into(),
+        reason,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limit(w: &PoolCycles, st: &StallCounts, cycles: u64, pixels: u64) -> String {
+        bound_of(&HwConfig::default(), &[], w, st, cycles, pixels).limit
+    }
+
+    #[test]
+    fn the_rule_names_the_largest_cause_and_splits_a_full_pool() {
+        let mut w = PoolCycles::default();
+        let mut st = StallCounts {
+            walk_issue: 600,
+            write_port: 100,
+            ray_generation: 50,
+            ..StallCounts::default()
+        };
+        assert_eq!(limit(&w, &st, 1000, 500), "walk_issue");
+        assert_eq!(limit(&w, &st, 1000, 950), "clock", "0.95 rays per cycle");
+        // Corrupted: the write port's counter above the walk issue's names the write port.
+        st.write_port = 700;
+        assert_eq!(limit(&w, &st, 1000, 500), "write_port");
+        // A full pool waiting on reads names the largest part of their latency...
+        st.walkers_full = 900;
+        w.memory_wait = 800;
+        w.issuing = 100;
+        st.dram_latency = 5000;
+        st.memory_ports = 20_000;
+        assert_eq!(limit(&w, &st, 1000, 500), "memory_ports");
+        st.dram_latency = 30_000;
+        assert_eq!(limit(&w, &st, 1000, 500), "dram_latency");
+        // ...and one that issues names the walkers.
+        w.issuing = 900;
+        assert_eq!(limit(&w, &st, 1000, 500), "walkers");
     }
 }

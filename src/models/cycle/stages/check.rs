@@ -5,7 +5,9 @@
 //! `record_to_write` (reused pixels and rays without candidates) (docs/cycle-model.md §2.1).
 //! The read goes to this model's own hit-buffer BRAM (READ_FIRST, written by its own write
 //! stage in the previous frame); the decision is this model's own and is checked against the
-//! functional model's (§2.4). The record stage has priority on the write FIFO.
+//! functional model's (§2.4). With one hit-buffer write path the record stage has priority on
+//! the write FIFO (it is evaluated first and takes its ports); with two
+//! (`hit_buffer.write_ports: 2`) this stage has its own write FIFO.
 
 use super::{id, internal, FrameCounts, FrameInputs, Ray, Rec};
 use crate::models::cycle::model::CycleError;
@@ -23,6 +25,9 @@ pub struct Check {
     /// The record word of a ray with no candidate: the same for every such ray of the frame
     /// (the plan's background record), computed once.
     miss_word: Option<u128>,
+    /// This cycle a decided word waited for the write path (the frame's
+    /// `stalls.write_port`).
+    pub write_blocked: bool,
 }
 
 impl Check {
@@ -33,18 +38,21 @@ impl Check {
         self.pipe.next_change(now)
     }
 
-    /// The stage of `hw`: the hit buffer's read latency (0 without one) and the unpacking.
+    /// The stage of `hw`: the hit buffer's read latency (0 without one) and the unpacking, at
+    /// the unpacking unit's initiation interval (before: always 1, the field was ignored).
     pub fn new(hw: &HwConfig) -> Self {
-        let latency = hw.hit_buffer_read_cycles() + hw.units.hit_unpack.latency_cycles;
+        let u = &hw.units.hit_unpack;
+        let latency = hw.hit_buffer_read_cycles() + u.latency_cycles;
         Self {
-            pipe: UnitPipe::new(latency, 1),
+            pipe: UnitPipe::new(latency, u.ii),
             miss_word: None,
+            write_blocked: false,
         }
     }
 
-    /// One cycle: the ready ray is decided and leaves into `to_walk` or `to_write` (unless
-    /// the record stage `took_write_port` this cycle); the next ray enters from `input` and
-    /// reads `bram`. `upstream_more`: the sorter had rays still to pass as the cycle started.
+    /// One cycle: the ready ray is decided and leaves into `to_walk` or `to_write` (if the
+    /// write FIFO has a port and room left after the record stage); the next ray enters from
+    /// `input` and reads `bram`. `upstream_more`: the sorter had rays still to pass as the cycle started.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn eval(
@@ -52,7 +60,6 @@ impl Check {
         input: &mut Fifo<Ray>,
         to_walk: &mut Fifo<Ray>,
         to_write: &mut Fifo<Rec>,
-        took_write_port: bool,
         bram: &mut Bram<u128>,
         frame: &mut FrameInputs<'_>,
         counts: &mut FrameCounts,
@@ -60,6 +67,7 @@ impl Check {
         now: u64,
     ) -> Result<StageState, CycleError> {
         let mut blocked = false;
+        self.write_blocked = false;
         if let Some(&(ref ray, prev)) = self.pipe.ready(now) {
             let pixel = ray.payload.pixel;
             let (tr, pw, _) = frame.trace_at(pixel)?;
@@ -87,7 +95,7 @@ impl Check {
             });
             if let Some(word) = direct {
                 // Reused word, or a ray with no candidate: straight to the write port.
-                if !took_write_port && to_write.ready() {
+                if to_write.can_push() {
                     if let Some((mut ray, _)) = self.pipe.pop(now) {
                         let _ = ray.leave(id::CHECK, now);
                         counts.reused += u64::from(reuse.is_some());
@@ -101,6 +109,7 @@ impl Check {
                     }
                 } else {
                     blocked = true;
+                    self.write_blocked = true;
                 }
             } else if to_walk.ready() {
                 if let Some((mut ray, _)) = self.pipe.pop(now) {

@@ -34,6 +34,7 @@ use crate::models::fixed::row_feed::RowFeed;
 use crate::models::fixed::trace::{PixelWork, RowTrace};
 use rtl_model::cycle::clocked::{StageId, Stamped};
 use rtl_model::cycle::fifo::Fifo;
+use rtl_model::cycle::unit_lanes::UnitLanes;
 use rtl_model::cycle::unit_pipe::UnitPipe;
 use rtl_model::units::walker::WalkerT;
 
@@ -81,10 +82,12 @@ pub mod id {
     pub const F_RC_WR: StageId = StageId(18);
     /// Hit-buffer write port.
     pub const WRITE: StageId = StageId(19);
+    /// FIFO check → write (the check stage's own write path, two write ports).
+    pub const F_CK_WR: StageId = StageId(20);
 }
 
 /// Names of the stage ids (`id`), in pipeline order, for transaction logs.
-pub const STAGE_NAMES: [&str; 20] = [
+pub const STAGE_NAMES: [&str; 21] = [
     "raygen",
     "raygen_to_sphere",
     "sphere",
@@ -105,6 +108,7 @@ pub const STAGE_NAMES: [&str; 20] = [
     "record",
     "record_to_write",
     "write",
+    "check_to_write",
 ];
 
 /// A ray between ray generation and the check stage.
@@ -156,9 +160,23 @@ pub fn hand_on<T>(
     Ok(false)
 }
 
-/// `n` units of initiation interval `ii` act as one unit of II ii/n.
-pub fn units_ii(ii: u32, n: u32) -> u32 {
-    ii.div_ceil(n.max(1)).max(1)
+/// [`hand_on`] for `n` units side by side: ready results leave, oldest first, while `out`
+/// takes them (up to its ports). Returns whether any left.
+#[inline]
+pub fn hand_on_lanes<T>(
+    lanes: &mut UnitLanes<Stamped<T>>,
+    stage: StageId,
+    out: &mut Fifo<T>,
+    now: u64,
+) -> Result<bool, CycleError> {
+    let mut any = false;
+    while lanes.ready(now).is_some() && out.can_push() {
+        let Some(mut w) = lanes.pop(now) else { break };
+        let _ = w.leave(stage, now);
+        out.try_push(w).map_err(internal)?;
+        any = true;
+    }
+    Ok(any)
 }
 
 /// A ray in the walk section.

@@ -6,20 +6,23 @@
 //! (under cross-check the walker stage re-executes it with the walk, §2.4); here they only
 //! take time: a latency, and an initiation interval shared by their units.
 
-use super::{hand_on, id, internal, units_ii, Walk};
+use super::{hand_on_lanes, id, internal, Walk};
 use crate::models::cycle::model::CycleError;
 use rtl_model::cycle::clocked::{StageId, Stamped};
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
-use rtl_model::cycle::unit_pipe::UnitPipe;
+use rtl_model::cycle::unit_lanes::UnitLanes;
 
 /// A fixed unit that passes walks through unchanged.
 pub struct PassThrough {
-    pipe: UnitPipe<Stamped<Walk>>,
+    pipe: UnitLanes<Stamped<Walk>>,
     stage: StageId,
     /// Initiation intervals a walk occupies the unit for.
     passes: u64,
+    /// This cycle a walk waited at the input with every unit busy and room after them (the
+    /// walk-issue limit, the frame's `stalls.walk_issue`).
+    pub issue_stall: bool,
 }
 
 impl PassThrough {
@@ -30,34 +33,38 @@ impl PassThrough {
         self.pipe.next_change(now)
     }
 
-    /// The reciprocal stage of `hw`: three units per walk (one per axis); with fewer than three
-    /// units a walk takes several passes.
+    /// The reciprocal stage of `hw`: three units per walk (one per axis), so
+    /// `reciprocal_units / 3` walks side by side; with fewer than three units a walk takes
+    /// several passes.
     pub fn reciprocal(hw: &HwConfig) -> Self {
         let u = &hw.units.reciprocal;
-        let walks = (hw.reciprocal_units / 3).max(1);
+        let walks = hw.reciprocal_walk_lanes();
         let passes = if hw.reciprocal_units < 3 {
             u64::from(3u32.div_ceil(hw.reciprocal_units.max(1)))
         } else {
             1
         };
         Self {
-            pipe: UnitPipe::new(u.latency_cycles, units_ii(u.ii, walks)),
+            pipe: UnitLanes::new(walks, u.latency_cycles, u.ii),
             stage: id::RECIP,
             passes,
+            issue_stall: false,
         }
     }
 
-    /// The walker-root stage of `hw`.
+    /// The walker-root stage of `hw`: `walker_root_units` units side by side.
     pub fn root(hw: &HwConfig) -> Self {
         let u = &hw.units.walker_root;
         Self {
-            pipe: UnitPipe::new(u.latency_cycles, units_ii(u.ii, hw.walker_root_units)),
+            pipe: UnitLanes::new(hw.walker_root_units, u.latency_cycles, u.ii),
             stage: id::ROOT,
             passes: 1,
+            issue_stall: false,
         }
     }
 
-    /// One cycle: the ready walk leaves into `out`, the next one enters from `input`.
+    /// One cycle: the ready walks leave into `out`, the next ones enter from `input` while a
+    /// unit is free.
     /// `more_walks`: whether walks may still come (for the starved/idle accounting).
     #[inline]
     pub fn eval(
@@ -67,13 +74,14 @@ impl PassThrough {
         more_walks: bool,
         now: u64,
     ) -> Result<StageState, CycleError> {
-        let pushed = hand_on(&mut self.pipe, self.stage, out, now)?;
-        if input.valid() && self.pipe.can_accept(now) {
+        let pushed = hand_on_lanes(&mut self.pipe, self.stage, out, now)?;
+        while input.can_pop() && self.pipe.can_accept(now) {
             if let Some(mut w) = input.try_pop().map_err(internal)? {
                 w.enter(self.stage, now);
                 self.pipe.accept(now, w, self.passes, 0);
             }
         }
+        self.issue_stall = input.can_pop() && !self.pipe.can_accept(now) && out.ready();
         Ok(self.pipe.state(now, !pushed, more_walks))
     }
 }

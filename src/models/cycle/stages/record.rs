@@ -8,18 +8,19 @@
 //! functional model (§2.4); under cross-check the word is packed from this model's own best
 //! walk instead of taken from the trace.
 
-use super::{id, internal, FrameCounts, FrameInputs, Ray, RaySlots, Rec, Walk};
+use super::{hand_on_lanes, id, internal, FrameCounts, FrameInputs, Ray, RaySlots, Rec, Walk};
 use crate::models::cycle::model::CycleError;
 use crate::models::fixed::plan::FramePlan;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
-use rtl_model::cycle::unit_pipe::UnitPipe;
+use rtl_model::cycle::unit_lanes::UnitLanes;
 
-/// The record stage: the packing unit and the decision in front of it.
+/// The record stage: the packing units and the decision in front of them, one per walk lane
+/// (`HwConfig::walk_lanes`).
 pub struct Record {
-    pack: UnitPipe<Stamped<Rec>>,
+    pack: UnitLanes<Stamped<Rec>>,
 }
 
 impl Record {
@@ -34,13 +35,13 @@ impl Record {
     pub fn new(hw: &HwConfig) -> Self {
         let u = &hw.units.hit_pack;
         Self {
-            pack: UnitPipe::new(u.latency_cycles, u.ii),
+            pack: UnitLanes::new(hw.walk_lanes(), u.latency_cycles, u.ii),
         }
     }
 
-    /// One cycle: the packed record leaves into `out` (the write FIFO's port is the record
-    /// stage's first), then one walk result from `input` is decided. Returns the stage's
-    /// state and whether it took the write FIFO's port this cycle (the check stage may not).
+    /// One cycle: the packed records leave into `out` (the write FIFO's ports are the record
+    /// stage's first), then walk results from `input` are decided, one per lane. Returns the
+    /// stage's state and whether it pushed into the write FIFO this cycle.
     /// `walked`: a ray had entered the walk section as the cycle started.
     #[allow(clippy::too_many_arguments)]
     #[inline]
@@ -55,16 +56,9 @@ impl Record {
         walked: bool,
         now: u64,
     ) -> Result<(StageState, bool), CycleError> {
-        let mut pushed = false;
-        if self.pack.ready(now).is_some() && out.ready() {
-            if let Some(mut r) = self.pack.pop(now) {
-                let _ = r.leave(id::RECORD, now);
-                out.try_push(r).map_err(internal)?;
-                pushed = true;
-            }
-        }
+        let pushed = hand_on_lanes(&mut self.pack, id::RECORD, out, now)?;
         let mut state = self.pack.state(now, !pushed, walked);
-        if input.valid() && self.pack.can_accept(now) {
+        while input.can_pop() && self.pack.can_accept(now) {
             if let Some(wk) = input.try_pop().map_err(internal)? {
                 self.decide(wk, loop_back, slots, frame, counts, now)?;
                 state = StageState::Busy;

@@ -7,17 +7,23 @@
 //! its first walk enters here and keeps it until its record leaves; `loop_back` has one entry
 //! per slot, so it can always take a returning walk and the loop cannot deadlock.
 
-use super::{hand_on, id, internal, units_ii, FrameInputs, Ray, RaySlots, Walk};
+use super::{hand_on_lanes, id, internal, FrameInputs, Ray, RaySlots, Walk};
 use crate::models::cycle::model::CycleError;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
-use rtl_model::cycle::unit_pipe::UnitPipe;
+use rtl_model::cycle::unit_lanes::UnitLanes;
 
 /// The transform stage.
 pub struct Transform {
-    pipe: UnitPipe<Stamped<Walk>>,
+    pipe: UnitLanes<Stamped<Walk>>,
+    /// This cycle a walk waited at the input with every unit busy and room after them: the
+    /// walk-issue limit (the frame's `stalls.walk_issue`).
+    pub issue_stall: bool,
+    /// This cycle a unit was free and no walk was at either input though rays were still to
+    /// come: the walk section waited for ray generation (`stalls.ray_generation`).
+    pub input_starved: bool,
 }
 
 impl Transform {
@@ -28,16 +34,21 @@ impl Transform {
         self.pipe.next_change(now)
     }
 
-    /// The stage of `hw` (`transform_units` units act as one of a shorter II).
+    /// The stage of `hw`: `transform_units` units side by side, each taking a walk per
+    /// initiation interval.
     pub fn new(hw: &HwConfig) -> Self {
         let u = &hw.units.transform;
         Self {
-            pipe: UnitPipe::new(u.latency_cycles, units_ii(u.ii, hw.transform_units)),
+            pipe: UnitLanes::new(hw.transform_units, u.latency_cycles, u.ii),
+            issue_stall: false,
+            input_starved: false,
         }
     }
 
-    /// One cycle: the ready walk leaves into `out`; then a returning walk from `loop_back`
-    /// enters, or else the first walk of a new ray from `new_rays` if a slot is free.
+    /// One cycle: the ready walks leave into `out`; then, while a unit is free, a returning
+    /// walk from `loop_back` enters, or else the first walk of a new ray from `new_rays` if a
+    /// slot is free. `frame_more_rays`: rays of the frame are still to leave the check stage
+    /// (what `input_starved` needs).
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn eval(
@@ -48,16 +59,17 @@ impl Transform {
         slots: &mut RaySlots,
         frame: &FrameInputs<'_>,
         more_walks: bool,
+        frame_more_rays: bool,
         now: u64,
     ) -> Result<StageState, CycleError> {
-        let pushed = hand_on(&mut self.pipe, id::TRANSFORM, out, now)?;
-        if self.pipe.can_accept(now) {
-            if loop_back.valid() {
+        let pushed = hand_on_lanes(&mut self.pipe, id::TRANSFORM, out, now)?;
+        while self.pipe.can_accept(now) {
+            if loop_back.can_pop() {
                 if let Some(mut w) = loop_back.try_pop().map_err(internal)? {
                     w.enter(id::TRANSFORM, now);
                     self.pipe.accept(now, w, 1, 0);
                 }
-            } else if new_rays.valid() && slots.has_free() {
+            } else if new_rays.can_pop() && slots.has_free() {
                 if let Some(ray) = new_rays.try_pop().map_err(internal)? {
                     let pixel = ray.payload.pixel;
                     let (tr, pw, _) = frame.trace_at(pixel)?;
@@ -66,8 +78,14 @@ impl Transform {
                     w.enter(id::TRANSFORM, now);
                     self.pipe.accept(now, w, 1, 0);
                 }
+            } else {
+                break;
             }
         }
+        let waiting = loop_back.can_pop() || (new_rays.can_pop() && slots.has_free());
+        self.issue_stall = waiting && !self.pipe.can_accept(now) && out.ready();
+        self.input_starved =
+            !loop_back.valid() && !new_rays.valid() && self.pipe.can_accept(now) && frame_more_rays;
         Ok(self.pipe.state(now, !pushed, more_walks))
     }
 }

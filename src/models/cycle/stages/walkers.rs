@@ -2,9 +2,10 @@
 //!
 //! Pipeline position: `root_to_dispatch` → `walker_to_record` (docs/cycle-model.md §2.1, the
 //! pool itself §2.3). Per cycle: contexts whose read completed or whose step latency ended
-//! move on; the oldest finished walk leaves; one walk is dispatched with its recorded ops,
-//! their node and attribute addresses relocated to its asset's place in node memory; every
-//! walker issues. Under cross-check the dispatcher re-executes the transform, reciprocals and
+//! move on; the oldest finished walks leave and walks are dispatched, up to the walk lanes
+//! (`HwConfig::walk_lanes`, the FIFOs' ports) each, a walk with its recorded ops, their node
+//! and attribute addresses relocated to its asset's place in node memory; every walker
+//! issues. Under cross-check the dispatcher re-executes the transform, reciprocals and
 //! the whole walk from the ray's direction and compares every op and the hit with the trace
 //! (§2.4).
 
@@ -54,21 +55,21 @@ impl Walkers {
         now: u64,
     ) -> Result<StageState, CycleError> {
         pool.wake(now, mem)?;
-        if pool.finished_head().is_some() && out.ready() {
-            if let Some(tag) = pool.retire() {
-                let mut wk = Stamped::untracked(walk_of(tag));
-                wk.enter(id::WALKER, now);
-                let _ = wk.leave(id::WALKER, now);
-                out.try_push(wk).map_err(internal)?;
-            }
+        // Up to the walk lanes (the FIFOs' ports) retire and dispatch per cycle.
+        while pool.finished_head().is_some() && out.can_push() {
+            let Some(tag) = pool.retire() else { break };
+            let mut wk = Stamped::untracked(walk_of(tag));
+            wk.enter(id::WALKER, now);
+            let _ = wk.leave(id::WALKER, now);
+            out.try_push(wk).map_err(internal)?;
         }
-        if input.valid() {
-            if pool.has_free() {
-                if let Some(wk) = input.try_pop().map_err(internal)? {
-                    Self::dispatch(wk.payload, pool, slots, frame)?;
-                }
-            } else {
+        while input.can_pop() {
+            if !pool.has_free() {
                 pool.note_dispatch_stall();
+                break;
+            }
+            if let Some(wk) = input.try_pop().map_err(internal)? {
+                Self::dispatch(wk.payload, pool, slots, frame)?;
             }
         }
         pool.issue();

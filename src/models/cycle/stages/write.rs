@@ -1,7 +1,11 @@
-//! The write stage: one record per cycle into the hit buffer.
+//! The write stage: one record per cycle and write path into the hit buffer.
 //!
 //! Pipeline position: the last stage (evaluated first in a cycle), `record_to_write` → the
-//! hit-buffer BRAM's write port (docs/cycle-model.md §2.1). The word lands at the clock edge,
+//! hit-buffer BRAM's write port (docs/cycle-model.md §2.1). With two write paths
+//! (`hit_buffer.write_ports: 2`) the check stage's words come through their own FIFO,
+//! `check_to_write`, into a second port: the buffer is two banks on pixel parity, one write
+//! port each, so both write in a cycle unless their pixels share a bank, when the record
+//! goes first and the check's word waits (counted in [`Write::bank_conflicts`]). The word lands at the clock edge,
 //! so a read of the same pixel in this cycle still sees the previous frame's word
 //! (READ_FIRST). The first records' stamps are kept for the transaction log (§2.5).
 
@@ -16,32 +20,68 @@ use rtl_model::cycle::stage_stats::StageState;
 pub struct Write {
     /// Records whose stamps the transaction log keeps, per run.
     log_limit: usize,
+    /// Cycles the check stage's word waited for its bank (two write paths).
+    pub bank_conflicts: u64,
 }
 
 impl Write {
     /// The stage, keeping the stamps of the first `log_limit` records of the run.
     pub fn new(log_limit: usize) -> Self {
-        Self { log_limit }
+        Self {
+            log_limit,
+            bank_conflicts: 0,
+        }
     }
 
     /// One cycle: the head record of `input` (always asked for: the port is ready every
-    /// cycle) is written to `bram`.
+    /// cycle) is written to `bram`; with a second path `second`, its head too unless it falls
+    /// in the bank the first write took.
     #[inline]
     pub fn eval(
         &mut self,
         input: &mut Fifo<Rec>,
+        second: Option<&mut Fifo<Rec>>,
         bram: &mut Bram<u128>,
         log: &mut Vec<(u32, Vec<StageStamp>)>,
         counts: &mut FrameCounts,
         now: u64,
     ) -> Result<StageState, CycleError> {
-        let Some(mut r) = input.try_pop().map_err(internal)? else {
-            return Ok(if counts.written < counts.pixels {
-                StageState::Starved
-            } else {
-                StageState::Idle
-            });
-        };
+        let first = input.try_pop().map_err(internal)?;
+        let bank = first.as_ref().map(|r| r.payload.pixel & 1);
+        let mut wrote = false;
+        if let Some(r) = first {
+            self.write(r, bram, log, counts, now)?;
+            wrote = true;
+        }
+        if let Some(f) = second {
+            if let Some(head) = f.peek() {
+                if Some(head.payload.pixel & 1) == bank {
+                    self.bank_conflicts += 1;
+                } else if let Some(r) = f.try_pop().map_err(internal)? {
+                    self.write(r, bram, log, counts, now)?;
+                    wrote = true;
+                }
+            }
+        }
+        Ok(if wrote {
+            StageState::Busy
+        } else if counts.written < counts.pixels {
+            StageState::Starved
+        } else {
+            StageState::Idle
+        })
+    }
+
+    /// Writes record `r` and logs it.
+    #[inline]
+    fn write(
+        &mut self,
+        mut r: rtl_model::cycle::clocked::Stamped<Rec>,
+        bram: &mut Bram<u128>,
+        log: &mut Vec<(u32, Vec<StageStamp>)>,
+        counts: &mut FrameCounts,
+        now: u64,
+    ) -> Result<(), CycleError> {
         r.enter(id::WRITE, now);
         let _ = r.leave(id::WRITE, now);
         bram.write(r.payload.pixel as usize, r.payload.word)
@@ -50,6 +90,6 @@ impl Write {
             log.push((r.payload.pixel, r.stamps().to_vec()));
         }
         counts.written += 1;
-        Ok(StageState::Busy)
+        Ok(())
     }
 }

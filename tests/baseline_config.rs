@@ -1,0 +1,122 @@
+//! `configs/baseline.ron`: the hardware the project's figures were measured on before issue 28
+//! (the default of that time), kept as a named file so that those figures stay reproducible
+//! whatever the default becomes.
+//!
+//! Two checks: the file writes out every field of the hardware schema (so that a later change
+//! of a default cannot change what the file describes), and a run on it gives the cycles of the
+//! golden report of that time (`tests/golden/default.json`, 640×384, depth 10, 3 frames).
+
+mod common;
+
+use common::process::run_sim;
+use ron::Value;
+use rtl_model::cycle::hw_config::HwConfig;
+use std::collections::BTreeSet;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Per-frame cycles of `tests/golden/default.json` when the baseline was the default.
+const BASELINE_CYCLES: [u64; 3] = [451_826, 411_416, 410_507];
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Every field path of a RON value (`node_memory.cache.ports`, …); tuples' and enums' inner
+/// values are leaves.
+fn paths(v: &Value, prefix: &str, out: &mut BTreeSet<String>) {
+    if let Value::Map(m) = v {
+        for (k, v) in m.iter() {
+            let Value::String(k) = k else { continue };
+            let p = if prefix.is_empty() {
+                k.clone()
+            } else {
+                format!("{prefix}.{k}")
+            };
+            paths(v, &p, out);
+        }
+    } else {
+        out.insert(prefix.to_string());
+    }
+}
+
+fn field_paths(text: &str) -> BTreeSet<String> {
+    let v: Value = ron::from_str(text).expect("RON");
+    let mut out = BTreeSet::new();
+    paths(&v, "", &mut out);
+    out
+}
+
+/// The paths a file must name: every leaf field of the schema, read from the serialised
+/// default (the schema's own list, not one kept here).
+fn schema_paths() -> BTreeSet<String> {
+    let text = ron::ser::to_string(&HwConfig::default()).expect("serialise");
+    field_paths(&text)
+}
+
+fn missing_fields(text: &str) -> Vec<String> {
+    let have = field_paths(text);
+    schema_paths().difference(&have).cloned().collect()
+}
+
+#[test]
+fn baseline_file_names_every_field() {
+    let text = std::fs::read_to_string(repo().join("configs/baseline.ron")).expect("read");
+    let missing = missing_fields(&text);
+    assert!(
+        missing.is_empty(),
+        "configs/baseline.ron leaves out {missing:?}: write every field out"
+    );
+    // Shown failing once: a file without one field is caught, by name.
+    let cut = text.replace("    clock_mhz: 300,\n", "");
+    assert_ne!(cut, text, "the corruption must change the file");
+    assert_eq!(missing_fields(&cut), vec!["clock_mhz".to_string()]);
+    // And the file is valid hardware.
+    let hw: HwConfig = ron::from_str(&text).expect("the baseline parses as hardware");
+    hw.validate().expect("the baseline is valid");
+}
+
+#[test]
+fn baseline_file_gives_the_golden_cycles_of_its_time() {
+    let dir = std::env::temp_dir().join(format!("baseline_config_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let json = dir.join("report.json");
+    let json_s = json.display().to_string();
+    let args = [
+        "--hw",
+        "configs/baseline.ron",
+        "--width",
+        "640",
+        "--height",
+        "384",
+        "--frames",
+        "3",
+        "--depth",
+        "10",
+        "--threads",
+        "2",
+        "--no-png",
+        "--report-json",
+        &json_s,
+    ];
+    let r = run_sim(&args, Some(&repo()), Duration::from_secs(600));
+    assert!(
+        r.status.success(),
+        "sim {args:?}\n{}\n{}",
+        r.stdout,
+        r.stderr
+    );
+    let rep: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("report")).expect("JSON");
+    let _ = std::fs::remove_dir_all(&dir);
+    let cycles: Vec<u64> = rep["frames"]
+        .as_array()
+        .expect("frames")
+        .iter()
+        .map(|f| f["cycles"].as_u64().expect("cycles"))
+        .collect();
+    assert_eq!(
+        cycles, BASELINE_CYCLES,
+        "cycles per frame on configs/baseline.ron"
+    );
+}

@@ -1,0 +1,152 @@
+//! The bound line names the limit that binds (issue 28 item 5): on hand-built hardware where
+//! one limit is made far worse than the rest, a small run of the default car must name it
+//! (docs/cycle-model.md §2.2), and its stall counter must be the one that grew.
+
+mod common;
+
+use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::datapath::DatapathConfig;
+use svo_sim::models::cycle::lift::lift;
+use svo_sim::models::reference::RenderOptions;
+use svo_sim::run::elaborate::elaborate;
+use svo_sim::run::{run, Model, RunConfig};
+use svo_sim::world::assets::Materialise;
+use svo_sim::world::scene::Scene;
+
+/// Memory that is never the limit: every level on chip in many banks, many ports.
+fn fast_memory(h: &mut HwConfig) {
+    let nm = &mut h.node_memory;
+    nm.onchip.levels = 21;
+    nm.onchip.max_bytes = 1 << 26;
+    nm.onchip.banks = 64;
+    nm.onchip.latency = 1;
+    nm.cache.ports = 64;
+    nm.cache.hit_latency = 1;
+    h.walker_pool.walkers = 64;
+}
+
+/// The bound of the last frame of a 64×40 run of the car (2 frames, depth 6) on `hw`, with
+/// the JSON of its stall counters.
+fn bound(hw: &HwConfig) -> (String, String) {
+    let mut scene = Scene::default_car().expect("car");
+    scene.set_resolution(64, 40).expect("resolution");
+    scene.set_frames(2).expect("frames");
+    let dp = DatapathConfig::default();
+    let cfg = RunConfig {
+        scene,
+        depth: Some(6),
+        materialise: Materialise::Auto,
+        options: RenderOptions::default(),
+        out_dir: None,
+        report_json: None,
+        dump_hits: None,
+        progress_every: None,
+        model: Model::Cycle,
+        datapath: dp.clone(),
+        hardware: hw.clone(),
+        cross_check: false,
+        sample: None,
+        vcd: None,
+        transaction_log: None,
+        elaboration: None,
+    };
+    let e = elaborate(&cfg.scene, cfg.depth, &cfg.hardware, &dp, true)
+        .expect("elaborate")
+        .not_applied();
+    let out = run(&cfg.elaborated(e), |_, _| {}).expect("run");
+    let c = out
+        .report
+        .frames
+        .last()
+        .and_then(|f| f.cycle.clone())
+        .expect("a cycle frame");
+    let stalls = serde_json::to_string(&c.stalls).expect("json");
+    (c.bound.limit, format!("{} — {stalls}", c.bound.reason))
+}
+
+/// The default hardware, to change field by field.
+fn base() -> HwConfig {
+    HwConfig::default()
+}
+
+/// Hand-built cases: the limit, and the hardware where it binds.
+fn cases() -> Vec<(&'static str, HwConfig)> {
+    let mut v = Vec::new();
+    let mut h = base();
+    fast_memory(&mut h);
+    h.units.transform.ii = 3;
+    v.push(("walk_issue", h));
+    let mut h = base();
+    fast_memory(&mut h);
+    h.transform_units = 4;
+    h.reciprocal_units = 12;
+    h.walker_root_units = 4;
+    h.fifos.record_to_write = 1;
+    v.push(("write_port", h));
+    let mut h = base();
+    fast_memory(&mut h);
+    h.units.raygen.ii = 8;
+    v.push(("ray_generation", h));
+    let mut h = base();
+    h.node_memory.onchip.max_bytes = 1 << 26;
+    h.node_memory.onchip.levels = 21;
+    h.node_memory.onchip.latency = 1;
+    h.walker_pool.walkers = 1;
+    h.walker_pool.contexts_per_walker = 1;
+    v.push(("walkers", h));
+    let mut h = base();
+    h.node_memory.onchip.levels = 0;
+    h.node_memory.cache.ports = 1;
+    h.node_memory.cache.size_bytes = 1 << 24;
+    h.node_memory.dram.mshrs = 4096;
+    v.push(("memory_ports", h));
+    let mut h = base();
+    h.node_memory.onchip.levels = 0;
+    h.node_memory.cache.size_bytes = 4096;
+    h.node_memory.cache.ports = 8;
+    h.node_memory.dram.mshrs = 1;
+    v.push(("mshr_full", h));
+    let mut h = base();
+    h.node_memory.onchip.latency = 300;
+    h.node_memory.cache.hit_latency = 300;
+    h.node_memory.cache.size_bytes = 1 << 24;
+    v.push(("hit_latency", h));
+    let mut h = base();
+    h.node_memory.onchip.levels = 0;
+    h.node_memory.cache.size_bytes = 4096;
+    h.node_memory.cache.ports = 8;
+    h.node_memory.dram.mshrs = 4096;
+    h.node_memory.dram.latency = 3000;
+    v.push(("dram_latency", h));
+    let mut h = base();
+    h.node_memory.onchip.levels = 0;
+    h.node_memory.cache.size_bytes = 4096;
+    h.node_memory.cache.ports = 8;
+    h.node_memory.dram.mshrs = 4096;
+    h.node_memory.dram.bytes_per_cycle = 1;
+    v.push(("dram_bandwidth", h));
+    v
+}
+
+#[test]
+fn each_limit_is_named_where_it_binds() {
+    let mut wrong = Vec::new();
+    for (want, hw) in cases() {
+        let (got, why) = bound(&hw);
+        println!("{want}: bound {got} ({why})");
+        if got != want {
+            wrong.push(format!("{want}: the bound line says {got} ({why})"));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+#[test]
+fn lifting_the_named_limit_moves_the_bound_on() {
+    // Shown on the walk-issue case: lifted, the walk issue no longer binds.
+    let (want, hw) = cases().swap_remove(0);
+    assert_eq!(bound(&hw).0, want);
+    let lifted = lift(&hw, want).expect("lift");
+    let (after, why) = bound(&lifted);
+    assert_ne!(after, want, "lifted, {want} still binds ({why})");
+}
