@@ -12,6 +12,8 @@ mod common;
 
 use ron::Value;
 use rtl_model::cycle::hw_config::{HwConfig, Placement, StackStorage};
+use rtl_model::cycle::memory::DramBackend;
+use rtl_model::cycle::ray_order::RayOrder;
 use rtl_model::datapath::DatapathConfig;
 use std::collections::BTreeSet;
 use svo_sim::models::reference::RenderOptions;
@@ -225,6 +227,11 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
         Changes,
     ),
     (
+        "node_memory.onchip.combine",
+        |h| h.node_memory.onchip.combine = false,
+        Changes,
+    ),
+    (
         "node_memory.cache.size_bytes",
         |h| h.node_memory.cache.size_bytes *= 4,
         Changes,
@@ -255,6 +262,16 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
         Changes,
     ),
     (
+        "node_memory.cache.banks",
+        |h| h.node_memory.cache.banks = 1,
+        Changes,
+    ),
+    (
+        "node_memory.cache.miss_queue",
+        |h| h.node_memory.cache.miss_queue = 0,
+        Changes,
+    ),
+    (
         "node_memory.dram.latency",
         |h| h.node_memory.dram.latency = 300,
         Changes,
@@ -267,6 +284,17 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
     (
         "node_memory.dram.mshrs",
         |h| h.node_memory.dram.mshrs = 1,
+        Changes,
+    ),
+    (
+        "node_memory.dram.backend",
+        |h| {
+            h.node_memory.dram.backend = DramBackend::DramSim3 {
+                config: "DDR4_8Gb_x16_2400".into(),
+                channels: 2,
+                controller_latency: 30,
+            }
+        },
         Changes,
     ),
     (
@@ -299,6 +327,7 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
         |h| h.direction_table = Placement::External,
         Changes,
     ),
+    ("ray_order", |h| h.ray_order = RayOrder::Morton, Changes),
 ];
 
 /// Every leaf path of a RON value.

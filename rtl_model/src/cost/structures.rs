@@ -271,7 +271,10 @@ fn memory_logic(hw: &HwConfig) -> impl Iterator<Item = FabricItem> {
         .map(|i| FabricItem {
             name: i.name,
             instances: 1,
-            per_instance: Fabric { lut: i.lut, ff: i.ff },
+            per_instance: Fabric {
+                lut: i.lut,
+                ff: i.ff,
+            },
             calibrated: false,
             formula: i.formula,
         })
