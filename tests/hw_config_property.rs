@@ -304,7 +304,9 @@ fn hw_config() -> impl Strategy<Value = HwConfig> {
         prop_oneof![10 => Just(8u32), 2 => field(1, 255)],
         field(1, 4096),
         flag(),
-        field(1, 4096),
+        // Reciprocal units: 1, 2 or whole lanes of three (anything else is refused, and a
+        // uniform draw would make most configurations that refusal).
+        prop_oneof![1 => field(1, 2), 3 => field(1, 1365).prop_map(|k| 3 * k)],
         field(1, 4096),
     );
     let config = (

@@ -241,9 +241,7 @@ fn invalid_configurations_are_rejected_with_the_field_named() {
         }),
         ("hit_buffer.read_ports", |c| c.hit_buffer.read_ports = 0),
         ("hit_buffer.write_ports", |c| c.hit_buffer.write_ports = 0),
-        ("hit_buffer.read_ports + write_ports", |c| {
-            c.hit_buffer.read_ports = 2
-        }),
+        ("hit_buffer.read_ports = 2", |c| c.hit_buffer.read_ports = 2),
         ("hit_buffer.read_latency_cycles", |c| {
             c.hit_buffer.read_latency_cycles = 0
         }),
@@ -258,11 +256,13 @@ fn invalid_configurations_are_rejected_with_the_field_named() {
         let r = cfg.resources(&dp).expect_err(field);
         assert_eq!(r, e);
     }
-    // Two ports are allowed on an external buffer's controller queue, not on chip.
+    // The check stage reads one pixel per cycle wherever the buffer is: a second read port
+    // would never be used, so it is refused off chip too.
     let mut cfg = HwConfig::default();
     cfg.hit_buffer.placement = Placement::External;
     cfg.hit_buffer.read_ports = 2;
-    cfg.validate().unwrap();
+    let e = cfg.validate().expect_err("two read ports off chip");
+    assert!(e.starts_with("hit_buffer.read_ports = 2"), "{e}");
 }
 
 #[test]
