@@ -8,6 +8,7 @@
 //! every machine and thread count.
 
 use super::run::{ExploreResult, ExploreRow, BLOCK_BUDGET, LUT_BUDGET, RESOURCES};
+use crate::studies::sweep::plot::staircase;
 use plotters::prelude::*;
 
 /// Width of the picture and height of one scene's panel, pixels.
@@ -82,19 +83,11 @@ fn panel<DB: DrawingBackend>(
         .map(|(_, p)| *p)
         .collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    // The staircase: from each front point right to the next one's cost, then up to it.
-    let mut stairs = Vec::with_capacity(2 * front.len() + 1);
-    for (j, p) in front.iter().enumerate() {
-        if j > 0 {
-            stairs.push((p.0, front[j - 1].1));
-        }
-        stairs.push(*p);
-    }
-    if let Some(&(_, f)) = front.last() {
-        stairs.push((x1 + pad, f));
-    }
     chart
-        .draw_series(LineSeries::new(stairs, orange.stroke_width(2)))
+        .draw_series(LineSeries::new(
+            staircase(&front, x1 + pad),
+            orange.stroke_width(2),
+        ))
         .map_err(err)?
         .label("Pareto front")
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], orange.stroke_width(2)));

@@ -107,19 +107,11 @@ fn panel<DB: DrawingBackend>(
         .map(|(_, p)| *p)
         .collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
-    // The staircase: from each front point right to the next point's cost, then down to it.
-    let mut stairs = Vec::with_capacity(2 * front.len());
-    for (k, p) in front.iter().enumerate() {
-        if k > 0 {
-            stairs.push((p.0, front[k - 1].1));
-        }
-        stairs.push(*p);
-    }
-    if let Some(&(_, e)) = front.last() {
-        stairs.push((x1 + pad, e));
-    }
     chart
-        .draw_series(LineSeries::new(stairs, blue.stroke_width(2)))
+        .draw_series(LineSeries::new(
+            staircase(&front, x1 + pad),
+            blue.stroke_width(2),
+        ))
         .map_err(err)?
         .label("Pareto front")
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], blue.stroke_width(2)));
@@ -182,6 +174,23 @@ type Rect = (i32, i32, i32, i32);
 
 /// The box of `text` at `size` pixels drawn at offset `d` from the dot at `at` (the width is
 /// estimated at 0.6 em per character, enough to keep labels apart).
+/// A Pareto front drawn as a staircase: from each point (sorted by cost, x) right to the next
+/// point's cost, then to it; the last point's value runs on to `x_end`. The sweep's and the
+/// explorer's fronts both draw with it.
+pub fn staircase(front: &[(f64, f64)], x_end: f64) -> Vec<(f64, f64)> {
+    let mut stairs = Vec::with_capacity(2 * front.len() + 1);
+    for (k, p) in front.iter().enumerate() {
+        if k > 0 {
+            stairs.push((p.0, front[k - 1].1));
+        }
+        stairs.push(*p);
+    }
+    if let Some(&(_, y)) = front.last() {
+        stairs.push((x_end, y));
+    }
+    stairs
+}
+
 fn label_rect(text: &str, size: i32, at: (i32, i32), d: (i32, i32)) -> Rect {
     let w = (text.chars().count() as f64 * 0.6 * f64::from(size)).ceil() as i32;
     let (x, y) = (at.0 + d.0, at.1 + d.1);
