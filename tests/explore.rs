@@ -148,6 +148,51 @@ fn a_bad_space_is_refused_naming_the_field_and_its_position() {
 }
 
 #[test]
+fn a_linked_field_sets_its_paths_together_and_refuses_a_wrong_tuple() {
+    let text = r#"(
+        scenes: [(path: "car", width: 48, height: 32, frames: 1)],
+        fields: {
+            "transform_units+reciprocal_units+walker_root_units": [(1, 3, 1), (2, 6, 2)],
+            "walker_pool.walkers": [16, 32],
+        },
+    )"#;
+    let (_, points) = space(text).unwrap();
+    // 2 × 2 points; the default (1 transform unit, one lane of 3 reciprocal units, 1 root,
+    // 32 walkers) is point 2.
+    assert_eq!(points.len(), 4);
+    assert_eq!(points[1].values, ["[1,3,1]", "32"]);
+    assert!(points[1].default);
+    let p = &points[2];
+    assert_eq!(p.values, ["[2,6,2]", "16"]);
+    assert_eq!(
+        (
+            p.hw.transform_units,
+            p.hw.reciprocal_units,
+            p.hw.walker_root_units
+        ),
+        (2, 6, 2)
+    );
+    assert_eq!(p.hw.walk_lanes(), 2);
+    // A tuple of the wrong length, and a bare value, name the field and what it needs.
+    for bad in ["(2, 6)", "2"] {
+        let m = refusal(&text.replace("(2, 6, 2)", bad));
+        assert!(
+            m.starts_with("space.ron:4:13: field \"transform_units+reciprocal_units+walker_root_units\": a value of a field linking 3 paths is a tuple of 3 values"),
+            "{m}"
+        );
+    }
+    // One path of the link that does not exist.
+    let m = refusal(&text.replace("+walker_root_units", "+walker_roots"));
+    assert!(m.contains("no field \"walker_roots\""), "{m}");
+    // The model's rule on one path of the link blames the linked field.
+    let m = refusal(&text.replace("(2, 6, 2)", "(2, 4, 2)"));
+    assert!(
+        m.starts_with("space.ron:4:13: field \"transform_units+reciprocal_units+walker_root_units\": point 3 "),
+        "{m}"
+    );
+}
+
+#[test]
 fn the_cross_product_is_capped_with_a_clear_error() {
     let m = refusal(&SMALL.replace("scenes:", "max_points: 3,\n    scenes:"));
     assert_eq!(

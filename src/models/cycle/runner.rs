@@ -46,6 +46,27 @@ pub struct CycleRun {
 }
 
 /// One frame's results.
+/// One frame's functional trace and the hit buffer after it, recorded by
+/// [`CycleRun::frame_recorded`] for [`CycleRun::frame_replayed`].
+pub struct RecordedFrame {
+    /// Every row's trace, published and closed.
+    feed: RowFeed,
+    /// The functional model's hit buffer after the frame.
+    buffer_after: FixedBuffer,
+    /// What the trace depends on besides the scene and the frame.
+    key: TraceKey,
+}
+
+/// The inputs of a frame's functional trace that a run (not the scene) sets.
+#[derive(Clone, Debug, PartialEq)]
+struct TraceKey {
+    datapath: DatapathConfig,
+    use_hit_buffer: bool,
+    switches: RaySwitches,
+    two_level: Option<(rtl_model::units::tile_list::TileListConfig, u32)>,
+    size: (u32, u32),
+}
+
 pub struct CycleFrameResult {
     /// The functional model's counters (its wall time included).
     pub fixed: FixedStats,
@@ -116,6 +137,86 @@ impl CycleRun {
         dp: &DatapathConfig,
         use_hit_buffer: bool,
     ) -> Result<CycleFrameResult, CycleRunError> {
+        self.frame_fed(input, dp, use_hit_buffer).map(|(r, _)| r)
+    }
+
+    /// [`CycleRun::frame`], keeping the functional model's trace and the hit buffer it left,
+    /// so that other hardware can be timed on the same frame by [`CycleRun::frame_replayed`]
+    /// without rendering it again (`sim explore`, docs/explore.md §2).
+    pub fn frame_recorded(
+        &mut self,
+        input: &FrameInput<'_>,
+        dp: &DatapathConfig,
+        use_hit_buffer: bool,
+    ) -> Result<(CycleFrameResult, RecordedFrame), CycleRunError> {
+        let (result, feed) = self.frame_fed(input, dp, use_hit_buffer)?;
+        let recorded = RecordedFrame {
+            feed,
+            buffer_after: self.buffer.clone(),
+            key: self.trace_key(dp, use_hit_buffer),
+        };
+        Ok((result, recorded))
+    }
+
+    /// Times one frame on the functional trace `recorded` holds, which another run recorded
+    /// for the same frame (and every frame before it) with [`CycleRun::frame_recorded`]: the
+    /// cycle model runs as in [`CycleRun::frame`] and checks its work against that trace word
+    /// for word, but the functional model does not render the frame again. The trace does
+    /// not depend on the hardware except through the datapath, the hit-buffer switch, the ray
+    /// switches and the sphere lanes the instance lists are cut for; a run whose any of them
+    /// differs from the recording's is refused (it would be checked against another trace).
+    pub fn frame_replayed(
+        &mut self,
+        input: &FrameInput<'_>,
+        dp: &DatapathConfig,
+        use_hit_buffer: bool,
+        recorded: &RecordedFrame,
+    ) -> Result<CycleFrame, CycleRunError> {
+        if recorded.key != self.trace_key(dp, use_hit_buffer) {
+            return Err(CycleRunError::Config(
+                "the recorded trace is of another datapath, hit-buffer switch, ray switches or \
+                 sphere-lane count than this run's: render the frame instead"
+                    .into(),
+            ));
+        }
+        let mut host_ov = overflow_table();
+        let mut plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?
+            .with_switches(self.switches);
+        if let Some(tl) = &self.two_level {
+            let lanes = self.model.config().sphere_units;
+            crate::models::fixed::cull::install_lists(&mut plan, input, tl, lanes);
+        }
+        let dir: &[[i64; 3]] = &self.buffer.dir_table;
+        let cycles = self
+            .model
+            .run_frame(&plan, &recorded.feed, dir, &self.instance_asset)?;
+        // The hit buffer as the functional model left it after this frame, as after `frame`:
+        // the plan above already moved the buffer's previous frame and direction table on, and
+        // the records are what a later rendered frame (`frame`) would start from.
+        self.buffer.clone_from(&recorded.buffer_after);
+        Ok(cycles)
+    }
+
+    /// What the functional trace of a frame depends on besides the scene and the frame.
+    fn trace_key(&self, dp: &DatapathConfig, use_hit_buffer: bool) -> TraceKey {
+        TraceKey {
+            datapath: dp.clone(),
+            use_hit_buffer,
+            switches: self.switches,
+            two_level: self
+                .two_level
+                .map(|tl| (tl, self.model.config().sphere_units)),
+            size: (self.buffer.width, self.buffer.height),
+        }
+    }
+
+    /// [`CycleRun::frame`], returning the feed the functional model filled.
+    fn frame_fed(
+        &mut self,
+        input: &FrameInput<'_>,
+        dp: &DatapathConfig,
+        use_hit_buffer: bool,
+    ) -> Result<(CycleFrameResult, RowFeed), CycleRunError> {
         let start = Instant::now();
         let mut host_ov = overflow_table();
         let mut plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?
@@ -156,11 +257,14 @@ impl CycleRun {
             fixed.walker.steps,
             descents,
         );
-        Ok(CycleFrameResult {
-            fixed,
-            cycles,
-            wall_s: start.elapsed().as_secs_f64(),
-        })
+        Ok((
+            CycleFrameResult {
+                fixed,
+                cycles,
+                wall_s: start.elapsed().as_secs_f64(),
+            },
+            feed,
+        ))
     }
 
     /// A test hook (tests/cycle_checks.rs): runs one frame as [`CycleRun::frame`] does, but the

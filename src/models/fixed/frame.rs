@@ -46,6 +46,7 @@ pub struct FixedRecord {
 }
 
 /// The fixed-point model's hit buffer across frames.
+#[derive(Clone)]
 pub struct FixedBuffer {
     /// Width.
     pub width: u32,

@@ -12,7 +12,7 @@
 
 use super::space::{Point, SceneSpec, Space};
 use crate::error::{AssetError, SceneError};
-use crate::models::cycle::runner::{CycleRun, CycleRunError};
+use crate::models::cycle::runner::{CycleRun, CycleRunError, RecordedFrame};
 use crate::models::cycle::sample::{SampleConfig, DEFAULT_BAND_ROWS};
 use crate::models::cycle::CycleOptions;
 use crate::models::reference::FrameInput;
@@ -266,13 +266,43 @@ fn prepare(spec: &SceneSpec, name: &str, max_vox_bytes: u64) -> Result<Prepared,
     })
 }
 
-/// Mean cycles per frame of `hw` over the prepared scene.
+/// What a point's functional trace depends on besides the scene: points that share it are
+/// timed on one recorded trace ([`CycleRun::frame_replayed`]).
+#[derive(PartialEq)]
+struct TraceIdentity {
+    datapath: DatapathConfig,
+    use_hit_buffer: bool,
+    two_level: Option<rtl_model::units::tile_list::TileListConfig>,
+    sphere_units: u32,
+}
+
+impl TraceIdentity {
+    fn of(e: &plan::Plan) -> Self {
+        Self {
+            datapath: e.datapath.clone(),
+            use_hit_buffer: e.use_hit_buffer,
+            two_level: e.two_level,
+            sphere_units: e.hardware.sphere_units,
+        }
+    }
+}
+
+/// How a point's frames get their functional trace.
+enum Trace<'a> {
+    /// Rendered by the functional model as the cycle model runs, and kept, one per frame.
+    Record(&'a mut Vec<RecordedFrame>),
+    /// Recorded by another point of the same [`TraceIdentity`].
+    Replay(&'a [RecordedFrame]),
+}
+
+/// Mean cycles per frame of the elaborated hardware `e` over the prepared scene.
 fn cycles_per_frame(
     p: &Prepared,
     e: &plan::Plan,
     sample: Option<SampleConfig>,
     fail: &dyn Fn(CycleRunError) -> ExploreError,
     name: &str,
+    mut trace: Trace<'_>,
 ) -> Result<f64, ExploreError> {
     let (w, h) = p.scene.file.resolution;
     let opts = CycleOptions {
@@ -300,11 +330,23 @@ fn cycles_per_frame(
             assets: &p.assets,
             state: &state,
         };
-        cycles += run
-            .frame(&input, dp, e.use_hit_buffer)
-            .map_err(fail)?
-            .cycles
-            .cycles;
+        cycles += match &mut trace {
+            Trace::Record(kept) => {
+                let (result, recorded) = run
+                    .frame_recorded(&input, dp, e.use_hit_buffer)
+                    .map_err(fail)?;
+                kept.push(recorded);
+                result.cycles.cycles
+            }
+            Trace::Replay(recorded) => {
+                let recorded = recorded.get(f as usize).ok_or_else(|| {
+                    fail(CycleRunError::Config(format!("frame {f} was not recorded")))
+                })?;
+                run.frame_replayed(&input, dp, e.use_hit_buffer, recorded)
+                    .map_err(fail)?
+                    .cycles
+            }
+        };
     }
     Ok(cycles as f64 / f64::from(frames.max(1)))
 }
@@ -371,48 +413,77 @@ pub fn run_explore(
             instances: prepared.scene.file.instances.len(),
         });
         let pixels = f64::from(spec.width) * f64::from(spec.height);
-        let jobs: Vec<usize> = (0..points.len()).collect();
-        let mut mine = map_in_order(
-            "point",
-            &jobs,
-            |&k| {
-                let p = &points[k];
-                let fail = |source| ExploreError::Cycle {
-                    point: p.id,
-                    fields: space.describe_values(&p.values),
-                    scene: name.clone(),
-                    source,
-                };
-                // The hardware `sim` would run for this scene: scene-driven elaboration
-                // (docs/elaboration.md) of the point's hardware, timed and priced as built.
-                let e = plan::plan(&prepared.facts, &p.hw, dp, true);
-                let estimate = |message| ExploreError::Estimate {
-                    point: p.id,
-                    message,
-                };
-                e.hardware.validate_for(&e.datapath).map_err(estimate)?;
-                let u = usage_with_lists(&e.hardware, &e.datapath, e.two_level.as_ref())
-                    .map_err(estimate)?;
-                let c = cycles_per_frame(&prepared, &e, sample, &fail, &name)?;
-                let clock = f64::from(p.hw.clock_mhz) * 1e6;
-                Ok::<_, ExploreError>(ExploreRow {
-                    point: p.id,
-                    scene: name.clone(),
-                    values: p.values.clone(),
-                    default: p.default,
-                    cycles_per_frame: c,
-                    fps: if c > 0.0 { clock / c } else { 0.0 },
-                    rays_per_clock: if c > 0.0 { pixels / c } else { 0.0 },
-                    usage: u,
-                    front: [false; 5],
-                    best: false,
-                })
-            },
-            |row| {
-                done += 1;
-                progress(row, done, total);
-            },
-        )?;
+        // The hardware `sim` would run for this scene: scene-driven elaboration
+        // (docs/elaboration.md) of each point's hardware, timed and priced as built.
+        let plans: Vec<plan::Plan> = points
+            .iter()
+            .map(|p| plan::plan(&prepared.facts, &p.hw, dp, true))
+            .collect();
+        let row = |k: usize, trace: Trace<'_>| {
+            let (p, e) = (&points[k], &plans[k]);
+            let fail = |source| ExploreError::Cycle {
+                point: p.id,
+                fields: space.describe_values(&p.values),
+                scene: name.clone(),
+                source,
+            };
+            let estimate = |message| ExploreError::Estimate {
+                point: p.id,
+                message,
+            };
+            e.hardware.validate_for(&e.datapath).map_err(estimate)?;
+            let u = usage_with_lists(&e.hardware, &e.datapath, e.two_level.as_ref())
+                .map_err(estimate)?;
+            let c = cycles_per_frame(&prepared, e, sample, &fail, &name, trace)?;
+            let clock = f64::from(p.hw.clock_mhz) * 1e6;
+            Ok::<_, ExploreError>(ExploreRow {
+                point: p.id,
+                scene: name.clone(),
+                values: p.values.clone(),
+                default: p.default,
+                cycles_per_frame: c,
+                fps: if c > 0.0 { clock / c } else { 0.0 },
+                rays_per_clock: if c > 0.0 { pixels / c } else { 0.0 },
+                usage: u,
+                front: [false; 5],
+                best: false,
+            })
+        };
+        // The functional trace does not depend on most hardware fields: the first point of
+        // each trace identity renders and records it, the others of that identity are timed
+        // on it, on all cores; the recording is dropped before the next identity's.
+        let identities: Vec<TraceIdentity> = plans.iter().map(TraceIdentity::of).collect();
+        let mut slots: Vec<Option<ExploreRow>> = (0..points.len()).map(|_| None).collect();
+        for first in 0..points.len() {
+            if identities[..first].contains(&identities[first]) {
+                continue;
+            }
+            crate::output::interrupt::check(
+                || format!("point {} of {}", first + 1, points.len()),
+                String::new,
+            )?;
+            let mut recorded = Vec::new();
+            let r = row(first, Trace::Record(&mut recorded))?;
+            done += 1;
+            progress(&r, done, total);
+            slots[first] = Some(r);
+            let others: Vec<usize> = (first + 1..points.len())
+                .filter(|&k| identities[k] == identities[first])
+                .collect();
+            let replayed = map_in_order(
+                "point",
+                &others,
+                |&k| row(k, Trace::Replay(&recorded)),
+                |r| {
+                    done += 1;
+                    progress(r, done, total);
+                },
+            )?;
+            for (k, r) in others.into_iter().zip(replayed) {
+                slots[k] = Some(r);
+            }
+        }
+        let mut mine: Vec<ExploreRow> = slots.into_iter().flatten().collect();
         place(&mut mine);
         rows.extend(mine);
     }

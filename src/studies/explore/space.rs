@@ -216,6 +216,31 @@ pub fn value_text(v: &Value) -> String {
     }
 }
 
+/// The (path, value) pairs one value of a field sets. A field whose name joins several paths
+/// with `+` (`"transform_units+reciprocal_units+walker_root_units"`) is a linked field: each
+/// of its values is a tuple with one value per path, set together (fields whose values only
+/// make sense in step, such as the three unit counts of a walk-issue width).
+pub fn sets_of<'a>(path: &'a str, v: &'a Value) -> Result<Vec<(&'a str, &'a Value)>, String> {
+    if !path.contains('+') {
+        return Ok(vec![(path, v)]);
+    }
+    let paths: Vec<&str> = path.split('+').map(str::trim).collect();
+    if paths.iter().any(|p| p.is_empty()) {
+        return Err(format!("the linked field {path:?} has an empty path"));
+    }
+    match v {
+        Value::Array(parts) if parts.len() == paths.len() => {
+            Ok(paths.into_iter().zip(parts.iter()).collect())
+        }
+        _ => Err(format!(
+            "a value of a field linking {} paths is a tuple of {} values, (a, b, …); got {}",
+            paths.len(),
+            paths.len(),
+            value_text(v)
+        )),
+    }
+}
+
 /// The values a field's entry declares: a list, or `(from: a, to: b, step: s)` (integers,
 /// `to` included).
 fn expand(v: &Value) -> Result<Vec<Value>, String> {
@@ -409,10 +434,14 @@ impl Space {
                 return Err(err("named twice".into()));
             }
             let values = expand(v).map_err(err)?;
-            // The path first (its error names no value), then each value through the schema.
-            set_path(&mut tree.clone(), name, &values[0]).map_err(err)?;
+            // The paths first (their errors name no value), then each value through the schema.
+            let mut probe = tree.clone();
+            for (p, x) in sets_of(name, &values[0]).map_err(err)? {
+                set_path(&mut probe, p, x).map_err(err)?;
+            }
             for x in &values {
-                hardware_with(&tree, &[(name, x)])
+                let sets = sets_of(name, x).map_err(err)?;
+                hardware_with(&tree, &sets)
                     .map_err(|(_, m)| err(format!("value {}: {m}", value_text(x))))?;
             }
             fields.push(Field {
@@ -463,12 +492,16 @@ impl Space {
                 choice[k] = rest % f.values.len();
                 rest /= f.values.len();
             }
-            let sets: Vec<(&str, &Value)> = self
-                .fields
-                .iter()
-                .zip(&choice)
-                .map(|(f, &c)| (f.path.as_str(), &f.values[c]))
-                .collect();
+            // Every (path, value) the point sets, and the field each comes from.
+            let mut sets: Vec<(&str, &Value)> = Vec::new();
+            let mut owner: Vec<usize> = Vec::new();
+            for (k, (f, &c)) in self.fields.iter().zip(&choice).enumerate() {
+                // `from_text` checked every value's shape.
+                for set in sets_of(&f.path, &f.values[c]).unwrap_or_default() {
+                    sets.push(set);
+                    owner.push(k);
+                }
+            }
             let named = |k: usize, m: String| {
                 let f = &self.fields[k];
                 SpaceError::Field {
@@ -479,12 +512,13 @@ impl Space {
                     message: format!("point {} ({}): {m}", index + 1, self.describe(&choice)),
                 }
             };
-            let hw = hardware_with(tree, &sets).map_err(|(k, m)| named(k, m))?;
+            let hw = hardware_with(tree, &sets).map_err(|(k, m)| named(owner[k], m))?;
             if let Err(m) = hw.validate_for(dp) {
                 // Blame the explored field the rule names (the longest path it contains).
-                let k = (0..self.fields.len())
-                    .filter(|&k| m.contains(&self.fields[k].path))
-                    .max_by_key(|&k| self.fields[k].path.len());
+                let k = (0..sets.len())
+                    .filter(|&k| m.contains(sets[k].0))
+                    .max_by_key(|&k| sets[k].0.len())
+                    .map(|k| owner[k]);
                 return Err(match k {
                     Some(k) => named(k, m),
                     None => SpaceError::Invalid {
@@ -497,7 +531,12 @@ impl Space {
                     },
                 });
             }
-            let values = sets.iter().map(|(_, v)| value_text(v)).collect();
+            let values = self
+                .fields
+                .iter()
+                .zip(&choice)
+                .map(|(f, &c)| value_text(&f.values[c]))
+                .collect();
             let default = hw == self.base;
             out.push(Point {
                 id: index + 1,
@@ -511,10 +550,18 @@ impl Space {
                 .fields
                 .iter()
                 .map(|f| {
-                    f.path
-                        .split('.')
-                        .try_fold(tree, |node, seg| node.get(seg))
-                        .map_or_else(|| "?".to_string(), value_text)
+                    let of = |path: &str| {
+                        path.trim()
+                            .split('.')
+                            .try_fold(tree, |node, seg| node.get(seg))
+                            .cloned()
+                            .unwrap_or(Value::String("?".into()))
+                    };
+                    if f.path.contains('+') {
+                        value_text(&Value::Array(f.path.split('+').map(of).collect()))
+                    } else {
+                        value_text(&of(&f.path))
+                    }
                 })
                 .collect();
             out.insert(
