@@ -204,3 +204,45 @@ fn bad_hardware_files_are_errors_naming_the_problem() {
     assert!(!r.status.success());
     assert!(r.stderr.contains("FROM is after TO"), "{}", r.stderr);
 }
+
+#[test]
+fn lift_bound_at_the_clock_has_nothing_to_lift_and_succeeds() {
+    // A single static SVO under a still camera at 48×32 runs at the clock's limit (the bound
+    // line reads `clock`): `--lift bound` must say so and exit 0, not refuse after the run.
+    let r = run_sim(
+        &[
+            "--scene",
+            "scenes/static_single.ron",
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--frames",
+            "3",
+            "--threads",
+            "1",
+            "--no-png",
+            "-q",
+            "--lift",
+            "bound",
+        ],
+        Some(std::path::Path::new(env!("CARGO_MANIFEST_DIR"))),
+        LIMIT,
+    );
+    assert!(r.status.success(), "{}\n{}", r.stdout, r.stderr);
+    assert!(r.stdout.contains("bound: clock"), "{}", r.stdout);
+    assert!(
+        r.stdout
+            .contains("lift bound: the bound is clock: the frame is already at the clock's limit"),
+        "{}",
+        r.stdout
+    );
+    // A limit no hardware field lifts, asked for by name, is still refused before the run.
+    let r = run_sim(&["--lift", "clock", "--frames", "1"], None, LIMIT);
+    assert!(!r.status.success());
+    assert!(
+        r.stderr.contains("no hardware field lifts it"),
+        "{}",
+        r.stderr
+    );
+}

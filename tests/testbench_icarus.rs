@@ -6,7 +6,9 @@
 //! the model's `UnitTimings` latency of that module (hit_record: the packer's `hit_pack`, the
 //! check's `hit_unpack`) and the latency measured; the frame's cycles are required and
 //! checked; corrupting one expected value of one row makes each testbench report exactly one
-//! failure; and `verilator --lint-only -Wall` finds nothing in `testbench/rtl/`.
+//! failure; with `--walk-lanes 2` the transform and reciprocal benches drive 2 and 6 units
+//! side by side, every row passes and a corrupted row of unit 1 is exactly one failure; and
+//! `verilator --lint-only -Wall` finds nothing in `testbench/rtl/`.
 //!
 //! Without `iverilog` or `verilator` (with make and g++ for its builds) the tests skip that
 //! simulator with a `SKIPPED` line, as does the large walker set without the shared `.vox`
@@ -394,6 +396,93 @@ fn one_corrupted_expected_value_is_exactly_one_failure() {
         println!(
             "{unit}: one bit of {out_field} in row {row} flipped: {} passed, {} failed",
             o.passed, o.failed
+        );
+        assert_eq!((o.passed, o.failed), (depth - 1, 1), "{unit}:\n{}", o.text);
+        assert!(
+            o.text.contains(&format!("row {row}: {out_field}")),
+            "{unit}: the failure does not name row {row} and {out_field}:\n{}",
+            o.text
+        );
+    }
+}
+
+#[test]
+fn walk_issue_units_side_by_side_each_pass_and_each_is_checked() {
+    // `--walk-lanes 2`: the transform bench drives 2 transforms and the reciprocal bench 6
+    // reciprocals, each in the same cycles; a corrupted row of a unit other than unit 0 is
+    // exactly one failure, so every unit's outputs are checked against its own rows.
+    let sims = simulators();
+    let t = Tmp::new("lanes_2");
+    let r = run_sim(
+        &[
+            "vectors",
+            "--out",
+            t.dir.to_str().expect("UTF-8 path"),
+            "--walk-lanes",
+            "2",
+            "--count",
+            "500",
+            "--seed",
+            "7",
+            "--width",
+            "12",
+            "--height",
+            "8",
+            "--depth",
+            "4",
+        ],
+        None,
+        Duration::from_secs(600),
+    );
+    assert!(r.status.success(), "sim vectors failed:\n{}", r.stderr);
+    for (unit, units, out_field, row) in [
+        ("transform", 2, "local_o_z", 41usize),
+        ("reciprocal", 6, "zero", 203),
+    ] {
+        for sim in &sims {
+            let o = run_testbench(sim, &t.dir, unit);
+            let rows = manifest(&t.dir, unit)["depth"].as_u64().unwrap();
+            println!(
+                "{unit} × {units} ({sim}): {} passed, {} failed",
+                o.passed, o.failed
+            );
+            assert_eq!(
+                (o.passed, o.failed),
+                (rows, 0),
+                "{unit} ({sim}):\n{}",
+                o.text
+            );
+            assert!(
+                o.text
+                    .contains(&format!("{unit}: {units} units side by side")),
+                "{unit} ({sim}):\n{}",
+                o.text
+            );
+        }
+        if !sims.contains(&"icarus") {
+            continue;
+        }
+        let c = Tmp::new(&format!("lanes_2_corrupt_{unit}"));
+        for name in [
+            format!("{unit}.hex"),
+            format!("{unit}.json"),
+            format!("{unit}_pkg.sv"),
+            "reciprocal_seed.hex".into(),
+        ] {
+            std::fs::copy(t.dir.join(&name), c.dir.join(&name)).expect("copy a vector file");
+        }
+        let (row, depth) = corrupt_field(&c.dir, unit, out_field, row, |w| w / 2);
+        assert_ne!(
+            row % units,
+            0,
+            "{unit}: corrupt a row of a unit other than unit 0"
+        );
+        let o = run_testbench("icarus", &c.dir, unit);
+        println!(
+            "{unit} × {units}: one bit of {out_field} in row {row} (unit {}) flipped: {} passed, {} failed",
+            row % units,
+            o.passed,
+            o.failed
         );
         assert_eq!((o.passed, o.failed), (depth - 1, 1), "{unit}:\n{}", o.text);
         assert!(

@@ -4,7 +4,8 @@
 //! latencies in manifest and package); rows decode, through the manifests alone, to values an
 //! independent oracle accepts (square roots, sorts, round-half-even transform outputs); the
 //! adversarial cases the issue names are present; and the frame capture behind the vectors
-//! reproduces the functional fixed-point model's pixels exactly.
+//! reproduces the functional fixed-point model's pixels exactly; `--walk-lanes` gives the
+//! transform and reciprocal tables their unit counts and leaves their rows alone.
 
 mod common;
 mod vector_files;
@@ -122,6 +123,59 @@ fn same_seed_same_files_other_seed_other_random_rows() {
             }
         }
     }
+}
+
+#[test]
+fn walk_lanes_give_the_units_side_by_side_and_the_same_rows() {
+    // Two walk-issue lanes: two transforms and six reciprocals, the rows unchanged.
+    let args = [
+        "--count", "40", "--width", "12", "--height", "8", "--depth", "4",
+    ];
+    let (one, two) = (Tmp::new("lanes_1"), Tmp::new("lanes_2"));
+    vectors(&one.dir, &args);
+    vectors(&two.dir, &[&args[..], &["--walk-lanes", "2"]].concat());
+    for (unit, units) in [("transform", 2), ("reciprocal", 6)] {
+        assert_eq!(rows(&one.dir, unit), rows(&two.dir, unit), "{unit}: rows");
+        let m = manifest(&two.dir, unit);
+        assert_eq!(m["parameters"]["units"], units, "{unit}");
+        assert_eq!(manifest(&one.dir, unit)["parameters"]["units"], units / 2);
+        let pkg = std::fs::read_to_string(two.dir.join(format!("{unit}_pkg.sv"))).unwrap();
+        let want = format!("localparam int UNITS = {units};");
+        assert!(pkg.contains(&want), "{unit}_pkg.sv lacks {want}");
+    }
+    // Other units are not walk-issue units: no unit count.
+    assert!(manifest(&two.dir, "sphere")["parameters"]
+        .get("units")
+        .is_none());
+    let index: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(two.dir.join("index.json")).unwrap()).unwrap();
+    assert_eq!(index["walk_lanes"], 2);
+    // The car has 8 instances: its pipeline keeps both lanes.
+    let lanes = index["elaboration"]["decisions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["unit"] == "walk_lanes")
+        .expect("walk_lanes decision");
+    assert_eq!(lanes["action"], "kept", "{lanes}");
+    let bad = run_sim(
+        &[
+            "vectors",
+            "--out",
+            two.dir.to_str().unwrap(),
+            "--walk-lanes",
+            "0",
+        ],
+        None,
+        TIMEOUT,
+    );
+    assert!(!bad.status.success());
+    assert!(
+        bad.stderr
+            .contains("--walk-lanes 0 is out of range (1 to 64)"),
+        "{}",
+        bad.stderr
+    );
 }
 
 /// A set made once for the checks below.

@@ -1,8 +1,9 @@
 //! The node memory's issue-28 mechanisms on hand-built request patterns where each must
 //! matter, with every expected cycle derived by hand in the comments: hit under miss (the miss
-//! queue), MSHR merging in the miss queue, line-interleaved cache banks, and combining of
-//! same-word reads at an on-chip bank. Each test also runs the arrangement before issue 28
-//! (no miss queue, one bank, no combining) on the same pattern, so the difference is pinned.
+//! queue), MSHR merging in the miss queue, the tag re-check of a queued miss, line-interleaved
+//! cache banks, and combining of same-word reads at an on-chip bank. Each test also runs the
+//! arrangement before issue 28 (no miss queue, one bank, no combining) on the same pattern, so
+//! the difference is pinned.
 //!
 //! Random stress of the same mechanisms is in `cycle_memory_stress.rs`.
 
@@ -100,6 +101,46 @@ fn queued_misses_to_one_line_merge() {
         (s.miss_queued, s.miss_queue_wait, s.miss_queue_max),
         (2, 19, 2)
     );
+}
+
+#[test]
+fn a_queued_miss_whose_line_arrived_meanwhile_hits() {
+    // One MSHR, one lookup port. Cycle 0: r0 misses line 1 (word 16; MSHR, done 11); r1
+    // misses line 2 (word 32), r2 line 3 (word 48), r3 and r4 line 2 again (words 33, 34),
+    // looked up in cycles 1 to 4: line 2 is not in flight then (r1 only waits in the queue),
+    // so all four queue. Cycle 11: r1 takes the freed MSHR (fill of line 2, done 22); r2
+    // finds none. Cycle 22: line 2 is installed and r2 takes the MSHR (done 33); r3, now at
+    // the head, finds line 2 in the tags: a hit through the bank's one port, served 22, done
+    // 22 + 4 = 26; r4 hits too but the port is taken: served 23, done 27. Without the tag
+    // re-check r3 would wait for r2's fill (33) and fetch line 2 again (done 44), r4 merging
+    // into that fill.
+    let mut mem = NodeMemory::new(one_mshr(4), flat()).unwrap();
+    for (r, addr) in [(0, 16), (1, 32), (2, 48), (3, 33), (4, 34)] {
+        mem.request(0, addr, FetchKind::Node, r).unwrap();
+    }
+    let done = by_requester(&mem.drain());
+    let got: Vec<(u64, u64, Source)> = done
+        .values()
+        .map(|c| (c.cycle_served, c.cycle_done, c.source))
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            (0, 11, Source::Miss),
+            (1, 22, Source::Miss),
+            (2, 33, Source::Miss),
+            (22, 26, Source::CacheHit),
+            (23, 27, Source::CacheHit)
+        ],
+        "queued misses re-check the tags"
+    );
+    let s = mem.stats();
+    assert_eq!(
+        (s.dram_fills, s.cache_misses, s.cache_hits, s.cache_lookups),
+        (3, 3, 2, 5)
+    );
+    // r1 waited 11 − 1, r2 22 − 2, r3 22 − 3, r4 23 − 4.
+    assert_eq!((s.miss_queued, s.miss_queue_wait), (4, 68));
 }
 
 #[test]

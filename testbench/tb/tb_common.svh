@@ -9,6 +9,13 @@
 // matches (4-state: X or Z never match) and it left exactly LATENCY cycles after it entered.
 // The last line printed is "N passed, N failed" (rows never seen count as failed).
 //
+// Units instantiated side by side (the walk-issue units of a k-wide pipeline: the package's
+// UNITS, `sim vectors --walk-lanes`) define, before the include:
+//   `TB_UNITS          units (default 1); each slot then drives rows g·TB_UNITS + u into unit
+//                      u, all in the same cycle, through drive_valid_u[u] and
+//                      drive_rows_all[u*WORD_BITS +: WORD_BITS] (drive_valid / drive_row are
+//                      unit 0's). The including module checks the units in unit order at each
+//                      falling edge, so rows are checked in row order, each against its unit.
 // Units with data-dependent timing (the sorter) define, before the include:
 //   `TB_READY          the unit accepts a row this cycle (default 1: II = 1), sampled at the
 //                      falling edge, so it must be a registered signal;
@@ -22,6 +29,9 @@
 `endif
 `ifndef TB_LATENCY
 `define TB_LATENCY(r) LATENCY
+`endif
+`ifndef TB_UNITS
+`define TB_UNITS 1
 `endif
 
 localparam int MAX_REPORTS = 10;    // failures printed in detail
@@ -38,6 +48,9 @@ int depth = DEPTH;
 reg [WORD_BITS-1:0] rows [0:DEPTH-1];
 reg                 drive_valid = 1'b0;
 reg [WORD_BITS-1:0] drive_row = '0;
+reg [`TB_UNITS-1:0]           drive_valid_u = '0;
+reg [`TB_UNITS*WORD_BITS-1:0] drive_rows_all = '0;
+int drive_u;
 reg [WORD_BITS-1:0] exp_row;
 
 longint cycle = 0;
@@ -58,20 +71,22 @@ string path;
 
 always @(posedge clk) cycle <= cycle + 1;
 
-// Drive: one row per cycle at the falling edge; the next rising edge samples it.
+// Drive: one row per unit and cycle at the falling edge; the next rising edge samples it.
 always @(negedge clk) begin
-    if (rst || n_issued >= depth || !format_ok) begin
-        drive_valid = 1'b0;
-    end else if (slot % BUBBLE_EVERY == BUBBLE_EVERY - 1 || `TB_READY !== 1'b1) begin
-        drive_valid = 1'b0;
-    end else begin
-        drive_row = rows[n_issued];
-        drive_valid = 1'b1;
-        issued_at[n_issued] = cycle;
-        if (longint'(`TB_LATENCY(drive_row)) > max_latency)
-            max_latency = longint'(`TB_LATENCY(drive_row));
-        n_issued = n_issued + 1;
+    drive_valid_u = '0;
+    if (!(rst || n_issued >= depth || !format_ok)
+        && !(slot % BUBBLE_EVERY == BUBBLE_EVERY - 1 || `TB_READY !== 1'b1)) begin
+        for (drive_u = 0; drive_u < `TB_UNITS && n_issued < depth; drive_u = drive_u + 1) begin
+            drive_rows_all[drive_u*WORD_BITS +: WORD_BITS] = rows[n_issued];
+            drive_valid_u[drive_u] = 1'b1;
+            issued_at[n_issued] = cycle;
+            if (longint'(`TB_LATENCY(rows[n_issued])) > max_latency)
+                max_latency = longint'(`TB_LATENCY(rows[n_issued]));
+            n_issued = n_issued + 1;
+        end
     end
+    drive_row = drive_rows_all[0 +: WORD_BITS];
+    drive_valid = drive_valid_u[0];
     slot = slot + 1;
 end
 
@@ -157,6 +172,8 @@ initial begin
     end
     $display("%s: %0d rows from %s, latency %0d cycles (model %0d), II %0d, %0d bubbles",
              UNIT, depth, dir, first_latency, LATENCY, II, slot / BUBBLE_EVERY);
+    if (`TB_UNITS > 1)
+        $display("%s: %0d units side by side, row i checked at unit i mod %0d", UNIT, `TB_UNITS, `TB_UNITS);
     $display("%0d passed, %0d failed", n_passed, n_failed);
     $finish;
 end

@@ -11,7 +11,7 @@
 //! Layers: [`word`] (a packed row of any width) → [`layout`] (named fields) → [`table`] (a
 //! stage's rows and where they came from) → [`files`] (hex, manifest, package text);
 //! [`stage`] (what each unit's rows hold); [`frame`] (end-to-end per-pixel records);
-//! [`rng`] (the seeded stimulus).
+//! [`rng`] (the seeded stimulus); [`lanes`] (the units of a k-wide walk issue).
 //!
 //! Hook for cycle-stamped logs: a table is any [`table::VectorTable`]; a cycle model that
 //! records the cycle each transaction entered and left a stage adds one table per stage (see
@@ -20,6 +20,7 @@
 
 pub mod files;
 pub mod frame;
+pub mod lanes;
 pub mod layout;
 pub mod rng;
 pub mod stage;

@@ -41,6 +41,11 @@ pub struct VectorsArgs {
     /// reading past the limit.
     #[arg(long, value_name = "MIB", default_value_t = crate::args::DEFAULT_VOX_MIB)]
     max_vox_mib: u64,
+    /// Walk-issue lanes k (docs/cycle-model.md §2.1): the transform and reciprocal tables are
+    /// for k transforms and 3k reciprocals side by side (package `UNITS`, row i to unit
+    /// i mod UNITS), and index.json's elaboration is against the default hardware k wide.
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    walk_lanes: u32,
 }
 
 /// Runs `sim vectors`.
@@ -55,5 +60,6 @@ pub fn vectors_command(a: VectorsArgs) -> Result<()> {
         height: a.height,
         depth: a.depth,
         max_vox_bytes: crate::args::vox_cap_bytes(a.max_vox_mib)?,
+        walk_lanes: a.walk_lanes,
     })
 }

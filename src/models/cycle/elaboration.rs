@@ -139,8 +139,8 @@ impl Action {
 /// One decision: a unit, what happens to it, why (a fact of the scene) and what it saves.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Decision {
-    /// The unit (`sphere_lanes`, `sorter`, `transform_products`, `scale_path`, `hit_buffer`,
-    /// `walker_stacks`, `position_format`).
+    /// The unit (`sphere_lanes`, `sorter`, `transform_products`, `walk_lanes`, `scale_path`,
+    /// `hit_buffer`, `walker_stacks`, `position_format`).
     pub unit: String,
     /// What the elaboration does with it.
     pub action: Action,

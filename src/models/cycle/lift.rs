@@ -73,6 +73,25 @@ pub fn lift(hw: &HwConfig, limit: &str) -> Result<HwConfig, String> {
     Ok(h)
 }
 
+/// What `--lift bound` says instead of a second run when the run's bound is one no hardware
+/// field lifts: `clock` (the front end already generates about one ray per cycle, so the frame
+/// is at the clock's limit) or `ray_generation`; `None` for a limit [`lift`] knows.
+pub fn nothing_to_lift(bound: &str) -> Option<String> {
+    match bound {
+        "clock" => Some(
+            "lift bound: the bound is clock: the frame is already at the clock's limit (about \
+             one ray per cycle), nothing to lift; a faster clock (clock_mhz) is the only way on"
+                .into(),
+        ),
+        "ray_generation" => Some(
+            "lift bound: the bound is ray_generation: the front end's one ray per clock, which \
+             no hardware field lifts; nothing to lift"
+                .into(),
+        ),
+        _ => None,
+    }
+}
+
 fn names() -> String {
     LIFTS.map(|(n, _)| n).join(", ")
 }
@@ -94,5 +113,15 @@ mod tests {
             "{e}"
         );
         assert!(lift(&hw, "clock").is_err());
+    }
+
+    #[test]
+    fn a_clock_bound_has_nothing_to_lift_and_every_liftable_limit_has() {
+        let says = nothing_to_lift("clock").expect("clock");
+        assert!(says.contains("already at the clock's limit"), "{says}");
+        assert!(nothing_to_lift("ray_generation").is_some());
+        for (name, _) in LIFTS {
+            assert_eq!(nothing_to_lift(name), None, "{name}");
+        }
     }
 }

@@ -134,6 +134,17 @@ pub fn plan(facts: &SceneFacts, hw: &HwConfig, dp: &DatapathConfig, use_hit_buff
         )
     });
 
+    // Walk-issue lanes: a ray walks each of its candidates at most once and has at most one
+    // candidate per instance, so it needs at most n walks; rays leave the check stage at most
+    // one per cycle, so on average at most n walks per cycle reach the transform (the loop
+    // back carries a ray's later walks, n in all). A unit kind needs no more units than n
+    // walks per cycle keep busy: n × its II (three reciprocal units per walk). With one
+    // instance that is one walk-issue chain. Timing only (images cannot change); the glue
+    // that `walk_lanes()` sizes (the walk FIFOs' ports, dispatcher, retire port, record
+    // packing) narrows with the units, so bursts of finished walks leave one a cycle: a
+    // measured cost on the frames that walk (docs/elaboration.md §4).
+    ds.push(walk_lanes(n, hw, &mut out_hw));
+
     // Scale: not a unit of this pipeline (it lives in the octree box's half extents, which the
     // walker root reads per instance); reported so the question is answered.
     let scaled: Vec<&str> = facts
@@ -252,6 +263,55 @@ pub fn plan(facts: &SceneFacts, hw: &HwConfig, dp: &DatapathConfig, use_hit_buff
     }
 }
 
+/// Units of one walk-issue kind that `walks` walks per cycle can keep busy when each unit
+/// takes a walk every `ii` cycles, at most the `configured` count.
+fn units_for(configured: u32, walks: u64, ii: u32) -> u32 {
+    let need = walks.saturating_mul(u64::from(ii.max(1)));
+    u32::try_from(need).map_or(configured, |n| configured.min(n.max(1)))
+}
+
+/// The walk-issue lanes decision for a scene of `n` instances (at most `n` walks per ray):
+/// shrinks `transform_units`, `reciprocal_units` (in lanes of three; fewer than three units
+/// already take one walk in several passes and stay) and `walker_root_units` of `out` to what
+/// `n` walks per cycle keep busy.
+fn walk_lanes(n: u64, hw: &HwConfig, out: &mut HwConfig) -> Decision {
+    let walks = n.max(1);
+    let u = &hw.units;
+    out.transform_units = units_for(hw.transform_units, walks, u.transform.ii);
+    if hw.reciprocal_units >= 3 {
+        out.reciprocal_units = 3 * units_for(hw.reciprocal_units / 3, walks, u.reciprocal.ii);
+    }
+    out.walker_root_units = units_for(hw.walker_root_units, walks, u.walker_root.ii);
+    let (from, to) = (hw.walk_lanes(), out.walk_lanes());
+    let units = |h: &HwConfig| (h.transform_units, h.reciprocal_units, h.walker_root_units);
+    if units(hw) == units(out) {
+        return decision(
+            "walk_lanes",
+            Action::Kept,
+            format!(
+                "{n} instance(s): a ray may need up to {n} walks, which the {from} walk-issue lane(s) (transform {}, reciprocal {}, root {}) can use",
+                hw.transform_units, hw.reciprocal_units, hw.walker_root_units
+            ),
+        );
+    }
+    decision(
+        "walk_lanes",
+        Action::Resized {
+            from: u64::from(from),
+            to: u64::from(to),
+        },
+        format!(
+            "{n} instance(s): a ray needs at most {walks} walk(s) and rays come one per cycle, so at most {walks} walk(s) per cycle on average: transform {} → {}, reciprocal {} → {}, root {} → {} (the walk glue narrows with them: bursts of finished walks retire one a cycle, a cycle cost on frames that walk, docs/elaboration.md §4)",
+            hw.transform_units,
+            out.transform_units,
+            hw.reciprocal_units,
+            out.reciprocal_units,
+            hw.walker_root_units,
+            out.walker_root_units
+        ),
+    )
+}
+
 /// `f` with `int_bits` integer bits (sign included) and its fraction bits unchanged.
 fn narrow_width(f: Format, int_bits: u8) -> Format {
     let w = (i16::from(int_bits) + i16::from(f.frac)).clamp(1, i16::from(u8::MAX));
@@ -277,6 +337,19 @@ pub fn narrowed_positions(dp: &DatapathConfig, int_bits: u8) -> DatapathConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn units_follow_the_walks_a_cycle_and_never_grow() {
+        assert_eq!(units_for(2, 1, 1), 1);
+        assert_eq!(
+            units_for(2, 1, 2),
+            2,
+            "a unit of II 2 takes a walk every other cycle"
+        );
+        assert_eq!(units_for(1, 8, 1), 1, "never more than configured");
+        assert_eq!(units_for(8, 3, 1), 3);
+        assert_eq!(units_for(4, 0, 1), 1, "at least one unit");
+    }
 
     #[test]
     fn integer_bits_cover_the_range_with_a_margin() {

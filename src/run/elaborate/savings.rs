@@ -1,4 +1,4 @@
-//! What each elaboration decision saves: DSP48E2, block RAM (BRAM36, URAM288 and the bits
+//! What each elaboration decision saves: DSP48E2 (the walk-issue lanes' included), block RAM (BRAM36, URAM288 and the bits
 //! they hold), sorter comparators and cycles of latency per ray.
 //!
 //! Pipeline position: after [`super::plan`], before the run. The counts come from the
@@ -40,6 +40,17 @@ pub fn fill(
     elaborated: &ResourceReport,
 ) {
     let (ehw, edp) = (plan.hardware.clone(), plan.datapath.clone());
+    // The elaborated pipeline with the configured walk-issue units: the transform's products
+    // are priced against it on the configured units, and the lanes against the elaborated
+    // estimate, so the two decisions never count the same transform DSP twice.
+    let mut lanes_kept = ehw.clone();
+    lanes_kept.transform_units = hw.transform_units;
+    lanes_kept.reciprocal_units = hw.reciprocal_units;
+    lanes_kept.walker_root_units = hw.walker_root_units;
+    let lanes_kept = lanes_kept
+        .resources(&edp)
+        .unwrap_or_else(|_| elaborated.clone());
+    const WALK_ISSUE: [&str; 3] = ["transform", "reciprocal", "walker_root"];
     for d in &mut plan.decisions {
         let diff = |names: &[&str]| less(full.sum_of(names), elaborated.sum_of(names));
         d.saved = match d.unit.as_str() {
@@ -62,8 +73,15 @@ pub fn fill(
                         .latency_cycles
                         .saturating_sub(ehw.units.transform.latency_cycles),
                 ),
-                ..diff(&["transform"])
+                ..less(
+                    full.sum_of(&["transform"]),
+                    lanes_kept.sum_of(&["transform"]),
+                )
             },
+            "walk_lanes" => less(
+                lanes_kept.sum_of(&WALK_ISSUE),
+                elaborated.sum_of(&WALK_ISSUE),
+            ),
             "hit_buffer" if d.applied => Saving {
                 ram_bits: hw.hit_buffer_bits(dp),
                 latency_cycles: u64::from(

@@ -29,6 +29,8 @@ pub struct VectorsCommand {
     pub depth: Option<u8>,
     /// Largest `.vox` asset file read, bytes (`--max-vox-mib`).
     pub max_vox_bytes: u64,
+    /// Walk-issue lanes the transform and reciprocal tables are for (`--walk-lanes`).
+    pub walk_lanes: u32,
 }
 
 /// Runs `sim vectors`: generates everything, then writes it, then prints a table per stage.
@@ -42,6 +44,7 @@ pub fn run_command(a: &VectorsCommand) -> Result<()> {
         height: a.height,
         depth: a.depth,
         max_vox_bytes: a.max_vox_bytes,
+        walk_lanes: a.walk_lanes,
     };
     // An --out that cannot be a folder fails before any work (write_files checks it again).
     crate::output::writer::refuse_stdout_folder("--out", &a.out)?;

@@ -19,6 +19,7 @@ use rtl_model::cycle::hw_config::UnitTimings;
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::vectors::files::{table_files, VectorFile, FORMAT_VERSION};
 use rtl_model::vectors::frame::frame_tables;
+use rtl_model::vectors::lanes::{set_walk_lanes, MAX_WALK_LANES};
 use rtl_model::vectors::stage::walker::{file_stem, NamedImage};
 use rtl_model::vectors::table::{Origin, VectorTable};
 use rtl_model::vectors::{unit_tables, VectorError, RTL_UNITS};
@@ -95,6 +96,10 @@ pub struct VectorsOptions {
     pub depth: Option<u8>,
     /// Largest `.vox` asset file read, bytes (`--max-vox-mib`).
     pub max_vox_bytes: u64,
+    /// Walk-issue lanes k (`--walk-lanes`): the transform and reciprocal tables are for k
+    /// transforms and 3k reciprocals side by side (`rtl_model::vectors::lanes`), and the
+    /// recorded elaboration is against the default hardware with k lanes.
+    pub walk_lanes: u32,
 }
 
 impl Default for VectorsOptions {
@@ -108,6 +113,7 @@ impl Default for VectorsOptions {
             height: 20,
             depth: None,
             max_vox_bytes: crate::input::DEFAULT_VOX_CAP_BYTES,
+            walk_lanes: 1,
         }
     }
 }
@@ -127,6 +133,12 @@ impl VectorsOptions {
                     "{name} {v} is out of range (1 to {MAX_FRAME_SIDE}): the vectors capture a small frame"
                 )));
             }
+        }
+        if self.walk_lanes == 0 || self.walk_lanes > MAX_WALK_LANES {
+            return Err(VectorsError::Option(format!(
+                "--walk-lanes {} is out of range (1 to {MAX_WALK_LANES})",
+                self.walk_lanes
+            )));
         }
         Ok(())
     }
@@ -194,6 +206,7 @@ pub fn generate(opts: &VectorsOptions) -> Result<VectorSet, VectorsError> {
         });
     }
     let mut tables = unit_tables(&dp, &cap.captured, images, opts.count, opts.seed)?;
+    set_walk_lanes(&mut tables, opts.walk_lanes);
     tables.extend(frame_tables(
         &dp,
         cap.origin,
@@ -207,8 +220,12 @@ pub fn generate(opts: &VectorsOptions) -> Result<VectorSet, VectorsError> {
         files.extend(table_files(t).map_err(VectorError::from)?);
     }
     // The manifest records what the scene's elaborated pipeline keeps (with the default
-    // hardware); the unit vectors themselves exercise every unit at its full size.
-    let hw = rtl_model::cycle::hw_config::HwConfig::for_datapath(&dp);
+    // hardware, k walk-issue lanes wide); the unit vectors themselves exercise every unit at
+    // its full size.
+    let mut hw = rtl_model::cycle::hw_config::HwConfig::for_datapath(&dp);
+    hw.transform_units = opts.walk_lanes;
+    hw.reciprocal_units = 3 * opts.walk_lanes;
+    hw.walker_root_units = opts.walk_lanes;
     let elab = crate::run::elaborate::elaborate(&scene, opts.depth, &hw, &dp, true)?;
     files.push(index_file(opts, &scene, &depths, &dp, &tables, &elab)?);
     Ok(VectorSet {
@@ -265,6 +282,7 @@ fn index_file(
         "asset_depths": depths,
         "count": opts.count,
         "seed": opts.seed,
+        "walk_lanes": opts.walk_lanes,
         "rtl_units": RTL_UNITS,
         "unit_timings": UnitTimings::for_datapath(dp),
         "datapath": dp,

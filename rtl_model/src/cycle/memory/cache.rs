@@ -50,6 +50,15 @@ impl Tags {
         &mut self.tags[s * self.ways..(s + 1) * self.ways]
     }
 
+    /// Whether `line` is cached (no change to the recency order).
+    pub(super) fn contains(&self, line: u64) -> bool {
+        if self.sets == 0 {
+            return false;
+        }
+        let s = (line & (self.sets - 1)) as usize;
+        self.tags[s * self.ways..(s + 1) * self.ways].contains(&line)
+    }
+
     /// Looks up `line`; on a hit it becomes most recently used.
     pub(super) fn touch(&mut self, line: u64) -> bool {
         if self.sets == 0 {

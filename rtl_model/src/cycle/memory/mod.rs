@@ -99,9 +99,12 @@
 //!   served cycle stays its lookup cycle), so the lookups behind it go on: hits under a miss.
 //!   At the start of each cycle, after the fills that complete, the queue's head merges into
 //!   a fill of its line in flight or takes a free MSHR, in order, until one can do neither
-//!   (request-cycles spent there counted as miss-queue wait when a read leaves). The queue
-//!   does not replay through the tags: a queued miss whose line was filled meanwhile fetches
-//!   it again. When the miss queue is full (always, with 0 entries) the bank's in-order
+//!   (request-cycles spent there counted as miss-queue wait when a read leaves). Before that
+//!   the head's tags are checked again: if a fill issued while it waited has brought its line
+//!   in, it is a hit (counted as one), read through one of its bank's lookup ports in that
+//!   cycle (the bank's lookups of the cycle get the ports left; with none left the head
+//!   waits, in order, for the next cycle), served in that cycle and done `hit_latency`
+//!   later. When the miss queue is full (always, with 0 entries) the bank's in-order
 //!   pipeline stalls until a fill completes, as a non-blocking cache does when its miss table
 //!   is full: reads behind the stalled one wait too (counted as MSHR-wait request-cycles, and
 //!   the cycle as an MSHR-full cycle). An MSHR is freed, and the line installed as most
@@ -198,6 +201,12 @@ pub struct NodeMemory {
     /// The miss queue: misses that found every MSHR taken, with the cycle of their lookup,
     /// in order (hit under miss, `cache.miss_queue` entries).
     miss_q: VecDeque<(Req, u64)>,
+    /// Per cache bank, the lookup ports the miss queue's tag re-checks took in the cycle
+    /// being stepped (a queued miss whose line has arrived is read as a hit through one).
+    replay_ports: Vec<u32>,
+    /// The miss queue's head hit the tags but its bank had no lookup port left in the last
+    /// cycle stepped: the next cycle has work even if nothing else happens in it.
+    replay_waiting: bool,
     tags: Tags,
     /// Bytes of a cache line (the divisor of [`line_of`]).
     line_bytes: u64,
@@ -236,9 +245,11 @@ impl NodeMemory {
             next_id: 0,
             future: BinaryHeap::new(),
             arrivals: Vec::new(),
-            cache_q,
             waiting: 0,
             miss_q: VecDeque::new(),
+            replay_ports: vec![0; cache_q.len()],
+            replay_waiting: false,
+            cache_q,
             tags,
             pending: CompletionWheel::default(),
             stats,
@@ -350,7 +361,7 @@ impl NodeMemory {
     pub fn next_completion_bound(&self) -> Option<u64> {
         let mut bound = self.pending.next_due();
         let mut at = |c: u64| bound = Some(bound.map_or(c, |b| b.min(c)));
-        if self.waiting > 0 || !self.arrivals.is_empty() {
+        if self.waiting > 0 || !self.arrivals.is_empty() || self.replay_waiting {
             at(self.next);
         }
         if let Some(Reverse(r)) = self.future.peek() {
@@ -449,7 +460,7 @@ impl NodeMemory {
     /// moves bytes.
     #[inline]
     fn has_work(&self, k: u64) -> bool {
-        if self.waiting > 0 || !self.arrivals.is_empty() {
+        if self.waiting > 0 || !self.arrivals.is_empty() || self.replay_waiting {
             return true;
         }
         if self.future.peek().is_some_and(|Reverse(r)| r.cycle <= k) {
@@ -475,9 +486,26 @@ impl NodeMemory {
         for (r, served, done, source) in self.dram.retire(k, &mut self.tags) {
             self.complete(r, served, done, source);
         }
-        //    Then the miss queue takes the MSHRs freed, in order (a queued miss to a line
-        //    in flight merges).
+        //    Then the miss queue's head, in order: its tags are checked again (a fill issued
+        //    while it waited may have brought its line in: then it is a hit, read through a
+        //    lookup port of its bank in this cycle), else it merges into a fill of its line
+        //    in flight or takes an MSHR freed.
+        self.replay_ports.fill(0);
+        self.replay_waiting = false;
         while let Some(&(r, looked_up)) = self.miss_q.front() {
+            match self.replay_hit(r, k) {
+                Some(true) => {
+                    self.miss_q.pop_front();
+                    self.stats.miss_queue_wait += k - looked_up;
+                    continue;
+                }
+                Some(false) => {
+                    // A hit with no port left: it waits, in order, for the next cycle.
+                    self.replay_waiting = true;
+                    break;
+                }
+                None => {}
+            }
             let Some((source, done)) = self.send_to_dram(r, k) else {
                 break;
             };
@@ -540,7 +568,8 @@ impl NodeMemory {
         for j in 0..banks {
             let b = (j + (k % banks as u64) as usize) % banks;
             let mut blocked = false;
-            for _ in 0..self.cfg.cache.ports {
+            let ports = self.cfg.cache.ports.saturating_sub(self.replay_ports[b]);
+            for _ in 0..ports {
                 let Some(&r) = self.cache_q[b].front() else {
                     break;
                 };
@@ -599,11 +628,35 @@ impl NodeMemory {
         self.send_to_dram(r, k)
     }
 
+    /// The tag re-check of the miss queue's head `r` in cycle `k`: `None` if its line is not
+    /// cached (it goes on to DRAM), `Some(true)` if it hit and was served through a lookup
+    /// port of its bank (counted as a cache hit, completing `hit_latency` later), `Some(false)`
+    /// if it hits but every port of its bank was taken this cycle by earlier re-checks.
+    #[inline]
+    fn replay_hit(&mut self, r: Req, k: u64) -> Option<bool> {
+        let line = line_of(r.kind, r.addr, self.line_bytes);
+        let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
+        if !cached || !self.tags.contains(line) {
+            return None;
+        }
+        let bank = (line % self.cache_q.len() as u64) as usize;
+        if self.replay_ports[bank] >= self.cfg.cache.ports {
+            return Some(false);
+        }
+        self.replay_ports[bank] += 1;
+        self.tags.touch(line);
+        self.stats.cache_lookups += 1;
+        self.stats.cache_hits += 1;
+        let done = k + u64::from(self.cfg.cache.hit_latency);
+        self.complete(r, k, done, Source::CacheHit);
+        Some(true)
+    }
+
     /// A read that missed the tags (or is not cached) goes to DRAM in cycle `k`: it merges
     /// into the fill of its line in flight or issues one, and is counted; `None` when every
-    /// MSHR is taken (nothing changes then). A read from the miss queue comes here directly:
-    /// the queue does not replay through the tags, so if its line arrived while it waited
-    /// (a fill issued by another miss and completed) it fetches the line again.
+    /// MSHR is taken (nothing changes then). A read from the miss queue comes here after its
+    /// tags were checked again ([`replay_hit`](Self::replay_hit)), so it never fetches a line
+    /// that a fill issued while it waited has brought in.
     #[inline]
     fn send_to_dram(&mut self, r: Req, k: u64) -> Option<(Source, Option<u64>)> {
         let line = line_of(r.kind, r.addr, self.line_bytes);
