@@ -16,20 +16,22 @@
 //! Ties and slivers are capped per camera at the counts measured ([`CAPS`]), so a regression in
 //! either walk that does not yet make a real difference still fails.
 //!
-//! The peer is built once with g++ against Debian's libopenvdb-dev 10 (plus libboost-dev and
-//! libtbb-dev, which it pulls in) into Cargo's test temp folder, keyed by its source. Without
+//! The 20 cameras (five models, four cameras each) and the peer's g++ build are the library's
+//! (`svo_sim::run::peer_bench`, which `sim bench peer` times): the test checks the very images
+//! the benchmark times. The peer is built once with g++ against Debian's libopenvdb-dev 10 (plus
+//! libboost-dev and libtbb-dev, which it pulls in) into Cargo's test temp folder, keyed by its
+//! source and flags. Without
 //! g++ or the OpenVDB headers, or without `../shared/data/vox`, the test skips with a `SKIPPED`
 //! line (tests/common/skip.rs); under `CI=true` it fails instead. The Mrays/s it prints are indicative only (small
 //! images, the test profile); `docs/render.md` §7 gives the benchmark command.
 
-use std::collections::hash_map::DefaultHasher;
-use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::ToPrimitive;
+use svo_sim::run::peer_bench;
 
 mod common;
 
@@ -76,128 +78,19 @@ fn over_cap(key: &str, ties: usize, slivers: usize, cap: [usize; 2]) -> Vec<Stri
     out
 }
 
-/// `-O3` as OpenVDB's own release builds; `-O2` made the peer 1.4× slower (docs/render.md §7).
-const PEER_FLAGS: &[&str] = &["-std=c++17", "-O3", "-DNDEBUG", "-ffp-contract=off"];
-const PEER_LIBS: &[&str] = &["-lopenvdb", "-ltbb", "-lpthread"];
-
-/// Builds the peer (or reuses the build of the same source) and returns its path; `None`
-/// after a visible skip (a failure under CI=true) when g++ or the OpenVDB headers are missing.
+/// Builds the peer with the library's recipe (`svo_sim::run::peer_bench::build_peer`: the same
+/// embedded source and flags as `sim bench peer`) into Cargo's test temp folder, or reuses the
+/// build of the same source there, and returns its path; `None` after a visible skip (a failure
+/// under CI=true) when g++ or the OpenVDB headers are missing.
 fn build_peer() -> Option<PathBuf> {
     if !common::skip::tools(&["g++"], "g++")
-        || !common::skip::header(
-            "/usr/include/openvdb/openvdb.h",
-            "libopenvdb-dev libboost-dev",
-        )
+        || !common::skip::header(peer_bench::OPENVDB_HEADER, "libopenvdb-dev libboost-dev")
         || !common::skip::header("/usr/include/boost/version.hpp", "libboost-dev")
     {
         return None;
     }
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/openvdb_peer/peer.cpp");
-    let text = std::fs::read(&src).expect("peer source");
-    let mut h = DefaultHasher::new();
-    (text, PEER_FLAGS, PEER_LIBS).hash(&mut h);
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("openvdb_peer");
-    std::fs::create_dir_all(&dir).expect("temp folder");
-    let exe = dir.join(format!("peer-{:016x}", h.finish()));
-    if exe.exists() {
-        return Some(exe);
-    }
-    let tmp = dir.join(format!("peer-build-{}", std::process::id()));
-    let out = Command::new("g++")
-        .args(PEER_FLAGS)
-        .arg(&src)
-        .arg("-o")
-        .arg(&tmp)
-        .args(PEER_LIBS)
-        .output()
-        .expect("run g++");
-    assert!(
-        out.status.success(),
-        "building the OpenVDB peer failed:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    std::fs::rename(&tmp, &exe).expect("install peer");
-    Some(exe)
-}
-
-#[derive(Clone, Copy, Debug)]
-struct Cam {
-    name: &'static str,
-    eye: [f64; 3],
-    look: [f64; 3],
-    up: [f64; 3],
-    /// Pinhole fov (degrees) or orthographic view width.
-    ortho: bool,
-    value: f64,
-    w: u32,
-    h: u32,
-}
-
-/// The four cameras of a model with solid box [mn, mx] (inclusive voxel indices).
-/// `scale` multiplies the image sides (1 in the test, 8 in benchmark mode).
-fn cameras(mn: [i64; 3], mx: [i64; 3], scale: u32) -> Vec<Cam> {
-    let c: [f64; 3] = std::array::from_fn(|k| (mn[k] + mx[k] + 1) as f64 * 0.5);
-    let ext = (0..3).map(|k| mx[k] + 1 - mn[k]).max().unwrap() as f64;
-    let side = (ext as u32).next_power_of_two().min(128);
-    let pixels = side.max(64) * scale;
-    let ortho_off = 1.0 - 0.5 / f64::from(pixels / side);
-    let fl = |v: f64| v.floor();
-    vec![
-        Cam {
-            name: "oblique pinhole",
-            eye: [
-                c[0] + 1.3 * ext + 0.137,
-                c[1] - 1.1 * ext + 0.291,
-                c[2] + 0.9 * ext + 0.053,
-            ],
-            look: c,
-            up: [0.0, 0.0, 1.0],
-            ortho: false,
-            value: 40.0,
-            w: 160 * scale,
-            h: 120 * scale,
-        },
-        // Odd size: the centre column and row have exact-zero direction components, and the
-        // integer eye puts those rays exactly in the voxel planes x = eye.x and z = eye.z.
-        Cam {
-            name: "axis pinhole, odd size",
-            eye: [fl(c[0]), (mn[1] as f64 - 1.5 * ext).floor(), fl(c[2])],
-            look: [fl(c[0]), c[1], fl(c[2])],
-            up: [0.0, 0.0, 1.0],
-            ortho: false,
-            value: 50.0,
-            w: 160 * scale + 1,
-            h: 120 * scale + 1,
-        },
-        // A power-of-two view `side` voxels wide on `pixels` = p·side pixels (p a power of
-        // two), so every origin is exact: (i + ½)/p − side/2 from the eye. With the eye at
-        // 1 − 1/(2p) past an integer, every p-th row and column of rays runs exactly along
-        // voxel edge lines (in the planes x = i and y = j).
-        Cam {
-            name: "ortho along -z",
-            eye: [
-                fl(c[0]) + ortho_off,
-                fl(c[1]) + ortho_off,
-                mx[2] as f64 + 5.0,
-            ],
-            look: [fl(c[0]) + ortho_off, fl(c[1]) + ortho_off, mn[2] as f64],
-            up: [0.0, 1.0, 0.0],
-            ortho: true,
-            value: f64::from(side),
-            w: pixels,
-            h: pixels,
-        },
-        Cam {
-            name: "inside the bounds",
-            eye: [c[0] + 0.37, c[1] + 0.21, c[2] + 0.13],
-            look: [c[0] + 10.37, c[1] + 6.21, c[2] - 2.37],
-            up: [0.0, 0.0, 1.0],
-            ortho: false,
-            value: 90.0,
-            w: 160 * scale,
-            h: 120 * scale,
-        },
-    ]
+    Some(peer_bench::build_peer(&dir).unwrap_or_else(|e| panic!("{e}")))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -405,24 +298,6 @@ fn classify(r: &Rec, p: &Rec) -> Class {
     }
 }
 
-/// `x a..b, y a..b, z a..b` of `sim render`'s box line.
-fn parse_box(stdout: &str) -> ([i64; 3], [i64; 3]) {
-    let line = stdout
-        .lines()
-        .find(|l| l.starts_with("solid bounding box"))
-        .expect("box line");
-    let body = line.split("): ").nth(1).expect("box body");
-    let mut mn = [0; 3];
-    let mut mx = [0; 3];
-    for (k, part) in body.split(", ").take(3).enumerate() {
-        let range = part.split_whitespace().nth(1).expect("range");
-        let (a, b) = range.split_once("..").expect("a..b");
-        mn[k] = a.parse().expect("min");
-        mx[k] = b.parse().expect("max");
-    }
-    (mn, mx)
-}
-
 fn peer_value<'a>(stdout: &'a str, key: &str) -> Vec<&'a str> {
     stdout
         .lines()
@@ -475,13 +350,6 @@ fn reference_walk_agrees_with_openvdb() {
     let tmp = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join(format!("openvdb_peer_run_{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
-    let models = [
-        "veh_bus.vox",
-        "scene_store8.vox",
-        "chr_mayor.vox",
-        "alien_saucer2a.vox",
-        "scene_park.vox",
-    ];
     println!(
         "{:<15} {:<23} {:>6} {:>6} {:>5} {:>7} {:>5} {:>9} {:>10} {:>8} {:>8} {:>8} {:>6}",
         "model",
@@ -501,7 +369,7 @@ fn reference_walk_agrees_with_openvdb() {
     let mut total_real = 0;
     let mut over: Vec<String> = Vec::new();
     let mut first_real: Vec<String> = Vec::new();
-    for m in models {
+    for m in peer_bench::MODELS {
         let path = vox_dir.join(m);
         // The box first (a one-pixel render), to place the cameras.
         let s = run_ok(
@@ -517,8 +385,8 @@ fn reference_walk_agrees_with_openvdb() {
             ]),
             "sim render",
         );
-        let (mn, mx) = parse_box(&s);
-        for cam in cameras(mn, mx, if bench { 8 } else { 1 }) {
+        let (mn, mx) = peer_bench::parse_box(&s, "sim render").unwrap_or_else(|e| panic!("{e}"));
+        for cam in peer_bench::cameras(mn, mx, if bench { 8 } else { 1 }) {
             let key = format!("{}/{}", m.trim_end_matches(".vox"), cam.name);
             if only.as_ref().is_some_and(|o| !key.contains(o.as_str())) {
                 continue;

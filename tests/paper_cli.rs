@@ -1,5 +1,6 @@
 //! `sim paper` end to end at a tiny size: the four files are written, the table has the four
-//! cases with a ratio of 1 for (a), the reference's walks grow from (c) to (b), and bad options
+//! cases with a ratio of 1 for (a), the reference's walks grow from (c) to (b), a figure not
+//! measured (`--repeats 0`) reads "–" (empty in the CSV, null in the JSON), and bad options
 //! are refused naming the option with nothing written.
 
 use std::path::PathBuf;
@@ -85,4 +86,73 @@ fn paper_refuses_bad_options_and_writes_nothing() {
         assert!(stderr.contains(msg), "{args:?}: {stderr}");
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
+}
+
+/// With `--repeats 0` the reference does not run, so its counters (walks, reused pixels) are
+/// not measured: they read "–" in the table, are empty in the CSV and null in the JSON, like
+/// its times, and never 0.
+#[test]
+fn paper_without_reference_leaves_its_counters_unmeasured() {
+    let out = scratch("norepeat");
+    let o = sim(&[
+        "paper",
+        "--frames",
+        "1",
+        "--resolution",
+        "48x32",
+        "--repeats",
+        "0",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    let md = std::fs::read_to_string(out.join("paper.md")).expect("paper.md");
+    assert!(md.contains("reference: not run"), "{md}");
+    let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| (")).collect();
+    assert_eq!(rows.len(), 4, "{md}");
+    for row in rows {
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        // | case | scene | ref s | ref fps | ref ÷ (a) | cycle fps | cycle ÷ (a) | walks | reused |
+        assert_eq!(cells[3..6], ["– / –", "–", "–"], "reference columns: {row}");
+        assert_ne!(cells[6], "–", "the cycle model ran: {row}");
+        assert_eq!(cells[8..10], ["–", "–"], "walks and reused px: {row}");
+    }
+    let csv = std::fs::read_to_string(out.join("paper.csv")).expect("csv");
+    let mut lines = csv.lines();
+    let header = csv_fields(lines.next().expect("header"));
+    let col = |name: &str| header.iter().position(|h| h == name).expect(name);
+    for line in lines {
+        let fields = csv_fields(line);
+        assert_eq!(fields.len(), header.len(), "{line}");
+        for name in ["reference_best_s", "walks", "reused"] {
+            assert_eq!(fields[col(name)], "", "{name} in {line}");
+        }
+        assert_ne!(fields[col("cycles")], "", "cycles in {line}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("paper.json")).expect("json"))
+            .expect("parse");
+    for r in json.as_array().expect("rows") {
+        for key in ["reference_best_s", "walks", "reused"] {
+            assert!(r[key].is_null(), "{key} in {r}");
+        }
+        assert!(r["cycles"].as_u64().is_some_and(|n| n > 0), "cycles in {r}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The fields of a CSV line whose quoted fields hold no quote (the label and flags may hold
+/// commas).
+fn csv_fields(line: &str) -> Vec<String> {
+    let (mut fields, mut cur, mut quoted) = (Vec::new(), String::new(), false);
+    for ch in line.chars() {
+        match ch {
+            '"' => quoted = !quoted,
+            ',' if !quoted => fields.push(std::mem::take(&mut cur)),
+            _ => cur.push(ch),
+        }
+    }
+    fields.push(cur);
+    fields
 }

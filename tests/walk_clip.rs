@@ -6,7 +6,8 @@
 //! offset (negative, zero, positive), as `sim render` places a model. Rays: oblique rays aimed
 //! into the solid box, random rays around the octree, axis-aligned rays from voxel planes, edge
 //! lines and cell centres (exact-zero components of both signs, rays in voxel planes), tiny
-//! components (below and above the walk's zero threshold) and origins inside the model. Seeded:
+//! components (below and above the walk's zero threshold) and origins inside the model; and
+//! the same rays made meaningless (a NaN t), which must hit nothing. Seeded:
 //! the seed is printed; `SVO_TEST_SEED=<seed>` reproduces a run.
 
 mod common;
@@ -187,4 +188,43 @@ fn clipped_walk_is_bit_identical_to_the_unclipped_walk() {
     // Enough hits for the comparison to mean something, and the clip must do work.
     assert!(hits * 5 > rays, "only {hits} hits in {rays} rays");
     assert!(clipped.steps < full.steps && clipped.fetches < full.fetches);
+}
+
+/// A ray whose t-values at the root hold a NaN (a NaN origin or direction component, or an
+/// infinite origin on an axis whose direction is infinite too: t = ∞·0) hits nothing in either
+/// walk and takes no step: the walk's compare-selects (`tmax`, `tmin`) rely on no t being NaN,
+/// and `f64::max` would instead drop the NaN axis and walk on with NaN midpoints.
+#[test]
+fn rays_with_a_nan_t_hit_nothing() {
+    let seed = common::test_seed();
+    println!("seed = {seed} (SVO_TEST_SEED reproduces it)");
+    let mut r = SplitMix64::derive(seed, "walk_clip_nan");
+    let mut rays = 0u64;
+    for m in 0..20 {
+        let (image, lo, s_lo, s_hi) = model(&mut r);
+        let hi = lo + DVec3::splat(f64::from(1u32 << image.depth()));
+        for _ in 0..200 {
+            let (o, d) = ray(&mut r, lo, hi, s_lo, s_hi);
+            let k = below(&mut r, 3) as usize;
+            let sign = if r.next_u64() & 1 == 0 { 1.0 } else { -1.0 };
+            let (mut o, mut d) = (o.to_array(), d.to_array());
+            match below(&mut r, 3) {
+                0 => o[k] = f64::NAN,
+                1 => d[k] = f64::NAN * sign,
+                _ => (o[k], d[k]) = (f64::INFINITY * sign, f64::INFINITY * sign),
+            }
+            let (o, d) = (DVec3::from_array(o), DVec3::from_array(d));
+            let mut cnt = WalkCounters::default();
+            let a = walk_box(&image, lo, hi, o, d, &mut cnt);
+            let b = walk_box_clipped(&image, lo, hi, s_lo, s_hi, o, d, &mut cnt);
+            assert!(
+                a.is_none() && b.is_none() && cnt.steps == 0,
+                "seed = {seed}, model {m}: octree [{lo}, {hi}], ray o = {o:?}, d = {d:?}: \
+                 unclipped {a:?}, clipped {b:?}, {} steps (expected no hit, no step)",
+                cnt.steps
+            );
+            rays += 1;
+        }
+    }
+    println!("{rays} rays with a NaN t, none walked");
 }

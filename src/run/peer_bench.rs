@@ -138,9 +138,9 @@ pub struct BenchCamera {
     pub h: u32,
 }
 
-/// The four cameras of a model with solid box [mn, mx] (inclusive voxel indices), the test's
-/// (`tests/openvdb_peer.rs`, which says why each is placed as it is); `scale` multiplies the
-/// image sides (8 for the benchmark's 1280×960, 1281×961 and 512–1024² images).
+/// The four cameras of a model with solid box [mn, mx] (inclusive voxel indices), the ones
+/// `tests/openvdb_peer.rs` compares pixel by pixel; `scale` multiplies the image sides (1 in
+/// the test, 8 for the benchmark's 1280×960, 1281×961 and 512–1024² images).
 pub fn cameras(mn: [i64; 3], mx: [i64; 3], scale: u32) -> Vec<BenchCamera> {
     let c: [f64; 3] = std::array::from_fn(|k| (mn[k] + mx[k] + 1) as f64 * 0.5);
     let ext = (0..3).map(|k| mx[k] + 1 - mn[k]).max().unwrap_or(1) as f64;
@@ -163,6 +163,8 @@ pub fn cameras(mn: [i64; 3], mx: [i64; 3], scale: u32) -> Vec<BenchCamera> {
             w: 160 * scale,
             h: 120 * scale,
         },
+        // Odd size: the centre column and row have exact-zero direction components, and the
+        // integer eye puts those rays exactly in the voxel planes x = eye.x and z = eye.z.
         BenchCamera {
             name: "axis pinhole, odd size",
             eye: [fl(c[0]), (mn[1] as f64 - 1.5 * ext).floor(), fl(c[2])],
@@ -173,6 +175,10 @@ pub fn cameras(mn: [i64; 3], mx: [i64; 3], scale: u32) -> Vec<BenchCamera> {
             w: 160 * scale + 1,
             h: 120 * scale + 1,
         },
+        // A power-of-two view `side` voxels wide on `pixels` = p·side pixels (p a power of
+        // two), so every origin is exact: (i + ½)/p − side/2 from the eye. With the eye at
+        // 1 − 1/(2p) past an integer, every p-th row and column of rays runs exactly along
+        // voxel edge lines (in the planes x = i and y = j).
         BenchCamera {
             name: "ortho along -z",
             eye: [
@@ -295,8 +301,9 @@ fn peer_value(text: &str, key: &str, what: &str) -> Result<f64, PeerBenchError> 
         })
 }
 
-/// `x a..b, y a..b, z a..b` of `sim render`'s box line.
-fn parse_box(text: &str, what: &str) -> Result<([i64; 3], [i64; 3]), PeerBenchError> {
+/// `x a..b, y a..b, z a..b` of `sim render`'s box line (the solid box the cameras are placed
+/// by); `what` names the command in the error.
+pub fn parse_box(text: &str, what: &str) -> Result<([i64; 3], [i64; 3]), PeerBenchError> {
     let bad = || PeerBenchError::Child {
         what: what.to_string(),
         message: "no solid bounding box line in its output".into(),

@@ -11,13 +11,13 @@
 //! result does not depend on the thread count.
 
 use super::space::{Point, SceneSpec, Space};
-use crate::error::{AssetError, SceneError};
 use crate::models::cycle::runner::{CycleRun, CycleRunError, RecordedFrame};
 use crate::models::cycle::sample::{SampleConfig, DEFAULT_BAND_ROWS};
 use crate::models::cycle::CycleOptions;
 use crate::models::reference::FrameInput;
 use crate::run::elaborate::{analyse, plan};
 use crate::run::parallel::map_in_order;
+use crate::studies::scene_error::StudySceneError;
 use crate::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
 use rtl_model::cycle::hw_config::HwConfig;
@@ -37,34 +37,10 @@ pub const RESOURCES: [&str; 5] = ["LUT", "FF", "DSP48E2", "BRAM36", "URAM288"];
 /// Why an exploration cannot run.
 #[derive(Debug, Error)]
 pub enum ExploreError {
-    /// A scene cannot be loaded or does not accept the resolution.
-    #[error("scene {scene}: {source}")]
-    Scene {
-        /// The scene.
-        scene: String,
-        /// What is wrong.
-        #[source]
-        source: SceneError,
-    },
-    /// An asset cannot be built.
-    #[error("scene {scene}: {source}")]
-    Asset {
-        /// The scene.
-        scene: String,
-        /// What failed.
-        #[source]
-        source: AssetError,
-    },
-    /// A frame's state cannot be computed.
-    #[error("scene {scene}, frame {frame}: {message}")]
-    Frame {
-        /// The scene.
-        scene: String,
-        /// The frame.
-        frame: u32,
-        /// What failed.
-        message: String,
-    },
+    /// A scene cannot be loaded, set to the study's resolution and frames, built, or a
+    /// frame's state computed.
+    #[error(transparent)]
+    Scene(#[from] StudySceneError),
     /// The estimate refused a point's hardware.
     #[error("point {point}: {message}")]
     Estimate {
@@ -236,7 +212,7 @@ fn scene_name(spec: &SceneSpec, taken: &[SceneInfo]) -> String {
 }
 
 fn prepare(spec: &SceneSpec, name: &str, max_vox_bytes: u64) -> Result<Prepared, ExploreError> {
-    let scene_err = |source| ExploreError::Scene {
+    let scene_err = |source| StudySceneError::Scene {
         scene: name.into(),
         source,
     };
@@ -251,7 +227,7 @@ fn prepare(spec: &SceneSpec, name: &str, max_vox_bytes: u64) -> Result<Prepared,
         .set_resolution(spec.width, spec.height)
         .map_err(scene_err)?;
     scene.set_frames(spec.frames).map_err(scene_err)?;
-    let asset_err = |source| ExploreError::Asset {
+    let asset_err = |source| StudySceneError::Asset {
         scene: name.into(),
         source,
     };
@@ -320,7 +296,7 @@ fn cycles_per_frame(
         let state = p
             .scene
             .frame_state(f, &half)
-            .map_err(|message| ExploreError::Frame {
+            .map_err(|message| StudySceneError::Frame {
                 scene: name.into(),
                 frame: f,
                 message,

@@ -14,6 +14,11 @@ fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or("–".into(), |x| format!("{x:.digits$}"))
 }
 
+/// A count, or "–" when it was not measured (the reference's counters with `--repeats 0`).
+fn count(v: Option<u64>) -> String {
+    v.map_or("–".into(), |n| n.to_string())
+}
+
 /// The table as Markdown, one block per resolution.
 pub fn table(rows: &[Row], c: &PaperConfig, threads: usize, clock_mhz: u32) -> String {
     let mut s = String::new();
@@ -25,12 +30,20 @@ pub fn table(rows: &[Row], c: &PaperConfig, threads: usize, clock_mhz: u32) -> S
             sc.band_rows, sc.period
         ),
     };
+    let reference = if c.repeats == 0 {
+        "not run".to_string()
+    } else {
+        format!(
+            "f64, {threads} threads, best of {} runs (cases alternating), wall time of the whole \
+             animation",
+            c.repeats
+        )
+    };
     let _ = writeln!(
         s,
-        "Espe et al. Fig. 7 on this model: {} frames; reference: f64, {threads} threads, best of {} runs \
-         (cases alternating), wall time of the whole animation; cycle model: default hardware at \
-         {clock_mhz} MHz, {timing}.\n",
-        c.frames, c.repeats
+        "Espe et al. Fig. 7 on this model: {} frames; reference: {reference}; cycle model: \
+         default hardware at {clock_mhz} MHz, {timing}.\n",
+        c.frames
     );
     let mut res: Vec<(u32, u32)> = Vec::new();
     for r in rows {
@@ -58,8 +71,8 @@ pub fn table(rows: &[Row], c: &PaperConfig, threads: usize, clock_mhz: u32) -> S
                 opt(r.reference_vs_a, 3),
                 opt(r.cycle_fps, 1),
                 opt(r.cycle_vs_a, 3),
-                r.walks,
-                r.reused
+                count(r.walks),
+                count(r.reused)
             );
         }
         let _ = writeln!(s);
@@ -70,6 +83,7 @@ pub fn table(rows: &[Row], c: &PaperConfig, threads: usize, clock_mhz: u32) -> S
 /// The rows as CSV (a header, one line per case and resolution; empty fields: not run).
 pub fn csv(rows: &[Row]) -> String {
     let f = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x}"));
+    let c = |v: Option<u64>| v.map_or(String::new(), |n| n.to_string());
     let mut s = String::from(
         "case,label,flags,width,height,frames,reference_best_s,reference_median_s,reference_fps,reference_vs_a,walks,reused,cycles,cycle_fps,cycle_vs_a,cycle_sampled\n",
     );
@@ -87,9 +101,9 @@ pub fn csv(rows: &[Row]) -> String {
             f(r.reference_median_s),
             f(r.reference_fps),
             f(r.reference_vs_a),
-            r.walks,
-            r.reused,
-            r.cycles.map_or(String::new(), |n| n.to_string()),
+            c(r.walks),
+            c(r.reused),
+            c(r.cycles),
             f(r.cycle_fps),
             f(r.cycle_vs_a),
             r.cycle_sampled

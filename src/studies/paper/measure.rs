@@ -58,9 +58,10 @@ pub struct Row {
     /// Reference: this case's frame rate over (a)'s (above 1: faster than the static car).
     pub reference_vs_a: Option<f64>,
     /// Walks over the animation (the reference's counter; the same work in every run).
-    pub walks: u64,
-    /// Pixels reused from the hit buffer over the animation (reference).
-    pub reused: u64,
+    /// `None` when the reference did not run (`--repeats 0`): the cycle model does not fill it.
+    pub walks: Option<u64>,
+    /// Pixels reused from the hit buffer over the animation (reference); `None` as `walks`.
+    pub reused: Option<u64>,
     /// Cycle model: cycles of the whole animation.
     pub cycles: Option<u64>,
     /// Cycle model: frames per second at the hardware clock (frames / (cycles / clock)).
@@ -194,7 +195,7 @@ pub fn measure(c: &PaperConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ro
         let frames = stat.scene.file.frames;
         // Reference: N rounds over the cases, forwards then backwards.
         let mut times: Vec<Vec<f64>> = vec![Vec::new(); all.len()];
-        let mut work = vec![(0u64, 0u64); all.len()];
+        let mut work: Vec<Option<(u64, u64)>> = vec![None; all.len()];
         for round in 0..c.repeats {
             let order: Vec<usize> = if round % 2 == 0 {
                 (0..all.len()).collect()
@@ -207,7 +208,7 @@ pub fn measure(c: &PaperConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ro
                     .map_err(|e| e.to_string())?;
                 let (s, walks, reused) = reference_run(built(case), case.options)?;
                 times[k].push(s);
-                work[k] = (walks, reused);
+                work[k] = Some((walks, reused));
                 progress(&format!(
                     "{w}x{h} ({}) {}: reference run {}/{}: {:.3} s for {frames} frames",
                     case.id,
@@ -250,8 +251,8 @@ pub fn measure(c: &PaperConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ro
                 reference_median_s: (!times[k].is_empty()).then(|| median(&mut times[k].clone())),
                 reference_fps: fps_ref(k),
                 reference_vs_a: fps_ref(k).zip(fps_ref(0)).map(|(x, a)| x / a),
-                walks: work[k].0,
-                reused: work[k].1,
+                walks: work[k].map(|w| w.0),
+                reused: work[k].map(|w| w.1),
                 cycles: cycles[k],
                 cycle_fps: fps_cyc(k),
                 cycle_vs_a: fps_cyc(k).zip(fps_cyc(0)).map(|(x, a)| x / a),

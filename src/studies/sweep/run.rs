@@ -12,12 +12,12 @@ use super::configs::{NamedConfig, DEFAULT_NAME};
 use super::cost::{cost, Cost};
 use super::measure::{ErrorSummary, ErrorTally};
 use super::pareto::{distance, error_excess, on_front, Point};
-use crate::error::{AssetError, SceneError};
 use crate::models::cycle::runner::{CycleRun, CycleRunError};
 use crate::models::cycle::CycleOptions;
 use crate::models::fixed::to_hit_records;
 use crate::models::reference::{render_frame, FrameInput, HitBuffer, HitRecord, RenderOptions};
 use crate::run::parallel::map_in_order;
+use crate::studies::scene_error::StudySceneError;
 use crate::world::assets::{build_assets, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
 use rtl_model::cycle::hw_config::HwConfig;
@@ -52,34 +52,10 @@ pub struct NamedScene {
 /// Why a sweep cannot run.
 #[derive(Debug, Error)]
 pub enum SweepError {
-    /// The resolution or frame count does not suit a scene.
-    #[error("scene {scene}: {source}")]
-    Scene {
-        /// The scene.
-        scene: String,
-        /// What is wrong.
-        #[source]
-        source: SceneError,
-    },
-    /// An asset cannot be built.
-    #[error("scene {scene}: {source}")]
-    Asset {
-        /// The scene.
-        scene: String,
-        /// What failed.
-        #[source]
-        source: AssetError,
-    },
-    /// A frame's state cannot be computed.
-    #[error("scene {scene}, frame {frame}: {message}")]
-    Frame {
-        /// The scene.
-        scene: String,
-        /// The frame.
-        frame: u32,
-        /// What failed.
-        message: String,
-    },
+    /// A scene cannot be loaded, set to the study's resolution and frames, built, or a
+    /// frame's state computed.
+    #[error(transparent)]
+    Scene(#[from] StudySceneError),
     /// The hardware derived from a configuration is refused.
     #[error("configuration {config}: hardware: {message}")]
     Hardware {
@@ -204,7 +180,7 @@ struct Prepared {
 }
 
 fn prepare(ns: &NamedScene, opts: SweepOptions) -> Result<Prepared, SweepError> {
-    let scene_err = |source| SweepError::Scene {
+    let scene_err = |source| StudySceneError::Scene {
         scene: ns.name.clone(),
         source,
     };
@@ -213,7 +189,7 @@ fn prepare(ns: &NamedScene, opts: SweepOptions) -> Result<Prepared, SweepError> 
         .set_resolution(opts.width, opts.height)
         .map_err(scene_err)?;
     scene.set_frames(opts.frames).map_err(scene_err)?;
-    let asset_err = |source| SweepError::Asset {
+    let asset_err = |source| StudySceneError::Asset {
         scene: ns.name.clone(),
         source,
     };
@@ -225,7 +201,7 @@ fn prepare(ns: &NamedScene, opts: SweepOptions) -> Result<Prepared, SweepError> 
     for f in 0..opts.frames {
         let state = scene
             .frame_state(f, &half)
-            .map_err(|message| SweepError::Frame {
+            .map_err(|message| StudySceneError::Frame {
                 scene: ns.name.clone(),
                 frame: f,
                 message,
@@ -277,7 +253,7 @@ fn run_one(
         let state = p
             .scene
             .frame_state(f, &half)
-            .map_err(|message| SweepError::Frame {
+            .map_err(|message| StudySceneError::Frame {
                 scene: scene_name.into(),
                 frame: f,
                 message,
