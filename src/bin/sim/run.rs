@@ -6,7 +6,7 @@ use crate::args::{parse_window, ModelArg, SceneArgs};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
-use svo_sim::models::cycle::lift::lift;
+use svo_sim::models::cycle::lift::{lift, lift_datapath};
 use svo_sim::models::cycle::sample::SampleConfig;
 use svo_sim::models::cycle::waves::WaveWindow;
 use svo_sim::models::reference::RenderOptions;
@@ -288,6 +288,7 @@ pub fn run_command(a: RunArgs) -> Result<()> {
         let hw = lift(&cfg.hardware, limit).map_err(anyhow::Error::msg)?;
         let quiet = RunConfig {
             hardware: hw,
+            datapath: lift_datapath(&cfg.datapath, limit),
             out_dir: None,
             report_json: None,
             dump_hits: None,
