@@ -170,10 +170,9 @@ fn sorter_of(lanes: u8) -> (HwConfig, DatapathConfig) {
 fn the_sorter_is_named_where_its_merges_bind() {
     // One lane: every ray of two or more candidates is merged, and holds the sorter's input
     // for C + P·(count + 1) cycles (`units::sorter::pipe_cost`).
-    let (mut hw, dp) = sorter_of(1);
+    let (hw, dp) = sorter_of(1);
     // A one-lane network has no layer: its output register is the unit's latency.
     assert_eq!(hw.units.sorter.latency_cycles, 1);
-    hw.units.sorter.latency_cycles = 1;
     let (got, why) = bound_with(&hw, &dp);
     println!("sorter: bound {got} ({why})");
     assert_eq!(got, "sorter", "{why}");
