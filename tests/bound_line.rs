@@ -6,7 +6,7 @@ mod common;
 
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
-use svo_sim::models::cycle::lift::lift;
+use svo_sim::models::cycle::lift::{lift, lift_datapath};
 use svo_sim::models::reference::RenderOptions;
 use svo_sim::run::elaborate::elaborate;
 use svo_sim::run::{run, Model, RunConfig};
@@ -28,10 +28,15 @@ fn fast_memory(h: &mut HwConfig) {
 /// The bound of the last frame of a 64×40 run of the car (2 frames, depth 6) on `hw`, with
 /// the JSON of its stall counters.
 fn bound(hw: &HwConfig) -> (String, String) {
+    bound_with(hw, &DatapathConfig::default())
+}
+
+/// [`bound`] with the datapath `dp` (the sorter's width is the datapath's too).
+fn bound_with(hw: &HwConfig, dp: &DatapathConfig) -> (String, String) {
     let mut scene = Scene::default_car().expect("car");
     scene.set_resolution(64, 40).expect("resolution");
     scene.set_frames(2).expect("frames");
-    let dp = DatapathConfig::default();
+    let dp = dp.clone();
     let cfg = RunConfig {
         scene,
         depth: Some(6),
@@ -149,4 +154,75 @@ fn lifting_the_named_limit_moves_the_bound_on() {
     let lifted = lift(&hw, want).expect("lift");
     let (after, why) = bound(&lifted);
     assert_ne!(after, want, "lifted, {want} still binds ({why})");
+}
+
+/// A datapath and hardware whose sorter has `lanes` lanes (the hardware's width must equal the
+/// datapath's), on fast memory.
+fn sorter_of(lanes: u8) -> (HwConfig, DatapathConfig) {
+    let mut dp = DatapathConfig::default();
+    dp.sorter.n = lanes;
+    let mut h = HwConfig::for_datapath(&dp);
+    fast_memory(&mut h);
+    (h, dp)
+}
+
+#[test]
+fn the_sorter_is_named_where_its_merges_bind() {
+    // One lane: every ray of two or more candidates is merged, and holds the sorter's input
+    // for C + P·(count + 1) cycles (`units::sorter::pipe_cost`).
+    let (hw, dp) = sorter_of(1);
+    // A one-lane network has no layer: its output register is the unit's latency.
+    assert_eq!(hw.units.sorter.latency_cycles, 1);
+    let (got, why) = bound_with(&hw, &dp);
+    println!("sorter: bound {got} ({why})");
+    assert_eq!(got, "sorter", "{why}");
+    // Lifted (a 255-lane network), the sorter no longer binds.
+    let (after, why) = bound_with(
+        &lift(&hw, "sorter").expect("lift"),
+        &lift_datapath(&dp, "sorter"),
+    );
+    println!("sorter lifted: bound {after} ({why})");
+    assert_ne!(after, "sorter", "lifted, the sorter still binds ({why})");
+}
+
+#[test]
+fn the_sphere_lanes_are_named_where_their_passes_bind() {
+    // One sphere lane for the car's 8 instances: 8 passes a ray, at most 0.125 rays a cycle.
+    let mut hw = base();
+    fast_memory(&mut hw);
+    hw.sphere_units = 1;
+    let (got, why) = bound(&hw);
+    println!("sphere: bound {got} ({why})");
+    assert_eq!(got, "sphere", "{why}");
+    let (after, why) = bound(&lift(&hw, "sphere").expect("lift"));
+    println!("sphere lifted: bound {after} ({why})");
+    assert_ne!(
+        after, "sphere",
+        "lifted, the sphere lanes still bind ({why})"
+    );
+}
+
+#[test]
+fn the_record_write_path_is_named_where_it_binds() {
+    // Four walk lanes pack up to four records a cycle into a one-entry write FIFO drained at
+    // one a cycle. No hit buffer (no pixel reused: every ray with a candidate is a record) and
+    // the check's words on their own path; the fast memory and 64 walkers leave the walkers
+    // holding finished walks.
+    let mut hw = base();
+    fast_memory(&mut hw);
+    hw.transform_units = 4;
+    hw.reciprocal_units = 12;
+    hw.walker_root_units = 4;
+    hw.hit_buffer.present = false;
+    hw.hit_buffer.write_ports = 2;
+    hw.fifos.record_to_write = 1;
+    let (got, why) = bound(&hw);
+    println!("record_write: bound {got} ({why})");
+    assert_eq!(got, "record_write", "{why}");
+    let (after, why) = bound(&lift(&hw, "record_write").expect("lift"));
+    println!("record_write lifted: bound {after} ({why})");
+    assert_ne!(
+        after, "record_write",
+        "lifted, the record write path still binds ({why})"
+    );
 }

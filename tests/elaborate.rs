@@ -100,7 +100,15 @@ fn moving_camera_leaves_out_the_hit_buffer() {
     assert!(e.facts.camera_moves_every_frame);
     assert_eq!(action(&e, "hit_buffer"), Action::LeftOut);
     assert!(!e.use_hit_buffer);
-    assert_eq!(action(&e, "sorter"), Action::Kept, "three instances");
+    // Three instances: a ray has at most three candidates, so a three-lane network (Batcher
+    // pruned, 3 comparators, depth 3) sorts every ray in one issue, as the 8-lane one did.
+    assert_eq!(
+        action(&e, "sorter"),
+        Action::Resized { from: 8, to: 3 },
+        "three instances"
+    );
+    assert_eq!((e.hardware.sorter_lanes, e.datapath.sorter.n), (3, 3));
+    assert_eq!(e.hardware.units.sorter.latency_cycles, 3, "6 − 6 + 3");
     assert_eq!(
         action(&e, "transform_products"),
         Action::Kept,

@@ -284,13 +284,19 @@ fn hit_buffer() -> impl Strategy<Value = HitBuffer> {
     // One read port is the only value (2 is refused); 1 or 2 write paths anywhere.
     let ports =
         prop_oneof![4 => Just((1u8, 1u8)), 1 => Just((2, 1)), 1 => Just((1, 2)), 1 => Just((2, 2))];
-    (flag(), placement(), ports, field(1, 100_000)).prop_map(
-        |(present, placement, (read_ports, write_ports), read_latency_cycles)| HitBuffer {
-            present,
-            placement,
-            read_ports,
-            write_ports,
-            read_latency_cycles,
+    // Two record writes a cycle need the two banks: drawn 1 or 2 anywhere, so that the
+    // refusal of 2 on one write path is drawn too.
+    let record_writes = prop_oneof![3 => Just(1u8), 1 => Just(2u8)];
+    (flag(), placement(), ports, record_writes, field(1, 100_000)).prop_map(
+        |(present, placement, (read_ports, write_ports), record_writes, read_latency_cycles)| {
+            HitBuffer {
+                present,
+                placement,
+                read_ports,
+                write_ports,
+                record_writes,
+                read_latency_cycles,
+            }
         },
     )
 }

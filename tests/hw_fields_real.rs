@@ -318,6 +318,11 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
         Changes,
     ),
     (
+        "hit_buffer.record_writes",
+        |h| h.hit_buffer.record_writes = 2,
+        Refused("hit_buffer.record_writes = 2 needs as many banks"),
+    ),
+    (
         "hit_buffer.read_latency_cycles",
         |h| h.hit_buffer.read_latency_cycles = 40,
         Changes,

@@ -44,6 +44,10 @@ pub mod calibration {
     /// buffers in flip-flops with their read multiplexers; placed for 300 MHz, the merge's
     /// heads and successors in registers): 13460 LUT + 95 SRL, 5897 FF.
     pub const SORTER: (u64, u64) = (13555, 5897);
+    /// The network width `SORTER` was synthesised at (`svo_sorter`'s N): a sorter of another
+    /// width scales from this one's comparator and register bits, whatever the default
+    /// datapath's `sorter.n` is.
+    pub const SORTER_LANES: u8 = 8;
     /// `svo_hit_pack` (72-bit word): 105 LUT, 74 FF.
     pub const HIT_PACK: (u64, u64) = (105, 74);
     /// `svo_hit_check` (72-bit word; the unpacked fields are wires into the output
@@ -176,7 +180,11 @@ pub fn unit_fabric(name: &str, dp: &DatapathConfig) -> Option<Fabric> {
         _ => return None,
     };
     let (wl, wf) = widths(name, dp)?;
-    let (wl0, wf0) = widths(name, &DatapathConfig::default())?;
+    // The widths the calibration was synthesised at: the default datapath's, with the RTL
+    // sorter's own network width.
+    let mut reference = DatapathConfig::default();
+    reference.sorter.n = calibration::SORTER_LANES;
+    let (wl0, wf0) = widths(name, &reference)?;
     let scale = |c: u64, w: u64, w0: u64| {
         (u128::from(c) * u128::from(w) + u128::from(w0) / 2)
             .checked_div(u128::from(w0))

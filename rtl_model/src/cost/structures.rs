@@ -280,11 +280,38 @@ fn memory_logic(hw: &HwConfig) -> impl Iterator<Item = FabricItem> {
         })
 }
 
+/// The second record write (`hit_buffer.record_writes: 2`, none otherwise): a second read
+/// port of `record_to_write` (a copy of its LUT-RAM, the usual way to read two entries a
+/// cycle) and, in front of each of the two banks' write ports, a 3:1 multiplexer (the check's
+/// word, the record FIFO's head or the entry behind it) of word and pixel-address bits.
+fn record_write_path(hw: &HwConfig, dp: &DatapathConfig) -> Option<FabricItem> {
+    if hw.hit_buffer.record_writes < 2 {
+        return None;
+    }
+    let bits = u64::from(dp.hit_record.word_bits()) + pixel_bits(hw);
+    let depth = u64::from(hw.fifos.record_to_write);
+    let banks = u64::from(hw.hit_buffer.write_ports);
+    Some(FabricItem {
+        name: "record_write_path",
+        instances: 1,
+        per_instance: Fabric {
+            lut: lutram_luts(depth, bits) + banks * bits * mux_luts_per_bit(3),
+            ff: bits,
+        },
+        calibrated: false,
+        formula: format!(
+            "LUT-RAM {depth} × {bits} bits (second read port) + {banks} × {bits} × mux(3) LUT; {bits} FF (second output register)"
+        ),
+    })
+}
+
 /// Every structure of this configuration, in pipeline order: walker contexts, the FIFOs,
-/// the node memory's crossbars and queues, the MSHR CAM and the cache control.
+/// the second record write path, the node memory's crossbars and queues, the MSHR CAM and
+/// the cache control.
 pub fn structure_items(hw: &HwConfig, dp: &DatapathConfig) -> Vec<FabricItem> {
     let mut items = vec![walker_contexts(hw, dp)];
     items.extend(fifos(hw, dp));
+    items.extend(record_write_path(hw, dp));
     items.extend(memory_logic(hw));
     items.push(mshr_cam(hw));
     items.extend(cache_control(hw));

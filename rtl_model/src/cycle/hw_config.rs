@@ -335,6 +335,16 @@ pub struct HitBuffer {
     /// and the check stage each have their own write FIFO, and both write in one cycle unless
     /// their pixels fall in the same bank (the record first, the check's waits a cycle).
     pub write_ports: u8,
+    /// Walked records the write stage takes per cycle, 1 or 2 (issue 28). Default 1: the
+    /// record path writes one word a cycle, while the walk lanes pack up to one record each a
+    /// cycle, so with two walk lanes and few reused pixels `record_to_write` fills in bursts
+    /// and holds the record stage (the bound line's `record_write`). 2 needs the two banks of
+    /// `write_ports: 2`: each bank's write port then takes the check's word, the record
+    /// FIFO's head or the entry behind it (a 3:1 multiplexer per bit, and a second read port
+    /// of `record_to_write`, both priced in `cost::structures`); in a cycle the head goes to
+    /// its bank, the check's word to the other bank if it has one for it, else the next record
+    /// if it falls there. With the buffer absent the same two paths carry the words out.
+    pub record_writes: u8,
     /// Cycles from read address to word. Default 4: URAM read, output register and two
     /// pipeline registers of the cascade and output multiplexer of a 240-block array spread
     /// over several URAM columns. (External: the model uses the DRAM's latency instead.)
@@ -348,6 +358,7 @@ impl Default for HitBuffer {
             placement: Placement::Uram,
             read_ports: 1,
             write_ports: 1,
+            record_writes: 1,
             read_latency_cycles: 4,
         }
     }
@@ -568,6 +579,18 @@ impl HwConfig {
         }
         // 2 write paths are two banks of one read and one write port each (see the field).
         in_range("hit_buffer.write_ports", u32::from(hb.write_ports), 1, 2)?;
+        in_range(
+            "hit_buffer.record_writes",
+            u32::from(hb.record_writes),
+            1,
+            2,
+        )?;
+        if hb.record_writes > hb.write_ports {
+            return Err(format!(
+                "hit_buffer.record_writes = {} needs as many banks: set hit_buffer.write_ports                  to {} (two records a cycle go to the two banks)",
+                hb.record_writes, hb.record_writes
+            ));
+        }
         in_range(
             "hit_buffer.read_latency_cycles",
             hb.read_latency_cycles,

@@ -27,7 +27,8 @@ impl UnitTimings {
             sphere: UnitTiming::pipelined(sphere::latency_cycles(&dp.sphere)),
             sqrt: UnitTiming::pipelined(sqrt::latency_cycles(&sphere::sqrt_config(&dp.sphere))),
             sorter: UnitTiming {
-                latency_cycles: sat_u32(sorter::network_latency(lanes)),
+                // A one-lane network has no layer; its output register remains.
+                latency_cycles: sat_u32(sorter::network_latency(lanes).max(1)),
                 ii: sat_u32(sorter::network_ii(lanes)),
             },
             transform: UnitTiming::pipelined(transform::latency_cycles(&dp.transform)),

@@ -49,6 +49,15 @@ impl<T> UnitPipe<T> {
         now >= self.next_accept && self.items.len() < self.capacity
     }
 
+    /// Whether the unit's input is closed in cycle `now` by its own initiation window: the
+    /// last transaction's interval (its `ii`, times its passes, e.g. a ray with more
+    /// candidates than lanes) is not over. The bound line counts such cycles against the unit
+    /// when a transaction waits for it and the work after it starves (docs/cycle-model.md §2.2).
+    #[inline]
+    pub fn in_interval(&self, now: u64) -> bool {
+        now < self.next_accept
+    }
+
     /// Transactions inside.
     #[inline]
     pub fn len(&self) -> usize {

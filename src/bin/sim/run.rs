@@ -6,7 +6,7 @@ use crate::args::{parse_window, ModelArg, SceneArgs};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
-use svo_sim::models::cycle::lift::{lift, nothing_to_lift};
+use svo_sim::models::cycle::lift::{lift, lift_datapath, nothing_to_lift};
 use svo_sim::models::cycle::sample::SampleConfig;
 use svo_sim::models::cycle::waves::WaveWindow;
 use svo_sim::models::reference::RenderOptions;
@@ -235,6 +235,7 @@ fn lift_and_rerun(cfg: &RunConfig, limit: &str, before: &CycleSummary, e_out: bo
     let hw = lift(&cfg.hardware, limit).map_err(anyhow::Error::msg)?;
     let quiet = RunConfig {
         hardware: hw,
+        datapath: lift_datapath(&cfg.datapath, limit),
         out_dir: None,
         report_json: None,
         dump_hits: None,

@@ -2,14 +2,30 @@
 //! run says how much frame rate that limit alone costs (docs/cycle-model.md §2.2).
 //!
 //! Pipeline position: beside the cycle model, read once per run by `sim --lift`; it changes
-//! the hardware configuration only, never the datapath, so images and hit dumps of the lifted
-//! run are the same as the first run's. "Ideal" is the most the configuration schema allows
-//! for that one limit, everything else unchanged.
+//! the hardware configuration only, never the datapath's formats, so images and hit dumps of
+//! the lifted run are the same as the first run's (`sorter` widens the datapath's sorting
+//! network with the hardware's, [`lift_datapath`]: the order it gives is the same for every
+//! width). "Ideal" is the most the configuration schema allows for that one limit, everything
+//! else unchanged.
 
 use rtl_model::cycle::hw_config::HwConfig;
+use rtl_model::datapath::DatapathConfig;
+use rtl_model::units::sorter;
 
 /// The limits `lift` knows, with what it sets for each.
-pub const LIFTS: [(&str, &str); 8] = [
+pub const LIFTS: [(&str, &str); 11] = [
+    (
+        "record_write",
+        "hit_buffer.write_ports and record_writes 2 and fifos.record_to_write 65536 (the most a FIFO may hold): two records a cycle, a packed record never waits for the write FIFO",
+    ),
+    (
+        "sorter",
+        "a 255-lane network (sorter_lanes and the datapath's sorter.n 255, its depth as the latency), units.sorter.ii 1: one issue for up to 255 candidates",
+    ),
+    (
+        "sphere",
+        "sphere_units at least 1024 and units.sphere.ii, units.sqrt.ii 1",
+    ),
     (
         "walk_issue",
         "8 walk-issue lanes: transform_units and walker_root_units at least 8, reciprocal_units at least 24",
@@ -45,6 +61,22 @@ pub fn lift(hw: &HwConfig, limit: &str) -> Result<HwConfig, String> {
             h.transform_units = h.transform_units.max(8);
             h.reciprocal_units = h.reciprocal_units.max(24);
             h.walker_root_units = h.walker_root_units.max(8);
+        }
+        "sorter" => {
+            h.sorter_lanes = u32::from(LIFTED_SORTER_LANES);
+            let depth = u32::try_from(sorter::depth(LIFTED_SORTER_LANES)).unwrap_or(u32::MAX);
+            h.units.sorter.latency_cycles = h.units.sorter.latency_cycles.max(depth);
+            h.units.sorter.ii = 1;
+        }
+        "sphere" => {
+            h.sphere_units = h.sphere_units.max(1024);
+            h.units.sphere.ii = 1;
+            h.units.sqrt.ii = 1;
+        }
+        "record_write" => {
+            h.hit_buffer.write_ports = 2;
+            h.hit_buffer.record_writes = 2;
+            h.fifos.record_to_write = LIFTED_FIFO_DEPTH;
         }
         "write_port" => h.hit_buffer.write_ports = 2,
         "walkers" => h.walker_pool.walkers = (h.walker_pool.walkers * 4).min(4096),
@@ -92,6 +124,24 @@ pub fn nothing_to_lift(bound: &str) -> Option<String> {
     }
 }
 
+/// The depth of a lifted FIFO: the most `HwConfig::validate` allows (`cycle::fifo::MAX_DEPTH`).
+const LIFTED_FIFO_DEPTH: u32 = 1 << 16;
+
+/// The network width of the lifted sorter: the most the datapath's 8-bit `sorter.n` holds.
+const LIFTED_SORTER_LANES: u8 = u8::MAX;
+
+/// The datapath that goes with [`lift`]`(hw, limit)`: the same, except for `sorter`, whose
+/// network width is the datapath's too (`HwConfig::validate_for`). The width changes no
+/// image: the order is the total (t, id) order for any width (`units::sorter`), so only
+/// cycles differ.
+pub fn lift_datapath(dp: &DatapathConfig, limit: &str) -> DatapathConfig {
+    let mut d = dp.clone();
+    if limit == "sorter" {
+        d.sorter.n = LIFTED_SORTER_LANES;
+    }
+    d
+}
+
 fn names() -> String {
     LIFTS.map(|(n, _)| n).join(", ")
 }
@@ -107,6 +157,9 @@ mod tests {
             let h = lift(&hw, name).unwrap_or_else(|e| panic!("{e}"));
             assert_ne!(h, hw, "{name} changed nothing");
         }
+        let h = lift(&hw, "sorter").unwrap_or_else(|e| panic!("{e}"));
+        h.validate_for(&lift_datapath(&DatapathConfig::default(), "sorter"))
+            .unwrap_or_else(|e| panic!("the lifted sorter is refused: {e}"));
         let e = lift(&hw, "bogus").expect_err("unknown");
         assert!(
             e.contains("unknown limit") && e.contains("walk_issue"),

@@ -172,7 +172,13 @@ impl Fifos {
             rc_rt: wide(id::F_RC_RT, fd.reciprocal_to_root, k, now)?,
             rt_dp: wide(id::F_RT_DP, fd.root_to_dispatch, k, now)?,
             wk_rc: wide(id::F_WK_RC, fd.walker_to_record, k, now)?,
-            rc_wr: wide(id::F_RC_WR, fd.record_to_write, k, now)?,
+            // Two records a cycle leave it with `hit_buffer.record_writes: 2`.
+            rc_wr: wide(
+                id::F_RC_WR,
+                fd.record_to_write,
+                k.max(u32::from(hw.hit_buffer.record_writes)),
+                now,
+            )?,
             ck_wr: fifo(id::F_CK_WR, fd.record_to_write, now)?,
             two_write_paths: hw.hit_buffer.write_ports >= 2,
         })
@@ -289,7 +295,7 @@ pub struct Pipeline<'f> {
     stalls: StallCounts,
     /// Which of the pipeline's stall causes held in the last cycle stepped (what skipped
     /// cycles repeat): walk issue, write port, ray generation.
-    stall_now: [bool; 3],
+    stall_now: [bool; 6],
 }
 
 impl<'f> Pipeline<'f> {
@@ -331,7 +337,7 @@ impl<'f> Pipeline<'f> {
             root: PassThrough::root(hw),
             walkers: Walkers,
             record: Record::new(hw),
-            write: Write::new(log_limit),
+            write: Write::new(log_limit, hw.hit_buffer.record_writes),
             slots: RaySlots::new(ray_slots),
             stages: STAGE_ROWS.map(StageCycles::named),
             states: [StageState::Idle; 10],
@@ -348,7 +354,7 @@ impl<'f> Pipeline<'f> {
             hold: None,
             order: EvalOrder::default(),
             stalls: StallCounts::default(),
-            stall_now: [false; 3],
+            stall_now: [false; 6],
         })
     }
 
@@ -472,11 +478,20 @@ impl<'f> Pipeline<'f> {
         // stage holds a word for the write path waits for that path, not for ray generation
         // (the rays behind the held one cannot pass); a held sampling transform is starved by
         // design.
+        // A starved transform is then charged to the front-end unit nearest it that held a
+        // waiting ray for a further pass (the sorter's merges, the sphere lanes' passes), else
+        // to ray generation.
         let write_blocked = self.check.write_blocked;
+        let starved = self.transform.input_starved && !write_blocked && self.hold.is_none();
+        let sorter = starved && self.sorter.held;
+        let sphere = starved && !sorter && self.sphere.held;
         self.stall_now = [
             self.transform.issue_stall || self.recip.issue_stall || self.root.issue_stall,
             write_blocked,
-            self.transform.input_starved && !write_blocked && self.hold.is_none(),
+            starved && !sorter && !sphere,
+            sorter,
+            sphere,
+            self.record.write_blocked,
         ];
         self.count_stalls(1);
         self.sample_waves(now);
@@ -499,11 +514,14 @@ impl<'f> Pipeline<'f> {
     /// Adds `k` cycles of the last cycle's stall causes.
     #[inline]
     fn count_stalls(&mut self, k: u64) {
-        let [issue, write, raygen] = self.stall_now;
+        let [issue, write, raygen, sorter, sphere, record_write] = self.stall_now;
         let s = &mut self.stalls;
         s.walk_issue += u64::from(issue) * k;
         s.write_port += u64::from(write) * k;
         s.ray_generation += u64::from(raygen) * k;
+        s.sorter += u64::from(sorter) * k;
+        s.sphere += u64::from(sphere) * k;
+        s.record_write += u64::from(record_write) * k;
     }
 
     /// Evaluates stage `stage` (an `S_*` row) for cycle `now`. `wires` carries the two

@@ -191,6 +191,20 @@ pub struct StallCounts {
     /// the frame were still to come: the walk section waited for ray generation (ray
     /// generation, spheres, sorter, check).
     pub ray_generation: u64,
+    /// Cycles in which the walk section waited for rays (as `ray_generation`) while the sorter
+    /// held a waiting ray at its input for the network issues and merge passes of a ray with
+    /// more candidates than lanes (`units::sorter::pipe_cost`). Counted instead of
+    /// `ray_generation`.
+    pub sorter: u64,
+    /// Cycles in which the walk section waited for rays while the sphere lanes held a waiting
+    /// ray for a ray's further passes (more instances, or a tile's list, than lanes), and the
+    /// sorter did not. Counted instead of `ray_generation`.
+    pub sphere: u64,
+    /// Cycles in which the record stage held a packed record that `record_to_write` had no
+    /// room for: walked records arrive in bursts of up to the walk lanes per cycle and are
+    /// written at one per cycle. While it is held no walk result is decided, so the walkers
+    /// keep finished walks (back-pressured) and their contexts fill.
+    pub record_write: u64,
     /// Cycles in which a walk waited at the dispatcher with every context busy.
     pub walkers_full: u64,
     /// Node reads: request-cycles waiting for a bank's or the cache's port.
@@ -234,6 +248,9 @@ impl StallCounts {
         self.write_port += o.write_port;
         self.write_bank_conflicts += o.write_bank_conflicts;
         self.ray_generation += o.ray_generation;
+        self.sorter += o.sorter;
+        self.sphere += o.sphere;
+        self.record_write += o.record_write;
         self.walkers_full += o.walkers_full;
         self.memory_ports += o.memory_ports;
         self.mshr_full += o.mshr_full;
@@ -244,11 +261,14 @@ impl StallCounts {
 }
 
 /// The limits the bound line names and `--lift` can lift (docs/cycle-model.md §2.2).
-pub const LIMITS: [&str; 10] = [
+pub const LIMITS: [&str; 13] = [
     "clock",
     "walk_issue",
     "write_port",
+    "sorter",
+    "sphere",
     "ray_generation",
+    "record_write",
     "walkers",
     "memory_ports",
     "mshr_full",
@@ -260,8 +280,8 @@ pub const LIMITS: [&str; 10] = [
 /// Which limit holds the frame rate.
 #[derive(Clone, Debug, Serialize)]
 pub struct Bound {
-    /// One of [`LIMITS`] (`clock`: the front end at one ray per cycle), or a front-end unit
-    /// (`sphere`, `sorter`, `check`) busy every cycle.
+    /// One of [`LIMITS`] (`clock`: the front end at one ray per cycle), or `check`: the
+    /// hit-buffer check passing a ray nearly every cycle.
     pub limit: String,
     /// Why, with the figures.
     pub reason: String,
@@ -404,10 +424,12 @@ impl CycleFrame {
 /// The limit (docs/cycle-model.md §2.2): `clock` if the frame ran at 0.9 rays per cycle or more;
 /// a front-end unit busy every cycle; otherwise the pipeline-level cause that held back the
 /// most cycles — walks waiting for an issue unit (`walk_issue`), words waiting for the
-/// hit-buffer write path (`write_port`), the walk section waiting for rays
-/// (`ray_generation`), or walks waiting for a context (the pool full). A full pool is then
-/// split by what its walker-cycles were spent on: issuing or the step pipeline (`walkers`),
-/// or waiting on node reads, named by the largest part of their latency (`memory_ports`,
+/// hit-buffer write path (`write_port`), the walk section waiting for rays while the sorter
+/// (`sorter`) or the sphere lanes (`sphere`) held a ray for its further passes, or for rays
+/// otherwise (`ray_generation`), or walks waiting for a context (the pool full). A full pool is then
+/// split by what its walker-cycles were spent on: holding finished walks while the record
+/// stage held records for a full write FIFO (`record_write`), issuing or the step pipeline
+/// (`walkers`), or waiting on node reads, named by the largest part of their latency (`memory_ports`,
 /// `mshr_full`, `hit_latency`, `dram_latency`, `dram_bandwidth`).
 pub(crate) fn bound_of(
     hw: &HwConfig,
@@ -436,7 +458,10 @@ pub(crate) fn bound_of(
             .find(|s| s.name == n)
             .map_or(0.0, |s| s.transactions as f64 / c)
     };
-    for unit in ["sorter", "sphere", "check"] {
+    // The check stage takes one ray per cycle at most: near that rate it is the limit. The
+    // sorter and the sphere lanes take several cycles for some rays, so a transaction rate says
+    // little about them: their causes are counted below (`StallCounts::sorter`, `sphere`).
+    for unit in ["check"] {
         if share(unit) >= 0.95 {
             return Bound {
                 limit: unit.into(),
@@ -449,21 +474,25 @@ pub(crate) fn bound_of(
     }
     let wc = (w.issuing + w.memory_wait + w.latency_wait + w.backpressured + w.empty).max(1) as f64;
     let stalls = format!(
-        "stalled cycles: walk issue {:.0}%, write port {:.0}% (bank conflicts {:.0}%), waiting for rays {:.0}%, contexts full {:.0}%",
+        "stalled cycles: walk issue {:.0}%, write port {:.0}% (bank conflicts {:.0}%), waiting for the sorter {:.0}%, for the sphere lanes {:.0}%, for rays {:.0}%, contexts full {:.0}%, records held for the write FIFO {:.0}%",
         pct(st.walk_issue),
         pct(st.write_port),
         pct(st.write_bank_conflicts),
+        pct(st.sorter),
+        pct(st.sphere),
         pct(st.ray_generation),
-        pct(st.walkers_full)
+        pct(st.walkers_full),
+        pct(st.record_write)
     );
     let reads =
         st.memory_ports + st.mshr_full + st.hit_latency + st.dram_latency + st.dram_bandwidth;
     let rp = |n: u64| 100.0 * n as f64 / reads.max(1) as f64;
     let pool = format!(
-        "walker-cycles: {:.0}% issuing, {:.0}% waiting on node reads, {:.0}% on the step pipeline, {:.0}% empty; read latency: ports {:.0}%, MSHR full {:.0}%, hit latency {:.0}%, DRAM latency {:.0}%, DRAM bus and merges {:.0}%",
+        "walker-cycles: {:.0}% issuing, {:.0}% waiting on node reads, {:.0}% on the step pipeline, {:.0}% holding finished walks, {:.0}% empty; read latency: ports {:.0}%, MSHR full {:.0}%, hit latency {:.0}%, DRAM latency {:.0}%, DRAM bus and merges {:.0}%",
         100.0 * w.issuing as f64 / wc,
         100.0 * w.memory_wait as f64 / wc,
         100.0 * w.latency_wait as f64 / wc,
+        100.0 * w.backpressured as f64 / wc,
         100.0 * w.empty as f64 / wc,
         rp(st.memory_ports),
         rp(st.mshr_full),
@@ -477,6 +506,8 @@ pub(crate) fn bound_of(
         ("walkers", st.walkers_full),
         ("walk_issue", st.walk_issue),
         ("write_port", st.write_port),
+        ("sorter", st.sorter),
+        ("sphere", st.sphere),
         ("ray_generation", st.ray_generation),
     ];
     let mut top = causes[0];
@@ -491,8 +522,20 @@ pub(crate) fn bound_of(
             reason,
         };
     }
-    // The pool is full: what are its contexts doing?
-    if w.memory_wait > w.issuing + w.latency_wait {
+    // The pool is full: what are its contexts doing? Holding finished walks the record stage
+    // cannot take, more than waiting on reads and more than working, while the record stage
+    // held records for the write FIFO: the record write path.
+    let work = w.issuing + w.latency_wait;
+    if w.backpressured > w.memory_wait
+        && w.backpressured + w.memory_wait > work
+        && st.record_write > 0
+    {
+        return Bound {
+            limit: "record_write".into(),
+            reason,
+        };
+    }
+    if w.memory_wait > work {
         let parts = [
             ("memory_ports", st.memory_ports),
             ("mshr_full", st.mshr_full),
@@ -551,5 +594,14 @@ mod tests {
         // ...and one that issues names the walkers.
         w.issuing = 900;
         assert_eq!(limit(&w, &st, 1000, 500), "walkers");
+        // One holding finished walks, mostly, while records waited for the write FIFO, names
+        // the record write path.
+        w.issuing = 300;
+        w.memory_wait = 200;
+        w.backpressured = 400;
+        st.record_write = 300;
+        assert_eq!(limit(&w, &st, 1000, 500), "record_write");
+        st.record_write = 0;
+        assert_eq!(limit(&w, &st, 1000, 500), "walkers", "no record held");
     }
 }

@@ -11,7 +11,7 @@ use super::savings::Saving;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::fixed::Format;
-use rtl_model::units::transform;
+use rtl_model::units::{sorter, transform};
 
 pub use crate::models::cycle::elaboration::{Action, Decision};
 
@@ -99,6 +99,28 @@ pub fn plan(facts: &SceneFacts, hw: &HwConfig, dp: &DatapathConfig, use_hit_buff
             "sorter",
             Action::LeftOut,
             "one instance: every ray has at most one candidate, nothing to order (a bypass register remains)".into(),
+        )
+    } else if n > 1 && n < u64::from(dp.sorter.n) {
+        // A ray has at most n candidates: an n-lane network sorts every ray in one issue, as
+        // the wider one did, with fewer comparators and layers. The configured latency keeps
+        // any registers it had beyond the network's depth (timing closure).
+        let (from, to) = (dp.sorter.n, n as u8); // n < dp.sorter.n ≤ 255
+        let (d_from, d_to) = (sorter::depth(from) as u32, sorter::depth(to) as u32);
+        out_dp.sorter.n = to;
+        out_hw.sorter_lanes = u32::from(to);
+        out_hw.units.sorter.latency_cycles = (hw.units.sorter.latency_cycles.saturating_sub(d_from)
+            + d_to)
+            .max(1);
+        decision(
+            "sorter",
+            Action::Resized {
+                from: u64::from(from),
+                to: n,
+            },
+            format!(
+                "{n} instances: a ray has at most {n} candidates, one issue of a {to}-lane network ({} comparators, depth {d_to}) instead of {from} lanes",
+                sorter::comparator_count(to)
+            ),
         )
     } else {
         decision(

@@ -21,6 +21,9 @@ use rtl_model::cycle::unit_lanes::UnitLanes;
 /// (`HwConfig::walk_lanes`).
 pub struct Record {
     pack: UnitLanes<Stamped<Rec>>,
+    /// In the last cycle evaluated, a packed record could not enter `record_to_write` (full):
+    /// the bound line's `record_write` cause (docs/cycle-model.md §2.2).
+    pub write_blocked: bool,
 }
 
 impl Record {
@@ -36,6 +39,7 @@ impl Record {
         let u = &hw.units.hit_pack;
         Self {
             pack: UnitLanes::new(hw.walk_lanes(), u.latency_cycles, u.ii),
+            write_blocked: false,
         }
     }
 
@@ -57,6 +61,7 @@ impl Record {
         now: u64,
     ) -> Result<(StageState, bool), CycleError> {
         let pushed = hand_on_lanes(&mut self.pack, id::RECORD, out, now)?;
+        self.write_blocked = self.pack.ready(now).is_some() && !out.can_push();
         let mut state = self.pack.state(now, !pushed, walked);
         while input.can_pop() && self.pack.can_accept(now) {
             if let Some(wk) = input.try_pop().map_err(internal)? {

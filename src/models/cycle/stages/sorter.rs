@@ -24,6 +24,11 @@ const SORT_COST_TABLE: usize = 4096;
 
 /// The sorter stage.
 pub struct Sorter {
+    /// In the last cycle evaluated, a ray waited at the input while the unit's initiation
+    /// window kept it closed: its `ii`, or a ray's further network issues and merge
+    /// passes (more candidates than lanes). The bound line's `sorter` cause
+    /// (docs/cycle-model.md §2.2).
+    pub held: bool,
     pipe: UnitPipe<Stamped<Ray>>,
     /// Passes and extra latency by candidate count (the network's timing is a pure function
     /// of the count; computing it per ray would rebuild the network).
@@ -55,6 +60,7 @@ impl Sorter {
         // `validate` keeps the lanes within the datapath's 8-bit sorter.n.
         let lanes = u8::try_from(hw.sorter_lanes).unwrap_or(u8::MAX);
         Self {
+            held: false,
             pipe: UnitPipe::new(u.latency_cycles, u.ii),
             sort_cost: (0..=instances.min(SORT_COST_TABLE))
                 .map(|n| sort_cost_of(n, lanes, u.latency_cycles))
@@ -78,6 +84,7 @@ impl Sorter {
     ) -> Result<StageState, CycleError> {
         let pushed = hand_on(&mut self.pipe, id::SORTER, out, now)?;
         counts.passed[2] += u64::from(pushed);
+        self.held = input.valid() && self.pipe.in_interval(now);
         if input.valid() && self.pipe.can_accept(now) {
             if let Some(mut ray) = input.try_pop().map_err(internal)? {
                 ray.enter(id::SORTER, now);

@@ -15,6 +15,11 @@ use rtl_model::cycle::unit_pipe::UnitPipe;
 
 /// The sphere stage.
 pub struct Sphere {
+    /// In the last cycle evaluated, a ray waited at the input while the unit's initiation
+    /// window kept it closed: its `ii`, or a ray's further passes over the instances (more
+    /// instances, or a tile's list, than lanes). The bound line's `sphere` cause
+    /// (docs/cycle-model.md §2.2).
+    pub held: bool,
     pipe: UnitPipe<Stamped<Ray>>,
     /// Initiation intervals a ray occupies the lanes for.
     passes: u64,
@@ -37,6 +42,7 @@ impl Sphere {
             .div_ceil(u64::from(hw.sphere_units.max(1)))
             .max(1);
         Self {
+            held: false,
             pipe: UnitPipe::new(
                 u.sphere.latency_cycles + u.sqrt.latency_cycles,
                 u.sphere.ii.max(u.sqrt.ii),
@@ -66,6 +72,7 @@ impl Sphere {
     ) -> Result<StageState, CycleError> {
         let pushed = hand_on(&mut self.pipe, id::SPHERE, out, now)?;
         counts.passed[1] += u64::from(pushed);
+        self.held = input.valid() && self.pipe.in_interval(now);
         if input.valid() && self.pipe.can_accept(now) {
             if let Some(mut ray) = input.try_pop().map_err(internal)? {
                 ray.enter(id::SPHERE, now);

@@ -5,7 +5,9 @@
 //! (`hit_buffer.write_ports: 2`) the check stage's words come through their own FIFO,
 //! `check_to_write`, into a second port: the buffer is two banks on pixel parity, one write
 //! port each, so both write in a cycle unless their pixels share a bank, when the record
-//! goes first and the check's word waits (counted in [`Write::bank_conflicts`]). The word lands at the clock edge,
+//! goes first and the check's word waits (counted in [`Write::bank_conflicts`]); with
+//! `hit_buffer.record_writes: 2` the record behind the head takes the other bank when the
+//! check has no word for it. The word lands at the clock edge,
 //! so a read of the same pixel in this cycle still sees the previous frame's word
 //! (READ_FIRST). The first records' stamps are kept for the transaction log (§2.5).
 
@@ -22,14 +24,18 @@ pub struct Write {
     log_limit: usize,
     /// Cycles the check stage's word waited for its bank (two write paths).
     pub bank_conflicts: u64,
+    /// Records written per cycle at most (`hit_buffer.record_writes`).
+    record_writes: u8,
 }
 
 impl Write {
-    /// The stage, keeping the stamps of the first `log_limit` records of the run.
-    pub fn new(log_limit: usize) -> Self {
+    /// The stage, keeping the stamps of the first `log_limit` records of the run, writing
+    /// up to `record_writes` records a cycle.
+    pub fn new(log_limit: usize, record_writes: u8) -> Self {
         Self {
             log_limit,
             bank_conflicts: 0,
+            record_writes,
         }
     }
 
@@ -53,6 +59,7 @@ impl Write {
             self.write(r, bram, log, counts, now)?;
             wrote = true;
         }
+        let mut other_bank_free = bank.is_some();
         if let Some(f) = second {
             if let Some(head) = f.peek() {
                 if Some(head.payload.pixel & 1) == bank {
@@ -60,6 +67,17 @@ impl Write {
                 } else if let Some(r) = f.try_pop().map_err(internal)? {
                     self.write(r, bram, log, counts, now)?;
                     wrote = true;
+                    other_bank_free = false;
+                }
+            }
+            // `record_writes: 2`: the record behind the head takes the other bank when the
+            // check's word did not (validation allows it only with the two banks).
+            if self.record_writes >= 2 && other_bank_free {
+                let next_bank = input.peek().map(|r| r.payload.pixel & 1);
+                if next_bank.is_some() && next_bank != bank {
+                    if let Some(r) = input.try_pop().map_err(internal)? {
+                        self.write(r, bram, log, counts, now)?;
+                    }
                 }
             }
         }
