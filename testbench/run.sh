@@ -137,10 +137,10 @@ verilator_build() {
     echo "$dir/Vtb_$u"
 }
 
-# The frame's packages, and the plusargs of its images' memory bases (walker.json's
+# The frame's packages (the sorter's for its network: N, D and the model's pairs), and the plusargs of its images' memory bases (walker.json's
 # parameters.images, whose keys are written sorted: attr_base, index, node_base).
 frame_pkgs=("$vec/frame_pixels_pkg.sv" "$vec/frame_instances_pkg.sv" "$vec/frame_camera_pkg.sv"
-    "$vec/walker_pkg.sv")
+    "$vec/walker_pkg.sv" "$vec/sorter_pkg.sv")
 frame_bases() {
     sed -n '/"images": \[/,/^    \]/p' "$vec/walker.json" | awk -F': ' '
         /"attr_base"/ { a = $2 + 0 }

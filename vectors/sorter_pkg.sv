@@ -6,6 +6,9 @@ package sorter_vectors_pkg;
   localparam int DEPTH = 340;  // rows
   localparam int LATENCY = 6;  // cycles, the model's default configuration
   localparam int II = 1;  // initiation interval, cycles
+  localparam int NET_LANES = 8;  // sorting network lanes N (the datapath's sorter.n)
+  localparam int NET_DEPTH = 6;  // network layers D, one register each
+  localparam int NET_SLOTS = 4;  // comparator slots per layer, max(N / 2, 1)
   localparam int ADVERSARIAL_FIRST = 0;
   localparam int ADVERSARIAL_COUNT = 308;
   localparam int CAPTURED_FIRST = 308;
@@ -667,4 +670,5 @@ package sorter_vectors_pkg;
   localparam int BUSY_SIGNED = 0;
   localparam int BUSY_FRAC = 0;
   localparam int BUSY_IS_OUTPUT = 1;
+  localparam bit [383:0] NET_PAIRS = 384'h000005060304010200000000030601040000000003050204060704050203000103070206010500040507040601030002;  // comparator (i, j), i < j, of layer l, slot p as {i[7:0], j[7:0]} at [(l*NET_SLOTS + p)*16 +: 16]; unused slots 0
 endpackage

@@ -1,6 +1,8 @@
-// svo_sorter: the candidate sorter of one ray: the 8-lane sorting network (19 comparators,
-// depth 6) on chunks of 8 keys, then two-way merge passes over the sorted runs when a ray has
-// more than 8 candidates (rtl_model/src/units/sorter.rs `Sorter::sort`, docs/units/sorter.md).
+// svo_sorter: the candidate sorter of one ray: an N-lane sorting network (the model's for N:
+// 19 comparators, depth 6 for 8 lanes; 60 and 10 for 16) on chunks of N keys, then two-way
+// merge passes over the sorted runs when a ray has more than N candidates
+// (rtl_model/src/units/sorter.rs `Sorter::sort`, docs/units/sorter.md). The network comes in
+// as parameters N, D and PAIRS, which the vectors' package carries from the model.
 //
 // Pipeline position: after the sphere tests, before the hit-buffer check. Formats (parameters,
 // from the vectors' package): a key is {id, t} with t the entry distance (KW = 32 bits,
@@ -9,11 +11,11 @@
 // MAX_KEYS, more are cut) in arrival order on in_keys, key k at [k*(KW+IW) +: KW+IW]; the result
 // is the same keys in (t, id) order on out_keys, lanes at or above the count 0.
 //
-// Network: the model's BEST_8 network by layers, one register per layer (6 cycles, II = 1);
-// lanes at or above the count carry an invalid bit above t that sorts them last. A ray of
-// C = ceil(count / 8) > 1 chunks issues chunk k on cycle k from a shift-register copy of the
-// ray, writes the sorted chunks into run buffer A, then merges neighbouring runs (8, 16, ...)
-// from one buffer into the other, one key per cycle, until one run is left: each pass takes
+// Network: PAIRS by layers, one register per layer (D cycles, II = 1); lanes at or above the
+// count carry an invalid bit above t that sorts them last. A ray of
+// C = ceil(count / N) > 1 chunks issues chunk k on cycle k from a shift-register copy of the
+// ray, writes the sorted chunks into run buffer A, then merges neighbouring runs
+// (N, 2N, ...) from one buffer into the other, one key per cycle, until one run is left: each pass takes
 // one setup cycle (MERGE_LATENCY) and count cycles; on equal keys the left run goes first,
 // as the model's merge.
 //
@@ -26,21 +28,36 @@
 // register, and every variable index is a multiplexer or a decoder on a register, never a
 // product (no DSP48E2).
 //
-// Timing, the cycle model's (`units::sorter::pipe_cost` in a `UnitPipe` of latency 6; the
+// Timing, the cycle model's (`units::sorter::pipe_cost` in a `UnitPipe` of latency D; the
 // sorter's vector rows carry it per ray as `cycles` and `busy`):
-//   latency: 6 for one chunk (a ray without keys too: an empty issue), else
-//            (C - 1) + 6 + P * (count + 1) with P = ceil(log2 C) passes;
+//   latency: D for one chunk (a ray without keys too: an empty issue), else
+//            (C - 1) + D + P * (count + 1) with P = ceil(log2 C) passes;
 //   in_ready: high again 1 cycle after accepting a one-chunk ray (II = 1), and
 //            C + P * (count + 1) cycles after a merged one: the next ray's network pass then
 //            ends after this ray's merge, so one merger serves every ray and results leave in
 //            order without a reorder buffer.
 `timescale 1ns/1ps
 `default_nettype none
+// The model's BEST_8 network in PAIRS' encoding: the default, so the default width
+// synthesises without the vectors (tb_sorter.sv checks it equals the package's NET_PAIRS).
+`define SVO_SORTER_BEST_8 384'h000005060304010200000000030601040000000003050204060704050203000103070206010500040507040601030002
 module svo_sorter #(
     parameter KW = 32,
     parameter IW = 8,
-    parameter MAX_KEYS = 32,             // a multiple of 8, at most 64
-    parameter CW = 6                     // bits of a count 0..MAX_KEYS
+    parameter N = 8,                     // network lanes (the datapath's sorter.n), 2..255
+    parameter D = 6,                     // network layers = latency
+    parameter S = (N > 3) ? N / 2 : 1,   // comparator slots per layer of PAIRS
+    // The network: layer l, slot p as {i[7:0], j[7:0]}, i < j < N, at [(l*S + p)*16 +: 16];
+    // unused slots 0. The vectors' package writes the model's network for its N (NET_PAIRS,
+    // rtl_model/src/vectors/stage/sorter.rs `NetworkPairs`), and the testbench passes it; the
+    // default is the model's BEST_8 (checked against the package by tb_sorter.sv) so the
+    // default width synthesises on its own. Any other N without PAIRS is refused below.
+    /* verilator lint_off WIDTH */       // the default's 384 bits, zero-extended at other N
+    parameter [D*S*16-1:0] PAIRS = (N == 8 && D == 6 && S == 4) ?
+        `SVO_SORTER_BEST_8 : {(D*S*16){1'b0}},
+    /* verilator lint_on WIDTH */
+    parameter MAX_KEYS = 4 * N,          // a multiple of N, at most 15 chunks
+    parameter CW = $clog2(MAX_KEYS + 1)  // bits of a count 0..MAX_KEYS
 ) (
     input  wire                       clk,
     input  wire                       rst,
@@ -52,8 +69,6 @@ module svo_sorter #(
     output wire [CW-1:0]              out_count,
     output wire [MAX_KEYS*(KW+IW)-1:0] out_keys
 );
-    localparam N = 8;                    // network lanes
-    localparam D = 6;                    // network layers = latency
     // One network pass: a ray with at most N candidates; the testbench prints it (tb_*.sv: "rtl LATENCY"), tests/testbench_icarus.rs
     // compares it with the model's units.* latency and with the latency measured.
     /* verilator lint_off UNUSEDPARAM */
@@ -61,32 +76,59 @@ module svo_sorter #(
     /* verilator lint_on UNUSEDPARAM */
     localparam KB = KW + IW;             // key bits in the ports
     localparam SKW = KB + 1;             // sort key {invalid, t, id}
-    localparam PW = 7;                   // pointer bits: 0..MAX_KEYS and one beyond
+    localparam PW = $clog2(MAX_KEYS + 3) + 1;  // pointer bits: 0..MAX_KEYS + 2, and sums
     localparam NCH = MAX_KEYS / N;       // chunks of a full ray
-    localparam LW = (MAX_KEYS > 32) ? 6 : 5;  // lane index bits of the read multiplexers
-    // The model's BEST_8 network: layer l, comparator p as {i, j} at [(4l + p)*6 +: 6];
-    // unused slots are (0, 0).
-    localparam [6*4*6-1:0] PAIRS = {
-        6'o12, 6'o34, 6'o56, 6'o00,      // layer 5: (1,2) (3,4) (5,6)
-        6'o14, 6'o36, 6'o00, 6'o00,      // layer 4: (1,4) (3,6)
-        6'o24, 6'o35, 6'o00, 6'o00,      // layer 3: (2,4) (3,5)
-        6'o01, 6'o23, 6'o45, 6'o67,      // layer 2
-        6'o04, 6'o15, 6'o26, 6'o37,      // layer 1
-        6'o02, 6'o13, 6'o46, 6'o57       // layer 0
-    };
+    localparam LW = $clog2(MAX_KEYS);    // lane index bits of the read multiplexers
+    // The default network, read by tb_sorter.sv's check against the package.
+    /* verilator lint_off UNUSEDPARAM */
+    localparam [383:0] BEST_8_PAIRS = `SVO_SORTER_BEST_8;
+    /* verilator lint_on UNUSEDPARAM */
     // The lane lane q meets in layer l (q itself when it has no comparator there).
     function integer partner(input integer l, input integer q);
         integer p, a, b;
         begin
             partner = q;
-            for (p = 0; p < 4; p = p + 1) begin
-                a = {29'd0, PAIRS[(4*l + p)*6 + 3 +: 3]};
-                b = {29'd0, PAIRS[(4*l + p)*6 +: 3]};
+            for (p = 0; p < S; p = p + 1) begin
+                a = {24'd0, PAIRS[(S*l + p)*16 + 8 +: 8]};
+                b = {24'd0, PAIRS[(S*l + p)*16 +: 8]};
                 if (a != b && a == q) partner = b;
                 if (a != b && b == q) partner = a;
             end
         end
     endfunction
+    // Whether PAIRS is a network of N lanes: some comparator, each used slot i < j < N, no
+    // lane twice in a layer; and the ray's shape fits: MAX_KEYS a multiple of N, 1..15 chunks.
+    function integer pairs_ok(input integer unused);
+        integer l, p, a, b, used, any;
+        reg [255:0] seen;
+        begin
+            pairs_ok = ((MAX_KEYS % N == 0) && (NCH >= 1) && (NCH <= 15) && (N >= 2) && (N <= 255)) ? 1 : 0;
+            any = 0;
+            for (l = 0; l < D; l = l + 1) begin
+                seen = 256'd0;
+                for (p = 0; p < S; p = p + 1) begin
+                    a = {24'd0, PAIRS[(S*l + p)*16 + 8 +: 8]};
+                    b = {24'd0, PAIRS[(S*l + p)*16 +: 8]};
+                    used = ((a != 0) || (b != 0)) ? 1 : 0;
+                    if (used != 0) begin
+                        any = 1;
+                        if (a >= b || b >= N || seen[a] || seen[b]) pairs_ok = 0;
+                        seen[a] = 1'b1;
+                        seen[b] = 1'b1;
+                    end
+                end
+            end
+            if (any == 0) pairs_ok = 0;
+        end
+    endfunction
+    localparam PAIRS_OK = pairs_ok(0);
+    // A width without the model's pairs (or pairs that are not a network of N lanes) stops
+    // the elaboration here, in every tool: the module below does not exist.
+    generate
+        if (PAIRS_OK == 0) begin : refuse
+            svo_sorter_has_no_valid_PAIRS_for_this_N_see_sorter_pkg_NET_PAIRS no_network ();
+        end
+    endgenerate
 
     // What a ray's count decides, a table over every in_count (constants: a small ROM
     // of LUTs, no arithmetic on the input): {in_ready's hold after the accept, occupancy - 1
@@ -245,11 +287,13 @@ module svo_sorter #(
     // shifts the winner's run: its head takes the successor, the successor is read from src at
     // the index + 2 (a pointer register i2 / j2 straight into the register). The next pair's
     // heads and successors are read ahead into pf_* (from re and nxj, the next pair's indices;
-    // a pair before the last of a pass is 2*run >= 16 steps, time enough); the next pass's are
+    // a pair before the last of a pass is 2*run >= 2N steps, time enough for N >= 4); the next pass's are
     // captured while this pass writes them (c_*: indices 0, 1, sj, sj + 1), so its setup
     // cycle (MERGE_LATENCY) only copies registers. Pass 1's heads are chunks 0 and 1 as the
     // network delivers them (the previous ray's merge ended 2 cycles before chunk 0 arrives).
+    /* verilator lint_off WIDTH */       // N below 2^(PW+2): MAX_KEYS >= N
     localparam [PW+2:0] N1 = N;
+    /* verilator lint_on WIDTH */
     localparam [PW-1:0] TWO = 2;
     reg [MAX_KEYS*SKW-1:0] buf_a, buf_b;
     reg          merging, setup, src_b, m_done;

@@ -39,7 +39,9 @@ while read -r unit top files params _dsp_vs_model _reason; do
             IFS=, read -ra pl <<<"$params"
             for p in "${pl[@]}"; do
                 v="${p#*=}"; v="${v//\{vectors\}/$vectors}"
-                if [[ "$v" =~ ^[0-9]+$ ]]; then
+                # A number or a sized constant (e.g. the sorter's PAIRS, 1280'h...) as it is;
+                # anything else is a string (a file name).
+                if [[ "$v" =~ ^[0-9]+$ || "$v" =~ ^[0-9]+\'[bdh][0-9a-fA-F_]+$ ]]; then
                     printf 'chparam -set %s %s %s\n' "${p%%=*}" "$v" "$top"
                 else
                     printf 'chparam -set %s "%s" %s\n' "${p%%=*}" "$v" "$top"

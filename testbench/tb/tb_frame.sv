@@ -160,7 +160,11 @@ module tb_frame;
     wire so_in_ready, so_out_valid;
     wire [5:0] so_out_count;
     wire [32*40-1:0] so_out_keys;
-    svo_sorter u_sorter (.clk(clk), .rst(rst), .in_valid(so_in_valid), .in_ready(so_in_ready),
+    // The datapath's network (the sorter package's NET_*, the model's), rays of up to 32 keys.
+    svo_sorter #(.N(sorter_vectors_pkg::NET_LANES), .D(sorter_vectors_pkg::NET_DEPTH),
+                 .S(sorter_vectors_pkg::NET_SLOTS), .PAIRS(sorter_vectors_pkg::NET_PAIRS),
+                 .MAX_KEYS(32), .CW(6))
+        u_sorter (.clk(clk), .rst(rst), .in_valid(so_in_valid), .in_ready(so_in_ready),
         .in_count(so_in_count), .in_keys(so_in_keys), .out_valid(so_out_valid),
         .out_count(so_out_count), .out_keys(so_out_keys));
 

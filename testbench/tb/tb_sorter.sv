@@ -16,7 +16,9 @@ module tb_sorter;
     wire              got_valid;
     wire [COUNT_WIDTH-1:0] got_count;
     wire [MK*KB-1:0]  got_keys;
-    svo_sorter #(.KW(KW), .IW(IW), .MAX_KEYS(MK), .CW(COUNT_WIDTH)) dut (
+    // The network is the model's, from the package (NET_*): N lanes, D layers, the pairs.
+    svo_sorter #(.KW(KW), .IW(IW), .N(NET_LANES), .D(NET_DEPTH), .S(NET_SLOTS),
+                 .PAIRS(NET_PAIRS), .MAX_KEYS(MK), .CW(COUNT_WIDTH)) dut (
         .clk(clk), .rst(rst), .in_valid(drive_valid), .in_ready(dut_ready),
         .in_count(drive_row[COUNT_LSB +: COUNT_WIDTH]), .in_keys(drive_row[IN_T0_LSB +: MK*KB]),
         .out_valid(got_valid), .out_count(got_count), .out_keys(got_keys));
@@ -27,7 +29,11 @@ module tb_sorter;
         require_width("in_t1 after in_id0", IN_T0_LSB + KB, IN_T1_LSB);
         require_width("out_id0 after out_t0", OUT_T0_LSB + KW, OUT_ID0_LSB);
         require_width("cycles after the keys", OUT_T0_LSB + MK * KB, CYCLES_LSB);
-        require_width("keys per row (8-lane network, 4 issues)", 32, MK);
+        require_width("keys per row (N-lane network, 4 issues)", 4 * NET_LANES, MK);
+        // The RTL's default network (its standalone synthesis) is the model's BEST_8.
+        if (NET_LANES == 8 && NET_DEPTH == 6 && NET_SLOTS == 4)
+            require_width("svo_sorter's default PAIRS are the package's NET_PAIRS (1 = equal)",
+                          1, int'(NET_PAIRS == dut.BEST_8_PAIRS));
         require_width("t", 32, KW);
     end
 

@@ -44,10 +44,17 @@ pub mod calibration {
     /// buffers in flip-flops with their read multiplexers; placed for 300 MHz, the merge's
     /// heads and successors in registers): 13460 LUT + 95 SRL, 5897 FF.
     pub const SORTER: (u64, u64) = (13555, 5897);
-    /// The network width `SORTER` was synthesised at (`svo_sorter`'s N): a sorter of another
-    /// width scales from this one's comparator and register bits, whatever the default
-    /// datapath's `sorter.n` is.
+    /// The network width `SORTER` was synthesised at (`svo_sorter`'s N).
     pub const SORTER_LANES: u8 = 8;
+    /// `svo_sorter` at N = 16 (Green's 60-comparator, depth-10 network from the model's
+    /// NET_PAIRS, MAX_KEYS = 64 as the 16-lane vectors' rows; same structure as `SORTER`):
+    /// 31405 LUT + 260 SRL, 13134 FF. 2.34× the LUTs and 2.23× the flip-flops of the 8-lane
+    /// sorter, where its network's comparator and register bits grow 3.2× and 3.3×: most of
+    /// the unit is the ray copy, run buffers and their read multiplexers, which grow with
+    /// MAX_KEYS = 4N, not with the network.
+    pub const SORTER_16: (u64, u64) = (31665, 13134);
+    /// The network width `SORTER_16` was synthesised at.
+    pub const SORTER_16_LANES: u8 = 16;
     /// `svo_hit_pack` (72-bit word): 105 LUT, 74 FF.
     pub const HIT_PACK: (u64, u64) = (105, 74);
     /// `svo_hit_check` (72-bit word; the unpacked fields are wires into the output
@@ -156,9 +163,20 @@ fn formula(name: &str) -> &'static str {
         "walker_root" => "W = 6(pos+2+inv) + 6(t+1) + 3 pos",
         "walker" => "W = 9(t+1) + 3(pos+1); per walker as the one-context RTL walker",
         "raygen" => "W = 3(64+dir) + 3(64+pos)",
-        "sorter" => "W = comparators × compare bits (LUT), network register bits (FF)",
+        "sorter" => "W = comparators × compare bits (LUT), network register bits (FF), from the synthesis at N = 8 or 16",
         "hit_pack" | "hit_check" => "W = record word bits",
         _ => "",
+    }
+}
+
+/// The sorter synthesis a sorter of `lanes` lanes scales from, and its width: the 16-lane one
+/// from 12 lanes up, else the 8-lane one (exact at 8 and 16; between and beyond, scaled by the
+/// network's comparator and register bits from the nearer synthesised width).
+fn sorter_calibration(lanes: u8) -> ((u64, u64), u8) {
+    if lanes >= 12 {
+        (calibration::SORTER_16, calibration::SORTER_16_LANES)
+    } else {
+        (calibration::SORTER, calibration::SORTER_LANES)
     }
 }
 
@@ -174,7 +192,7 @@ pub fn unit_fabric(name: &str, dp: &DatapathConfig) -> Option<Fabric> {
         "walker_root" => calibration::WALKER_ROOT,
         "walker" => calibration::WALKER,
         "raygen" => calibration::RAYGEN,
-        "sorter" => calibration::SORTER,
+        "sorter" => sorter_calibration(dp.sorter.n).0,
         "hit_pack" => calibration::HIT_PACK,
         "hit_check" => calibration::HIT_CHECK,
         _ => return None,
@@ -183,7 +201,7 @@ pub fn unit_fabric(name: &str, dp: &DatapathConfig) -> Option<Fabric> {
     // The widths the calibration was synthesised at: the default datapath's, with the RTL
     // sorter's own network width.
     let mut reference = DatapathConfig::default();
-    reference.sorter.n = calibration::SORTER_LANES;
+    reference.sorter.n = sorter_calibration(dp.sorter.n).1;
     let (wl0, wf0) = widths(name, &reference)?;
     let scale = |c: u64, w: u64, w0: u64| {
         (u128::from(c) * u128::from(w) + u128::from(w0) / 2)
@@ -317,7 +335,16 @@ mod tests {
         let g = unit_fabric("transform", &wide).unwrap();
         assert!(g.lut > f.lut && g.ff > f.ff);
         assert!(unit_fabric("node_memory", &dp).is_none());
-        let s = unit_fabric("sorter", &dp).unwrap();
-        assert_eq!((s.lut, s.ff), calibration::SORTER);
+        let at = |n: u8| {
+            let mut d = dp.clone();
+            d.sorter.n = n;
+            let f = unit_fabric("sorter", &d).unwrap();
+            (f.lut, f.ff)
+        };
+        // Both synthesised widths are their synthesis, whatever the default's n.
+        assert_eq!(at(8), calibration::SORTER);
+        assert_eq!(at(16), calibration::SORTER_16);
+        // Between and beyond, scaled from the nearer one: monotonic in the width.
+        assert!(at(4) < at(8) && at(8) < at(12) && at(12) < at(16) && at(16) < at(32));
     }
 }

@@ -98,7 +98,8 @@ pub fn manifest_json(t: &VectorTable) -> Result<String, serde_json::Error> {
 
 /// The SystemVerilog package: `WORD_BITS`, `DEPTH`, `LATENCY` and `II` (if the unit has fixed
 /// timing), the row blocks, and per field `<NAME>_LSB`, `<NAME>_WIDTH`, `<NAME>_SIGNED`,
-/// `<NAME>_FRAC`, `<NAME>_IS_OUTPUT`. Only `localparam int`, which Icarus (`-g2012`) accepts.
+/// `<NAME>_FRAC`, `<NAME>_IS_OUTPUT`: `localparam int`, which Icarus (`-g2012`) accepts, and
+/// the table's bit-vector constants as `localparam bit [W-1:0]`.
 pub fn sv_package(t: &VectorTable) -> String {
     let mut s = String::new();
     let p = package_name(t);
@@ -153,6 +154,12 @@ pub fn sv_package(t: &VectorTable) -> String {
             i64::from(f.direction == Direction::Output),
             "",
         );
+    }
+    for (name, width, hex, note) in &t.bit_constants {
+        s.push_str(&format!(
+            "  localparam bit [{}:0] {name} = {width}'h{hex};  // {note}\n",
+            (*width).max(1) - 1
+        ));
     }
     s.push_str("endpackage\n");
     s

@@ -79,6 +79,10 @@ pub struct VectorTable {
     /// Extra `localparam int`s of the package (name, value, comment): configuration a
     /// testbench needs beside the fields (memory sizes, latencies).
     pub constants: Vec<(String, i64, String)>,
+    /// Extra bit-vector `localparam`s of the package: (name, width in bits, value as hex
+    /// digits, most significant first, comment). For tables an RTL unit elaborates from,
+    /// such as the sorter's comparator pairs, too wide for an `int`.
+    pub bit_constants: Vec<(String, u32, String, String)>,
     /// Constants of the stage (formats, configuration, companion files) for the manifest.
     pub parameters: serde_json::Map<String, serde_json::Value>,
     /// Whether the stage gets a SystemVerilog package (memory tables do not).
@@ -97,6 +101,7 @@ impl VectorTable {
             timing: None,
             row_timing: None,
             constants: Vec::new(),
+            bit_constants: Vec::new(),
             parameters: serde_json::Map::new(),
             package: true,
         }

@@ -46,6 +46,11 @@ pub struct VectorsArgs {
     /// i mod UNITS), and index.json's elaboration is against the default hardware k wide.
     #[arg(long, value_name = "K", default_value_t = 1)]
     walk_lanes: u32,
+    /// Datapath the vectors are for (RON, as printed by `sim datapath`); default: the
+    /// documented default. Every table follows it, e.g. the sorter's rows hold 4N keys and
+    /// its package the model's N-lane network (NET_PAIRS).
+    #[arg(long, value_name = "FILE")]
+    datapath: Option<PathBuf>,
 }
 
 /// Runs `sim vectors`.
@@ -61,5 +66,6 @@ pub fn vectors_command(a: VectorsArgs) -> Result<()> {
         depth: a.depth,
         max_vox_bytes: crate::args::vox_cap_bytes(a.max_vox_mib)?,
         walk_lanes: a.walk_lanes,
+        datapath: a.datapath,
     })
 }

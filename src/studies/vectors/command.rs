@@ -31,6 +31,8 @@ pub struct VectorsCommand {
     pub max_vox_bytes: u64,
     /// Walk-issue lanes the transform and reciprocal tables are for (`--walk-lanes`).
     pub walk_lanes: u32,
+    /// Datapath file (`--datapath`); `None`: the documented default.
+    pub datapath: Option<PathBuf>,
 }
 
 /// Runs `sim vectors`: generates everything, then writes it, then prints a table per stage.
@@ -45,6 +47,7 @@ pub fn run_command(a: &VectorsCommand) -> Result<()> {
         depth: a.depth,
         max_vox_bytes: a.max_vox_bytes,
         walk_lanes: a.walk_lanes,
+        datapath: crate::run::config_files::load_datapath(a.datapath.as_deref())?,
     };
     // An --out that cannot be a folder fails before any work (write_files checks it again).
     crate::output::writer::refuse_stdout_folder("--out", &a.out)?;

@@ -78,7 +78,7 @@ pub enum VectorsError {
 }
 
 /// What to generate.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct VectorsOptions {
     /// Scene file; `None` is the embedded default (the animated car).
     pub scene: Option<PathBuf>,
@@ -100,6 +100,8 @@ pub struct VectorsOptions {
     /// transforms and 3k reciprocals side by side (`rtl_model::vectors::lanes`), and the
     /// recorded elaboration is against the default hardware with k lanes.
     pub walk_lanes: u32,
+    /// The datapath every table is for (`--datapath`; default: the documented default).
+    pub datapath: DatapathConfig,
 }
 
 impl Default for VectorsOptions {
@@ -114,6 +116,7 @@ impl Default for VectorsOptions {
             depth: None,
             max_vox_bytes: crate::input::DEFAULT_VOX_CAP_BYTES,
             walk_lanes: 1,
+            datapath: DatapathConfig::default(),
         }
     }
 }
@@ -168,7 +171,7 @@ pub struct VectorSet {
 /// Generates the whole vector set for `opts` (nothing touches the disk).
 pub fn generate(opts: &VectorsOptions) -> Result<VectorSet, VectorsError> {
     opts.validate()?;
-    let dp = DatapathConfig::default();
+    let dp = opts.datapath.clone();
     let mut scene = match &opts.scene {
         Some(p) => Scene::load(p)?,
         None => Scene::default_car()?,
