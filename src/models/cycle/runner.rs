@@ -180,12 +180,7 @@ impl CycleRun {
             ));
         }
         let mut host_ov = overflow_table();
-        let mut plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?
-            .with_switches(self.switches);
-        if let Some(tl) = &self.two_level {
-            let lanes = self.model.config().sphere_units;
-            crate::models::fixed::cull::install_lists(&mut plan, input, tl, lanes);
-        }
+        let plan = self.plan(input, dp, use_hit_buffer, &mut host_ov)?;
         let dir: &[[i64; 3]] = &self.buffer.dir_table;
         let cycles = self
             .model
@@ -195,6 +190,25 @@ impl CycleRun {
         // the records are what a later rendered frame (`frame`) would start from.
         self.buffer.clone_from(&recorded.buffer_after);
         Ok(cycles)
+    }
+
+    /// The frame's plan, as every way of running a frame makes it: the hit buffer moved on to
+    /// this frame, the run's ray switches, and the instance lists cut for the sphere lanes when
+    /// the two-level scheme is on.
+    fn plan<'a>(
+        &mut self,
+        input: &FrameInput<'a>,
+        dp: &'a DatapathConfig,
+        use_hit_buffer: bool,
+        host_ov: &mut rtl_model::fixed::Overflows,
+    ) -> Result<FramePlan<'a>, CycleRunError> {
+        let mut plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, host_ov)?
+            .with_switches(self.switches);
+        if let Some(tl) = &self.two_level {
+            let lanes = self.model.config().sphere_units;
+            crate::models::fixed::cull::install_lists(&mut plan, input, tl, lanes);
+        }
+        Ok(plan)
     }
 
     /// What the functional trace of a frame depends on besides the scene and the frame.
@@ -219,12 +233,7 @@ impl CycleRun {
     ) -> Result<(CycleFrameResult, RowFeed), CycleRunError> {
         let start = Instant::now();
         let mut host_ov = overflow_table();
-        let mut plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?
-            .with_switches(self.switches);
-        if let Some(tl) = &self.two_level {
-            let lanes = self.model.config().sphere_units;
-            crate::models::fixed::cull::install_lists(&mut plan, input, tl, lanes);
-        }
+        let plan = self.plan(input, dp, use_hit_buffer, &mut host_ov)?;
         let (w, h) = (self.buffer.width, self.buffer.height);
         let feed = RowFeed::new(h as usize);
         let FixedBuffer {
@@ -280,8 +289,7 @@ impl CycleRun {
         corrupt: &mut dyn FnMut(usize, &mut RowTrace),
     ) -> Result<CycleFrame, CycleRunError> {
         let mut host_ov = overflow_table();
-        let plan = FramePlan::new(input, &mut self.buffer, dp, use_hit_buffer, &mut host_ov)?
-            .with_switches(self.switches);
+        let plan = self.plan(input, dp, use_hit_buffer, &mut host_ov)?;
         let (w, h) = (self.buffer.width, self.buffer.height);
         let rendered = RowFeed::new(h as usize);
         let FixedBuffer {
