@@ -85,6 +85,8 @@ fn baseline_file_gives_the_golden_cycles_of_its_time() {
     let args = [
         "--hw",
         "configs/baseline.ron",
+        "--datapath",
+        "configs/datapath_sorter8.ron",
         "--width",
         "640",
         "--height",

@@ -10,7 +10,7 @@
 //!   the elaborated depth;
 //! - the transform's products left out are exact: with the identity's codes the full unit
 //!   computes o − c (saturated) and d, as a subtractor alone does;
-//! - walk-issue lanes: on two-lane hardware (`configs/wide_issue.ron`'s units) a one-instance
+//! - walk-issue lanes: on two-lane hardware (the default's units since issue 28) a one-instance
 //!   scene keeps one chain (transform, three reciprocals, root) with its DSP48E2 saving and
 //!   the same records, at a stated cycle cost on the frames that walk, and a scene of three
 //!   instances keeps both.
@@ -122,7 +122,7 @@ fn moving_camera_leaves_out_the_hit_buffer() {
     assert_eq!(e.full.uram288 - e.elaborated.uram288, 240);
 }
 
-/// The default hardware with two walk-issue lanes (the units of `configs/wide_issue.ron`).
+/// Hardware with two walk-issue lanes (the default's units since issue 28).
 fn two_lanes() -> HwConfig {
     let mut hw = HwConfig::for_datapath(&DatapathConfig::default());
     hw.transform_units = 2;

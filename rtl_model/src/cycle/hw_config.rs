@@ -189,13 +189,11 @@ pub enum StackStorage {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WalkerPool {
-    /// W: octree walkers. Default 32. The default scene at depth 11 needs about 16 steps per
-    /// ray with no reuse and 13 with a still camera, so 150 fps at 1280×768 needs 6.3 steps
-    /// per cycle at 300 MHz; but walks cluster in the image rows of the car and wait on node
-    /// reads, and the cycle model measures (`sim bench --model cycle --scaling`, frame 1 with a
-    /// still camera / every pixel traced): 16 walkers 147.5 / 124.6 fps, bound by the walkers;
-    /// 32 walkers 159.4 / 138.6 fps, bound by memory. 32 meets the 150 fps target for 112
-    /// more BRAM36 of stacks (296 of 2,160 in all).
+    /// W: octree walkers. Default 64 (issue 28, chosen by `sim explore` over
+    /// `configs/explore_1280.ron`, docs/explore.md §5): with two walk-issue lanes the car at
+    /// 1280×768 needs about 13–16 steps per ray at close to one ray per cycle, and walks wait
+    /// on node reads; 32 walkers left it walker bound. Before issue 28 the default was 32
+    /// (`configs/baseline.ron`).
     pub walkers: u32,
     /// R: ray contexts per walker, interleaved so one context's node fetch does not stall the
     /// walker. Default 8: a step takes `step_latency_cycles` (3) plus an on-chip or cache
@@ -221,7 +219,7 @@ pub struct WalkerPool {
 impl Default for WalkerPool {
     fn default() -> Self {
         Self {
-            walkers: 32,
+            walkers: 64,
             contexts_per_walker: 8,
             step_cycles: 1,
             step_latency_cycles: 3,
@@ -327,15 +325,16 @@ pub struct HitBuffer {
     /// Read ports per cycle. 1, the only value: the check stage reads one pixel per cycle
     /// (one ray per clock), so a second read port would never be used and is refused.
     pub read_ports: u8,
-    /// Write paths per cycle, 1 or 2. Default 1: the records of walked rays and the words the
-    /// check stage writes straight back (reused pixels, rays without a candidate) share one
-    /// write port, the record stage first (`stages/check.rs`). 2: the buffer is built as two
+    /// Write paths per cycle, 1 or 2. Default 2 (issue 28): with one, the records of walked
+    /// rays and the words the check stage writes straight back (reused pixels, rays without a
+    /// candidate) share one write port, the record stage first (`stages/check.rs`), which
+    /// capped a frame with 69 % reuse near 0.83 rays per cycle. 2: the buffer is built as two
     /// banks interleaved on pixel parity, each a simple-dual-port memory (read port, write
     /// port) of half the pixels, so the same URAM288 count up to rounding; the record stage
     /// and the check stage each have their own write FIFO, and both write in one cycle unless
     /// their pixels fall in the same bank (the record first, the check's waits a cycle).
     pub write_ports: u8,
-    /// Walked records the write stage takes per cycle, 1 or 2 (issue 28). Default 1: the
+    /// Walked records the write stage takes per cycle, 1 or 2 (issue 28). Default 2. With 1 the
     /// record path writes one word a cycle, while the walk lanes pack up to one record each a
     /// cycle, so with two walk lanes and few reused pixels `record_to_write` fills in bursts
     /// and holds the record stage (the bound line's `record_write`). 2 needs the two banks of
@@ -357,8 +356,8 @@ impl Default for HitBuffer {
             present: true,
             placement: Placement::Uram,
             read_ports: 1,
-            write_ports: 1,
-            record_writes: 1,
+            write_ports: 2,
+            record_writes: 2,
             read_latency_cycles: 4,
         }
     }
@@ -411,12 +410,12 @@ pub struct HwConfig {
     /// Default 8: the default scene's instances, so a ray's tests take one cycle.
     pub sphere_units: u32,
     /// Lanes of the sorting network, 1 to [`MAX_SORTER_LANES`] (255); must equal the
-    /// datapath's `sorter.n`. Default 8.
+    /// datapath's `sorter.n`. Default 16, the default datapath's.
     pub sorter_lanes: u32,
     /// Transform units, each taking one walk per initiation interval: `n` units are `n`
-    /// parallel walk-issue lanes (docs/cycle-model.md §2.1). Default 1: one walk per cycle, while the default scene needs about
-    /// 0.3 at either target (150 fps with a still camera: 0.49 rays × 0.63 walks per cycle;
-    /// 67 fps with a moving one: 0.22 × 1.32).
+    /// parallel walk-issue lanes (docs/cycle-model.md §2.1). Default 2 (issue 28): the car
+    /// needs 1.32 walks per ray, so one lane capped it at 0.757 rays per cycle whatever the
+    /// memory; two lanes let it reach the clock. 1 before issue 28 (`configs/baseline.ron`).
     pub transform_units: u32,
     /// Whether the transform units have their 18 products. Default true; false only when no
     /// instance ever rotates (scene-driven elaboration, `docs/elaboration.md`): R = I makes
@@ -425,11 +424,11 @@ pub struct HwConfig {
     pub transform_products: bool,
     /// Reciprocal units, one axis each: every three are one walk-issue lane (one walk per
     /// cycle); 1 or 2 take a walk in several passes; other values above 3 that are not a
-    /// multiple of 3 are refused. Default 3: one walk's three axes per cycle.
+    /// multiple of 3 are refused. Default 6: two walk-issue lanes, as the transform units.
     pub reciprocal_units: u32,
     /// Walker-root units (root slabs), shared by the pool as a stage before the dispatcher;
-    /// `n` units are `n` walk-issue lanes. Default 1: one walk per cycle like the transform; one per walker would cost 36 DSP
-    /// each for a unit busy one cycle in a dozen.
+    /// `n` units are `n` walk-issue lanes. Default 2, as the transform units; one per walker
+    /// would cost 36 DSP each for a unit busy one cycle in a dozen.
     pub walker_root_units: u32,
     /// The walker pool.
     pub walker_pool: WalkerPool,
@@ -470,10 +469,10 @@ impl HwConfig {
             units: UnitTimings::for_datapath(dp),
             sphere_units: 8,
             sorter_lanes: u32::from(dp.sorter.n),
-            transform_units: 1,
+            transform_units: 2,
             transform_products: true,
-            reciprocal_units: 3,
-            walker_root_units: 1,
+            reciprocal_units: 6,
+            walker_root_units: 2,
             walker_pool: WalkerPool::default(),
             fifos: FifoDepths::default(),
             node_memory: NodeMemoryConfig::default(),

@@ -38,9 +38,13 @@ pub const MERGE_LATENCY: u64 = 1;
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SorterConfig {
-    /// Lanes of the sorting network (keys sorted per issue). Default 8: a 19-comparator,
-    /// depth-6 network covers every ray of the default scenes in one issue, while 16 lanes
-    /// would cost three times the comparators for rays that are rare. 0 is invalid and is
+    /// Lanes of the sorting network (keys sorted per issue). Default 16 (issue 28): a
+    /// 60-comparator, depth-10 network. With 8 lanes (19 comparators, depth 6) every ray of
+    /// the car fits one issue, but a crowd of instances has rays with more candidates than
+    /// lanes, and such a ray holds the sorter's input for its merges: `scenes/crowd_1000.ron`
+    /// (9.5 candidates per ray) was sorter bound at 29.5 fps with 8 lanes and reaches 68.9
+    /// with 16 (docs/cycle-model.md §7). The three-fold comparators are about 39k LUTs, 4 % of
+    /// the part; elaboration narrows the network to a scene's instance count. 0 is invalid and is
     /// treated as 1 (no network, every key merged), counted in [`SorterStats::config_errors`].
     pub n: u8,
     /// Format of t_enter (the sphere unit's output). Default uQ10.22, truncating: t_enter is
@@ -54,7 +58,7 @@ pub struct SorterConfig {
 impl Default for SorterConfig {
     fn default() -> Self {
         Self {
-            n: 8,
+            n: 16,
             key: Format::uq(10, 22),
         }
     }

@@ -27,20 +27,21 @@ pub struct OnChipConfig {
     /// Tree levels held on chip, counting the root as level 0: descriptors of nodes at levels
     /// `0 .. levels` (and their far words) are on chip. 0 disables the on-chip store.
     ///
-    /// Default 6: levels 0..5 hold at most 1 + 8 + … + 8^5 = 37 449 descriptors (146 KiB, a
-    /// completely dense tree) and typically a few thousand for surface voxels, and they are
-    /// the reads every ray makes; level 6 could be 8× more for a dense tree.
+    /// Default 8 (issue 28; 6 before, `configs/baseline.ron`): levels 0..7 are the reads
+    /// nearly every ray makes, and at one ray per cycle the cache could not serve them; a
+    /// sparse surface tree's eight levels fit the 2 MiB cap, while a completely dense tree
+    /// keeps fewer (whole levels are kept while they fit, see `max_bytes`).
     pub levels: u8,
-    /// Capacity cap in bytes: whole levels are kept while their words fit. Default 256 KiB
-    /// (64 BRAM36 of 1024 × 32-bit words), enough for the default six levels of any tree.
+    /// Capacity cap in bytes: whole levels are kept while their words fit. Default 2 MiB
+    /// (512 BRAM36 of 1024 × 32-bit words, 24 % of the part), 256 KiB before issue 28.
     pub max_bytes: u64,
     /// Read latency in cycles (≥ 1). Default 3: an address register, the block RAM with its
     /// output register (needed to reach 300 MHz) and one mux stage across the cascaded
     /// BRAM36 blocks.
     pub latency: u32,
-    /// Word-interleaved banks (bank = word address mod banks). Default 4: the walkers' reads
-    /// of one group's consecutive slots land in different banks, so 4 × 2 ports serve eight
-    /// top-level reads per cycle, about what a pool of 16–32 walkers asks for near the root.
+    /// Word-interleaved banks (bank = word address mod banks). Default 16 (issue 28; 4
+    /// before): the walkers' reads of one group's consecutive slots land in different banks,
+    /// and 16 × 2 ports serve the reads of 64 walkers on two walk lanes near the root.
     pub banks: u32,
     /// Ports per bank per cycle (2 = true dual port, the BRAM36 maximum). Reads beyond this in
     /// a cycle wait. Default 2.
@@ -58,10 +59,10 @@ pub struct OnChipConfig {
 impl Default for OnChipConfig {
     fn default() -> Self {
         Self {
-            levels: 6,
-            max_bytes: 256 * 1024,
+            levels: 8,
+            max_bytes: 2 * 1024 * 1024,
             latency: 3,
-            banks: 4,
+            banks: 16,
             ports_per_bank: 2,
             combine: true,
         }
@@ -73,8 +74,8 @@ impl Default for OnChipConfig {
 #[serde(deny_unknown_fields, default)]
 pub struct CacheConfig {
     /// Capacity in bytes; 0 disables the cache (every off-chip read goes to DRAM, merging
-    /// still applies). Default 256 KiB: 8 UltraRAMs (32 KiB of 64-bit words each) per copy of
-    /// the data array, large against the working set of a frame's upper-middle levels.
+    /// still applies). Default 1 MiB (issue 28; 256 KiB before): 32 UltraRAMs (32 KiB of
+    /// 64-bit words each) per copy of the data array, which with 4 lookup ports is 128 URAM288.
     pub size_bytes: u64,
     /// Associativity (≥ 1). Default 4: the depth-first layout maps sibling subtrees to
     /// addresses a power of two apart often enough that a direct-mapped cache thrashes; four
@@ -87,7 +88,8 @@ pub struct CacheConfig {
     /// Hit latency in cycles (≥ 1). Default 4: UltraRAM read with its output and cascade
     /// registers (3 at 300 MHz) plus the way select after the tag compare.
     pub hit_latency: u32,
-    /// Lookups per cycle (≥ 1). Default 2: one per read port of a true dual-port array.
+    /// Lookups per cycle (≥ 1). Default 4 (issue 28; 2 before): two copies of a true
+    /// dual-port array, for two walk lanes' reads.
     pub ports: u32,
     /// Whether attribute records go through the cache (true) or straight to DRAM (false;
     /// each then still moves a whole line, the DRAM burst). Default true: rays that hit
@@ -116,11 +118,11 @@ pub struct CacheConfig {
 impl Default for CacheConfig {
     fn default() -> Self {
         Self {
-            size_bytes: 256 * 1024,
+            size_bytes: 1024 * 1024,
             ways: 4,
             line_bytes: 64,
             hit_latency: 4,
-            ports: 2,
+            ports: 4,
             attr_cached: true,
             banks: 4,
             miss_queue: 32,
@@ -140,14 +142,14 @@ pub struct DramConfig {
     /// buffer and of the watchdog).
     pub latency: u32,
     /// Peak bytes per cycle on the data bus (≥ 1), for the [`DramBackend::BuiltIn`] model.
-    /// Default 64: one DDR4-2400 channel, 64 bits wide, gives 19.2 GB/s, which is 64 B per
-    /// cycle at 300 MHz. With [`DramBackend::DramSim3`] the peak follows from the device and
+    /// Default 128 (issue 28; 64 before): two DDR4-2400 channels, 64 bits wide, give 38.4 GB/s,
+    /// which is 128 B per cycle at 300 MHz, as boards with this part carry. With [`DramBackend::DramSim3`] the peak follows from the device and
     /// the channel count, and this field must stay at its default.
     pub bytes_per_cycle: u32,
-    /// Outstanding line fills (MSHRs, ≥ 1). Default 32, a miss table a 300 MHz design can
-    /// search in one cycle. By Little's law 32 fills of 64 B per (60 + 1) cycles cap miss
-    /// bandwidth at about 33.6 B/cycle (52 % of peak): the walkers' scattered reads are bound
-    /// by latency long before bandwidth, and the scaling benchmark sweeps this.
+    /// Outstanding line fills (MSHRs, ≥ 1). Default 256 (issue 28; 32 before): by Little's law
+    /// 32 fills of 64 B per (60 + 1) cycles capped miss bandwidth at about 33.6 B/cycle, which
+    /// bound the walkers at one ray per cycle; 256 entries are searched through the CAM the
+    /// fabric estimate prices (`cost::structures`).
     pub mshrs: u32,
     /// What times the line fills: the built-in fixed-latency bus (default) or DRAMsim3.
     pub backend: DramBackend,
@@ -157,8 +159,8 @@ impl Default for DramConfig {
     fn default() -> Self {
         Self {
             latency: 60,
-            bytes_per_cycle: 64,
-            mshrs: 32,
+            bytes_per_cycle: 128,
+            mshrs: 256,
             backend: DramBackend::BuiltIn,
         }
     }
