@@ -189,16 +189,18 @@ pub enum StackStorage {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WalkerPool {
-    /// W: octree walkers. Default 64 (issue 28, chosen by `sim explore` over
-    /// `configs/explore_1280.ron`, docs/explore.md §5): with two walk-issue lanes the car at
-    /// 1280×768 needs about 13–16 steps per ray at close to one ray per cycle, and walks wait
-    /// on node reads; 32 walkers left it walker bound. Before issue 28 the default was 32
+    /// W: octree walkers. Default 48 of 16 contexts each (issue 28, chosen by `sim explore`
+    /// over `configs/explore_1280.ron`, docs/explore.md §5: the cheapest point within 0.5 % of
+    /// the best fitting fps on both the car and crowd_1000): with two walk-issue lanes the car
+    /// at 1280×768 needs about 13–16 steps per ray at close to one ray per cycle, and walks
+    /// wait on node reads. Before issue 28 the default was 32 walkers of 8 contexts
     /// (`configs/baseline.ron`).
     pub walkers: u32,
     /// R: ray contexts per walker, interleaved so one context's node fetch does not stall the
-    /// walker. Default 8: a step takes `step_latency_cycles` (3) plus an on-chip or cache
-    /// fetch (3–4), so 8 contexts keep a walker busy on on-chip hits; DRAM misses
-    /// (`node_memory.dram.latency`) are hidden only in part, which the model measures.
+    /// walker. Default 16 (issue 28; 8 before): a step takes `step_latency_cycles` (3) plus an
+    /// on-chip or cache fetch (3–4), so 8 contexts keep a walker busy on on-chip hits, and the
+    /// other 8 hide part of the DRAM misses (`node_memory.dram.latency`); 48 walkers of 16
+    /// contexts matched 64 of 8 in `sim explore` for fewer walker datapaths.
     pub contexts_per_walker: u32,
     /// Cycles the walker's datapath is busy per child examined (its II). Default 1: a step
     /// is muxes, 62-bit compares and midpoint adders (no DSP), pipelined.
@@ -219,8 +221,8 @@ pub struct WalkerPool {
 impl Default for WalkerPool {
     fn default() -> Self {
         Self {
-            walkers: 64,
-            contexts_per_walker: 8,
+            walkers: 48,
+            contexts_per_walker: 16,
             step_cycles: 1,
             step_latency_cycles: 3,
             stack_depth: MAX_DEPTH + 1,

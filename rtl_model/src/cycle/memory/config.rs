@@ -74,8 +74,10 @@ impl Default for OnChipConfig {
 #[serde(deny_unknown_fields, default)]
 pub struct CacheConfig {
     /// Capacity in bytes; 0 disables the cache (every off-chip read goes to DRAM, merging
-    /// still applies). Default 1 MiB (issue 28; 256 KiB before): 32 UltraRAMs (32 KiB of
-    /// 64-bit words each) per copy of the data array, which with 4 lookup ports is 128 URAM288.
+    /// still applies). Default 256 KiB: 8 UltraRAMs (32 KiB of 64-bit words each) per copy of
+    /// the data array, large against the working set of a frame's upper-middle levels once the
+    /// top 8 levels are on chip: `sim explore` (docs/explore.md §5) found 1 MiB worth no fps
+    /// on the car or crowd_1000.
     pub size_bytes: u64,
     /// Associativity (≥ 1). Default 4: the depth-first layout maps sibling subtrees to
     /// addresses a power of two apart often enough that a direct-mapped cache thrashes; four
@@ -88,8 +90,9 @@ pub struct CacheConfig {
     /// Hit latency in cycles (≥ 1). Default 4: UltraRAM read with its output and cascade
     /// registers (3 at 300 MHz) plus the way select after the tag compare.
     pub hit_latency: u32,
-    /// Lookups per cycle (≥ 1). Default 4 (issue 28; 2 before): two copies of a true
-    /// dual-port array, for two walk lanes' reads.
+    /// Lookups per cycle (≥ 1). Default 2: one per read port of a true dual-port array; per
+    /// bank, so the default's 4 banks take 8 lookups a cycle (4 ports were worth no fps in
+    /// `sim explore`, docs/explore.md §5).
     pub ports: u32,
     /// Whether attribute records go through the cache (true) or straight to DRAM (false;
     /// each then still moves a whole line, the DRAM burst). Default true: rays that hit
@@ -118,11 +121,11 @@ pub struct CacheConfig {
 impl Default for CacheConfig {
     fn default() -> Self {
         Self {
-            size_bytes: 1024 * 1024,
+            size_bytes: 256 * 1024,
             ways: 4,
             line_bytes: 64,
             hit_latency: 4,
-            ports: 4,
+            ports: 2,
             attr_cached: true,
             banks: 4,
             miss_queue: 32,
