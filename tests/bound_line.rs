@@ -69,9 +69,14 @@ fn bound_with(hw: &HwConfig, dp: &DatapathConfig) -> (String, String) {
     (c.bound.limit, format!("{} — {stalls}", c.bound.reason))
 }
 
-/// The default hardware, to change field by field.
+/// The default hardware with the walker pool of before issue 28 (32 walkers of 8 contexts),
+/// to change field by field: the default's 768 ray slots never fill on the 64×40 image, so a
+/// slow memory would show only as rays waiting, not as the full pool the memory causes split.
 fn base() -> HwConfig {
-    HwConfig::default()
+    let mut h = HwConfig::default();
+    h.walker_pool.walkers = 32;
+    h.walker_pool.contexts_per_walker = 8;
+    h
 }
 
 /// Hand-built cases: the limit, and the hardware where it binds.
@@ -224,5 +229,34 @@ fn the_record_write_path_is_named_where_it_binds() {
     assert_ne!(
         after, "record_write",
         "lifted, the record write path still binds ({why})"
+    );
+}
+
+#[test]
+fn at_the_clock_the_line_names_what_holds_the_rest() {
+    // The default hardware runs the car's still frame near the clock (0.9 rays per cycle or
+    // more); the line then names the cause with the most stalled cycles, as counted.
+    let (got, why) = bound(&HwConfig::default());
+    println!("default: bound {got} ({why})");
+    assert_eq!(got, "clock", "{why}");
+    let stalls: serde_json::Value =
+        serde_json::from_str(why.rsplit(" — ").next().expect("stalls")).expect("stall json");
+    let count = |k: &str| stalls[k].as_u64().expect(k);
+    let causes = [
+        ("walk_issue", "walk_issue"),
+        ("write_port", "the hit-buffer write port"),
+        ("sorter", "sorter"),
+        ("sphere", "sphere"),
+        ("walkers_full", "walkers"),
+    ];
+    let (_, top) = causes
+        .iter()
+        .map(|&(k, name)| (count(k), name))
+        .max_by_key(|&(n, _)| n)
+        .expect("causes");
+    assert!(count("walk_issue") + count("write_port") > 0, "{why}");
+    assert!(
+        why.contains(&format!("the rest is held by {top}")),
+        "expected {top} named: {why}"
     );
 }

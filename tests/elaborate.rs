@@ -70,15 +70,25 @@ fn static_single_svo_leaves_out_sorter_and_transform_products() {
     assert_eq!((e.hardware.sorter_lanes, e.datapath.sorter.n), (1, 1));
     assert!(e.use_hit_buffer);
     // 7 sphere lanes (34 DSP48E2 each at the default, t_ca in sQ10.24, as `sim datapath`
-    // itemises them) and the transform's 72.
-    assert_eq!(e.full.dsp48e2 - e.elaborated.dsp48e2, 7 * 34 + 72);
+    // itemises them), the two transforms' products (2 × 72) and the second walk-issue lane's
+    // three reciprocals (12 each) and root (36).
+    assert_eq!(
+        e.full.dsp48e2 - e.elaborated.dsp48e2,
+        7 * 34 + 2 * 72 + 3 * 12 + 36
+    );
 }
 
 #[test]
 fn default_car_keeps_what_its_animation_uses() {
     let e = elab(&Scene::default_car().unwrap());
     assert_eq!(action(&e, "sphere_lanes"), Action::Kept, "8 instances");
-    assert_eq!(action(&e, "sorter"), Action::Kept);
+    // Eight instances: the default 16-lane network narrows to 8 (a ray has at most eight
+    // candidates); the comparators are LUTs, so the DSP48E2 count below does not move.
+    assert_eq!(
+        action(&e, "sorter"),
+        Action::Resized { from: 16, to: 8 },
+        "eight instances"
+    );
     assert_eq!(
         action(&e, "transform_products"),
         Action::Kept,
@@ -101,14 +111,14 @@ fn moving_camera_leaves_out_the_hit_buffer() {
     assert_eq!(action(&e, "hit_buffer"), Action::LeftOut);
     assert!(!e.use_hit_buffer);
     // Three instances: a ray has at most three candidates, so a three-lane network (Batcher
-    // pruned, 3 comparators, depth 3) sorts every ray in one issue, as the 8-lane one did.
+    // pruned, 3 comparators, depth 3) sorts every ray in one issue, as the 16-lane one did.
     assert_eq!(
         action(&e, "sorter"),
-        Action::Resized { from: 8, to: 3 },
+        Action::Resized { from: 16, to: 3 },
         "three instances"
     );
     assert_eq!((e.hardware.sorter_lanes, e.datapath.sorter.n), (3, 3));
-    assert_eq!(e.hardware.units.sorter.latency_cycles, 3, "6 − 6 + 3");
+    assert_eq!(e.hardware.units.sorter.latency_cycles, 3, "10 − 10 + 3");
     assert_eq!(
         action(&e, "transform_products"),
         Action::Kept,
@@ -167,11 +177,22 @@ fn one_instance_keeps_one_walk_issue_chain() {
     let m = elaborate(&m, None, &hw, &dp, true).unwrap();
     assert_eq!(action(&m, "walk_lanes"), Action::Kept);
     assert_eq!(m.hardware.walk_lanes(), 2);
-    // One lane configured (the default): nothing to remove.
+    // The default hardware has two lanes: the same decision as above.
     assert_eq!(
         action(&elab(&scene), "walk_lanes"),
+        Action::Resized { from: 2, to: 1 },
+        "default hardware has two lanes"
+    );
+    // One lane configured (the default before issue 28): nothing to remove.
+    let mut one = HwConfig::for_datapath(&dp);
+    one.transform_units = 1;
+    one.reciprocal_units = 3;
+    one.walker_root_units = 1;
+    let e1 = elaborate(&scene, None, &one, &dp, true).unwrap();
+    assert_eq!(
+        action(&e1, "walk_lanes"),
         Action::Kept,
-        "default hardware has one lane"
+        "one lane configured"
     );
 }
 

@@ -14,8 +14,8 @@ use svo_sim::studies::explore::SpaceError;
 const SMALL: &str = r#"(
     scenes: [(path: "car", width: 48, height: 32, frames: 2, depth: 8)],
     fields: {
-        "walker_pool.walkers": [8, 32],
-        "node_memory.dram.mshrs": [8, 32],
+        "walker_pool.walkers": [8, 48],
+        "node_memory.dram.mshrs": [8, 256],
     },
 )"#;
 
@@ -60,9 +60,9 @@ fn the_files_are_the_same_bytes_on_one_thread_and_two() {
     let csv = String::from_utf8(one[0].1.clone()).unwrap();
     let header = csv.lines().next().unwrap();
     assert!(header.starts_with("point,scene,walker_pool.walkers,node_memory.dram.mshrs,default,"));
-    // The default (32 walkers, 32 MSHRs) is point 4; exactly one best fitting row.
+    // The default (48 walkers, 256 MSHRs) is point 4; exactly one best fitting row.
     let rows: Vec<&str> = csv.lines().skip(1).collect();
-    assert!(rows[3].starts_with("4,car,32,32,true,"), "{}", rows[3]);
+    assert!(rows[3].starts_with("4,car,48,256,true,"), "{}", rows[3]);
     assert_eq!(rows.iter().filter(|r| r.ends_with(",true")).count(), 1);
 }
 
@@ -95,13 +95,13 @@ fn a_bad_space_is_refused_naming_the_field_and_its_position() {
     let m = refusal(&SMALL.replace("walker_pool.walkers", "walker_pool.walkrs"));
     assert!(m.starts_with("space.ron:4:9: field \"walker_pool.walkrs\": no field \"walkrs\" in walker_pool (its fields: "), "{m}");
     // A value of the wrong type, read by the schema.
-    let m = refusal(&SMALL.replace("[8, 32]", "[8, \"many\"]"));
+    let m = refusal(&SMALL.replace("[8, 48]", "[8, \"many\"]"));
     assert!(m.starts_with("space.ron:4:9: field \"walker_pool.walkers\": value many: invalid type: string \"many\", expected u32"), "{m}");
     // A value the model's rules refuse, on the point that has it.
-    let m = refusal(&SMALL.replace("[8, 32],\n        \"node", "[0, 32],\n        \"node"));
+    let m = refusal(&SMALL.replace("[8, 48],\n        \"node", "[0, 48],\n        \"node"));
     assert!(m.starts_with("space.ron:4:9: field \"walker_pool.walkers\": point 1 (walker_pool.walkers = 0, node_memory.dram.mshrs = 8): walker_pool.walkers must be at least 1 (got 0)"), "{m}");
     // The second field, by its own line.
-    let m = refusal(&SMALL.replace("[8, 32],\n    }", "[8, 99999],\n    }"));
+    let m = refusal(&SMALL.replace("[8, 256],\n    }", "[8, 99999],\n    }"));
     assert!(
         m.starts_with("space.ron:5:9: field \"node_memory.dram.mshrs\": point 2 "),
         "{m}"
@@ -120,7 +120,7 @@ fn a_bad_space_is_refused_naming_the_field_and_its_position() {
     );
     // A bare enum name (write it as a string).
     let m = refusal(&SMALL.replace(
-        "\"node_memory.dram.mshrs\": [8, 32]",
+        "\"node_memory.dram.mshrs\": [8, 256]",
         "\"hit_buffer.placement\": [Bram]",
     ));
     assert!(
@@ -129,7 +129,7 @@ fn a_bad_space_is_refused_naming_the_field_and_its_position() {
     );
     // A bad range.
     let m = refusal(&SMALL.replace(
-        "[8, 32],\n        \"node",
+        "[8, 48],\n        \"node",
         "(from: 8, to: 4, step: 1),\n        \"node",
     ));
     assert!(
@@ -153,15 +153,17 @@ fn a_linked_field_sets_its_paths_together_and_refuses_a_wrong_tuple() {
         scenes: [(path: "car", width: 48, height: 32, frames: 1)],
         fields: {
             "transform_units+reciprocal_units+walker_root_units": [(1, 3, 1), (2, 6, 2)],
-            "walker_pool.walkers": [16, 32],
+            "walker_pool.walkers": [16, 48],
         },
     )"#;
     let (_, points) = space(text).unwrap();
-    // 2 × 2 points; the default (1 transform unit, one lane of 3 reciprocal units, 1 root,
-    // 32 walkers) is point 2.
+    // 2 × 2 points; the default (2 transform units, two lanes of 3 reciprocal units, 2 roots,
+    // 48 walkers) is the last.
     assert_eq!(points.len(), 4);
-    assert_eq!(points[1].values, ["[1,3,1]", "32"]);
-    assert!(points[1].default);
+    assert_eq!(points[3].values, ["[2,6,2]", "48"]);
+    assert!(points[3].default);
+    assert_eq!(points[0].values, ["[1,3,1]", "16"]);
+    assert_eq!(points[0].hw.walk_lanes(), 1);
     let p = &points[2];
     assert_eq!(p.values, ["[2,6,2]", "16"]);
     assert_eq!(

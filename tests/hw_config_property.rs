@@ -307,7 +307,9 @@ fn hw_config() -> impl Strategy<Value = HwConfig> {
         // The frame holds the test's 8×8 image (a smaller one is refused by the run's check).
         (field(8, 16384), field(8, 16384)),
         field(1, 4096),
-        prop_oneof![10 => Just(8u32), 2 => field(1, 255)],
+        // Sorter lanes: mostly the default datapath's `sorter.n` (16), which validation
+        // requires; sometimes any width, refused.
+        prop_oneof![10 => Just(16u32), 2 => field(1, 255)],
         field(1, 4096),
         flag(),
         // Reciprocal units: 1, 2 or whole lanes of three (anything else is refused, and a

@@ -118,14 +118,15 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
         |h| h.sorter_lanes = 4,
         Refused("sorter_lanes = 4 must equal"),
     ),
-    ("transform_units", |h| h.transform_units = 2, Changes),
+    // The default has two walk-issue lanes (issue 28): each kind's units back to one lane.
+    ("transform_units", |h| h.transform_units = 1, Changes),
     (
         "transform_products",
         |h| h.transform_products = false,
         Changes,
     ),
-    ("reciprocal_units", |h| h.reciprocal_units = 6, Changes),
-    ("walker_root_units", |h| h.walker_root_units = 2, Changes),
+    ("reciprocal_units", |h| h.reciprocal_units = 3, Changes),
+    ("walker_root_units", |h| h.walker_root_units = 1, Changes),
     (
         "walker_pool.walkers",
         |h| h.walker_pool.walkers = 2,
@@ -218,7 +219,7 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
     ),
     (
         "node_memory.onchip.banks",
-        |h| h.node_memory.onchip.banks = 16,
+        |h| h.node_memory.onchip.banks = 4,
         Changes,
     ),
     (
@@ -313,14 +314,19 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
         Refused("hit_buffer.read_ports = 2"),
     ),
     (
+        // One write path: alone it is refused with the default's two record writes (they
+        // need the two banks, next row), so the record writes go to one as well.
         "hit_buffer.write_ports",
-        |h| h.hit_buffer.write_ports = 2,
+        |h| {
+            h.hit_buffer.write_ports = 1;
+            h.hit_buffer.record_writes = 1;
+        },
         Changes,
     ),
     (
         "hit_buffer.record_writes",
-        |h| h.hit_buffer.record_writes = 2,
-        Refused("hit_buffer.record_writes = 2 needs as many banks"),
+        |h| h.hit_buffer.record_writes = 1,
+        Changes,
     ),
     (
         "hit_buffer.read_latency_cycles",

@@ -307,13 +307,15 @@ fn rows_decode_to_what_independent_oracles_expect() {
             );
             assert_eq!(got, *key, "sorter row {r}");
         }
-        // The cycle model's timing, against docs/units/sorter.md §6 by hand (D = 6, N = 8).
-        let (c, n64) = (n.div_ceil(8).max(1) as i128, n as i128);
+        // The cycle model's timing, against docs/units/sorter.md §6 by hand (D = 10 at the
+        // default N = 16; at most 4N keys, so P = ⌈log₂ C⌉ ≤ 2).
+        let (lanes, depth) = sorter_network();
+        let (c, n64) = (n.div_ceil(lanes).max(1) as i128, n as i128);
         let p = if c > 2 { 2 } else { c - 1 };
         let (cycles, busy) = if c == 1 {
-            (6, 1)
+            (depth, 1)
         } else {
-            (c - 1 + 6 + p * (n64 + 1), c + p * (n64 + 1))
+            (c - 1 + depth + p * (n64 + 1), c + p * (n64 + 1))
         };
         assert_eq!(
             (value(&m, &r, "cycles"), value(&m, &r, "busy")),
@@ -369,9 +371,11 @@ fn the_adversarial_cases_the_issue_names_are_present() {
     assert!(find("transform", &|m, r| value(m, r, "ov_origin") == 1));
     assert!(find("sqrt", &|m, r| value(m, r, "x") == i128::from(i64::MAX)));
     assert!(find("raygen", &|m, r| value(m, r, "ov_dir") == 1));
-    // Sorter ties: equal entry distances, ids out of order on the way in.
-    assert!(find("sorter", &|m, r| value(m, r, "count") == 8
-        && (0..8).all(
+    // Sorter ties: equal entry distances, ids out of order on the way in, a full network.
+    let lanes = sorter_network().0;
+    assert!(find("sorter", &|m, r| value(m, r, "count")
+        == lanes as i128
+        && (0..lanes).all(
             |k| value(m, r, &format!("in_t{k}")) == value(m, r, "in_t0")
         )
         && value(m, r, "in_id0") > value(m, r, "in_id1")));
@@ -449,5 +453,15 @@ fn capture_reproduces_the_functional_model() {
             cap.captured.reciprocal.len(),
             3 * cap.captured.transform.len()
         );
+    }
+}
+
+/// The default datapath's sorting network, by hand: (lanes, layers). Green's 16-lane network
+/// has 10 layers, the 8-lane one 6 (docs/units/sorter.md); another width needs its own entry.
+fn sorter_network() -> (usize, i128) {
+    match DatapathConfig::default().sorter.n {
+        8 => (8, 6),
+        16 => (16, 10),
+        n => panic!("no hand-counted network depth for {n} lanes"),
     }
 }

@@ -30,6 +30,7 @@ fn assumed_widths(dp: &DatapathConfig) {
     assert_eq!(dp.raygen.dir.width, 32, "raygen.dir");
     assert_eq!(dp.raygen.pos.width, 40, "raygen.pos");
     assert_eq!(dp.sorter.key.width, 32, "sorter.key");
+    assert_eq!(dp.sorter.n, 16, "sorter lanes");
     assert_eq!(dp.hit_record.instance_bits, 8, "instance bits");
     assert_eq!(dp.hit_record.word_bits(), 72, "record word");
 }
@@ -49,10 +50,10 @@ fn pins() -> Vec<Pin> {
     // record_to_write: 8 × (72 + 12) = 84 bits: RAM32M16 8 × ⌈84 / 14⌉ = 48 LUTs; pointers
     // 3 × (⌈log₂ 8⌉ + 1) = 12 LUTs and FFs; the output register 84 FFs.
     let record = ("fifo.record_to_write", 1, 48 + 12, 84 + 12);
-    // loop_back: 72 entries (the ray slots) of a ray 12 + 3·32 + 3·40 = 228 and 8 lanes of
-    // (32 + 8): 548 bits. RAM64M8: 8 × ⌈548 / 7⌉ = 79 × ⌈72 / 64⌉ = 2: 1264 LUTs; pointers
+    // loop_back: 72 entries (the ray slots) of a ray 12 + 3·32 + 3·40 = 228 and 16 lanes of
+    // (32 + 8): 868 bits. RAM64M8: 8 × ⌈868 / 7⌉ = 124 × ⌈72 / 64⌉ = 2: 1984 LUTs; pointers
     // 3 × (7 + 1) = 24.
-    let loop_back = ("fifo.loop_back", 1, 8 * 79 * 2 + 24, 548 + 24);
+    let loop_back = ("fifo.loop_back", 1, 8 * 124 * 2 + 24, 868 + 24);
     // MSHR CAM: line address 34 − 6 = 28 bits; 16 × (1 + 28 + 7) FFs; compare(28) = 10 pairs
     // + ⌈10 / 6⌉ = 12 LUTs, for 2 ports × 16 entries, + 16 for the free-entry pick.
     let mshr = ("mshr_cam", 1, 2 * 16 * 12 + 16, 16 * 36);

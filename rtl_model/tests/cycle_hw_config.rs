@@ -56,26 +56,31 @@ fn resource_estimate_of_the_default() {
     assert_eq!(item(&r, "sphere"), (8, 272, 0, 0));
     assert_eq!(item(&r, "sqrt"), (8, 0, 0, 0));
     assert_eq!(item(&r, "sorter"), (1, 0, 0, 0));
-    assert_eq!(item(&r, "transform"), (1, 72, 0, 0));
-    assert_eq!(item(&r, "reciprocal"), (3, 36, 0, 0));
-    assert_eq!(item(&r, "walker_root"), (1, 36, 0, 0));
-    assert_eq!(item(&r, "walker_stacks"), (32, 0, 224, 0));
-    assert_eq!(item(&r, "hit_buffer"), (1, 0, 0, 240));
+    // Two walk-issue lanes (issue 28): two transforms, two lanes of three reciprocals, two
+    // roots.
+    assert_eq!(item(&r, "transform"), (2, 144, 0, 0));
+    assert_eq!(item(&r, "reciprocal"), (6, 72, 0, 0));
+    assert_eq!(item(&r, "walker_root"), (2, 72, 0, 0));
+    // 48 walkers: 16 contexts × 21 frames = 336 entries of 440 bits, 7 BRAM36 side by side.
+    assert_eq!(item(&r, "walker_stacks"), (48, 0, 336, 0));
+    // Two banks on pixel parity (two write paths), 240 URAM288 in all.
+    assert_eq!(item(&r, "hit_buffer"), (2, 0, 0, 240));
     assert_eq!(item(&r, "direction_table"), (1, 0, 0, 480));
-    assert_eq!(item(&r, "node_onchip"), (4, 0, 64, 0));
+    // 2 MiB of on-chip words in 16 banks: 512 BRAM36 of 1024 × 32 bits.
+    assert_eq!(item(&r, "node_onchip"), (16, 0, 512, 0));
     // 4 banks × 2 lookup ports: eight copies of 64 KiB (2 URAM288 each), eight tag copies.
     assert_eq!(item(&r, "cache_data"), (8, 0, 0, 16));
     assert_eq!(item(&r, "cache_tags"), (8, 0, 8, 0));
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (416, 296, 736)
+        (560, 856, 736)
     );
     assert_eq!(
         (r.available.dsp48e2, r.available.bram36, r.available.uram288),
         (6840, 2160, 960)
     );
     let p = r.percent();
-    assert!((p[0] - 6.1).abs() < 0.05 && (p[1] - 13.7).abs() < 0.05 && (p[2] - 76.7).abs() < 0.05);
+    assert!((p[0] - 8.2).abs() < 0.05 && (p[1] - 39.6).abs() < 0.05 && (p[2] - 76.7).abs() < 0.05);
     // The used line is the sum of the items.
     let sum = r.items.iter().fold((0, 0, 0), |a, i| {
         (
@@ -103,7 +108,8 @@ fn unit_latencies_equal_the_unit_functions() {
         sorter::network_latency(dp.sorter.n)
     );
     assert_eq!(u64::from(u.sorter.ii), sorter::network_ii(dp.sorter.n));
-    assert_eq!((u.sorter.latency_cycles, u.sorter.ii), (6, 1));
+    // The default 16-lane network: depth 10 (issue 28; 6 at 8 lanes).
+    assert_eq!((u.sorter.latency_cycles, u.sorter.ii), (10, 1));
     assert_eq!(
         u.reciprocal.latency_cycles,
         reciprocal::latency_cycles(&dp.reciprocal)
@@ -148,13 +154,14 @@ fn dsp_counts_are_those_sim_datapath_prints() {
 #[test]
 fn timings_follow_the_datapath() {
     let mut dp = DatapathConfig::default();
-    dp.sorter.n = 16;
+    // 8 lanes, the default before issue 28 (16 now): the 19-comparator network of depth 6.
+    dp.sorter.n = 8;
     dp.reciprocal.iterations = 1;
     dp.reciprocal.table_bits = 12;
     dp.validate().unwrap();
     let cfg = HwConfig::for_datapath(&dp);
-    assert_eq!(cfg.sorter_lanes, 16);
-    assert_eq!(cfg.units.sorter.latency_cycles, 10);
+    assert_eq!(cfg.sorter_lanes, 8);
+    assert_eq!(cfg.units.sorter.latency_cycles, 6);
     assert_eq!(
         cfg.units.reciprocal.latency_cycles,
         reciprocal::latency_cycles(&dp.reciprocal)
@@ -287,10 +294,11 @@ fn zu9eg_needs_the_per_pixel_tables_off_chip() {
     cfg.direction_table = Placement::External;
     cfg.node_memory.cache.size_bytes = 0;
     let r = cfg.resources(&dp).unwrap();
-    assert_eq!(item(&r, "hit_buffer"), (1, 0, 1920, 0));
+    assert_eq!(item(&r, "hit_buffer"), (2, 0, 1920, 0));
+    // With the stacks (336) and the on-chip node store (512), no cache tags.
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (416, 2208, 0)
+        (560, 2768, 0)
     );
     assert!(
         r.over_budget()[0].starts_with("BRAM36"),
@@ -304,7 +312,7 @@ fn zu9eg_needs_the_per_pixel_tables_off_chip() {
     assert!(r.fits(), "{:?}", r.over_budget());
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (416, 288, 0)
+        (560, 848, 0)
     );
 }
 
@@ -316,10 +324,11 @@ fn exact_pop_stacks_fit_one_bram_per_walker() {
     cfg.walker_pool.stack = StackStorage::ExactPop;
     assert_eq!(cfg.stack_frame_bits(&dp), 71);
     let r = cfg.resources(&dp).unwrap();
-    assert_eq!(item(&r, "walker_stacks"), (32, 0, 32, 0));
+    // 16 contexts × 21 frames = 336 entries of 71 bits: one BRAM36 (512 × 72) a walker.
+    assert_eq!(item(&r, "walker_stacks"), (48, 0, 48, 0));
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (416, 104, 736)
+        (560, 568, 736)
     );
     assert!(r.fits());
 }
@@ -426,7 +435,8 @@ fn transform_without_products_and_absent_hit_buffer() {
         full.used.dsp48e2 - r.used.dsp48e2,
         item(&full, "transform").1
     );
-    assert_eq!(item(&full, "transform").1, 72);
+    // Two transform units of 72 each (two walk-issue lanes).
+    assert_eq!(item(&full, "transform").1, 144);
     cfg.units.transform.latency_cycles = transform::LATENCY_WITHOUT_PRODUCTS - 1;
     let e = cfg.validate_for(&dp).unwrap_err();
     assert!(e.contains("units.transform.latency_cycles"), "{e}");

@@ -18,6 +18,9 @@ use rtl_model::cycle::memory::{
 /// No cache (every off-chip read is a fill), 64-byte lines, 8 MSHRs, DRAMsim3 with `device`.
 fn ds3(device: &str, channels: u32, controller_latency: u32) -> NodeMemoryConfig {
     let mut c = config(3, 1, 2, 0, 1, 64, 4, 1, 60, 64, 8);
+    // DRAMsim3 refuses the built-in bus's fields set away from their defaults (it has its own
+    // bus): the default `bytes_per_cycle`.
+    c.dram.bytes_per_cycle = NodeMemoryConfig::default().dram.bytes_per_cycle;
     c.dram.backend = DramBackend::DramSim3 {
         config: device.to_string(),
         channels,
@@ -256,8 +259,8 @@ fn bad_dramsim3_configurations_are_refused_naming_the_field() {
             "dram.latency = 61 applies to the BuiltIn DRAM backend only; with DramSim3 leave it at its default 60",
         ),
         (
-            |c| c.dram.bytes_per_cycle = 128,
-            "dram.bytes_per_cycle = 128 applies to the BuiltIn DRAM backend only",
+            |c| c.dram.bytes_per_cycle = 64,
+            "dram.bytes_per_cycle = 64 applies to the BuiltIn DRAM backend only",
         ),
     ];
     for (edit, want) in cases {

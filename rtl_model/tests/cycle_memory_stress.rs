@@ -416,7 +416,7 @@ fn bad_requests_are_refused_and_counted() {
 fn configurations_are_validated() {
     let d = NodeMemoryConfig::default();
     d.validate().unwrap();
-    // The documented defaults (300 MHz, one DDR4-2400 channel).
+    // The documented defaults (300 MHz, two DDR4-2400 channels' bandwidth; issue 28).
     assert_eq!(
         (
             d.onchip.levels,
@@ -424,7 +424,7 @@ fn configurations_are_validated() {
             d.onchip.banks,
             d.onchip.ports_per_bank
         ),
-        (6, 3, 4, 2)
+        (8, 3, 16, 2)
     );
     assert_eq!(
         (
@@ -437,12 +437,13 @@ fn configurations_are_validated() {
     );
     assert_eq!(
         (d.dram.latency, d.dram.bytes_per_cycle, d.dram.mshrs),
-        (60, 64, 32)
+        (60, 128, 256)
     );
     assert_eq!(d.cache_sets(), 1024);
     let r = d.resources(37449);
     println!("default resources for 37449 on-chip words: {r:?}");
-    assert_eq!(r.onchip_bram36, 4 * 10);
+    // 16 banks of ⌈37449 / 16⌉ = 2341 words: 3 BRAM36 of 1024 words each.
+    assert_eq!(r.onchip_bram36, 16 * 3);
     assert_eq!(r.cache_uram, 16);
 
     let bad: Vec<(NodeMemoryConfig, &str)> = vec![

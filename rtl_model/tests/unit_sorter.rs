@@ -379,9 +379,11 @@ fn the_largest_count_is_sorted_in_full() {
     let mut st = SorterStats::default();
     let out = Sorter::new(&cfg).sort(&keys, &mut st);
     assert_eq!(out, std_sorted(&keys));
-    assert_eq!(st.networks_run, 8192); // ⌈65535 / 8⌉
-    assert_eq!(st.merge_passes, 13);
-    assert_eq!(st.merge_steps, 13 * 65_535);
+    // The default 16 lanes: ⌈65535 / 16⌉ = 4096 chunks, merged pairwise in log₂ 4096 = 12
+    // passes over every key.
+    assert_eq!(st.networks_run, 4096);
+    assert_eq!(st.merge_passes, 12);
+    assert_eq!(st.merge_steps, 12 * 65_535);
 }
 
 #[test]
@@ -414,16 +416,25 @@ fn timing_model_examples() {
 
 #[test]
 fn resources_of_the_default_sorter() {
+    // 16 lanes (issue 28): Green's 60 comparators in 10 layers; keys of 32 bits with 8-bit ids.
     let r = resources(&SorterConfig::default(), 8);
+    assert_eq!((r.comparators, r.depth, r.compare_bits), (60, 10, 40));
+    assert_eq!(r.comparator_bits, 60 * 40);
+    assert_eq!(r.register_bits, 10 * 16 * 41);
+    // 8 lanes, the default before: 19 comparators in 6 layers.
+    let eight = SorterConfig {
+        n: 8,
+        ..SorterConfig::default()
+    };
+    let r = resources(&eight, 8);
     assert_eq!((r.comparators, r.depth, r.compare_bits), (19, 6, 40));
-    assert_eq!(r.comparator_bits, 19 * 40);
     assert_eq!(r.register_bits, 6 * 8 * 41);
 }
 
 #[test]
 fn default_config() {
     let cfg = SorterConfig::default();
-    assert_eq!(cfg.n, 8);
+    assert_eq!(cfg.n, 16);
     assert_eq!(cfg.key, Format::uq(10, 22));
     assert!(cfg.validate().is_ok());
 }

@@ -102,6 +102,19 @@ pub fn lift(hw: &HwConfig, limit: &str) -> Result<HwConfig, String> {
     }
     h.validate()
         .map_err(|e| format!("--lift {limit}: the lifted hardware is refused: {e}"))?;
+    // A lift that changes nothing would re-run the same hardware and report no gain as if the
+    // limit had been lifted: say so instead (e.g. `write_port` on two write paths already,
+    // where what stalls is the banks' conflicts, which no field of the schema widens).
+    if h == *hw {
+        let what = LIFTS
+            .iter()
+            .find(|(n, _)| *n == limit)
+            .map_or("", |(_, w)| *w);
+        return Err(format!(
+            "--lift {limit}: the hardware already has what the lift sets ({what}); there is \
+             nothing further to lift"
+        ));
+    }
     Ok(h)
 }
 
@@ -152,7 +165,11 @@ mod tests {
 
     #[test]
     fn each_lift_changes_the_hardware_and_stays_valid() {
-        let hw = HwConfig::default();
+        // One write path (the default before issue 28), so that `write_port` and
+        // `record_write` have something to lift.
+        let mut hw = HwConfig::default();
+        hw.hit_buffer.write_ports = 1;
+        hw.hit_buffer.record_writes = 1;
         for (name, _) in LIFTS {
             let h = lift(&hw, name).unwrap_or_else(|e| panic!("{e}"));
             assert_ne!(h, hw, "{name} changed nothing");
@@ -166,6 +183,9 @@ mod tests {
             "{e}"
         );
         assert!(lift(&hw, "clock").is_err());
+        // On the default's two write paths `write_port` has nothing left to set.
+        let e = lift(&HwConfig::default(), "write_port").expect_err("nothing to lift");
+        assert!(e.contains("already has what the lift sets"), "{e}");
     }
 
     #[test]

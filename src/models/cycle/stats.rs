@@ -443,10 +443,31 @@ pub(crate) fn bound_of(
     let pct = |n: u64| 100.0 * n as f64 / c;
     let raygen = pixels as f64 / c;
     if raygen >= 0.9 {
+        // What holds the rest of the clock's rate: the pipeline-level cause with the most
+        // stalled cycles, if any (the car's still frames: the check stage's words waiting for
+        // their hit-buffer bank).
+        let held = [
+            ("walk_issue", st.walk_issue),
+            ("write_port", st.write_port),
+            ("sorter", st.sorter),
+            ("sphere", st.sphere),
+            ("walkers", st.walkers_full),
+        ]
+        .into_iter()
+        .fold(("", 0), |top, c| if c.1 > top.1 { c } else { top });
+        let rest = match held {
+            (_, 0) => String::new(),
+            ("write_port", n) => format!(
+                "; the rest is held by the hit-buffer write port: {:.1}% of cycles stalled (bank conflicts {:.1}%)",
+                pct(n),
+                pct(st.write_bank_conflicts)
+            ),
+            (name, n) => format!("; the rest is held by {name}: {:.1}% of cycles stalled", pct(n)),
+        };
         return Bound {
             limit: "clock".into(),
             reason: format!(
-                "the front end generates {:.2} rays per cycle of the ideal 1: the frame rate is the clock's ({} MHz)",
+                "the front end generates {:.2} rays per cycle of the ideal 1: the frame rate is the clock's ({} MHz){rest}",
                 raygen, hw.clock_mhz
             ),
         };

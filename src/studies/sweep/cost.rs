@@ -34,15 +34,15 @@ mod tests {
                 walker_root: 8
             }
         );
-        // `sim hardware` prints 416 DSP48E2 for the default.
-        assert_eq!(c.dsp48e2, 416);
+        // `sim hardware` prints 560 DSP48E2 for the default (two walk-issue lanes).
+        assert_eq!(c.dsp48e2, 560);
         assert_eq!(c.dsp48e2, hw.resources(&dp).unwrap().used.dsp48e2);
         assert_eq!(c.multipliers.transform, "32x41");
         // (±e − o) is sQ8.32 + 1 bit = 41 bits, 1/|d| sQ22.30 = 52.
         assert_eq!(c.multipliers.walker_root, "41x52");
         assert_eq!(c.multipliers.reciprocal, "33x33");
-        // 32 walkers × 8 contexts × 21 frames × (6·62 + 68) bits.
-        assert_eq!(c.stack_bits, 32 * 8 * 21 * (6 * 62 + 68));
+        // 48 walkers × 16 contexts × 21 frames × (6·62 + 68) bits.
+        assert_eq!(c.stack_bits, 48 * 16 * 21 * (6 * 62 + 68));
     }
 
     #[test]
@@ -50,12 +50,13 @@ mod tests {
         // Tiles of 26 × 17 magnitude bits, counted by hand for positions sQ8.16: l = c − o and
         // ±e − o are 25 bits (24 magnitude), directions and matrix entries 31, t_ca 33, 1/|d| 51.
         // Sphere lane: l·d 3 × 2, l·l 3 × 2, t_ca² 1 × 4 = 16, × 8 lanes = 128. Transform:
-        // 9 × 2 (R·(o − c)) + 9 × 4 (R·d) = 54. Reciprocal 12 × 3 units = 36 (unchanged).
-        // Walker root: 6 × 3 (24 × 51: 1 × 3 tiles) = 18. Total 236.
+        // 9 × 2 (R·(o − c)) + 9 × 4 (R·d) = 54 a unit. Reciprocal 12 a unit (unchanged).
+        // Walker root: 6 × 3 (24 × 51: 1 × 3 tiles) = 18 a unit. The default's two walk-issue
+        // lanes: 128 + 2 × 54 + 6 × 12 + 2 × 18 = 344.
         let mut dp = DatapathConfig::default();
         crate::studies::sweep::configs::set_pos_frac(&mut dp, 16);
         let c = cost(&dp, &HwConfig::for_datapath(&dp)).unwrap();
-        assert_eq!(c.dsp48e2, 128 + 54 + 36 + 18);
+        assert_eq!(c.dsp48e2, 128 + 2 * 54 + 6 * 12 + 2 * 18);
         assert_eq!(c.multipliers.walker_root, "25x52");
     }
 }

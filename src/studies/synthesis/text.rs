@@ -40,10 +40,25 @@ pub fn progress_line(p: SynthProgress<'_>) -> String {
 /// Stages listed per unit below the table.
 const STAGES_SHOWN: usize = 3;
 
-/// The estimate of a synthesised unit (zero for a unit the estimate does not know).
-fn estimate(hw: &HwConfig, dp: &DatapathConfig, u: &UnitSynthesis) -> UnitEstimate {
-    hw.unit_estimate(&u.spec.name, dp).unwrap_or_default()
+/// The estimate of a synthesised unit (zero for a unit the estimate does not know), at the
+/// width it was synthesised: the sorter's network is its `N` parameter in units.tsv (the
+/// RTL's default, 8, without one), whatever the datapath's `sorter.n`, so that the RTL that
+/// Yosys saw is compared with the estimate of the same network.
+pub fn estimate(hw: &HwConfig, dp: &DatapathConfig, u: &UnitSynthesis) -> UnitEstimate {
+    let mut at = dp.clone();
+    if u.spec.name == "sorter" {
+        at.sorter.n = u
+            .spec
+            .params
+            .iter()
+            .find_map(|p| p.strip_prefix("N=").and_then(|v| v.parse().ok()))
+            .unwrap_or(RTL_SORTER_LANES);
+    }
+    hw.unit_estimate(&u.spec.name, &at).unwrap_or_default()
 }
+
+/// `testbench/rtl/svo_sorter.v`'s default `N`: the width synthesised when units.tsv sets none.
+const RTL_SORTER_LANES: u8 = 8;
 
 /// Units whose Yosys DSP48E2 count differs from the estimate by other than the difference
 /// recorded in units.tsv, one message each.

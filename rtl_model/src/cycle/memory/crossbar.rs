@@ -152,7 +152,9 @@ mod tests {
 
     #[test]
     fn more_banks_cost_more_crossbar_and_combining_costs_a_cam() {
-        let base = NodeMemoryConfig::default();
+        // Four on-chip banks (the default before issue 28), so the hand count below is short.
+        let mut base = NodeMemoryConfig::default();
+        base.onchip.banks = 4;
         let total =
             |c: &NodeMemoryConfig| -> u64 { c.fabric_items(32, 256).iter().map(|i| i.lut).sum() };
         let mut wide = base.clone();

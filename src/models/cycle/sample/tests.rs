@@ -59,8 +59,10 @@ fn plan_covers_first_and_last_band_and_every_kth() {
 #[test]
 fn warming_reaches_back_until_it_holds_the_walking_rays() {
     let hw = HwConfig::default();
+    // Bands 60 rows apart: the default pipeline holds 32 rows' worth of one-in-ten walking
+    // rays here, and warming never reaches past the previous band.
     let cfg = SampleConfig {
-        period: 30,
+        period: 60,
         band_rows: 2,
         warm_rows: None,
         seed: 3,
