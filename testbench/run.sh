@@ -38,6 +38,7 @@ all_units=(
     transform
     reciprocal
     hit_record
+    walker_root
     walker
     frame
 )

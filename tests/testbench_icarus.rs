@@ -6,8 +6,9 @@
 //! the model's `UnitTimings` latency of that module (hit_record: the packer's `hit_pack`, the
 //! check's `hit_unpack`) and the latency measured; the frame's cycles are required and
 //! checked; corrupting one expected value of one row makes each testbench report exactly one
-//! failure; with `--walk-lanes 2` the transform and reciprocal benches drive 2 and 6 units
-//! side by side, every row passes and a corrupted row of unit 1 is exactly one failure; and
+//! failure; with `--walk-lanes 2` the transform, reciprocal and walker-root benches drive 2, 6
+//! and 2 units side by side, every row passes and a corrupted row of a unit other than unit 0
+//! is exactly one failure; and
 //! `verilator --lint-only -Wall` finds nothing in `testbench/rtl/`.
 //!
 //! Without `iverilog` or `verilator` (with make and g++ for its builds) the tests skip that
@@ -151,6 +152,7 @@ fn model_latency(unit: &str) -> u64 {
         // The first row is a ray without candidates: one network pass.
         "sorter" => t.sorter.latency_cycles,
         "hit_record" => t.hit_pack.latency_cycles,
+        "walker_root" => t.walker_root.latency_cycles,
         other => panic!("no model latency for unit {other}"),
     })
 }
@@ -174,6 +176,7 @@ fn model_module_latencies(unit: &str) -> Vec<(&'static str, u64)> {
             ("svo_hit_pack", l(t.hit_pack.latency_cycles)),
             ("svo_hit_check", l(t.hit_unpack.latency_cycles)),
         ],
+        "walker_root" => vec![("svo_walker_root", l(t.walker_root.latency_cycles))],
         other => panic!("no model latency for unit {other}"),
     }
 }
@@ -381,6 +384,7 @@ fn one_corrupted_expected_value_is_exactly_one_failure() {
         ("sorter", "out_id3", 5),
         ("hit_record", "reused_word", 40),
         ("hit_record", "word", 60),
+        ("walker_root", "t1_y", 120),
     ] {
         let t = Tmp::new(&format!("corrupt_{unit}_{out_field}"));
         for name in [
@@ -408,9 +412,10 @@ fn one_corrupted_expected_value_is_exactly_one_failure() {
 
 #[test]
 fn walk_issue_units_side_by_side_each_pass_and_each_is_checked() {
-    // `--walk-lanes 2`: the transform bench drives 2 transforms and the reciprocal bench 6
-    // reciprocals, each in the same cycles; a corrupted row of a unit other than unit 0 is
-    // exactly one failure, so every unit's outputs are checked against its own rows.
+    // `--walk-lanes 2`: the transform bench drives 2 transforms, the reciprocal bench 6
+    // reciprocals and the walker-root bench 2 roots, each in the same cycles; a corrupted row
+    // of a unit other than unit 0 is exactly one failure, so every unit's outputs are checked
+    // against its own rows.
     let sims = simulators();
     let t = Tmp::new("lanes_2");
     let r = run_sim(
@@ -438,6 +443,7 @@ fn walk_issue_units_side_by_side_each_pass_and_each_is_checked() {
     for (unit, units, out_field, row) in [
         ("transform", 2, "local_o_z", 41usize),
         ("reciprocal", 6, "zero", 203),
+        ("walker_root", 2, "t0_z", 117),
     ] {
         for sim in &sims {
             let o = run_testbench(sim, &t.dir, unit);

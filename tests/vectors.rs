@@ -5,7 +5,7 @@
 //! independent oracle accepts (square roots, sorts, round-half-even transform outputs); the
 //! adversarial cases the issue names are present; and the frame capture behind the vectors
 //! reproduces the functional fixed-point model's pixels exactly; `--walk-lanes` gives the
-//! transform and reciprocal tables their unit counts and leaves their rows alone.
+//! transform, reciprocal and walker-root tables their unit counts and leaves their rows alone.
 
 mod common;
 mod vector_files;
@@ -127,14 +127,15 @@ fn same_seed_same_files_other_seed_other_random_rows() {
 
 #[test]
 fn walk_lanes_give_the_units_side_by_side_and_the_same_rows() {
-    // Two walk-issue lanes: two transforms and six reciprocals, the rows unchanged.
+    // Two walk-issue lanes: two transforms, six reciprocals and two walker roots, the rows
+    // unchanged.
     let args = [
         "--count", "40", "--width", "12", "--height", "8", "--depth", "4",
     ];
     let (one, two) = (Tmp::new("lanes_1"), Tmp::new("lanes_2"));
     vectors(&one.dir, &args);
     vectors(&two.dir, &[&args[..], &["--walk-lanes", "2"]].concat());
-    for (unit, units) in [("transform", 2), ("reciprocal", 6)] {
+    for (unit, units) in [("transform", 2), ("reciprocal", 6), ("walker_root", 2)] {
         assert_eq!(rows(&one.dir, unit), rows(&two.dir, unit), "{unit}: rows");
         let m = manifest(&two.dir, unit);
         assert_eq!(m["parameters"]["units"], units, "{unit}");
@@ -150,6 +151,20 @@ fn walk_lanes_give_the_units_side_by_side_and_the_same_rows() {
     let index: serde_json::Value =
         serde_json::from_slice(&std::fs::read(two.dir.join("index.json")).unwrap()).unwrap();
     assert_eq!(index["walk_lanes"], 2);
+    // index.json's table list says how many instances each walk-issue bench drives.
+    let units: Vec<(String, u64)> = index["tables"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|t| Some((t["name"].as_str()?.to_string(), t["units"].as_u64()?)))
+        .collect();
+    assert_eq!(
+        units,
+        [("transform", 2), ("reciprocal", 6), ("walker_root", 2)]
+            .map(|(n, u)| (n.to_string(), u))
+            .to_vec(),
+        "index.json tables' units"
+    );
     // The car has 8 instances: its pipeline keeps both lanes.
     let lanes = index["elaboration"]["decisions"]
         .as_array()
@@ -207,6 +222,7 @@ fn manifests_describe_their_rows() {
         ("sorter", timings.sorter.latency_cycles),
         ("raygen", timings.raygen.latency_cycles),
         ("hit_record", timings.hit_pack.latency_cycles),
+        ("walker_root", timings.walker_root.latency_cycles),
     ];
     let tables = index["tables"].as_array().expect("tables[]");
     assert!(tables.len() >= 20);
@@ -345,6 +361,61 @@ fn rows_decode_to_what_independent_oracles_expect() {
             assert_eq!(value(&m, &r, &format!("sign_{ak}")), i128::from(sum < 0));
         }
     }
+    // Walker root, from the manifest's formats: o' = ∓o, t = ⌊(±e − o')·inv⌋ into t's
+    // fraction bits, saturated to t (one bit narrower than the field), the field's extreme
+    // codes on zero axes; it enters when no zero axis is outside its slab and
+    // max t0 < min t1, min t1 > 0.
+    let m = manifest(&t.dir, "walker_root");
+    let frac = |name: &str| {
+        m["fields"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["name"] == name)
+            .unwrap()["frac"]
+            .as_i64()
+            .unwrap()
+    };
+    let shift = frac("o_x") + frac("inv_x") - frac("t0_x");
+    let tw = field(&m, "t0_x").1 - 1;
+    let (t_min, t_max) = (-(1i128 << (tw - 1)), (1i128 << (tw - 1)) - 1);
+    let (neg_inf, pos_inf) = (-(1i128 << tw), (1i128 << tw) - 1);
+    let (mut entered, mut zero_axes) = (0, 0);
+    for r in rows(&t.dir, "walker_root") {
+        let mut enter = true;
+        let (mut t0, mut t1) = ([0i128; 3], [0i128; 3]);
+        for (k, ak) in axes.iter().enumerate() {
+            let v = |f: &str| value(&m, &r, &format!("{f}_{ak}"));
+            let o = if v("negative") == 1 { -v("o") } else { v("o") };
+            let e = v("half");
+            if v("zero") == 1 {
+                zero_axes += 1;
+                enter &= -e <= o && o < e;
+                (t0[k], t1[k]) = (neg_inf, pos_inf);
+            } else {
+                t0[k] = (((-e - o) * v("inv")) >> shift).clamp(t_min, t_max);
+                t1[k] = (((e - o) * v("inv")) >> shift).clamp(t_min, t_max);
+            }
+            assert_eq!(v("om"), o, "walker_root row {r}: om_{ak}");
+            assert_eq!(
+                (v("t0"), v("t1")),
+                (t0[k], t1[k]),
+                "walker_root row {r}: axis {ak}"
+            );
+        }
+        let (enter_t, exit_t) = (*t0.iter().max().unwrap(), *t1.iter().min().unwrap());
+        enter &= enter_t < exit_t && exit_t > 0;
+        assert_eq!(
+            value(&m, &r, "enter"),
+            i128::from(enter),
+            "walker_root row {r}"
+        );
+        entered += i32::from(enter);
+    }
+    assert!(
+        entered > 100 && zero_axes > 20,
+        "walker_root: {entered} rows enter, {zero_axes} zero axes"
+    );
 }
 
 #[test]

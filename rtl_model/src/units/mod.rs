@@ -16,3 +16,4 @@ pub mod sqrt;
 pub mod tile_list;
 pub mod transform;
 pub mod walker;
+pub mod walker_root;

@@ -1,5 +1,5 @@
-//! The walk-issue width of a vector set: how many units of the transform and the reciprocal
-//! a k-wide walk issue instantiates (docs/cycle-model.md §2.1, "Walk issue of width k"), and
+//! The walk-issue width of a vector set: how many units of the transform, the reciprocal and
+//! the walker root a k-wide walk issue instantiates (docs/cycle-model.md §2.1, "Walk issue of width k"), and
 //! which of them each row is for.
 //!
 //! Pipeline position: beside the vector tables, after they are built ([`super::unit_tables`]).
@@ -17,11 +17,13 @@ use super::table::VectorTable;
 pub const MAX_WALK_LANES: u32 = 64;
 
 /// Units of the table named `name` in a pipeline of `lanes` walk-issue lanes: a transform per
-/// lane, three reciprocals per lane (one per axis); `None` for a table of another unit.
+/// lane, three reciprocals per lane (one per axis), a walker root per lane; `None` for a table
+/// of another unit.
 pub fn units_of(name: &str, lanes: u32) -> Option<u32> {
     match name {
         "transform" => Some(lanes),
         "reciprocal" => Some(3 * lanes),
+        "walker_root" => Some(lanes),
         _ => None,
     }
 }
@@ -51,9 +53,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_lane_is_one_transform_and_three_reciprocals() {
+    fn a_lane_is_one_transform_three_reciprocals_and_one_root() {
         assert_eq!(units_of("transform", 2), Some(2));
         assert_eq!(units_of("reciprocal", 2), Some(6));
+        assert_eq!(units_of("walker_root", 2), Some(2));
         assert_eq!(units_of("sphere", 2), None);
     }
 }

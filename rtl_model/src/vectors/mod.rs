@@ -75,7 +75,7 @@ pub struct Captured {
 }
 
 /// Every unit's tables for `dp`: per stage all adversarial rows plus `count` captured and
-/// random rows (random ones from `seed`), the reciprocal seed ROM, the walker's visit table
+/// random rows (random ones from `seed`), the reciprocal seed ROM, the walker-root table (the walker table's walks), the walker's visit table
 /// and the memory images of `scene_images` and of the walker's synthetic octrees. In
 /// pipeline order.
 pub fn unit_tables(
@@ -89,6 +89,11 @@ pub fn unit_tables(
     let recip = stage::reciprocal::ReciprocalStage::new(dp);
     let walker = stage::walker::WalkerStage::new(dp, scene_images)?;
     let (walks, visits) = walker.build(&captured.walker, count, seed)?;
+    let roots = stage::walker_root::WalkerRootStage::new(dp).build(&walker.walk_blocks(
+        &captured.walker,
+        count,
+        seed,
+    ));
     let mut v = vec![
         stage::build(
             &stage::raygen::RaygenStage::new(dp),
@@ -123,6 +128,7 @@ pub fn unit_tables(
         ),
         stage::build(&recip, &captured.reciprocal, count, seed),
         recip.seed_rom(),
+        roots,
         walks,
         visits,
         stage::build(
@@ -146,4 +152,5 @@ pub const RTL_UNITS: &[&str] = &[
     "reciprocal",
     "hit_record",
     "walker",
+    "walker_root",
 ];

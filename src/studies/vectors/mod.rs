@@ -19,7 +19,7 @@ use rtl_model::cycle::hw_config::UnitTimings;
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::vectors::files::{table_files, VectorFile, FORMAT_VERSION};
 use rtl_model::vectors::frame::frame_tables;
-use rtl_model::vectors::lanes::{set_walk_lanes, MAX_WALK_LANES};
+use rtl_model::vectors::lanes::{set_walk_lanes, units_of, MAX_WALK_LANES};
 use rtl_model::vectors::stage::walker::{file_stem, NamedImage};
 use rtl_model::vectors::table::{Origin, VectorTable};
 use rtl_model::vectors::{unit_tables, VectorError, RTL_UNITS};
@@ -264,7 +264,7 @@ fn index_file(
     let list: Vec<serde_json::Value> = tables
         .iter()
         .map(|t| {
-            serde_json::json!({
+            let mut entry = serde_json::json!({
                 "name": t.name,
                 "hex_file": format!("{}.hex", t.name),
                 "manifest": format!("{}.json", t.name),
@@ -272,7 +272,14 @@ fn index_file(
                 "rows": t.rows.len(),
                 "word_bits": t.layout.word_bits(),
                 "description": t.description,
-            })
+            });
+            // A walk-issue unit's table says how many instances its bench drives.
+            if let (Some(units), Some(obj)) =
+                (units_of(&t.name, opts.walk_lanes), entry.as_object_mut())
+            {
+                obj.insert("units".into(), units.into());
+            }
+            entry
         })
         .collect();
     let index = serde_json::json!({

@@ -13,6 +13,7 @@ pub mod sqrt;
 pub mod tile_list;
 pub mod transform;
 pub mod walker;
+pub mod walker_root;
 
 use super::layout::Layout;
 use super::rng::Rng;

@@ -318,6 +318,25 @@ impl WalkerStage {
         (v, n, a)
     }
 
+    /// The walks of the walk table, in row order, by origin: every adversarial walk, `count`/2
+    /// captured ones spread over `captured` (or fewer, if fewer were captured), the rest
+    /// random from `seed`. The walker-root table (`super::walker_root`) has the same walks.
+    pub fn walk_blocks(
+        &self,
+        captured: &[WalkTxn],
+        count: usize,
+        seed: u64,
+    ) -> [(Origin, Vec<WalkTxn>); 3] {
+        let (n_captured, n_random) = plan_rows(captured.len(), count);
+        let mut rng = Rng::for_stage(seed, "walker");
+        let random: Vec<WalkTxn> = (0..n_random).map(|_| self.random(&mut rng)).collect();
+        [
+            (Origin::Adversarial, self.adversarial()),
+            (Origin::Captured, spread(captured, n_captured)),
+            (Origin::Random, random),
+        ]
+    }
+
     /// The walk table (adversarial walks, `count`/2 captured ones spread over `captured`, the
     /// rest random) and its visit table. Each walk's cycles come from the cycle model
     /// ([`WalkTiming`]: one walker, one context, every read taking one of the three
@@ -341,16 +360,9 @@ impl WalkerStage {
             vlayout.clone(),
         );
         let (bases, node_words, attr_records) = self.bases();
-        let (n_captured, n_random) = plan_rows(captured.len(), count);
-        let mut rng = Rng::for_stage(seed, "walker");
-        let random: Vec<WalkTxn> = (0..n_random).map(|_| self.random(&mut rng)).collect();
         let mut visit_rows = Vec::new();
         let mut ops = Vec::new();
-        for (origin, txns) in [
-            (Origin::Adversarial, self.adversarial()),
-            (Origin::Captured, spread(captured, n_captured)),
-            (Origin::Random, random),
-        ] {
+        for (origin, txns) in self.walk_blocks(captured, count, seed) {
             let mut rows = Vec::with_capacity(txns.len());
             for t in txns {
                 let walk = walks.rows.len() + rows.len();
