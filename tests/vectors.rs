@@ -133,7 +133,7 @@ fn walk_lanes_give_the_units_side_by_side_and_the_same_rows() {
         "--count", "40", "--width", "12", "--height", "8", "--depth", "4",
     ];
     let (one, two) = (Tmp::new("lanes_1"), Tmp::new("lanes_2"));
-    vectors(&one.dir, &args);
+    vectors(&one.dir, &[&args[..], &["--walk-lanes", "1"]].concat());
     vectors(&two.dir, &[&args[..], &["--walk-lanes", "2"]].concat());
     for (unit, units) in [("transform", 2), ("reciprocal", 6), ("walker_root", 2)] {
         assert_eq!(rows(&one.dir, unit), rows(&two.dir, unit), "{unit}: rows");

@@ -6,7 +6,7 @@ package reciprocal_vectors_pkg;
   localparam int DEPTH = 317;  // rows
   localparam int LATENCY = 26;  // cycles, the model's default configuration
   localparam int II = 1;  // initiation interval, cycles
-  localparam int UNITS = 3;  // units side by side (walk-issue lanes); row i is unit i mod UNITS
+  localparam int UNITS = 6;  // units side by side (walk-issue lanes); row i is unit i mod UNITS
   localparam int ADVERSARIAL_FIRST = 0;
   localparam int ADVERSARIAL_COUNT = 285;
   localparam int CAPTURED_FIRST = 285;

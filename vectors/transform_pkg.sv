@@ -6,7 +6,7 @@ package transform_vectors_pkg;
   localparam int DEPTH = 92;  // rows
   localparam int LATENCY = 9;  // cycles, the model's default configuration
   localparam int II = 1;  // initiation interval, cycles
-  localparam int UNITS = 1;  // units side by side (walk-issue lanes); row i is unit i mod UNITS
+  localparam int UNITS = 2;  // units side by side (walk-issue lanes); row i is unit i mod UNITS
   localparam int ADVERSARIAL_FIRST = 0;
   localparam int ADVERSARIAL_COUNT = 60;
   localparam int CAPTURED_FIRST = 60;

@@ -2,6 +2,7 @@
 
 use anyhow::Result;
 use clap::Args;
+use rtl_model::cycle::hw_config::HwConfig;
 use std::path::PathBuf;
 use svo_sim::studies::vectors;
 use svo_sim::studies::vectors::command::VectorsCommand;
@@ -41,10 +42,11 @@ pub struct VectorsArgs {
     /// reading past the limit.
     #[arg(long, value_name = "MIB", default_value_t = crate::args::DEFAULT_VOX_MIB)]
     max_vox_mib: u64,
-    /// Walk-issue lanes k (docs/cycle-model.md §2.1): the transform and reciprocal tables are
-    /// for k transforms and 3k reciprocals side by side (package `UNITS`, row i to unit
-    /// i mod UNITS), and index.json's elaboration is against the default hardware k wide.
-    #[arg(long, value_name = "K", default_value_t = 1)]
+    /// Walk-issue lanes k (docs/cycle-model.md §2.1): the transform, reciprocal and walker-root
+    /// tables are for k transforms, 3k reciprocals and k roots side by side (package `UNITS`,
+    /// row i to unit i mod UNITS), and index.json's elaboration is against the default
+    /// hardware k wide. Default: the default hardware's lanes (2).
+    #[arg(long, value_name = "K", default_value_t = HwConfig::default().walk_lanes())]
     walk_lanes: u32,
     /// Datapath the vectors are for (RON, as printed by `sim datapath`); default: the
     /// documented default. Every table follows it, e.g. the sorter's rows hold 4N keys and

@@ -15,7 +15,7 @@ use crate::error::{AssetError, SceneError};
 use crate::output::writer::{refuse_stdout_folder, write_whole, OutputError};
 use crate::world::assets::{build_assets, effective_depths, Materialise};
 use crate::world::scene::Scene;
-use rtl_model::cycle::hw_config::UnitTimings;
+use rtl_model::cycle::hw_config::{HwConfig, UnitTimings};
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::vectors::files::{table_files, VectorFile, FORMAT_VERSION};
 use rtl_model::vectors::frame::frame_tables;
@@ -96,9 +96,10 @@ pub struct VectorsOptions {
     pub depth: Option<u8>,
     /// Largest `.vox` asset file read, bytes (`--max-vox-mib`).
     pub max_vox_bytes: u64,
-    /// Walk-issue lanes k (`--walk-lanes`): the transform and reciprocal tables are for k
-    /// transforms and 3k reciprocals side by side (`rtl_model::vectors::lanes`), and the
-    /// recorded elaboration is against the default hardware with k lanes.
+    /// Walk-issue lanes k (`--walk-lanes`): the transform, reciprocal and walker-root tables
+    /// are for k transforms, 3k reciprocals and k roots side by side
+    /// (`rtl_model::vectors::lanes`), and the recorded elaboration is against the default
+    /// hardware with k lanes. Default: the default hardware's lanes (2 since issue 28).
     pub walk_lanes: u32,
     /// The datapath every table is for (`--datapath`; default: the documented default).
     pub datapath: DatapathConfig,
@@ -115,7 +116,7 @@ impl Default for VectorsOptions {
             height: 20,
             depth: None,
             max_vox_bytes: crate::input::DEFAULT_VOX_CAP_BYTES,
-            walk_lanes: 1,
+            walk_lanes: HwConfig::default().walk_lanes(),
             datapath: DatapathConfig::default(),
         }
     }
