@@ -184,8 +184,8 @@ pub struct StallCounts {
     /// Cycles in which the check stage held a decided word (reused pixel, ray without a
     /// candidate) because its write path had no port or room.
     pub write_port: u64,
-    /// Cycles in which the check stage's word waited because the record's write took its
-    /// hit-buffer bank (two write paths).
+    /// Cycles in which the head record waited because the check stage's word took its
+    /// hit-buffer bank (two write paths; the check's word goes first).
     pub write_bank_conflicts: u64,
     /// Cycles in which the transform had a free unit and no walk at its inputs while rays of
     /// the frame were still to come: the walk section waited for ray generation (ray
@@ -443,9 +443,9 @@ pub(crate) fn bound_of(
     let pct = |n: u64| 100.0 * n as f64 / c;
     let raygen = pixels as f64 / c;
     if raygen >= 0.9 {
-        // What holds the rest of the clock's rate: the pipeline-level cause with the most
-        // stalled cycles, if any (the car's still frames: the check stage's words waiting for
-        // their hit-buffer bank).
+        // What holds the rest of the clock's rate, when 1 % or more of it is lost: the
+        // pipeline-level cause with the most stalled cycles, if any (the car's still frames:
+        // the check stage's words waiting for their hit-buffer bank).
         let held = [
             ("walk_issue", st.walk_issue),
             ("write_port", st.write_port),
@@ -456,6 +456,8 @@ pub(crate) fn bound_of(
         .into_iter()
         .fold(("", 0), |top, c| if c.1 > top.1 { c } else { top });
         let rest = match held {
+            // Nothing worth naming: under 1 % of the clock's rate is lost.
+            _ if raygen >= 0.99 => String::new(),
             (_, 0) => String::new(),
             ("write_port", n) => format!(
                 "; the rest is held by the hit-buffer write port: {:.1}% of cycles stalled (bank conflicts {:.1}%)",

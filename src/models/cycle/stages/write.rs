@@ -4,8 +4,9 @@
 //! hit-buffer BRAM's write port (docs/cycle-model.md §2.1). With two write paths
 //! (`hit_buffer.write_ports: 2`) the check stage's words come through their own FIFO,
 //! `check_to_write`, into a second port: the buffer is two banks on pixel parity, one write
-//! port each, so both write in a cycle unless their pixels share a bank, when the record
-//! goes first and the check's word waits (counted in [`Write::bank_conflicts`]); with
+//! port each, so both write in a cycle unless their pixels share a bank, when the check's
+//! word goes first and the record waits (counted in [`Write::bank_conflicts`]; the check
+//! stage feeds on the front end's one ray a cycle, the record has its FIFO to wait in); with
 //! `hit_buffer.record_writes: 2` the record behind the head takes the other bank when the
 //! check has no word for it. The word lands at the clock edge,
 //! so a read of the same pixel in this cycle still sees the previous frame's word
@@ -22,7 +23,7 @@ use rtl_model::cycle::stage_stats::StageState;
 pub struct Write {
     /// Records whose stamps the transaction log keeps, per run.
     log_limit: usize,
-    /// Cycles the check stage's word waited for its bank (two write paths).
+    /// Cycles the head record waited for its bank behind the check's word (two write paths).
     pub bank_conflicts: u64,
     /// Records written per cycle at most (`hit_buffer.record_writes`).
     record_writes: u8,
@@ -40,8 +41,8 @@ impl Write {
     }
 
     /// One cycle: the head record of `input` (always asked for: the port is ready every
-    /// cycle) is written to `bram`; with a second path `second`, its head too unless it falls
-    /// in the bank the first write took.
+    /// cycle) is written to `bram`; with a second path `second`, its head first, and the
+    /// record only if it falls in the other bank.
     #[inline]
     pub fn eval(
         &mut self,
@@ -52,29 +53,31 @@ impl Write {
         counts: &mut FrameCounts,
         now: u64,
     ) -> Result<StageState, CycleError> {
-        let first = input.try_pop().map_err(internal)?;
-        let bank = first.as_ref().map(|r| r.payload.pixel & 1);
+        // Two write paths: the check's word goes first. The check stage takes one ray a
+        // cycle from the front end, so a word of it that waits stops ray generation, while a
+        // record that waits a cycle sits in `record_to_write` and costs nothing until that
+        // FIFO fills (the car's still frames lost 8.5 % of their cycles with the record
+        // first). The record head then takes the other bank, or waits (a bank conflict).
         let mut wrote = false;
-        if let Some(r) = first {
+        let mut check_bank = None;
+        if let Some(f) = second {
+            if let Some(r) = f.try_pop().map_err(internal)? {
+                check_bank = Some(r.payload.pixel & 1);
+                self.write(r, bram, log, counts, now)?;
+                wrote = true;
+            }
+        }
+        let head_bank = input.peek().map(|r| r.payload.pixel & 1);
+        if head_bank.is_some() && head_bank == check_bank {
+            self.bank_conflicts += 1;
+        } else if let Some(r) = input.try_pop().map_err(internal)? {
             self.write(r, bram, log, counts, now)?;
             wrote = true;
-        }
-        let mut other_bank_free = bank.is_some();
-        if let Some(f) = second {
-            if let Some(head) = f.peek() {
-                if Some(head.payload.pixel & 1) == bank {
-                    self.bank_conflicts += 1;
-                } else if let Some(r) = f.try_pop().map_err(internal)? {
-                    self.write(r, bram, log, counts, now)?;
-                    wrote = true;
-                    other_bank_free = false;
-                }
-            }
             // `record_writes: 2`: the record behind the head takes the other bank when the
             // check's word did not (validation allows it only with the two banks).
-            if self.record_writes >= 2 && other_bank_free {
+            if self.record_writes >= 2 && check_bank.is_none() {
                 let next_bank = input.peek().map(|r| r.payload.pixel & 1);
-                if next_bank.is_some() && next_bank != bank {
+                if next_bank.is_some() && next_bank != head_bank {
                     if let Some(r) = input.try_pop().map_err(internal)? {
                         self.write(r, bram, log, counts, now)?;
                     }
