@@ -234,8 +234,10 @@ fn the_record_write_path_is_named_where_it_binds() {
 
 #[test]
 fn at_the_clock_the_line_names_what_holds_the_rest() {
-    // The default hardware runs the car's still frame near the clock (0.9 rays per cycle or
-    // more); the line then names the cause with the most stalled cycles, as counted.
+    // The default hardware runs the car's still frame at the clock (0.9 rays per cycle or
+    // more); when 1 % or more of the clock's rate is lost the line names the cause with the
+    // most stalled cycles, as counted (the rule itself, on hand-set counters:
+    // `stats::tests::at_the_clock_the_reason_names_what_holds_the_rest`).
     let (got, why) = bound(&HwConfig::default());
     println!("default: bound {got} ({why})");
     assert_eq!(got, "clock", "{why}");
@@ -249,14 +251,17 @@ fn at_the_clock_the_line_names_what_holds_the_rest() {
         ("sphere", "sphere"),
         ("walkers_full", "walkers"),
     ];
-    let (_, top) = causes
+    let (n, top) = causes
         .iter()
         .map(|&(k, name)| (count(k), name))
         .max_by_key(|&(n, _)| n)
         .expect("causes");
-    assert!(count("walk_issue") + count("write_port") > 0, "{why}");
-    assert!(
-        why.contains(&format!("the rest is held by {top}")),
-        "expected {top} named: {why}"
-    );
+    // Whatever the line names as holding the rest is the largest stalled cause.
+    if why.contains("the rest is held by") {
+        assert!(n > 0, "{why}");
+        assert!(
+            why.contains(&format!("the rest is held by {top}")),
+            "expected {top} named: {why}"
+        );
+    }
 }

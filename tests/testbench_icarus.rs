@@ -652,11 +652,14 @@ fn one_corrupted_walker_value_is_exactly_one_failure() {
     );
 }
 
-/// The hardware of the end-to-end frame (tb_frame.sv): one walker with one context, and every
-/// node read and attribute read taking `FRAME_MEM_LATENCY` cycles (the on-chip store and the
-/// cache at 3; DRAM at 2, so an attribute miss plus its beat is 3), as the testbench's node
-/// memory. Every other parameter (unit latencies, FIFO depths, the hit buffer) is the default.
-const FRAME_HW: &str = "(walker_pool: (walkers: 1, contexts_per_walker: 1), node_memory: (onchip: (levels: 21, max_bytes: 16777216, latency: 3), cache: (hit_latency: 3), dram: (latency: 2)))";
+/// The hardware of the end-to-end frame (tb_frame.sv): one walker with one context, one
+/// walk-issue lane (one transform, three reciprocals, one walker root) and one hit-buffer
+/// write path (`svo_hit_buffer` with `WRITE_PORTS = 1`), as the testbench builds them, and
+/// every node read and attribute read taking `FRAME_MEM_LATENCY` cycles (the on-chip store and
+/// the cache at 3; DRAM at 2, so an attribute miss plus its beat is 3), as the testbench's node
+/// memory. Every other parameter (unit latencies, FIFO depths, the sorter's width from the
+/// datapath) is the default.
+const FRAME_HW: &str = "(transform_units: 1, reciprocal_units: 3, walker_root_units: 1, walker_pool: (walkers: 1, contexts_per_walker: 1), hit_buffer: (write_ports: 1, record_writes: 1), node_memory: (onchip: (levels: 21, max_bytes: 16777216, latency: 3), cache: (hit_latency: 3), dram: (latency: 2)))";
 const FRAME_MEM_LATENCY: u64 = 3;
 
 /// The cycle model's cycles for frame 0 of `scene` (`None`: the default) at this size and

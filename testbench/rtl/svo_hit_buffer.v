@@ -19,9 +19,12 @@
 //   push. The head is written to the buffer every cycle (the write port is always ready) and
 //   shown on `wr_*` in that cycle.
 // WRITE_PORTS = 2 gives the check's words a FIFO and a buffer write port of their own (no
-// claim between the two sources; issue 28's second write path). The cycle model has one
-// port today, so only WRITE_PORTS = 1 is checked cycle by cycle against it (tb_frame.sv);
-// 2 is checked for content only (testbench/cocotb/test_hit_buffer.py).
+// claim between the two sources). The cycle model's two write paths (issue 28, the default
+// hardware) are two banks on pixel parity, the check's word first on a shared bank and a
+// second record a cycle (`hit_buffer.record_writes`), which this module does not build yet:
+// only WRITE_PORTS = 1 is checked cycle by cycle against the model (tb_frame.sv, with the
+// model run at one write path); 2 is checked for content only
+// (testbench/cocotb/test_hit_buffer.py).
 //
 // The buffer holds one word per pixel (NPIX words of WB bits, word layout as
 // svo_hit_pack.v) and keeps them across frames: frame f's check reads what frame f − 1 wrote.

@@ -334,7 +334,8 @@ pub struct HitBuffer {
     /// banks interleaved on pixel parity, each a simple-dual-port memory (read port, write
     /// port) of half the pixels, so the same URAM288 count up to rounding; the record stage
     /// and the check stage each have their own write FIFO, and both write in one cycle unless
-    /// their pixels fall in the same bank (the record first, the check's waits a cycle).
+    /// their pixels fall in the same bank: the check's word first (it feeds on the front
+    /// end's one ray a cycle), the record waits in its FIFO.
     pub write_ports: u8,
     /// Walked records the write stage takes per cycle, 1 or 2 (issue 28). Default 2. With 1 the
     /// record path writes one word a cycle, while the walk lanes pack up to one record each a
@@ -342,9 +343,9 @@ pub struct HitBuffer {
     /// and holds the record stage (the bound line's `record_write`). 2 needs the two banks of
     /// `write_ports: 2`: each bank's write port then takes the check's word, the record
     /// FIFO's head or the entry behind it (a 3:1 multiplexer per bit, and a second read port
-    /// of `record_to_write`, both priced in `cost::structures`); in a cycle the head goes to
-    /// its bank, the check's word to the other bank if it has one for it, else the next record
-    /// if it falls there. With the buffer absent the same two paths carry the words out.
+    /// of `record_to_write`, both priced in `cost::structures`); in a cycle the check's word
+    /// goes to its bank, the head record to the other bank if it falls there, and with no
+    /// check word the record behind the head too if it falls in the other bank. With the buffer absent the same two paths carry the words out.
     pub record_writes: u8,
     /// Cycles from read address to word. Default 4: URAM read, output register and two
     /// pipeline registers of the cascade and output multiplexer of a 240-block array spread

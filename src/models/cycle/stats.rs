@@ -627,4 +627,43 @@ mod tests {
         st.record_write = 0;
         assert_eq!(limit(&w, &st, 1000, 500), "walkers", "no record held");
     }
+
+    #[test]
+    fn at_the_clock_the_reason_names_what_holds_the_rest() {
+        let reason = |st: &StallCounts, pixels: u64| {
+            bound_of(
+                &HwConfig::default(),
+                &[],
+                &PoolCycles::default(),
+                st,
+                1000,
+                pixels,
+            )
+            .reason
+        };
+        let mut st = StallCounts {
+            walk_issue: 30,
+            write_port: 85,
+            write_bank_conflicts: 89,
+            ..StallCounts::default()
+        };
+        // 0.915 rays per cycle: 8.5 % of the cycles the check stage waited for a write port.
+        let r = reason(&st, 915);
+        assert!(
+            r.ends_with(
+                "; the rest is held by the hit-buffer write port: 8.5% of cycles stalled (bank conflicts 8.9%)"
+            ),
+            "{r}"
+        );
+        // The walk issue's counter above it names the walk issue.
+        st.walk_issue = 120;
+        let r = reason(&st, 915);
+        assert!(
+            r.ends_with("; the rest is held by walk_issue: 12.0% of cycles stalled"),
+            "{r}"
+        );
+        // Under 1 % lost, or nothing stalled: no clause.
+        assert!(!reason(&st, 995).contains("the rest"));
+        assert!(!reason(&StallCounts::default(), 915).contains("the rest"));
+    }
 }
