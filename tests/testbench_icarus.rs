@@ -835,8 +835,8 @@ fn one_corrupted_frame_pixel_is_exactly_one_failure() {
 
 /// The frame's cycles are checked, never skipped: a frame run without `+model_cycles` fails
 /// on its cycles row, and with the model's figure off by one fails there too, naming both;
-/// every pixel passes in both runs. The frame is scenes/moving_camera.ron at 16 × 10 (690
-/// cycles, about 10 s each in Icarus, against 7,616 for the golden set's frame).
+/// every pixel passes in both runs. The frame is scenes/moving_camera.ron at 16 × 10 (694
+/// cycles, about 10 s each in Icarus, against 7,620 for the golden set's frame).
 #[test]
 fn frame_cycles_are_required_and_checked() {
     if !icarus() {
