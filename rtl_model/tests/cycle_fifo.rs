@@ -473,3 +473,48 @@ fn skipping_idle_cycles_equals_stepping_them() {
         assert_eq!(stepped.stats(), skipped.stats());
     }
 }
+
+/// Items a wide FIFO of `depth` entries and `ports` ports passes per cycle when its producer
+/// pushes and its consumer pops as many as it lets them, every cycle, over `cycles` cycles.
+fn wide_throughput(depth: usize, ports: usize, cycles: u64) -> f64 {
+    let mut clock = Clock::new();
+    let mut fifo: Fifo<u64> = Fifo::new_wide(StageId(3), depth, ports).expect("valid FIFO");
+    let mut next = 0u64;
+    let mut out = 0u64;
+    for _ in 0..cycles {
+        while fifo.can_pop() {
+            fifo.try_pop().expect("a pop").expect("an item");
+            out += 1;
+        }
+        while fifo.can_push() {
+            fifo.try_push(Stamped::new(next)).expect("room");
+            next += 1;
+        }
+        clock.edge(&mut [&mut fifo]).expect("edge");
+    }
+    out as f64 / cycles as f64
+}
+
+/// A push is taken against the registered occupancy (a space a pop frees is usable from the
+/// next cycle), so a FIFO passes at most half its depth a cycle however many ports it has:
+/// the walk section's default 4-deep FIFOs carry two walks a cycle, the ceiling that made a
+/// third or fourth walk-issue lane useless until their depth grew (docs/cycle-model.md §3.7).
+#[test]
+fn a_wide_fifo_passes_half_its_depth_a_cycle() {
+    let rate = |d, p| wide_throughput(d, p, 10_000);
+    for (depth, ports, want) in [
+        (4, 2, 2.0),
+        (4, 4, 2.0),
+        (4, 8, 2.0),
+        (8, 4, 4.0),
+        (16, 8, 8.0),
+    ] {
+        let got = rate(depth, ports);
+        assert!(
+            (got - want).abs() < 0.01,
+            "depth {depth}, {ports} ports: {got} items a cycle, expected {want}"
+        );
+    }
+    // A port-bound FIFO: deep enough, the ports decide.
+    assert!((rate(64, 2) - 2.0).abs() < 0.01);
+}

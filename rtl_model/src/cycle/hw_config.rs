@@ -253,9 +253,11 @@ pub struct FifoDepths {
     /// per cycle). At about 360 bits per entry (pixel and its sorted candidates) it is 10
     /// BRAM36, not yet in the estimate (see `resources`).
     pub check_to_transform: u32,
-    /// Transform → reciprocal. Default 4: both II = 1.
+    /// Transform → reciprocal. Default 4: both II = 1. A FIFO takes pushes against its
+    /// registered occupancy, so it passes at most half its depth a cycle: 4 carries the
+    /// default's two walk-issue lanes, and k lanes need 2k.
     pub transform_to_reciprocal: u32,
-    /// Reciprocal → walker root. Default 4: both II = 1.
+    /// Reciprocal → walker root. Default 4, as `transform_to_reciprocal`.
     pub reciprocal_to_root: u32,
     /// Walker root → dispatcher (walks waiting for a free context). Default 64: holds about
     /// one walk per context (W·R/2) so a context freed is refilled at once.

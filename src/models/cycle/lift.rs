@@ -28,7 +28,7 @@ pub const LIFTS: [(&str, &str); 11] = [
     ),
     (
         "walk_issue",
-        "8 walk-issue lanes: transform_units and walker_root_units at least 8, reciprocal_units at least 24",
+        "8 walk-issue lanes: transform_units and walker_root_units at least 8, reciprocal_units at least 24, and the walk section's FIFOs (transform_to_reciprocal, reciprocal_to_root, walker_to_record, record_to_write) at least 16 deep: a FIFO whose occupancy is registered passes at most half its depth a cycle",
     ),
     (
         "write_port",
@@ -61,6 +61,19 @@ pub fn lift(hw: &HwConfig, limit: &str) -> Result<HwConfig, String> {
             h.transform_units = h.transform_units.max(8);
             h.reciprocal_units = h.reciprocal_units.max(24);
             h.walker_root_units = h.walker_root_units.max(8);
+            // A FIFO takes pushes against its registered occupancy, so it passes at most half
+            // its depth a cycle: the default 4-deep FIFOs between the walk-issue units pass
+            // two walks a cycle whatever the units (crowd_1000 gained nothing from 8 lanes
+            // without this). Eight lanes need 16.
+            let f = &mut h.fifos;
+            for d in [
+                &mut f.transform_to_reciprocal,
+                &mut f.reciprocal_to_root,
+                &mut f.walker_to_record,
+                &mut f.record_to_write,
+            ] {
+                *d = (*d).max(16);
+            }
         }
         "sorter" => {
             h.sorter_lanes = u32::from(LIFTED_SORTER_LANES);
@@ -183,6 +196,10 @@ mod tests {
             "{e}"
         );
         assert!(lift(&hw, "clock").is_err());
+        // Eight walk-issue lanes come with FIFOs deep enough to pass eight walks a cycle.
+        let w = lift(&HwConfig::default(), "walk_issue").expect("walk_issue");
+        assert_eq!(w.walk_lanes(), 8);
+        assert!(w.fifos.transform_to_reciprocal >= 16 && w.fifos.reciprocal_to_root >= 16);
         // On the default's two write paths `write_port` has nothing left to set.
         let e = lift(&HwConfig::default(), "write_port").expect_err("nothing to lift");
         assert!(e.contains("already has what the lift sets"), "{e}");
