@@ -9,6 +9,7 @@ pub mod completion_wheel;
 pub mod fifo;
 pub mod hw_config;
 pub mod memory;
+pub mod part;
 pub mod ray_order;
 pub mod stage_stats;
 pub mod unit_lanes;

@@ -184,39 +184,7 @@ impl WalkerStage {
             32,
             "first record of the image in walker_attrs.hex (added to every attribute index)",
         );
-        for a in AXES {
-            l.fixed(&format!("o_{a}"), Input, c.pos, "local ray origin, m");
-        }
-        for a in AXES {
-            l.fixed(
-                &format!("inv_{a}"),
-                Input,
-                c.inv,
-                "1/|d| (ignored on zero axes)",
-            );
-        }
-        for a in AXES {
-            l.flag(
-                &format!("zero_{a}"),
-                Input,
-                "axis direction treated as 0 (1/d flagged zero)",
-            );
-        }
-        for a in AXES {
-            l.flag(
-                &format!("negative_{a}"),
-                Input,
-                "axis direction negative (-0 included): mirrored",
-            );
-        }
-        for a in AXES {
-            l.fixed(
-                &format!("half_{a}"),
-                Input,
-                c.pos,
-                "half extent of the octree's box, m",
-            );
-        }
+        walk_input_fields(&mut l, c);
         l.uint(
             "outcome",
             Output,
@@ -554,5 +522,44 @@ mod tests {
         assert_eq!(total_visits, visits.rows.len());
         assert!(hits > 20, "{hits} hits");
         assert!(walks.count(Origin::Adversarial) > 100);
+    }
+}
+
+/// The input fields of a walk, per axis: local origin, 1/|d|, the zero and negative flags and
+/// the box's half extent. The walker's rows and the walker root's (`walker_root.rs`, the same
+/// walks) share them field for field.
+pub(super) fn walk_input_fields(l: &mut Layout, c: &WalkerConfig) {
+    for a in AXES {
+        l.fixed(&format!("o_{a}"), Input, c.pos, "local ray origin, m");
+    }
+    for a in AXES {
+        l.fixed(
+            &format!("inv_{a}"),
+            Input,
+            c.inv,
+            "1/|d| (ignored on zero axes)",
+        );
+    }
+    for a in AXES {
+        l.flag(
+            &format!("zero_{a}"),
+            Input,
+            "axis direction treated as 0 (1/d flagged zero)",
+        );
+    }
+    for a in AXES {
+        l.flag(
+            &format!("negative_{a}"),
+            Input,
+            "axis direction negative (-0 included): mirrored",
+        );
+    }
+    for a in AXES {
+        l.fixed(
+            &format!("half_{a}"),
+            Input,
+            c.pos,
+            "half extent of the octree's box, m",
+        );
     }
 }

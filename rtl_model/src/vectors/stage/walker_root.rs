@@ -13,7 +13,7 @@
 //! the most negative code), a slab time one bit wider than `t`, so the ±∞ sentinels of zero
 //! axes are the most negative and most positive codes of that width, outside every t code.
 
-use super::walker::WalkTxn;
+use super::walker::{walk_input_fields, WalkTxn};
 use crate::datapath::DatapathConfig;
 use crate::fixed::{Format, Overflows, SignalId};
 use crate::units::walker::{root_latency_cycles, WalkerConfig, WalkerT};
@@ -61,39 +61,7 @@ impl WalkerRootStage {
     pub fn layout(&self) -> Layout {
         let c = &self.cfg;
         let mut l = Layout::new();
-        for a in AXES {
-            l.fixed(&format!("o_{a}"), Input, c.pos, "local ray origin, m");
-        }
-        for a in AXES {
-            l.fixed(
-                &format!("inv_{a}"),
-                Input,
-                c.inv,
-                "1/|d| (ignored on zero axes)",
-            );
-        }
-        for a in AXES {
-            l.flag(
-                &format!("zero_{a}"),
-                Input,
-                "axis direction treated as 0 (1/d flagged zero)",
-            );
-        }
-        for a in AXES {
-            l.flag(
-                &format!("negative_{a}"),
-                Input,
-                "axis direction negative (-0 included): mirrored",
-            );
-        }
-        for a in AXES {
-            l.fixed(
-                &format!("half_{a}"),
-                Input,
-                c.pos,
-                "half extent of the octree's box, m",
-            );
-        }
+        walk_input_fields(&mut l, c);
         l.flag(
             "enter",
             Output,
