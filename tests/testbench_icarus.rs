@@ -653,26 +653,46 @@ fn one_corrupted_walker_value_is_exactly_one_failure() {
 }
 
 /// The hardware of the end-to-end frame (tb_frame.sv): one walker with one context, one
-/// walk-issue lane (one transform, three reciprocals, one walker root) and one hit-buffer
-/// write path (`svo_hit_buffer` with `WRITE_PORTS = 1`), as the testbench builds them, and
+/// walk-issue lane (one transform, three reciprocals, one walker root) and the default
+/// hardware's two hit-buffer write paths (`svo_hit_buffer` with `WRITE_PORTS = 2`,
+/// `RECORD_WRITES = 2`: two banks, the check's word first), as the testbench builds them, and
 /// every node read and attribute read taking `FRAME_MEM_LATENCY` cycles (the on-chip store and
 /// the cache at 3; DRAM at 2, so an attribute miss plus its beat is 3), as the testbench's node
 /// memory. Every other parameter (unit latencies, FIFO depths, the sorter's width from the
 /// datapath) is the default.
-const FRAME_HW: &str = "(transform_units: 1, reciprocal_units: 3, walker_root_units: 1, walker_pool: (walkers: 1, contexts_per_walker: 1), hit_buffer: (write_ports: 1, record_writes: 1), node_memory: (onchip: (levels: 21, max_bytes: 16777216, latency: 3), cache: (hit_latency: 3), dram: (latency: 2)))";
+const FRAME_HW: &str = "(transform_units: 1, reciprocal_units: 3, walker_root_units: 1, walker_pool: (walkers: 1, contexts_per_walker: 1), hit_buffer: (write_ports: 2, record_writes: 2), node_memory: (onchip: (levels: 21, max_bytes: 16777216, latency: 3), cache: (hit_latency: 3), dram: (latency: 2)))";
+/// `FRAME_HW` with one hit-buffer write path (tb_frame with `FRAME_PARAMS` below).
+const FRAME_HW_ONE_PATH: &str = "(transform_units: 1, reciprocal_units: 3, walker_root_units: 1, walker_pool: (walkers: 1, contexts_per_walker: 1), hit_buffer: (write_ports: 1, record_writes: 1), node_memory: (onchip: (levels: 21, max_bytes: 16777216, latency: 3), cache: (hit_latency: 3), dram: (latency: 2)))";
+/// tb_frame's parameters for `FRAME_HW_ONE_PATH`.
+const FRAME_PARAMS_ONE_PATH: &str = "WRITE_PORTS=1 RECORD_WRITES=1";
 const FRAME_MEM_LATENCY: u64 = 3;
 
 /// The cycle model's cycles for frame 0 of `scene` (`None`: the default) at this size and
 /// depth on `FRAME_HW`, from `sim --report-json` (the test's own run of the model).
 fn model_frame_cycles(t: &Tmp, scene: Option<&str>, width: &str, height: &str, depth: &str) -> u64 {
-    let hw = t.dir.join("frame_hw.ron");
-    std::fs::write(&hw, FRAME_HW).expect("write the frame's hardware RON");
-    let rep = t.p(&format!(
-        "frame_{width}x{height}_{}_report.json",
-        scene.is_some()
-    ));
+    model_frame(t, FRAME_HW, scene, width, height, depth, None)
+}
+
+/// The cycle model's cycles for frame 0 of `scene` on hardware `hw` (RON), and with `txlog`
+/// its transaction log of every pixel (`sim --transaction-log`).
+fn model_frame(
+    t: &Tmp,
+    hw_ron: &str,
+    scene: Option<&str>,
+    width: &str,
+    height: &str,
+    depth: &str,
+    txlog: Option<&Path>,
+) -> u64 {
+    let tag = format!("{width}x{height}_{}_{}", scene.is_some(), hw_ron.len());
+    let hw = t
+        .dir
+        .join(format!("frame_hw_{tag}_{}.ron", txlog.is_some()));
+    std::fs::write(&hw, hw_ron).expect("write the frame's hardware RON");
+    let rep = t.p(&format!("frame_{tag}_{}_report.json", txlog.is_some()));
     let hw = hw.display().to_string();
     let scene = scene.map(|s| repo().join(s).display().to_string());
+    let log = txlog.map(|p| p.display().to_string());
     let mut args = vec![
         "--width",
         width,
@@ -691,6 +711,9 @@ fn model_frame_cycles(t: &Tmp, scene: Option<&str>, width: &str, height: &str, d
     if let Some(p) = &scene {
         args.extend(["--scene", p.as_str()]);
     }
+    if let Some(l) = &log {
+        args.extend(["--transaction-log", l.as_str(), "--log-count", "1000000"]);
+    }
     let r = run_sim(&args, None, Duration::from_secs(300));
     assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
     let j: serde_json::Value =
@@ -701,10 +724,51 @@ fn model_frame_cycles(t: &Tmp, scene: Option<&str>, width: &str, height: &str, d
         .unwrap_or_else(|| panic!("no frames[0].cycles in the report of sim {args:?}"))
 }
 
+/// Every pixel's hit-buffer write cycle in a model transaction log (`sim --transaction-log`).
+fn model_write_cycles(log: &Path) -> std::collections::BTreeMap<u64, u64> {
+    let text = std::fs::read_to_string(log).expect("read the transaction log");
+    let mut out = std::collections::BTreeMap::new();
+    for line in text.lines() {
+        let j: serde_json::Value = serde_json::from_str(line).expect("a transaction-log line");
+        let pixel = j["pixel"].as_u64().expect("a pixel");
+        let write = j["stages"]
+            .as_array()
+            .and_then(|a| a.iter().find(|s| s["stage"] == "write"))
+            .and_then(|s| s["entered"].as_u64())
+            .unwrap_or_else(|| panic!("pixel {pixel}: no write stage in the log"));
+        out.insert(pixel, write);
+    }
+    out
+}
+
+/// Every pixel's write cycle as tb_frame printed it (`+write_log`: "write P C PATH").
+fn rtl_write_cycles(text: &str) -> std::collections::BTreeMap<u64, u64> {
+    text.lines()
+        .filter(|l| l.starts_with("write "))
+        .map(|l| {
+            let n = numbers(l);
+            (n[0], n[1])
+        })
+        .collect()
+}
+
 /// One frame run: (pixels equal, pixels, RTL cycles, passed, failed, everything printed).
 fn frame_run(sim: &str, dir: &Path, args: &str) -> (u64, u64, u64, u64, u64, String) {
+    frame_run_with(sim, dir, args, "")
+}
+
+/// [`frame_run`] with tb_frame's parameters `params` (run.sh's `FRAME_PARAMS`).
+fn frame_run_with(
+    sim: &str,
+    dir: &Path,
+    args: &str,
+    params: &str,
+) -> (u64, u64, u64, u64, u64, String) {
     let d = dir.to_string_lossy();
-    let (_, text) = run_sh(&["--sim", sim, &d, "frame"], &[("FRAME_ARGS", args)]);
+    let (_, text) = run_sh(
+        &["--sim", sim, &d, "frame"],
+        &[("FRAME_ARGS", args), ("FRAME_PARAMS", params)],
+    );
     let summary = text.lines().find(|l| l.starts_with("frame: ")).map(numbers);
     let last = text
         .lines()
@@ -892,6 +956,80 @@ fn frame_cycles_are_required_and_checked() {
             "{args}: no \"{want}\":\n{text}"
         );
     }
+}
+
+/// The hit buffer's write paths, write by write: on scenes/moving_camera.ron at 16 × 10 (135 of
+/// 160 pixels without a candidate, so the check stage's words and the records meet at the
+/// write port), every pixel is written in the cycle the cycle model's transaction log gives,
+/// for both write-path designs — one path (`WRITE_PORTS = 1`: the record first), and the
+/// default's two banks with the check's word first and two records a cycle. The two designs
+/// write 51 of the pixels in different cycles, so each log is a check of its own design: the
+/// two-path RTL against the one-path log is shown failing on exactly those pixels.
+#[test]
+fn frame_writes_land_in_the_models_cycles_for_both_write_paths() {
+    let Some(&sim) = simulators().first() else {
+        return;
+    };
+    let t = Tmp::new("frame_writes");
+    let (mc, out) = ("scenes/moving_camera.ron", t.p("mc"));
+    let scene = repo().join(mc).display().to_string();
+    let args = [
+        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
+        "10", "--depth", "4", "--scene", &scene,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    let dir = t.dir.join("mc");
+    let designs = [
+        ("two banks, check first", FRAME_HW, ""),
+        ("one path", FRAME_HW_ONE_PATH, FRAME_PARAMS_ONE_PATH),
+    ];
+    let mut logs = Vec::new();
+    for (name, hw, params) in designs {
+        let log = t.dir.join(format!("{}.jsonl", params.len()));
+        let model = model_frame(&t, hw, Some(mc), "16", "10", "4", Some(&log));
+        let want = model_write_cycles(&log);
+        let (equal, pixels, rtl, _, failed, text) = frame_run_with(
+            sim,
+            &dir,
+            &format!("+model_cycles={model} +latency={FRAME_MEM_LATENCY} +write_log"),
+            params,
+        );
+        let got = rtl_write_cycles(&text);
+        let differ: Vec<_> = want.iter().filter(|(p, c)| got.get(p) != Some(c)).collect();
+        println!(
+            "frame writes ({sim}, {name}): {equal}/{pixels} pixels equal, RTL {rtl} cycles, model {model}; {} of {} pixels written in the model's cycle",
+            want.len() - differ.len(),
+            want.len()
+        );
+        assert_eq!((equal, failed, rtl), (pixels, 0, model), "{name}:\n{text}");
+        assert_eq!(want.len() as u64, pixels, "{name}: the log misses pixels");
+        assert!(
+            differ.is_empty(),
+            "{name}: (pixel, model cycle) written elsewhere: {differ:?}"
+        );
+        logs.push((want, got));
+    }
+    // The two-path RTL against the one-path model: it fails exactly where the designs differ.
+    let (two, one) = (&logs[0], &logs[1]);
+    let designs_differ = two
+        .0
+        .iter()
+        .filter(|(p, c)| one.0.get(p) != Some(c))
+        .count();
+    let wrong = one
+        .0
+        .iter()
+        .filter(|(p, c)| two.1.get(p) != Some(c))
+        .count();
+    println!(
+        "frame writes: the designs write {designs_differ} pixels in different cycles; the two-path RTL against the one-path log: {wrong} pixels differ"
+    );
+    assert!(
+        designs_differ > 0,
+        "the scene does not tell the designs apart"
+    );
+    assert_eq!(wrong, designs_differ);
 }
 
 /// The RTL's latencies read from its source, with no simulator: each module's `LATENCY`

@@ -27,19 +27,20 @@ BENCHES = {
         "test_regs",
         {},
     ),
-    # The model's arrangement (one write port), checked cycle by cycle.
+    # One write path (hit_buffer.write_ports: 1), cycle by cycle in the clean pass.
     "hit_buffer": (
         "svo_hit_buffer",
         [RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
         "test_hit_buffer",
         dict(HIT_BUFFER, WRITE_PORTS=1),
     ),
-    # A write port per source (issue 28): content and order only.
+    # The default hardware's two write paths: two banks, the check's word first, two
+    # records a cycle (write_ports: 2, record_writes: 2), cycle by cycle in the clean pass.
     "hit_buffer_2p": (
         "svo_hit_buffer",
         [RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
         "test_hit_buffer",
-        dict(HIT_BUFFER, WRITE_PORTS=2),
+        dict(HIT_BUFFER, WRITE_PORTS=2, RECORD_WRITES=2),
     ),
 }
 

@@ -18,13 +18,16 @@
 //   (`rec_*`) has the port first; the check's word enters only in a cycle the record did not
 //   push. The head is written to the buffer every cycle (the write port is always ready) and
 //   shown on `wr_*` in that cycle.
-// WRITE_PORTS = 2 gives the check's words a FIFO and a buffer write port of their own (no
-// claim between the two sources). The cycle model's two write paths (issue 28, the default
-// hardware) are two banks on pixel parity, the check's word first on a shared bank and a
-// second record a cycle (`hit_buffer.record_writes`), which this module does not build yet:
-// only WRITE_PORTS = 1 is checked cycle by cycle against the model (tb_frame.sv, with the
-// model run at one write path); 2 is checked for content only
-// (testbench/cocotb/test_hit_buffer.py).
+// WRITE_PORTS = 2 builds the cycle model's two write paths (hit_buffer.write_ports: 2, the
+// default hardware; src/models/cycle/stages/write.rs): the buffer is two banks on pixel
+// parity, one write port each, and the check's words have a FIFO of their own
+// (check_to_write, WR_DEPTH deep, on wr1_*). Each cycle the check FIFO's head is written
+// first; the record FIFO's head is written too unless it falls in the same bank (it waits:
+// ev_bank_conflict); with RECORD_WRITES = 2 (hit_buffer.record_writes) the record behind the
+// head is written as well (on wr2_*) when the check wrote nothing and it falls in the other
+// bank. The record FIFO then passes up to two a cycle, as the model's two-port
+// record_to_write. Both write-path designs are checked cycle by cycle against the model
+// (tb_frame.sv, testbench/cocotb/test_hit_buffer.py).
 //
 // The buffer holds one word per pixel (NPIX words of WB bits, word layout as
 // svo_hit_pack.v) and keeps them across frames: frame f's check reads what frame f − 1 wrote.
@@ -49,7 +52,8 @@ module svo_hit_buffer #(
     parameter HB_READ     = 4,      // hit_buffer read latency, cycles (>= 1)
     parameter PAYW        = 1,      // side band carried with a ray to walk
     parameter WR_DEPTH    = 8,      // record_to_write FIFO depth
-    parameter WRITE_PORTS = 1       // 1: shared write port (the model today); 2: one per source
+    parameter WRITE_PORTS = 1,      // 1: one shared write port; 2: two banks, the check's first
+    parameter RECORD_WRITES = 1     // 2: a second record a cycle (WRITE_PORTS = 2 only)
 ) (
     input  wire                 clk,
     input  wire                 rst,
@@ -75,7 +79,8 @@ module svo_hit_buffer #(
     output wire                 rec_ready,
     input  wire [PIXW-1:0]      rec_pixel,
     input  wire [WB-1:0]        rec_word,
-    // the buffer's writes (port 0: records, and the check's words when WRITE_PORTS = 1)
+    // the buffer's writes (wr: the record FIFO's head, and the check's words when
+    // WRITE_PORTS = 1; wr1: the check's FIFO; wr2: the record behind the head)
     output wire                 wr_valid,
     output wire [PIXW-1:0]      wr_pixel,
     output wire [WB-1:0]        wr_word,
@@ -83,9 +88,13 @@ module svo_hit_buffer #(
     output wire                 wr1_valid,        // port 1 (WRITE_PORTS = 2): the check's words
     output wire [PIXW-1:0]      wr1_pixel,
     output wire [WB-1:0]        wr1_word,
+    output wire                 wr2_valid,        // RECORD_WRITES = 2: a second record
+    output wire [PIXW-1:0]      wr2_pixel,
+    output wire [WB-1:0]        wr2_word,
     output wire                 ev_reused,
     output wire                 ev_write_stall,
     output wire                 ev_walk_stall,
+    output wire                 ev_bank_conflict, // the record head waited for its bank
     output reg                  err_pixel
 );
     localparam CAP = HB_READ + 1;                  // the check pipe's capacity = its latency
@@ -114,28 +123,44 @@ module svo_hit_buffer #(
         if (WRITE_PORTS < 1 || WRITE_PORTS > 2) begin : bad_write_ports
             svo_hit_buffer_WRITE_PORTS_must_be_1_or_2 bad();
         end
+        if (RECORD_WRITES < 1 || RECORD_WRITES > WRITE_PORTS) begin : bad_record_writes
+            svo_hit_buffer_RECORD_WRITES_must_be_1_or_2_and_at_most_WRITE_PORTS bad();
+        end
+        if (WR_DEPTH < 2 && RECORD_WRITES == 2) begin : bad_depth
+            svo_hit_buffer_WR_DEPTH_must_be_2_or_more_for_two_record_writes bad();
+        end
         if (HB_READ < 1) begin : bad_read
             svo_hit_buffer_HB_READ_must_be_at_least_1 bad();
         end
-        if ((1 << AW) < NPIX || AW >= PIXW || INSTANCES > 65536) begin : bad_aw
+        if ((1 << AW) < NPIX || AW >= PIXW || INSTANCES > 65536 || (WRITE_PORTS == 2 && AW < 2))
+        begin : bad_aw
             svo_hit_buffer_AW_must_fit_NPIX_and_be_below_PIXW bad();
         end
     endgenerate
 
     // ---------------------------------------------------------------- the buffer
-    reg [WB-1:0] mem [0:NPIX-1];
-    wire          w0_en, w1_en;
-    wire [AW-1:0] w0_addr, w1_addr;
-    wire [WB-1:0] w0_data, w1_data;
+    // One word per pixel: one memory (WRITE_PORTS = 1), or two banks on pixel parity with a
+    // write port each (WRITE_PORTS = 2). The read is registered in the memory (READ_FIRST:
+    // a write of the same edge is not seen); with two banks both are read and the pixel's
+    // parity picks the word after the registers, so each bank is a plain simple dual-port
+    // block RAM.
+    // Each bank layout reads only the write paths it has (one bank: w0 alone).
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire          w0_en, w1_en, w2_en;
+    wire [AW-1:0] w0_addr, w1_addr, w2_addr;
+    wire [WB-1:0] w0_data, w1_data, w2_data;
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [WB-1:0] rd_word;                         // the accepted ray's word, a cycle on
 
     // ---------------------------------------------------------------- check pipe
     wire accept = in_valid && in_ready;
     wire in_dirty = ({1'b0, in_candidate} >= INSTANCES_C) ? 1'b1
                   : instance_dirty[in_candidate[IXW-1:0]];
-    // Stages 1..HB_READ: the read word and what the check needs; the side band runs one
-    // stage further, beside svo_hit_check's register.
+    // Stages 1..HB_READ: the read word (stage 1 is the memory's own register) and what the
+    // check needs; the side band runs one stage further, beside svo_hit_check's register.
+    localparam HB_HI = HB_READ > 1 ? HB_READ : 2;
     reg [HB_READ:1]   s_valid;
-    reg [WB-1:0]      s_word  [1:HB_READ];
+    reg [WB-1:0]      s_word  [2:HB_HI];
     reg [15:0]        s_cands [1:HB_READ];
     reg [15:0]        s_cand  [1:HB_READ];
     reg [HB_READ:1]   s_dirty;
@@ -143,28 +168,63 @@ module svo_hit_buffer #(
     integer k;
     always @(posedge clk) begin
         s_valid[1] <= rst ? 1'b0 : accept;
-        s_word[1]  <= mem[in_pixel[AW-1:0]];       // READ_FIRST
         s_cands[1] <= in_candidates;
         s_cand[1]  <= in_candidate;
         s_dirty[1] <= in_dirty;
         s_side[1]  <= {in_pixel, in_candidates == 16'd0, in_payload};
         for (k = 2; k <= HB_READ; k = k + 1) begin
             s_valid[k] <= rst ? 1'b0 : s_valid[k - 1];
-            s_word[k]  <= s_word[k - 1];
+            s_word[k]  <= k == 2 ? rd_word : s_word[k - 1];
             s_cands[k] <= s_cands[k - 1];
             s_cand[k]  <= s_cand[k - 1];
             s_dirty[k] <= s_dirty[k - 1];
         end
         for (k = 2; k <= HB_READ + 1; k = k + 1) s_side[k] <= s_side[k - 1];
-        if (w0_en) mem[w0_addr] <= w0_data;
-        if (w1_en) mem[w1_addr] <= w1_data;
     end
+    wire [WB-1:0] ck_word = HB_READ == 1 ? rd_word : s_word[HB_HI];
+
+    generate
+        if (WRITE_PORTS == 1) begin : one_bank
+            reg [WB-1:0] mem [0:NPIX-1];
+            reg [WB-1:0] rd_q;
+            always @(posedge clk) begin
+                rd_q <= mem[in_pixel[AW-1:0]];
+                if (w0_en) mem[w0_addr] <= w0_data;
+            end
+            assign rd_word = rd_q;
+        end else begin : two_banks
+            // Bank b holds the pixels p with p mod 2 = b at p / 2. The model's rule puts at
+            // most one write in each bank a cycle (check first, then the records by bank).
+            localparam HALF = (NPIX + 1) / 2;
+            reg [WB-1:0] bank0 [0:HALF-1];
+            reg [WB-1:0] bank1 [0:HALF-1];
+            reg [WB-1:0] rd0_q, rd1_q;
+            reg          par_q;
+            wire b0_w1 = w1_en && !w1_addr[0], b1_w1 = w1_en && w1_addr[0];
+            wire b0_w0 = w0_en && !w0_addr[0], b1_w0 = w0_en && w0_addr[0];
+            wire b0_w2 = w2_en && !w2_addr[0], b1_w2 = w2_en && w2_addr[0];
+            wire [AW-2:0] b0_addr = b0_w1 ? w1_addr[AW-1:1] : b0_w0 ? w0_addr[AW-1:1]
+                                  : w2_addr[AW-1:1];
+            wire [AW-2:0] b1_addr = b1_w1 ? w1_addr[AW-1:1] : b1_w0 ? w0_addr[AW-1:1]
+                                  : w2_addr[AW-1:1];
+            wire [WB-1:0] b0_data = b0_w1 ? w1_data : b0_w0 ? w0_data : w2_data;
+            wire [WB-1:0] b1_data = b1_w1 ? w1_data : b1_w0 ? w0_data : w2_data;
+            always @(posedge clk) begin
+                rd0_q <= bank0[in_pixel[AW-1:1]];
+                rd1_q <= bank1[in_pixel[AW-1:1]];
+                par_q <= in_pixel[0];
+                if (b0_w1 || b0_w0 || b0_w2) bank0[b0_addr] <= b0_data;
+                if (b1_w1 || b1_w0 || b1_w2) bank1[b1_addr] <= b1_data;
+            end
+            assign rd_word = par_q ? rd1_q : rd0_q;
+        end
+    endgenerate
 
     wire          p_valid, p_reuse;
     wire [WB-1:0] p_reused;
     /* verilator lint_off PINCONNECTEMPTY */
     svo_hit_check #(.INST_W(INST_W), .T_W(T_W), .N_W(N_W), .WB(WB)) u_check (
-        .clk(clk), .rst(rst), .in_valid(s_valid[HB_READ]), .in_prev(s_word[HB_READ]),
+        .clk(clk), .rst(rst), .in_valid(s_valid[HB_READ]), .in_prev(ck_word),
         .in_buffer(buffer_valid), .in_camera_dirty(camera_dirty),
         .in_candidates(s_cands[HB_READ]), .in_candidate(s_cand[HB_READ]),
         .in_instance_dirty(s_dirty[HB_READ]),
@@ -208,11 +268,33 @@ module svo_hit_buffer #(
     wire pop = ck_push || (walk_valid && walk_ready);
     wire f0_push_ck = (WRITE_PORTS == 1) && ck_push;
     wire f0_push = rec_push || f0_push_ck;
-    assign wr_valid = f0_n != {FW{1'b0}};
+    // The record FIFO's head, and the record behind it (RECORD_WRITES = 2).
+    wire [WW-1:0] f0_rd1 = (f0_rd == F_LAST) ? {WW{1'b0}} : f0_rd + 1'b1;
+    localparam [FW:0] TWO = 2;
+    wire          f0_two = {1'b0, f0_n} >= TWO;
     assign {wr_direct, wr_pixel, wr_word} = f0[f0_rd];
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire          s_direct_unused;                 // wr2 is always a record
+    /* verilator lint_on UNUSEDSIGNAL */
+    assign {s_direct_unused, wr2_pixel, wr2_word} = f0[f0_rd1];
+    // Two banks: the check's word goes first; the record head waits if it shares the bank.
+    wire conflict = (WRITE_PORTS == 2) && wr1_valid && f0_n != {FW{1'b0}}
+                 && wr1_pixel[0] == wr_pixel[0];
+    assign wr_valid = f0_n != {FW{1'b0}} && !conflict;
+    assign wr2_valid = (RECORD_WRITES == 2) && wr_valid && !wr1_valid && f0_two
+                    && wr2_pixel[0] != wr_pixel[0];
+    // One bit wider than the occupancy so that WR_DEPTH = 1 needs no special case; the top
+    // bit is never set (the occupancy stays within 0..WR_DEPTH).
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [FW:0] f0_next = {1'b0, f0_n} + {{FW{1'b0}}, f0_push} - {{FW{1'b0}}, wr_valid}
+                        - {{FW{1'b0}}, wr2_valid};
+    /* verilator lint_on UNUSEDSIGNAL */
     assign w0_en = wr_valid;
     assign w0_addr = wr_pixel[AW-1:0];
     assign w0_data = wr_word;
+    assign w2_en = wr2_valid;
+    assign w2_addr = wr2_pixel[AW-1:0];
+    assign w2_data = wr2_word;
 
     // In the check pipe: every stage's valid bit, svo_hit_check's and the queue's.
     reg [CW-1:0] n_in;
@@ -248,8 +330,9 @@ module svo_hit_buffer #(
                 f0[f0_wr] <= rec_push ? {1'b0, rec_pixel, rec_word} : {1'b1, h_pixel, h_word};
                 f0_wr <= (f0_wr == F_LAST) ? {WW{1'b0}} : f0_wr + 1'b1;
             end
-            if (wr_valid) f0_rd <= (f0_rd == F_LAST) ? {WW{1'b0}} : f0_rd + 1'b1;
-            f0_n <= f0_n + {{(FW - 1){1'b0}}, f0_push} - {{(FW - 1){1'b0}}, wr_valid};
+            if (wr2_valid) f0_rd <= (f0_rd1 == F_LAST) ? {WW{1'b0}} : f0_rd1 + 1'b1;
+            else if (wr_valid) f0_rd <= f0_rd1;
+            f0_n <= f0_next[FW-1:0];
             if ((accept && out_of_range(in_pixel)) || (rec_push && out_of_range(rec_pixel)))
                 err_pixel <= 1'b1;
         end
@@ -292,5 +375,6 @@ module svo_hit_buffer #(
     assign ev_reused = ck_push && h_reuse;
     assign ev_write_stall = h_valid && h_direct && !ck_room;
     assign ev_walk_stall = walk_valid && !walk_ready;
+    assign ev_bank_conflict = conflict;
 endmodule
 `default_nettype wire

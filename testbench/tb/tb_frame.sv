@@ -29,6 +29,11 @@
 // (`FramePlan::finish`: R·diag(1/scale)·n, normalised, octahedral, 8 bits); the testbench
 // computes it with `real` from the programmed axes and half extents (tb_frame_host.svh).
 //
+// Parameters: WRITE_PORTS and RECORD_WRITES, the hit buffer's write paths (the model's
+// hit_buffer.write_ports and record_writes; default 2 and 2, the default hardware's two banks
+// with the check's word first; run.sh sets them from FRAME_PARAMS, e.g.
+// "WRITE_PORTS=1 RECORD_WRITES=1"). The model's frame cycles must be for the same values.
+//
 // Plusargs: +vectors=DIR, +latency=L (node memory, default 3), +nb<i>=, +ab<i>= (node and
 // attribute base of image i, from walker.json; run.sh passes them), +model_cycles=N (the
 // cycle model's frame cycles, required: the RTL's must equal them, and without it the cycles
@@ -37,7 +42,10 @@
 // plus one for the cycles). Pixel indices are PIXW (32) bits and ray-slot tags TAGW bits,
 // sized from SLOTS.
 `timescale 1ns/1ps
-module tb_frame;
+module tb_frame #(
+    parameter int WRITE_PORTS = 2,
+    parameter int RECORD_WRITES = 2
+);
     localparam int PB = frame_pixels_vectors_pkg::WORD_BITS;
     localparam int NPIX = frame_pixels_vectors_pkg::DEPTH;
     localparam int IB = frame_instances_vectors_pkg::WORD_BITS;
@@ -182,9 +190,13 @@ module tb_frame;
     wire hb_in_ready, hb_walk_valid, hb_rec_ready, hb_wr_valid, hb_wr_direct;
     wire [PIXW-1:0] hb_walk_pixel, hb_wr_pixel;
     wire [71:0] hb_wr_word;
+    wire hb_wr1_valid, hb_wr2_valid;                 // the check's path, the second record
+    wire [PIXW-1:0] hb_wr1_pixel, hb_wr2_pixel;
+    wire [71:0] hb_wr1_word, hb_wr2_word;
     /* verilator lint_off PINCONNECTEMPTY */
     svo_hit_buffer #(.NPIX(NPIX), .AW(NPIX > 1 ? $clog2(NPIX) : 1), .PIXW(PIXW),
-        .INSTANCES(LANES), .HB_READ(HB_READ), .PAYW(1), .WR_DEPTH(D_RC_WR), .WRITE_PORTS(1))
+        .INSTANCES(LANES), .HB_READ(HB_READ), .PAYW(1), .WR_DEPTH(D_RC_WR), .WRITE_PORTS(WRITE_PORTS),
+        .RECORD_WRITES(RECORD_WRITES))
     u_hit_buffer (.clk(clk), .rst(rst), .buffer_valid(hb_buffer_valid),
         .camera_dirty(hb_camera_dirty), .instance_dirty(hb_instance_dirty),
         .miss_word(miss_word), .in_valid(hb_in_valid), .in_ready(hb_in_ready),
@@ -193,8 +205,10 @@ module tb_frame;
         .walk_pixel(hb_walk_pixel), .walk_payload(), .rec_valid(hb_rec_valid),
         .rec_ready(hb_rec_ready), .rec_pixel(hb_rec_pixel), .rec_word(hb_rec_word),
         .wr_valid(hb_wr_valid), .wr_pixel(hb_wr_pixel), .wr_word(hb_wr_word),
-        .wr_direct(hb_wr_direct), .wr1_valid(), .wr1_pixel(), .wr1_word(), .ev_reused(),
-        .ev_write_stall(), .ev_walk_stall(), .err_pixel());
+        .wr_direct(hb_wr_direct), .wr1_valid(hb_wr1_valid), .wr1_pixel(hb_wr1_pixel),
+        .wr1_word(hb_wr1_word), .wr2_valid(hb_wr2_valid), .wr2_pixel(hb_wr2_pixel),
+        .wr2_word(hb_wr2_word), .ev_reused(), .ev_write_stall(), .ev_walk_stall(),
+        .ev_bank_conflict(), .err_pixel());
     /* verilator lint_on PINCONNECTEMPTY */
 
     // transform.
@@ -334,6 +348,13 @@ module tb_frame;
     int   n_free = SLOTS;
     int   next_pixel = 0, written = 0;
     longint cyc = 0;
+    // +write_log: one line per hit-buffer write, "write <pixel> <cycle> <path>" (path 0: the
+    // record FIFO's head, 1: the check's, 2: the second record), for a comparison with the
+    // model's transaction log (the write stage's cycle of every pixel).
+    bit write_log = 0;
+    task automatic log_write(input int p, input int path);
+        if (write_log) $display("write %0d %0d %0d", p, cyc, path);
+    endtask
     bit   done = 0;
 
     reg [3*52-1:0] rt_in_inv_slot [0:SLOTS-1];
@@ -421,15 +442,29 @@ module tb_frame;
             rt_res.push_back(0);
             q_rt_dp_wait.push_back(rt_bundle.pop_front());
         end
-        // write: one record a cycle into the hit buffer.
-        // (svo_hit_buffer writes its FIFO's head this cycle; a word from the check stage, reused
-        // or the miss word, had no walk.)
+        // write: svo_hit_buffer writes this cycle its record FIFO's head (wr), with two
+        // write paths the check's word first (wr1) and a second record (wr2). A word from the
+        // check stage, reused or the miss word, had no walk.
+        if (hb_wr1_valid) begin
+            int p = int'(hb_wr1_pixel);
+            pix_walks[p] = 0; pix_hit[p] = 0;
+            check_pixel(p, hb_wr1_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
+            log_write(p, 1);
+            written++;
+        end
         if (hb_wr_valid) begin
             int p = int'(hb_wr_pixel);
             if (hb_wr_direct) begin
                 pix_walks[p] = 0; pix_hit[p] = 0;
             end
             check_pixel(p, hb_wr_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
+            log_write(p, 0);
+            written++;
+        end
+        if (hb_wr2_valid) begin
+            int p = int'(hb_wr2_pixel);
+            check_pixel(p, hb_wr2_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
+            log_write(p, 2);
             written++;
         end
         // record: the pack's result out, then the next walk result's decision.
@@ -614,6 +649,7 @@ module tb_frame;
         if ($value$plusargs("latency=%d", mem_latency)) junk = 0;
         if ($value$plusargs("model_cycles=%d", model_cycles)) junk = 0;
         if ($value$plusargs("max_cycles=%d", max_cycles)) junk = 0;
+        write_log = $test$plusargs("write_log");
         for (int i = 0; i < 16; i++) begin
             nb[i] = 0; ab[i] = 0;
             if ($value$plusargs($sformatf("nb%0d=%%d", i), junk)) nb[i] = junk;
