@@ -25,8 +25,9 @@
 # and must hold "+model_cycles=N" (with "+latency=3", the cycle model's frame cycles on the
 # testbench's hardware, testbench/README.md): without it the frame's cycles row fails, and so
 # does this script. Its Verilator build, like the walker's, uses the folder's own packages.
-# FRAME_PARAMS sets tb_frame's parameters (default: its own, the default hardware's two hit-
-# buffer write paths), e.g. FRAME_PARAMS="WRITE_PORTS=1 RECORD_WRITES=1".
+# FRAME_HW_PKG is the frame's hardware package (default testbench/hw/frame_hw_pkg.sv, from
+# testbench/hw/frame_hw.ron by `sim hardware --hw F --sv-package P`): the model's cycles must be
+# for the same hardware file.
 # Needs iverilog and vvp (apt-get install iverilog), or verilator 5 (apt-get install verilator).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -109,17 +110,16 @@ trap 'rm -rf "$build"' EXIT
 # Builds tb_<unit> with Verilator (or takes it from SIM_CACHE); prints the binary's path.
 verilator_build() {
     local u="$1" key dir tmp pkg="$build/${u}_pkg.sv"
-    local pkgs=("$pkg") params=()
+    local pkgs=("$pkg")
     if [ "$u" = walker ]; then
         pkgs=("$vec/walker_pkg.sv" "$vec/walker_visits_pkg.sv")
     elif [ "$u" = frame ]; then
         pkgs=("${frame_pkgs[@]}")
-        for kv in ${FRAME_PARAMS:-}; do params+=("-G$kv"); done
     else
         sed -E -e "s/^( *localparam int DEPTH = )[0-9]+;.*/\1$capacity;  \/\/ capacity (run.sh)/" \
             -e '/^ *localparam int [A-Z]+_(FIRST|COUNT) = /d' "$vec/${u}_pkg.sv" >"$pkg"
     fi
-    key="$( { verilator --version; printf '%s\n' "${vl_flags[@]}" "${params[@]}"; cat "${pkgs[@]}" \
+    key="$( { verilator --version; printf '%s\n' "${vl_flags[@]}"; cat "${pkgs[@]}" \
         "$here"/rtl/*.v "$here"/tb/*.sv "$here"/tb/*.svh; } | sha256sum | cut -c1-16)"
     if [ -n "${SIM_CACHE:-}" ]; then
         mkdir -p "$SIM_CACHE"
@@ -129,7 +129,7 @@ verilator_build() {
     fi
     if [ ! -x "$dir/Vtb_$u" ]; then
         tmp="$(mktemp -d "${dir}.XXXXXX")"
-        if ! verilator "${vl_flags[@]}" "${params[@]}" -I"$here/tb" -y "$here/rtl" --top-module "tb_$u" \
+        if ! verilator "${vl_flags[@]}" -I"$here/tb" -y "$here/rtl" --top-module "tb_$u" \
             -Mdir "$tmp" "${pkgs[@]}" "$here/tb/tb_$u.sv" >"$tmp/build.log" 2>&1; then
             cat "$tmp/build.log" >&2
             rm -rf "$tmp"
@@ -143,7 +143,7 @@ verilator_build() {
 
 # The frame's packages (the sorter's for its network: N, D and the model's pairs), and the plusargs of its images' memory bases (walker.json's
 # parameters.images, whose keys are written sorted: attr_base, index, node_base).
-frame_pkgs=("$vec/frame_pixels_pkg.sv" "$vec/frame_instances_pkg.sv" "$vec/frame_camera_pkg.sv"
+frame_pkgs=("${FRAME_HW_PKG:-$here/hw/frame_hw_pkg.sv}" "$vec/frame_pixels_pkg.sv" "$vec/frame_instances_pkg.sv" "$vec/frame_camera_pkg.sv"
     "$vec/walker_pkg.sv" "$vec/sorter_pkg.sv")
 frame_bases() {
     sed -n '/"images": \[/,/^    \]/p' "$vec/walker.json" | awk -F': ' '
@@ -174,11 +174,7 @@ for u in "${units[@]}"; do
     fi
     if [ "$sim" = icarus ]; then
         # -Wno-sensitivity-entire-array: the walker's @* blocks read small per-axis arrays whole.
-        iparams=()
-        if [ "$u" = frame ]; then
-            for kv in ${FRAME_PARAMS:-}; do iparams+=("-Ptb_frame.$kv"); done
-        fi
-        iverilog -g2012 -Wall -Wno-sensitivity-entire-array "${iparams[@]}" -I "$here/tb" -o "$build/tb_$u" \
+        iverilog -g2012 -Wall -Wno-sensitivity-entire-array -s "tb_$u" -I "$here/tb" -o "$build/tb_$u" \
             "${pkgs[@]}" "$here"/rtl/*.v "$here/tb/tb_$u.sv"
         cmd=(vvp -n "$build/tb_$u" "+vectors=$vec")
     elif [ "$u" = frame ]; then
@@ -198,7 +194,8 @@ for u in "${units[@]}"; do
     for extra in "${runs[@]}"; do
         # Verilator reports $finish on a line of its own: not part of the testbench's output.
         # shellcheck disable=SC2086
-        out="$("${cmd[@]}" $extra | grep -v '^- .*Verilog \$finish$')"
+        # A testbench that stops with $fatal exits non-zero: print what it said, fail.
+        out="$("${cmd[@]}" $extra | grep -v '^- .*Verilog \$finish$')" || status=1
         printf '%s\n' "$out"
         last="$(printf '%s\n' "$out" | tail -n 1)"
         if [[ ! "$last" =~ ^([0-9]+)\ passed,\ ([0-9]+)\ failed$ ]] || [ "${BASH_REMATCH[2]}" != 0 ]; then

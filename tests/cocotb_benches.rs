@@ -160,7 +160,8 @@ fn hit_buffer_reuses_across_frames_as_the_model_rows_say() {
 }
 
 /// `fusesoc run` of the core's targets (testbench/svo_core.core): `lint` (svo_hit_buffer under
-/// `verilator --lint-only -Wall`) and `lint_regs` (the generated register block, without -Wall:
+/// `verilator --lint-only -Wall`), `lint_core` (svo_core, the whole accelerator top, the same)
+/// and `lint_regs` (the generated register block, without -Wall:
 /// PeakRDL's code), both with the venv's Verilator 5.048 (Debian's 5.006 fails inside on the
 /// register block); `sim` (tb_hit_record in Icarus on the golden vectors: every row passes);
 /// `synth` (Yosys `synth_xilinx -family xcup` of svo_hit_buffer: accepted, the buffer in block
@@ -184,6 +185,7 @@ fn fusesoc_lint_sim_and_synth_targets_pass() {
     let vectors = format!("--vectors={}", repo().join("vectors").display());
     for (target, extra) in [
         ("lint", None),
+        ("lint_core", None),
         ("lint_regs", None),
         ("sim", Some(vectors.as_str())),
         ("synth", None),

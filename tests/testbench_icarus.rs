@@ -652,25 +652,40 @@ fn one_corrupted_walker_value_is_exactly_one_failure() {
     );
 }
 
-/// The hardware of the end-to-end frame (tb_frame.sv): one walker with one context, one
-/// walk-issue lane (one transform, three reciprocals, one walker root) and the default
-/// hardware's two hit-buffer write paths (`svo_hit_buffer` with `WRITE_PORTS = 2`,
-/// `RECORD_WRITES = 2`: two banks, the check's word first), as the testbench builds them, and
-/// every node read and attribute read taking `FRAME_MEM_LATENCY` cycles (the on-chip store and
-/// the cache at 3; DRAM at 2, so an attribute miss plus its beat is 3), as the testbench's node
-/// memory. Every other parameter (unit latencies, FIFO depths, the sorter's width from the
-/// datapath) is the default.
-const FRAME_HW: &str = "(transform_units: 1, reciprocal_units: 3, walker_root_units: 1, walker_pool: (walkers: 1, contexts_per_walker: 1), hit_buffer: (write_ports: 2, record_writes: 2), node_memory: (onchip: (levels: 21, max_bytes: 16777216, latency: 3), cache: (hit_latency: 3), dram: (latency: 2)))";
-/// `FRAME_HW` with one hit-buffer write path (tb_frame with `FRAME_PARAMS` below).
-const FRAME_HW_ONE_PATH: &str = "(transform_units: 1, reciprocal_units: 3, walker_root_units: 1, walker_pool: (walkers: 1, contexts_per_walker: 1), hit_buffer: (write_ports: 1, record_writes: 1), node_memory: (onchip: (levels: 21, max_bytes: 16777216, latency: 3), cache: (hit_latency: 3), dram: (latency: 2)))";
-/// tb_frame's parameters for `FRAME_HW_ONE_PATH`.
-const FRAME_PARAMS_ONE_PATH: &str = "WRITE_PORTS=1 RECORD_WRITES=1";
+/// The hardware of the end-to-end frame (tb_frame.sv), one file for the model and the RTL:
+/// testbench/hw/frame_hw.ron (one walker with one context, one walk-issue lane, the default's
+/// two hit-buffer write paths, every node and attribute read taking `FRAME_MEM_LATENCY`
+/// cycles); tb_frame reads it as testbench/hw/frame_hw_pkg.sv.
+fn frame_hw() -> String {
+    std::fs::read_to_string(repo().join("testbench/hw/frame_hw.ron"))
+        .expect("read testbench/hw/frame_hw.ron")
+}
+
+/// `frame_hw()` with one hit-buffer write path.
+fn frame_hw_one_path() -> String {
+    let hw = frame_hw();
+    let two = "hit_buffer: (write_ports: 2, record_writes: 2)";
+    assert!(hw.contains(two), "frame_hw.ron no longer names {two}");
+    hw.replace(two, "hit_buffer: (write_ports: 1, record_writes: 1)")
+}
+
+/// The hardware package of `hw_ron` (`sim hardware --sv-package`), written into `t`.
+fn hw_package(t: &Tmp, name: &str, hw_ron: &str) -> PathBuf {
+    let ron = t.dir.join(format!("{name}.ron"));
+    std::fs::write(&ron, hw_ron).expect("write a hardware RON");
+    let pkg = t.dir.join(format!("{name}_pkg.sv"));
+    let (r, p) = (ron.display().to_string(), pkg.display().to_string());
+    let args = ["hardware", "--hw", &r, "--sv-package", &p];
+    let out = run_sim(&args, None, Duration::from_secs(120));
+    assert!(out.status.success(), "sim {args:?}: {}", out.stderr);
+    pkg
+}
 const FRAME_MEM_LATENCY: u64 = 3;
 
 /// The cycle model's cycles for frame 0 of `scene` (`None`: the default) at this size and
-/// depth on `FRAME_HW`, from `sim --report-json` (the test's own run of the model).
+/// depth on `frame_hw()`, from `sim --report-json` (the test's own run of the model).
 fn model_frame_cycles(t: &Tmp, scene: Option<&str>, width: &str, height: &str, depth: &str) -> u64 {
-    model_frame(t, FRAME_HW, scene, width, height, depth, None)
+    model_frame(t, &frame_hw(), scene, width, height, depth, None)
 }
 
 /// The cycle model's cycles for frame 0 of `scene` on hardware `hw` (RON), and with `txlog`
@@ -754,21 +769,24 @@ fn rtl_write_cycles(text: &str) -> std::collections::BTreeMap<u64, u64> {
 
 /// One frame run: (pixels equal, pixels, RTL cycles, passed, failed, everything printed).
 fn frame_run(sim: &str, dir: &Path, args: &str) -> (u64, u64, u64, u64, u64, String) {
-    frame_run_with(sim, dir, args, "")
+    frame_run_with(sim, dir, args, None)
 }
 
-/// [`frame_run`] with tb_frame's parameters `params` (run.sh's `FRAME_PARAMS`).
+/// [`frame_run`] on the hardware package `pkg` (run.sh's `FRAME_HW_PKG`; `None`: the
+/// committed testbench/hw/frame_hw_pkg.sv).
 fn frame_run_with(
     sim: &str,
     dir: &Path,
     args: &str,
-    params: &str,
+    pkg: Option<&Path>,
 ) -> (u64, u64, u64, u64, u64, String) {
     let d = dir.to_string_lossy();
-    let (_, text) = run_sh(
-        &["--sim", sim, &d, "frame"],
-        &[("FRAME_ARGS", args), ("FRAME_PARAMS", params)],
-    );
+    let pkg = pkg.map(|p| p.display().to_string());
+    let mut env = vec![("FRAME_ARGS", args)];
+    if let Some(p) = &pkg {
+        env.push(("FRAME_HW_PKG", p.as_str()));
+    }
+    let (_, text) = run_sh(&["--sim", sim, &d, "frame"], &env);
     let summary = text.lines().find(|l| l.starts_with("frame: ")).map(numbers);
     let last = text
         .lines()
@@ -980,20 +998,25 @@ fn frame_writes_land_in_the_models_cycles_for_both_write_paths() {
     let r = run_sim(&args, None, Duration::from_secs(300));
     assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
     let dir = t.dir.join("mc");
+    let one_path = frame_hw_one_path();
     let designs = [
-        ("two banks, check first", FRAME_HW, ""),
-        ("one path", FRAME_HW_ONE_PATH, FRAME_PARAMS_ONE_PATH),
+        ("two banks, check first", frame_hw(), None),
+        (
+            "one path",
+            one_path.clone(),
+            Some(hw_package(&t, "one_path", &one_path)),
+        ),
     ];
     let mut logs = Vec::new();
-    for (name, hw, params) in designs {
-        let log = t.dir.join(format!("{}.jsonl", params.len()));
+    for (i, (name, hw, pkg)) in designs.iter().enumerate() {
+        let log = t.dir.join(format!("{i}.jsonl"));
         let model = model_frame(&t, hw, Some(mc), "16", "10", "4", Some(&log));
         let want = model_write_cycles(&log);
         let (equal, pixels, rtl, _, failed, text) = frame_run_with(
             sim,
             &dir,
             &format!("+model_cycles={model} +latency={FRAME_MEM_LATENCY} +write_log"),
-            params,
+            pkg.as_deref(),
         );
         let got = rtl_write_cycles(&text);
         let differ: Vec<_> = want.iter().filter(|(p, c)| got.get(p) != Some(c)).collect();
@@ -1030,6 +1053,93 @@ fn frame_writes_land_in_the_models_cycles_for_both_write_paths() {
         "the scene does not tell the designs apart"
     );
     assert_eq!(wrong, designs_differ);
+}
+
+/// The committed hardware packages are what `sim hardware --sv-package` writes from their
+/// files today: testbench/hw/svo_hw_pkg.sv from the default hardware, frame_hw_pkg.sv from
+/// frame_hw.ron. A change of the default or of the schema that is not regenerated fails here,
+/// naming the file and the first line that differs.
+#[test]
+fn committed_hardware_packages_are_generated_from_their_files() {
+    let t = Tmp::new("hw_packages");
+    let dir = repo().join("testbench/hw");
+    let frame_ron = dir.join("frame_hw.ron").display().to_string();
+    for (committed, hw) in [
+        ("svo_hw_pkg.sv", None),
+        ("frame_hw_pkg.sv", Some(frame_ron.as_str())),
+    ] {
+        let out = t.p(committed);
+        let mut args = vec!["hardware", "--sv-package", &out];
+        if let Some(h) = hw {
+            args.extend(["--hw", h]);
+        }
+        let regen = match hw {
+            Some(_) => format!(
+                "sim hardware --hw testbench/hw/frame_hw.ron --sv-package testbench/hw/{committed}"
+            ),
+            None => format!("sim hardware --sv-package testbench/hw/{committed}"),
+        };
+        let r = run_sim(&args, None, Duration::from_secs(120));
+        assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+        let fresh = std::fs::read_to_string(&out).expect("read the fresh package");
+        let have =
+            std::fs::read_to_string(dir.join(committed)).expect("read the committed package");
+        if let Some((i, (a, b))) = have
+            .lines()
+            .zip(fresh.lines())
+            .enumerate()
+            .find(|(_, (a, b))| a != b)
+        {
+            panic!(
+                "testbench/hw/{committed} is stale at line {}: committed {a:?}, generated {b:?} (regenerate: {regen})",
+                i + 1
+            );
+        }
+        assert_eq!(
+            have, fresh,
+            "testbench/hw/{committed} differs in length (regenerate it)"
+        );
+        println!(
+            "testbench/hw/{committed}: equal to `sim {}`",
+            args.join(" ")
+        );
+    }
+}
+
+/// A hardware package the frame top cannot build stops it with the field named: two walkers
+/// (tb_frame builds one walker with one context), never run as if it were one.
+#[test]
+fn a_package_field_the_frame_cannot_build_stops_it() {
+    let Some(&sim) = simulators().first() else {
+        return;
+    };
+    let t = Tmp::new("frame_refuses");
+    let one = "walker_pool: (walkers: 1, contexts_per_walker: 1)";
+    let hw = frame_hw();
+    assert!(hw.contains(one), "frame_hw.ron no longer names {one}");
+    let pkg = hw_package(
+        &t,
+        "two_walkers",
+        &hw.replace(one, "walker_pool: (walkers: 2, contexts_per_walker: 1)"),
+    );
+    let golden = repo().join("vectors").display().to_string();
+    let p = pkg.display().to_string();
+    let (_, text) = run_sh(
+        &["--sim", sim, &golden, "frame"],
+        &[
+            ("FRAME_ARGS", "+model_cycles=1 +latency=3"),
+            ("FRAME_HW_PKG", &p),
+        ],
+    );
+    let want = "tb_frame: the hardware package has walker_pool.walkers = 2; this top builds 1";
+    println!(
+        "frame on a two-walker package ({sim}): {}",
+        text.lines()
+            .find(|l| l.contains("tb_frame:"))
+            .unwrap_or("(no line)")
+    );
+    assert!(text.contains(want), "no \"{want}\":\n{text}");
+    assert!(!text.contains(" passed, 0 failed\n== "), "{text}");
 }
 
 /// The RTL's latencies read from its source, with no simulator: each module's `LATENCY`

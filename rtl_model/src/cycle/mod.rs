@@ -8,6 +8,7 @@ pub mod clocked;
 pub mod completion_wheel;
 pub mod fifo;
 pub mod hw_config;
+pub mod hw_package;
 pub mod memory;
 pub mod part;
 pub mod ray_order;

@@ -2,12 +2,16 @@
 //! and passes back with `--hw`) with its resource estimate against the part; the text is
 //! `svo_sim::output::config_text`. With `--synth` it also synthesises the RTL units with Yosys
 //! (`svo_sim::studies::synthesis`) and prints them beside the estimate, with the logic levels
-//! and the clock verdict; a line per unit as it starts and finishes goes to stderr.
+//! and the clock verdict; a line per unit as it starts and finishes goes to stderr. With
+//! `--sv-package FILE` it writes the configuration as a SystemVerilog package instead
+//! (`rtl_model::cycle::hw_package`), the RTL's copy of the same numbers.
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use rtl_model::cycle::hw_package::hardware_package;
 use std::path::PathBuf;
 use svo_sim::output::config_text::hardware_text;
+use svo_sim::output::writer::write_whole;
 use svo_sim::run::config_files::{load_datapath, load_hardware};
 use svo_sim::studies::synthesis::{self, text, SynthOptions};
 
@@ -37,12 +41,47 @@ pub struct HardwareArgs {
     /// With --synth: units synthesised at a time.
     #[arg(long, value_name = "N", default_value_t = 2, requires = "synth")]
     jobs: usize,
+    /// Write the configuration as a SystemVerilog package to FILE (`-`: standard output)
+    /// instead of printing it: every field a constant named by its path (e.g.
+    /// WALKER_POOL_WALKERS), then the derived WALK_LANES, RAY_SLOTS, CHECK_LATENCY
+    /// (testbench/README.md, "The hardware package").
+    #[arg(long, value_name = "FILE", conflicts_with = "synth")]
+    sv_package: Option<PathBuf>,
+    /// With --sv-package: the package's name.
+    #[arg(
+        long,
+        value_name = "NAME",
+        default_value = "svo_hw_pkg",
+        requires = "sv_package"
+    )]
+    package_name: String,
 }
 
 /// Runs `sim hardware`.
 pub fn hardware_command(a: HardwareArgs) -> Result<()> {
     let hw = load_hardware(a.hw.as_deref())?;
     let dp = load_datapath(a.datapath.as_deref())?;
+    if let Some(out) = &a.sv_package {
+        let source = a.hw.as_ref().map_or_else(
+            || "the default hardware".to_string(),
+            |p| {
+                p.file_name()
+                    .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+            },
+        );
+        // The datapath must agree with the hardware (the sorter's lanes), as for a run.
+        if let Err(m) = hw.validate_for(&dp) {
+            bail!("the hardware does not fit the datapath: {m}");
+        }
+        let text = hardware_package(&hw, &a.package_name, &source)?;
+        if out.as_os_str() == "-" {
+            print!("{text}");
+        } else {
+            write_whole(out, text.as_bytes())
+                .with_context(|| format!("writing {}", out.display()))?;
+        }
+        return Ok(());
+    }
     let (config, estimate) = hardware_text(&hw, &dp);
     print!("{config}");
     print!("{}", estimate?);

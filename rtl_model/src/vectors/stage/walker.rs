@@ -491,40 +491,6 @@ impl WalkerStage {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn walks_and_visits_agree() {
-        let st =
-            WalkerStage::new(&DatapathConfig::default(), Vec::new()).expect("synthetic images");
-        let (walks, visits) = st.build(&[], 50, 1).expect("timed");
-        let (l, vl) = (st.layout(), WalkerStage::visit_layout());
-        let mut hits = 0;
-        let mut total_visits = 0;
-        for (i, w) in walks.rows.iter().enumerate() {
-            let first = l.read(w, "visits_first").unwrap_or(-1) as usize;
-            let n = l.read(w, "visits_count").unwrap_or(-1) as usize;
-            assert_eq!(first, total_visits);
-            total_visits += n;
-            for v in &visits.rows[first..first + n] {
-                assert_eq!(vl.read(v, "walk"), Some(i as i128));
-            }
-            if l.read(w, "outcome") == Some(1) {
-                hits += 1;
-                // The last node entered is the hit leaf.
-                let last = &visits.rows[first + n - 1];
-                assert_eq!(vl.read(last, "x"), l.read(w, "voxel_x"));
-                assert_eq!(vl.read(last, "level"), l.read(w, "level"));
-            }
-        }
-        assert_eq!(total_visits, visits.rows.len());
-        assert!(hits > 20, "{hits} hits");
-        assert!(walks.count(Origin::Adversarial) > 100);
-    }
-}
-
 /// The input fields of a walk, per axis: local origin, 1/|d|, the zero and negative flags and
 /// the box's half extent. The walker's rows and the walker root's (`walker_root.rs`, the same
 /// walks) share them field for field.
@@ -561,5 +527,39 @@ pub(super) fn walk_input_fields(l: &mut Layout, c: &WalkerConfig) {
             c.pos,
             "half extent of the octree's box, m",
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn walks_and_visits_agree() {
+        let st =
+            WalkerStage::new(&DatapathConfig::default(), Vec::new()).expect("synthetic images");
+        let (walks, visits) = st.build(&[], 50, 1).expect("timed");
+        let (l, vl) = (st.layout(), WalkerStage::visit_layout());
+        let mut hits = 0;
+        let mut total_visits = 0;
+        for (i, w) in walks.rows.iter().enumerate() {
+            let first = l.read(w, "visits_first").unwrap_or(-1) as usize;
+            let n = l.read(w, "visits_count").unwrap_or(-1) as usize;
+            assert_eq!(first, total_visits);
+            total_visits += n;
+            for v in &visits.rows[first..first + n] {
+                assert_eq!(vl.read(v, "walk"), Some(i as i128));
+            }
+            if l.read(w, "outcome") == Some(1) {
+                hits += 1;
+                // The last node entered is the hit leaf.
+                let last = &visits.rows[first + n - 1];
+                assert_eq!(vl.read(last, "x"), l.read(w, "voxel_x"));
+                assert_eq!(vl.read(last, "level"), l.read(w, "level"));
+            }
+        }
+        assert_eq!(total_visits, visits.rows.len());
+        assert!(hits > 20, "{hits} hits");
+        assert!(walks.count(Origin::Adversarial) > 100);
     }
 }

@@ -1,0 +1,199 @@
+// svo_core: the accelerator as one piece of RTL, for one walk-issue lane and one walker of one
+// context: svo_front → svo_hit_buffer → svo_walk → back into the hit buffer, every joint
+// valid/ready with back-pressure, the cycle model's FIFOs and pipes between the units.
+//
+// Pipeline position: all of docs/cycle-model.md §2.1, raygen to the hit-buffer write. What it
+// takes from outside (the host's side, as the register block and memories of a board would
+// give it): the direction table (`dir_pixel` → `dir_f64`, read in the cycle), the camera,
+// the instance registers (lane k = instance k), the frame's reuse flags and miss word, the
+// record's normal (`nrm_*`: the model computes it in f64 on the host path), and the node
+// memory behind one read port. What it gives: the hit-buffer writes, one per bank and cycle
+// (`wr_*`: the record FIFO's head; `wr1_*`: the check's word; `wr2_*`: a second record), which
+// are the frame's pixel stream; the rays the check stage takes and each ray's walk results
+// (`chk_*`, `done_*`), for checking; sticky errors and overflow flags.
+//
+// Cycle-exact with the cycle model on the hardware of testbench/hw/frame_hw.ron (tb_frame.sv,
+// tests/testbench_icarus.rs): the frame's cycles and every pixel's write cycle equal the
+// model's. The walker pool of W walkers × R contexts, the node memory of the default hardware
+// (banks, cache, MSHRs, DRAM) and the AXI host interfaces are not here yet (issue 29).
+`timescale 1ns/1ps
+`default_nettype none
+module svo_core #(
+    parameter LANES    = 8,
+    parameter NPIX     = 768,                     // the hit buffer's pixels
+    parameter AW       = 10,                      // hit-buffer address bits
+    parameter PIXW     = 32,
+    parameter SLOTS    = 65,
+    parameter TAGW     = 7,
+    parameter PW       = 40,
+    parameter TW       = 62,
+    parameter POS_FRAC = 32,
+    parameter INV_W    = 52,
+    parameter INV_FRAC = 30,
+    parameter T_FRAC   = 31,
+    parameter ROOT_PROD = 4,
+    parameter STACK_DEPTH  = 21,
+    parameter MAX_STEPS    = 100000,
+    parameter STEP_LATENCY = 3,
+    parameter RG_L     = 4,
+    parameter SP_L     = 48,
+    parameter SO_N     = 8,
+    parameter SO_D     = 6,
+    parameter SO_S     = SO_N / 2,
+    parameter [SO_D*SO_S*16-1:0] SO_PAIRS = {(SO_D*SO_S*16){1'b0}},
+    parameter SO_MAX_KEYS = 2 * SO_N,
+    parameter TR_L     = 9,
+    parameter RC_L     = 26,
+    parameter RT_L     = 8,
+    parameter HB_READ  = 4,
+    parameter WRITE_PORTS   = 2,
+    parameter RECORD_WRITES = 2,
+    parameter D_RG_SP  = 4,
+    parameter D_SP_SO  = 4,
+    parameter D_SO_CK  = 8,
+    parameter D_CK_TR  = 1024,
+    parameter D_TR_RC  = 4,
+    parameter D_RC_RT  = 4,
+    parameter D_RT_DP  = 64,
+    parameter D_WK_RC  = 16,
+    parameter D_RC_WR  = 8
+) (
+    input  wire                    clk,
+    input  wire                    rst,
+    input  wire                    run,
+    input  wire [PIXW-1:0]         npix,
+    // host: direction table and camera
+    output wire [PIXW-1:0]         dir_pixel,
+    input  wire [3*64-1:0]         dir_f64,
+    input  wire [3*64-1:0]         origin_f64,
+    input  wire [3*PW-1:0]         cam_o,
+    // host: instance registers
+    input  wire [LANES*120-1:0]    inst_c,
+    input  wire [LANES*64-1:0]     inst_threshold,
+    input  wire [LANES*64-1:0]     inst_inside,
+    input  wire [LANES*34-1:0]     inst_delta_t,
+    input  wire [LANES*40-1:0]     inst_reach,
+    input  wire [LANES*80-1:0]     inst_reach2,
+    input  wire [LANES*288-1:0]    inst_axes,
+    input  wire [LANES*120-1:0]    inst_half,
+    input  wire [LANES*32-1:0]     inst_node_base,
+    input  wire [LANES*32-1:0]     inst_attr_base,
+    input  wire [LANES-1:0]        lane_used,
+    // host: the frame's reuse flags and the word of a ray without candidates
+    input  wire                    buffer_valid,
+    input  wire                    camera_dirty,
+    input  wire [LANES-1:0]        instance_dirty,
+    input  wire [71:0]             miss_word,
+    // the record's normal
+    output wire [7:0]              nrm_inst,
+    output wire [31:0]             nrm_oct,
+    input  wire [15:0]             nrm,
+    // node memory
+    output wire                    mem_req_valid,
+    input  wire                    mem_req_ready,
+    output wire                    mem_req_attr,
+    output wire [31:0]             mem_req_addr,
+    input  wire                    mem_resp_valid,
+    input  wire [63:0]             mem_resp_data,
+    // the pixel stream: the hit buffer's writes
+    output wire                    wr_valid,
+    output wire [PIXW-1:0]         wr_pixel,
+    output wire [71:0]             wr_word,
+    output wire                    wr_direct,
+    output wire                    wr1_valid,
+    output wire [PIXW-1:0]         wr1_pixel,
+    output wire [71:0]             wr1_word,
+    output wire                    wr2_valid,
+    output wire [PIXW-1:0]         wr2_pixel,
+    output wire [71:0]             wr2_word,
+    // for checking: the rays the check stage takes, and each ray's walk results
+    output wire                    chk_valid,
+    output wire [PIXW-1:0]         chk_pixel,
+    output wire [95:0]             chk_dir,
+    output wire [5:0]              chk_count,
+    output wire                    done_valid,
+    output wire [PIXW-1:0]         done_pixel,
+    output wire [15:0]             done_walks,
+    output wire                    done_hit,
+    output wire [TW-1:0]           done_t,
+    output wire [59:0]             done_voxel,
+    // events and sticky flags
+    output wire                    ev_reused,
+    output wire                    ev_write_stall,
+    output wire                    ev_walk_stall,
+    output wire                    ev_bank_conflict,
+    output wire                    err_pipe,
+    output wire                    err_overflow,
+    output wire                    err_pixel
+);
+    localparam PAYW = 96 + 6 + LANES * 40;
+    localparam SO_CW = 6;
+
+    // ---------------------------------------------------------------- front end
+    wire fr_valid, hb_in_ready, fr_err_pipe, fr_err_ov;
+    wire [PIXW-1:0] fr_pixel;
+    wire [95:0] fr_dir;
+    wire [SO_CW-1:0] fr_count;
+    wire [LANES*40-1:0] fr_keys;
+    svo_front #(.LANES(LANES), .PIXW(PIXW), .RG_L(RG_L), .SP_L(SP_L), .SO_N(SO_N), .SO_D(SO_D),
+        .SO_S(SO_S), .SO_PAIRS(SO_PAIRS), .SO_MAX_KEYS(SO_MAX_KEYS), .SO_CW(SO_CW),
+        .D_RG_SP(D_RG_SP), .D_SP_SO(D_SP_SO), .D_SO_CK(D_SO_CK))
+        u_front (.clk(clk), .rst(rst), .run(run), .npix(npix), .dir_pixel(dir_pixel),
+        .dir_f64(dir_f64), .origin_f64(origin_f64), .cam_o(cam_o), .inst_c(inst_c),
+        .inst_threshold(inst_threshold), .inst_inside(inst_inside),
+        .inst_delta_t(inst_delta_t), .inst_reach(inst_reach), .inst_reach2(inst_reach2),
+        .lane_used(lane_used), .out_valid(fr_valid), .out_ready(hb_in_ready),
+        .out_pixel(fr_pixel), .out_dir(fr_dir), .out_count(fr_count), .out_keys(fr_keys),
+        .err_pipe(fr_err_pipe), .err_overflow(fr_err_ov));
+    assign chk_valid = fr_valid && hb_in_ready;
+    assign chk_pixel = fr_pixel;
+    assign chk_dir = fr_dir;
+    assign chk_count = fr_count;
+
+    // ---------------------------------------------------------------- hit buffer
+    wire hb_walk_valid, hb_walk_ready, rec_valid, rec_ready;
+    wire [PIXW-1:0] hb_walk_pixel, rec_pixel;
+    wire [PAYW-1:0] hb_walk_payload;
+    wire [71:0] rec_word;
+    svo_hit_buffer #(.NPIX(NPIX), .AW(AW), .PIXW(PIXW), .INSTANCES(LANES), .HB_READ(HB_READ),
+        .PAYW(PAYW), .WR_DEPTH(D_RC_WR), .WRITE_PORTS(WRITE_PORTS),
+        .RECORD_WRITES(RECORD_WRITES))
+    u_hit_buffer (.clk(clk), .rst(rst), .buffer_valid(buffer_valid),
+        .camera_dirty(camera_dirty), .instance_dirty(instance_dirty), .miss_word(miss_word),
+        .in_valid(fr_valid), .in_ready(hb_in_ready), .in_pixel(fr_pixel),
+        .in_candidates({{(16-SO_CW){1'b0}}, fr_count}),
+        .in_candidate(fr_count == 6'd1 ? {8'd0, fr_keys[39:32]} : 16'd0),
+        .in_payload({fr_dir, fr_count, fr_keys}), .walk_valid(hb_walk_valid),
+        .walk_ready(hb_walk_ready), .walk_pixel(hb_walk_pixel), .walk_payload(hb_walk_payload),
+        .rec_valid(rec_valid), .rec_ready(rec_ready), .rec_pixel(rec_pixel),
+        .rec_word(rec_word), .wr_valid(wr_valid), .wr_pixel(wr_pixel), .wr_word(wr_word),
+        .wr_direct(wr_direct), .wr1_valid(wr1_valid), .wr1_pixel(wr1_pixel),
+        .wr1_word(wr1_word), .wr2_valid(wr2_valid), .wr2_pixel(wr2_pixel), .wr2_word(wr2_word),
+        .ev_reused(ev_reused), .ev_write_stall(ev_write_stall), .ev_walk_stall(ev_walk_stall),
+        .ev_bank_conflict(ev_bank_conflict), .err_pixel(err_pixel));
+
+    // ---------------------------------------------------------------- walk section
+    wire wk_err_pipe, wk_err_ov;
+    svo_walk #(.LANES(LANES), .PIXW(PIXW), .SLOTS(SLOTS), .TAGW(TAGW), .PW(PW), .TW(TW),
+        .POS_FRAC(POS_FRAC), .INV_W(INV_W), .INV_FRAC(INV_FRAC), .T_FRAC(T_FRAC),
+        .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
+        .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
+        .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
+        .D_WK_RC(D_WK_RC))
+    u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .inst_axes(inst_axes), .inst_c(inst_c),
+        .inst_half(inst_half), .inst_node_base(inst_node_base),
+        .inst_attr_base(inst_attr_base), .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
+        .in_pixel(hb_walk_pixel), .in_dir(hb_walk_payload[PAYW-1 -: 96]),
+        .in_count(hb_walk_payload[LANES*40 +: 6]), .in_keys(hb_walk_payload[LANES*40-1:0]),
+        .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
+        .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
+        .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data), .nrm_inst(nrm_inst),
+        .nrm_oct(nrm_oct), .nrm(nrm), .rec_valid(rec_valid), .rec_ready(rec_ready),
+        .rec_pixel(rec_pixel), .rec_word(rec_word), .done_valid(done_valid),
+        .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
+        .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov));
+
+    assign err_pipe = fr_err_pipe || wk_err_pipe;
+    assign err_overflow = fr_err_ov || wk_err_ov;
+endmodule
+`default_nettype wire

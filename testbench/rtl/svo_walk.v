@@ -1,0 +1,423 @@
+// svo_walk: the walk section for one walk-issue lane and one walker of one context, from
+// check_to_transform to the record stage's word: the ray slots, the transform with the
+// loop-back before new rays, the three reciprocals, the walker root, the walker and its memory
+// port, the record stage's decision (early termination, the best hit) and svo_hit_pack.
+//
+// Pipeline position: docs/cycle-model.md §2.1, check_to_transform → transform →
+// transform_to_reciprocal → reciprocal → reciprocal_to_root → root → root_to_dispatch →
+// walker → walker_to_record → record → loop_back (the next candidate) or the hit buffer's
+// record port. Cycle-exact with the model's stages (src/models/cycle/stages/transform.rs,
+// passthrough.rs, walkers.rs, record.rs) on hardware of one lane (transform_units 1,
+// reciprocal_units 3, walker_root_units 1) and walker_pool (walkers 1, contexts 1): every
+// joint an svo_fifo of the model's depth, every fixed-latency unit in an svo_elastic pipe of
+// its latency, and within a cycle the consumers decide first (the record frees a slot the
+// transform can take in the same cycle; the loop-back FIFO and every other joint pass an item
+// a cycle later).
+//
+// A ray arrives from the check stage with its direction and its sorted candidates (count and
+// keys {instance 8, t_enter uQ10.22}) and takes the lowest free ray slot (SLOTS = walkers x
+// contexts + root_to_dispatch); the slot holds it until its record leaves for packing. Each
+// walk of the ray is one candidate, front to back: the record stage sends the next one back
+// through loop_back unless the best hit so far ends the ray (FramePlan::stops: best t <= the
+// next candidate's entry). The instance registers (`inst_*`, lane k = instance k) give the
+// transform's axes and centre, the root's half extents and the walker's image bases.
+//
+// The record's normal is the host's (the model computes it in f64, FramePlan::finish): the
+// record stage asks `nrm_inst`/`nrm_oct` and takes `nrm` ({v, u}, 8 bits each) in the same
+// cycle. `done_*` shows each ray's walk results when its record is decided (for checking).
+// Sticky `err_pipe`: a unit result without its slot, or the loop-back FIFO refusing a walk
+// (never expected: it has one entry per slot). Sticky `err_overflow`: a transform, reciprocal
+// or pack overflow flag (the datapath saturated, which the model counts: reported). Reciprocal seed ROMs: recip[k].u_recip.rom,
+// loaded by the host as for svo_reciprocal.
+`timescale 1ns/1ps
+`default_nettype none
+module svo_walk #(
+    parameter LANES     = 8,          // instance registers
+    parameter PIXW      = 32,
+    parameter SLOTS     = 65,
+    parameter TAGW      = 7,          // ray-slot tag bits: 2^TAGW >= SLOTS
+    parameter PW        = 40,         // positions sQ8.32
+    parameter TW        = 62,         // walker t sQ31.31
+    parameter POS_FRAC  = 32,
+    parameter INV_W     = 52,
+    parameter INV_FRAC  = 30,
+    parameter T_FRAC    = 31,
+    parameter ROOT_PROD = 4,
+    parameter STACK_DEPTH  = 21,
+    parameter MAX_STEPS    = 100000,
+    parameter STEP_LATENCY = 3,
+    parameter TR_L      = 9,          // svo_transform's LATENCY
+    parameter RC_L      = 26,         // svo_reciprocal's
+    parameter RT_L      = 8,          // svo_walker_root's
+    parameter D_CK_TR   = 1024,       // fifos.check_to_transform
+    parameter D_TR_RC   = 4,
+    parameter D_RC_RT   = 4,
+    parameter D_RT_DP   = 64,
+    parameter D_WK_RC   = 16
+) (
+    input  wire                    clk,
+    input  wire                    rst,
+    input  wire [3*PW-1:0]         cam_o,
+    input  wire [LANES*288-1:0]    inst_axes,
+    input  wire [LANES*120-1:0]    inst_c,
+    input  wire [LANES*120-1:0]    inst_half,
+    input  wire [LANES*32-1:0]     inst_node_base,
+    input  wire [LANES*32-1:0]     inst_attr_base,
+    // rays to walk, from the check stage
+    input  wire                    in_valid,
+    output wire                    in_ready,
+    input  wire [PIXW-1:0]         in_pixel,
+    input  wire [95:0]             in_dir,
+    input  wire [5:0]              in_count,
+    input  wire [LANES*40-1:0]     in_keys,
+    // the node memory
+    output wire                    mem_req_valid,
+    input  wire                    mem_req_ready,
+    output wire                    mem_req_attr,
+    output wire [31:0]             mem_req_addr,
+    input  wire                    mem_resp_valid,
+    input  wire [63:0]             mem_resp_data,
+    // the host's normal of a hit
+    output wire [7:0]              nrm_inst,
+    output wire [31:0]             nrm_oct,
+    input  wire [15:0]             nrm,
+    // records to the hit buffer
+    output wire                    rec_valid,
+    input  wire                    rec_ready,
+    output wire [PIXW-1:0]         rec_pixel,
+    output wire [71:0]             rec_word,
+    // a ray's walk results, when its record is decided
+    output wire                    done_valid,
+    output wire [PIXW-1:0]         done_pixel,
+    output wire [15:0]             done_walks,
+    output wire                    done_hit,
+    output wire [TW-1:0]           done_t,
+    output wire [59:0]             done_voxel,
+    output reg                     err_pipe,
+    output reg                     err_overflow  // a transform, reciprocal or pack flag (sticky)
+);
+    localparam TI = TW + 1;
+    localparam KEYS = LANES * 40;
+    localparam RAY = PIXW + 96 + 6 + KEYS;
+    localparam RTB = 1 + 2 * 3 * TI + 3 * (PW + 1) + 3 * PW + 3 + 3 + TAGW;   // root bundle
+    localparam IX = LANES > 1 ? $clog2(LANES) : 1;
+
+    generate
+        if ((1 << TAGW) < SLOTS || SLOTS < 2) begin : bad_slots
+            svo_walk_TAGW_must_address_SLOTS bad();
+        end
+    endgenerate
+
+    // ---------------------------------------------------------------- the ray slots
+    reg [PIXW-1:0]  s_pixel [0:SLOTS-1];
+    reg [95:0]      s_dir   [0:SLOTS-1];
+    reg [5:0]       s_count [0:SLOTS-1];
+    reg [KEYS-1:0]  s_keys  [0:SLOTS-1];
+    reg [5:0]       s_cand  [0:SLOTS-1];
+    reg [15:0]      s_walks [0:SLOTS-1];
+    reg             s_best  [0:SLOTS-1];
+    reg [TW-1:0]    s_t     [0:SLOTS-1];
+    reg [63:0]      s_attr  [0:SLOTS-1];
+    reg [59:0]      s_voxel [0:SLOTS-1];
+    reg [7:0]       s_inst  [0:SLOTS-1];
+    reg [3*PW-1:0]  s_o     [0:SLOTS-1];
+    reg [95:0]      s_d     [0:SLOTS-1];
+    reg [2:0]       s_sign  [0:SLOTS-1];
+    reg [3*INV_W-1:0] s_inv [0:SLOTS-1];
+    reg [2:0]       s_zero  [0:SLOTS-1];
+    reg [2:0]       s_neg   [0:SLOTS-1];
+    reg [SLOTS-1:0] free;
+    // The instance of slot s's current candidate.
+    // Candidates come from the LANES sphere lanes, so an instance id is below LANES: the
+    // registers are indexed by its low IX bits (the upper ones are zero).
+    function automatic [7:0] cand_inst(input [KEYS-1:0] keys, input [5:0] c);
+        cand_inst = keys[c * 40 + 32 +: 8];
+    endfunction
+
+    // ---------------------------------------------------------------- record (first)
+    wire wr_valid;                                // walker_to_record's head
+    wire [TAGW-1:0] wr_slot;
+    wire pk_in_ready;
+    wire rc_take = wr_valid && pk_in_ready;       // the record decides on the head
+    wire [SLOTS-1:0] one = {{(SLOTS-1){1'b0}}, 1'b1};
+    wire [5:0] r_cand = s_cand[wr_slot];
+    wire [5:0] r_next = r_cand + 6'd1;
+    wire [31:0] r_next_key = s_keys[wr_slot][r_next * 40 +: 32];
+    // FramePlan::stops: best t (sQ31.31) <= the next key (uQ10.22 → 9 more fraction bits).
+    wire signed [TW+1:0] r_a = $signed({{2{s_t[wr_slot][TW-1]}}, s_t[wr_slot]});
+    wire signed [TW+1:0] r_b = $signed({{(TW+2-32-9){1'b0}}, r_next_key, 9'd0});
+    wire r_more = r_next < s_count[wr_slot] && !(s_best[wr_slot] && r_a <= r_b);
+    wire r_loop = rc_take && r_more;
+    wire r_pack = rc_take && !r_more;
+    wire [SLOTS-1:0] released = r_pack ? (one << wr_slot) : {SLOTS{1'b0}};
+    assign nrm_inst = s_inst[wr_slot];
+    assign nrm_oct = s_attr[wr_slot][63:32];
+    assign done_valid = r_pack;
+    assign done_pixel = s_pixel[wr_slot];
+    assign done_walks = s_walks[wr_slot] + 16'd1;
+    assign done_hit = s_best[wr_slot];
+    assign done_t = s_t[wr_slot];
+    assign done_voxel = s_voxel[wr_slot];
+
+    // svo_hit_pack in its pipe (capacity 1), the pixel beside it.
+    wire pk_u_valid, pk_ov;
+    wire [71:0] pk_word;
+    // sQ31.31 → uQ8.14, truncated (an arithmetic shift); no hit: RecordT::far.
+    wire signed [63:0] pk_t_hit = $signed({{(64-TW){s_t[wr_slot][TW-1]}}, s_t[wr_slot]}) >>> 17;
+    wire [63:0] pk_t = s_best[wr_slot] ? pk_t_hit : 64'h3fffff;
+    svo_hit_pack u_pack (.clk(clk), .rst(rst), .in_valid(r_pack),
+        .in_kind(s_count[wr_slot] == 6'd1 ? 2'd1 : 2'd2),
+        .in_instance_valid(s_best[wr_slot]),
+        .in_instance(s_best[wr_slot] ? {8'd0, s_inst[wr_slot]} : 16'd0), .in_t(pk_t),
+        .in_normal_u(s_best[wr_slot] ? {{24{nrm[7]}}, nrm[7:0]} : 32'd0),
+        .in_normal_v(s_best[wr_slot] ? {{24{nrm[15]}}, nrm[15:8]} : 32'd0),
+        .in_colour_r(s_best[wr_slot] ? s_attr[wr_slot][7:0] : 8'd0),
+        .in_colour_g(s_best[wr_slot] ? s_attr[wr_slot][15:8] : 8'd0),
+        .in_colour_b(s_best[wr_slot] ? s_attr[wr_slot][23:16] : 8'd0),
+        .out_valid(pk_u_valid), .out_word(pk_word), .out_ov(pk_ov));
+    reg [PIXW-1:0] pk_pixel;                      // the one ray in the pack (latency 1)
+    always @(posedge clk) if (r_pack) pk_pixel <= s_pixel[wr_slot];
+    // The pipe's gate applies to every decision (a loop-back too), as the model's record
+    // stage takes a walk only while its pack lanes can accept.
+    svo_elastic #(.L(1), .W(PIXW + 72)) pk_pipe (.clk(clk), .rst(rst), .in_valid(r_pack),
+        .in_ready(pk_in_ready), .unit_valid(pk_u_valid), .unit_data({pk_pixel, pk_word}),
+        .out_valid(rec_valid), .out_ready(rec_ready), .out_data({rec_pixel, rec_word}));
+
+    // ---------------------------------------------------------------- walker
+    wire dp_valid;                                // root_to_dispatch's head
+    wire [RTB-1:0] dp_data;
+    wire wk_in_ready, wk_out_valid, wk_out_ready;
+    wire [1:0] wk_outcome;
+    wire [TW-1:0] wk_t;
+    wire [59:0] wk_voxel;
+    wire [63:0] wk_attr_data;
+    wire [TAGW-1:0] wk_tag;
+    wire [TAGW-1:0] dp_slot = dp_data[TAGW-1:0];
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [7:0] dp_inst = cand_inst(s_keys[dp_slot], s_cand[dp_slot]);
+    /* verilator lint_on UNUSEDSIGNAL */
+    /* verilator lint_off PINCONNECTEMPTY */
+    svo_walker #(.POS_W(PW), .T_W(TW), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
+        .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAGW)
+    ) u_walker (.clk(clk), .rst(rst), .in_valid(dp_valid), .in_ready(wk_in_ready),
+        .in_enter(dp_data[RTB-1]), .in_t0(dp_data[RTB-2 -: 3*TI]),
+        .in_t1(dp_data[RTB-2-3*TI -: 3*TI]),
+        .in_o(dp_data[3*PW+TAGW+6+3*(PW+1)-1 -: 3*(PW+1)]),
+        .in_half(dp_data[3*PW+TAGW+6-1 -: 3*PW]), .in_zero(dp_data[TAGW+5 -: 3]),
+        .in_neg(dp_data[TAGW+2 -: 3]), .in_node_base(inst_node_base[dp_inst[IX-1:0]*32 +: 32]),
+        .in_attr_base(inst_attr_base[dp_inst[IX-1:0]*32 +: 32]), .in_tag(dp_slot),
+        .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready), .mem_req_attr(mem_req_attr),
+        .mem_req_addr(mem_req_addr), .mem_resp_valid(mem_resp_valid),
+        .mem_resp_data(mem_resp_data), .out_valid(wk_out_valid), .out_ready(wk_out_ready),
+        .out_outcome(wk_outcome), .out_t(wk_t), .out_voxel(wk_voxel), .out_level(),
+        .out_attr(), .out_entry_axis(), .out_steps(), .out_fetches(),
+        .out_attr_data(wk_attr_data), .out_tag(wk_tag), .visit_valid(), .visit_level(),
+        .visit_coords());
+    /* verilator lint_on PINCONNECTEMPTY */
+    wire wk_leave = wk_out_valid && wk_out_ready;
+    wire wk_better = wk_outcome == 2'd1
+                  && (!s_best[wk_tag] || $signed(wk_t) < $signed(s_t[wk_tag]));
+    wire wr_in_ready;
+    assign wk_out_ready = wr_in_ready;
+    /* verilator lint_off PINCONNECTEMPTY */
+    svo_fifo #(.DEPTH(D_WK_RC), .W(TAGW)) walker_to_record (.clk(clk), .rst(rst),
+        .in_valid(wk_out_valid), .in_ready(wr_in_ready), .in_data(wk_tag),
+        .out_valid(wr_valid), .out_ready(rc_take), .out_data(wr_slot), .occupancy());
+    /* verilator lint_on PINCONNECTEMPTY */
+
+    // ---------------------------------------------------------------- root
+    wire rt_in_valid, rt_in_ready, rt_u_valid;
+    wire [TAGW-1:0] rr_slot;                      // reciprocal_to_root's head
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [7:0] rr_inst = cand_inst(s_keys[rr_slot], s_cand[rr_slot]);
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire rt_accept = rt_in_valid && rt_in_ready;
+    wire rt_u_enter;
+    wire [3*TI-1:0] rt_u_t0, rt_u_t1;
+    wire [3*(PW+1)-1:0] rt_u_o;
+    wire [3*PW-1:0] rt_u_half;
+    wire [2:0] rt_u_zero, rt_u_neg;
+    wire [TAGW-1:0] rt_u_tag;
+    svo_walker_root #(.POS_W(PW), .POS_FRAC(POS_FRAC), .INV_W(INV_W), .INV_FRAC(INV_FRAC),
+        .T_W(TW), .T_FRAC(T_FRAC), .PROD(ROOT_PROD), .TAG_W(TAGW)
+    ) u_root (.clk(clk), .rst(rst), .in_valid(rt_accept), .in_o(s_o[rr_slot]),
+        .in_inv(s_inv[rr_slot]), .in_half(inst_half[rr_inst[IX-1:0]*120 +: 120]),
+        .in_zero(s_zero[rr_slot]), .in_neg(s_neg[rr_slot]), .in_tag(rr_slot),
+        .out_valid(rt_u_valid), .out_enter(rt_u_enter), .out_t0(rt_u_t0), .out_t1(rt_u_t1),
+        .out_o(rt_u_o), .out_half(rt_u_half), .out_zero(rt_u_zero), .out_neg(rt_u_neg),
+        .out_tag(rt_u_tag));
+    wire rt_valid, rt_ready;
+    wire [RTB-1:0] rt_data;
+    svo_elastic #(.L(RT_L), .W(RTB)) rt_pipe (.clk(clk), .rst(rst), .in_valid(rt_in_valid),
+        .in_ready(rt_in_ready), .unit_valid(rt_u_valid),
+        .unit_data({rt_u_enter, rt_u_t0, rt_u_t1, rt_u_o, rt_u_half, rt_u_zero, rt_u_neg,
+                    rt_u_tag}),
+        .out_valid(rt_valid), .out_ready(rt_ready), .out_data(rt_data));
+    /* verilator lint_off PINCONNECTEMPTY */
+    svo_fifo #(.DEPTH(D_RT_DP), .W(RTB)) root_to_dispatch (.clk(clk), .rst(rst),
+        .in_valid(rt_valid), .in_ready(rt_ready), .in_data(rt_data), .out_valid(dp_valid),
+        .out_ready(wk_in_ready), .out_data(dp_data), .occupancy());
+    /* verilator lint_on PINCONNECTEMPTY */
+
+    // ---------------------------------------------------------------- reciprocals
+    wire rc_in_valid, rc_in_ready;
+    wire [TAGW-1:0] tr_slot_head;                 // transform_to_reciprocal's head
+    wire rc_accept = rc_in_valid && rc_in_ready;
+    // The three units take the same walks: unit 0's valid stands for all. A flushed result
+    // (|1/d| beyond the format: the zero-axis path) is the walk's, not an error.
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [2:0] rc_u_valid, rc_fl;
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [2:0] rc_u_zero, rc_u_neg, rc_ov;
+    wire [INV_W-1:0] rc_u_inv [0:2];
+    genvar ga;
+    generate
+        for (ga = 0; ga < 3; ga = ga + 1) begin : recip
+            svo_reciprocal u_recip (.clk(clk), .rst(rst), .in_valid(rc_accept),
+                .in_d(s_d[tr_slot_head][ga*32 +: 32]),
+                .in_sign_negative(s_sign[tr_slot_head][ga]), .out_valid(rc_u_valid[ga]),
+                .out_inv(rc_u_inv[ga]), .out_zero(rc_u_zero[ga]), .out_negative(rc_u_neg[ga]),
+                .out_flushed(rc_fl[ga]), .out_ov(rc_ov[ga]));
+        end
+    endgenerate
+    wire [TAGW-1:0] rc_tag;
+    wire rc_tag_valid;
+    /* verilator lint_off PINCONNECTEMPTY */
+    svo_fifo #(.DEPTH(RC_L + 1), .W(TAGW)) rc_tags (.clk(clk), .rst(rst),
+        .in_valid(rc_accept), .in_ready(), .in_data(tr_slot_head), .out_valid(rc_tag_valid),
+        .out_ready(rc_u_valid[0]), .out_data(rc_tag), .occupancy());
+    /* verilator lint_on PINCONNECTEMPTY */
+    wire rc_valid, rc_ready;
+    wire [TAGW-1:0] rc_data;
+    svo_elastic #(.L(RC_L), .W(TAGW)) rc_pipe (.clk(clk), .rst(rst), .in_valid(rc_in_valid),
+        .in_ready(rc_in_ready), .unit_valid(rc_u_valid[0]), .unit_data(rc_tag),
+        .out_valid(rc_valid), .out_ready(rc_ready), .out_data(rc_data));
+    /* verilator lint_off PINCONNECTEMPTY */
+    svo_fifo #(.DEPTH(D_RC_RT), .W(TAGW)) reciprocal_to_root (.clk(clk), .rst(rst),
+        .in_valid(rc_valid), .in_ready(rc_ready), .in_data(rc_data), .out_valid(rt_in_valid),
+        .out_ready(rt_in_ready), .out_data(rr_slot), .occupancy());
+    /* verilator lint_on PINCONNECTEMPTY */
+    // |1/d| for the root (WalkerInput::set_axis), per axis.
+    function automatic [INV_W-1:0] abs_inv(input [INV_W-1:0] v);
+        abs_inv = v[INV_W-1] ? -v : v;
+    endfunction
+
+    // ---------------------------------------------------------------- transform
+    wire lp_valid;                                // loop_back's head
+    wire [TAGW-1:0] lp_slot;
+    wire ck_valid;                                // check_to_transform's head
+    wire [RAY-1:0] ck_data;
+    wire [PIXW-1:0] ck_pixel;
+    wire [95:0] ck_dir;
+    wire [5:0] ck_count;
+    wire [KEYS-1:0] ck_keys;
+    assign {ck_pixel, ck_dir, ck_count, ck_keys} = ck_data;
+    // The lowest free slot, counting the one the record frees in this cycle.
+    wire [SLOTS-1:0] free_now = free | released;
+    reg [TAGW-1:0] lowest;
+    integer si;
+    always @* begin
+        lowest = {TAGW{1'b0}};
+        for (si = SLOTS - 1; si >= 0; si = si - 1)
+            if (free_now[si]) lowest = si[TAGW-1:0];
+    end
+    wire tr_in_ready, tr_u_valid, tr_ov_o, tr_ov_d;
+    wire take_loop = lp_valid;
+    wire take_new = !lp_valid && ck_valid && |free_now;
+    wire tr_in_valid = take_loop || take_new;
+    wire tr_accept = tr_in_valid && tr_in_ready;
+    wire [TAGW-1:0] tr_slot = take_loop ? lp_slot : lowest;
+    wire [95:0] tr_dir = take_loop ? s_dir[lp_slot] : ck_dir;
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [7:0] tr_inst = take_loop ? cand_inst(s_keys[lp_slot], s_cand[lp_slot])
+                                   : cand_inst(ck_keys, 6'd0);
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [3*PW-1:0] tr_u_o;
+    wire [95:0] tr_u_d;
+    wire [2:0] tr_u_sign;
+    svo_transform u_transform (.clk(clk), .rst(rst), .in_valid(tr_accept), .in_o(cam_o),
+        .in_d(tr_dir), .in_axes(inst_axes[tr_inst[IX-1:0]*288 +: 288]),
+        .in_c(inst_c[tr_inst[IX-1:0]*120 +: 120]), .out_valid(tr_u_valid), .out_o(tr_u_o),
+        .out_d(tr_u_d), .out_sign(tr_u_sign), .out_ov_origin(tr_ov_o), .out_ov_dir(tr_ov_d));
+    wire [TAGW-1:0] tr_tag;
+    wire tr_tag_valid;
+    /* verilator lint_off PINCONNECTEMPTY */
+    svo_fifo #(.DEPTH(TR_L + 1), .W(TAGW)) tr_tags (.clk(clk), .rst(rst),
+        .in_valid(tr_accept), .in_ready(), .in_data(tr_slot), .out_valid(tr_tag_valid),
+        .out_ready(tr_u_valid), .out_data(tr_tag), .occupancy());
+    /* verilator lint_on PINCONNECTEMPTY */
+    wire tr_valid, tr_ready;
+    wire [TAGW-1:0] tr_data;
+    svo_elastic #(.L(TR_L), .W(TAGW)) tr_pipe (.clk(clk), .rst(rst), .in_valid(tr_in_valid),
+        .in_ready(tr_in_ready), .unit_valid(tr_u_valid), .unit_data(tr_tag),
+        .out_valid(tr_valid), .out_ready(tr_ready), .out_data(tr_data));
+    /* verilator lint_off PINCONNECTEMPTY */
+    svo_fifo #(.DEPTH(D_TR_RC), .W(TAGW)) transform_to_reciprocal (.clk(clk), .rst(rst),
+        .in_valid(tr_valid), .in_ready(tr_ready), .in_data(tr_data), .out_valid(rc_in_valid),
+        .out_ready(rc_in_ready), .out_data(tr_slot_head), .occupancy());
+    wire lp_in_ready;
+    svo_fifo #(.DEPTH(SLOTS), .W(TAGW)) loop_back (.clk(clk), .rst(rst), .in_valid(r_loop),
+        .in_ready(lp_in_ready), .in_data(wr_slot), .out_valid(lp_valid),
+        .out_ready(tr_accept && take_loop), .out_data(lp_slot), .occupancy());
+    svo_fifo #(.DEPTH(D_CK_TR), .W(RAY)) check_to_transform (.clk(clk), .rst(rst),
+        .in_valid(in_valid), .in_ready(in_ready), .in_data({in_pixel, in_dir, in_count, in_keys}),
+        .out_valid(ck_valid), .out_ready(tr_accept && take_new), .out_data(ck_data),
+        .occupancy());
+    /* verilator lint_on PINCONNECTEMPTY */
+
+    // ---------------------------------------------------------------- slot state
+    integer a;
+    always @(posedge clk) begin
+        // A new ray takes its slot.
+        if (tr_accept && take_new) begin
+            s_pixel[lowest] <= ck_pixel;
+            s_dir[lowest] <= ck_dir;
+            s_count[lowest] <= ck_count;
+            s_keys[lowest] <= ck_keys;
+            s_cand[lowest] <= 6'd0;
+            s_walks[lowest] <= 16'd0;
+            s_best[lowest] <= 1'b0;
+        end
+        // Unit results into their ray's slot.
+        if (tr_u_valid) begin
+            s_o[tr_tag] <= tr_u_o;
+            s_d[tr_tag] <= tr_u_d;
+            s_sign[tr_tag] <= tr_u_sign;
+        end
+        if (rc_u_valid[0]) begin
+            for (a = 0; a < 3; a = a + 1) s_inv[rc_tag][a*INV_W +: INV_W] <= abs_inv(rc_u_inv[a]);
+            s_zero[rc_tag] <= rc_u_zero;
+            s_neg[rc_tag] <= rc_u_neg;
+        end
+        // The walk's hit, if it is the ray's best so far.
+        if (wk_leave && wk_better) begin
+            s_best[wk_tag] <= 1'b1;
+            s_t[wk_tag] <= wk_t;
+            s_attr[wk_tag] <= wk_attr_data;
+            s_voxel[wk_tag] <= wk_voxel;
+            s_inst[wk_tag] <= cand_inst(s_keys[wk_tag], s_cand[wk_tag]);
+        end
+        // The record's decision: the next candidate (a packed ray's slot may be taken by a
+        // new ray in this very cycle, so nothing is written to it; done_walks counts the
+        // last walk).
+        if (r_loop) begin
+            s_walks[wr_slot] <= s_walks[wr_slot] + 16'd1;
+            s_cand[wr_slot] <= r_next;
+        end
+        if (rst) begin
+            free <= {SLOTS{1'b1}};
+            err_pipe <= 1'b0;
+            err_overflow <= 1'b0;
+        end else begin
+            free <= (free | released) & ~((tr_accept && take_new) ? (one << lowest)
+                                                                  : {SLOTS{1'b0}});
+            if ((tr_u_valid && !tr_tag_valid) || (rc_u_valid[0] && !rc_tag_valid)
+                || (r_loop && !lp_in_ready))
+                err_pipe <= 1'b1;
+            if ((tr_u_valid && (tr_ov_o || tr_ov_d)) || (rc_u_valid[0] && |rc_ov)
+                || (pk_u_valid && pk_ov))
+                err_overflow <= 1'b1;
+        end
+    end
+endmodule
+`default_nettype wire
