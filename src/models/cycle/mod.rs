@@ -9,8 +9,10 @@
 //! the final hit buffer against it.
 
 pub mod elaboration;
+pub mod error;
 pub mod layout;
 pub mod lift;
+pub mod machine;
 pub mod model;
 pub mod pipeline;
 pub mod runner;
@@ -20,6 +22,7 @@ pub mod stats;
 pub mod validate;
 pub mod waves;
 
+pub use error::CycleError;
 pub use layout::SceneLayout;
-pub use model::{CycleError, CycleModel, CycleOptions};
+pub use model::{CycleModel, CycleOptions};
 pub use stats::CycleFrame;

@@ -39,7 +39,8 @@
 //! the trace. After the frame its BRAM must equal the functional buffer word for word
 //! ([`Pipeline::check_hit_buffer`]).
 
-use super::model::{CycleError, Machine};
+use super::error::CycleError;
+use super::machine::Machine;
 use super::sample::{walking_in_row, warm_gap, Sampler};
 use super::stages::check::Check;
 use super::stages::passthrough::PassThrough;

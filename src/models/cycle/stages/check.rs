@@ -10,7 +10,7 @@
 //! (`hit_buffer.write_ports: 2`) this stage has its own write FIFO.
 
 use super::{id, internal, FrameCounts, FrameInputs, Ray, Rec};
-use crate::models::cycle::model::CycleError;
+use crate::models::cycle::error::CycleError;
 use crate::models::reference::SphereCount;
 use rtl_model::cycle::bram::Bram;
 use rtl_model::cycle::clocked::Stamped;

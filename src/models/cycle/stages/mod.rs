@@ -17,6 +17,8 @@
 //! frame's counters.
 
 pub mod check;
+#[cfg(test)]
+mod imports;
 pub mod passthrough;
 pub mod raygen;
 pub mod record;
@@ -27,8 +29,8 @@ pub mod transform;
 pub mod walkers;
 pub mod write;
 
+use super::error::CycleError;
 use super::layout::SceneLayout;
-use super::model::CycleError;
 use crate::models::fixed::plan::{Best, FramePlan, PixelCounters};
 use crate::models::fixed::row_feed::RowFeed;
 use crate::models::fixed::trace::{PixelWork, RowTrace};

@@ -7,7 +7,7 @@
 //! take time: a latency, and an initiation interval shared by their units.
 
 use super::{hand_on_lanes, id, internal, Walk};
-use crate::models::cycle::model::CycleError;
+use crate::models::cycle::error::CycleError;
 use rtl_model::cycle::clocked::{StageId, Stamped};
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;

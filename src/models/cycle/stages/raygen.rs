@@ -11,7 +11,7 @@
 //! any order but scanline.
 
 use super::{hand_on, id, internal, FrameCounts, FrameInputs, Ray};
-use crate::models::cycle::model::CycleError;
+use crate::models::cycle::error::CycleError;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::{HwConfig, RayOrder};

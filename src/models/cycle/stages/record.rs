@@ -9,7 +9,7 @@
 //! walk instead of taken from the trace.
 
 use super::{hand_on_lanes, id, internal, FrameCounts, FrameInputs, Ray, RaySlots, Rec, Walk};
-use crate::models::cycle::model::CycleError;
+use crate::models::cycle::error::CycleError;
 use crate::models::fixed::plan::FramePlan;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;

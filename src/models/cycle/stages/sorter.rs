@@ -10,7 +10,7 @@
 //! the pierced candidates are sorted, the others follow.
 
 use super::{hand_on, id, internal, FrameCounts, FrameInputs, Ray};
-use crate::models::cycle::model::CycleError;
+use crate::models::cycle::error::CycleError;
 use crate::models::fixed::plan::NOT_PIERCED;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;

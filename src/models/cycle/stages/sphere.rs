@@ -6,7 +6,7 @@
 //! stage re-runs the tests and the sort from the direction (§2.4).
 
 use super::{hand_on, id, internal, FrameCounts, Ray};
-use crate::models::cycle::model::CycleError;
+use crate::models::cycle::error::CycleError;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;

@@ -8,7 +8,7 @@
 //! per slot, so it can always take a returning walk and the loop cannot deadlock.
 
 use super::{hand_on_lanes, id, internal, FrameInputs, Ray, RaySlots, Walk};
-use crate::models::cycle::model::CycleError;
+use crate::models::cycle::error::CycleError;
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;

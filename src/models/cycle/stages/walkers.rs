@@ -10,7 +10,7 @@
 //! (§2.4).
 
 use super::{id, internal, FrameInputs, RaySlots, Walk};
-use crate::models::cycle::model::CycleError;
+use crate::models::cycle::error::CycleError;
 use crate::models::fixed::trace::{OpRecorder, WalkOp};
 use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::fifo::Fifo;

@@ -13,7 +13,7 @@
 //! (READ_FIRST). The first records' stamps are kept for the transaction log (§2.5).
 
 use super::{id, internal, FrameCounts, Rec};
-use crate::models::cycle::model::CycleError;
+use crate::models::cycle::error::CycleError;
 use rtl_model::cycle::bram::Bram;
 use rtl_model::cycle::clocked::StageStamp;
 use rtl_model::cycle::fifo::Fifo;
