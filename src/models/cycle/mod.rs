@@ -8,8 +8,10 @@
 //! the frame's `pipeline::Pipeline` of `stages`, times the work and checks every decision and
 //! the final hit buffer against it.
 
+mod commit;
 pub mod elaboration;
 pub mod error;
+mod fifos;
 pub mod layout;
 pub mod lift;
 pub mod machine;

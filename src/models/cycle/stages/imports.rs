@@ -7,8 +7,9 @@
 //! (`include_str!`), so it checks the real files.
 
 /// Every stage file, with its name.
-const STAGE_SOURCES: [(&str, &str); 11] = [
+const STAGE_SOURCES: [(&str, &str); 12] = [
     ("mod.rs", include_str!("mod.rs")),
+    ("io.rs", include_str!("io.rs")),
     ("check.rs", include_str!("check.rs")),
     ("passthrough.rs", include_str!("passthrough.rs")),
     ("raygen.rs", include_str!("raygen.rs")),

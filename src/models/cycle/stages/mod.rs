@@ -19,6 +19,7 @@
 pub mod check;
 #[cfg(test)]
 mod imports;
+pub mod io;
 pub mod passthrough;
 pub mod raygen;
 pub mod record;
@@ -34,8 +35,8 @@ use super::layout::SceneLayout;
 use crate::models::fixed::plan::{Best, FramePlan, PixelCounters};
 use crate::models::fixed::row_feed::RowFeed;
 use crate::models::fixed::trace::{PixelWork, RowTrace};
+use io::{PopPort, PushPort};
 use rtl_model::cycle::clocked::{StageId, Stamped};
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::unit_lanes::UnitLanes;
 use rtl_model::cycle::unit_pipe::UnitPipe;
 use rtl_model::units::walker::WalkerT;
@@ -149,13 +150,13 @@ pub fn internal(e: impl std::fmt::Display) -> CycleError {
 pub fn hand_on<T>(
     pipe: &mut UnitPipe<Stamped<T>>,
     stage: StageId,
-    out: &mut Fifo<T>,
+    out: &mut PushPort<'_, T>,
     now: u64,
 ) -> Result<bool, CycleError> {
     if pipe.ready(now).is_some() && out.ready() {
         if let Some(mut w) = pipe.pop(now) {
             let _ = w.leave(stage, now);
-            out.try_push(w).map_err(internal)?;
+            out.push(w)?;
             return Ok(true);
         }
     }
@@ -168,17 +169,48 @@ pub fn hand_on<T>(
 pub fn hand_on_lanes<T>(
     lanes: &mut UnitLanes<Stamped<T>>,
     stage: StageId,
-    out: &mut Fifo<T>,
+    out: &mut PushPort<'_, T>,
     now: u64,
 ) -> Result<bool, CycleError> {
     let mut any = false;
     while lanes.ready(now).is_some() && out.can_push() {
         let Some(mut w) = lanes.pop(now) else { break };
         let _ = w.leave(stage, now);
-        out.try_push(w).map_err(internal)?;
+        out.push(w)?;
         any = true;
     }
     Ok(any)
+}
+
+/// What every kernel reads of the cycle besides its ports: the cycle, the frame's inputs and
+/// the frame's counts as the cycle started (registered: no stage sees another's count of this
+/// cycle).
+#[derive(Clone, Copy)]
+pub struct Cx<'a, 'f> {
+    /// The cycle.
+    pub now: u64,
+    /// The frame's inputs (trace rows received so far, plan, direction table, layout).
+    pub frame: &'a FrameInputs<'f>,
+    /// The frame's counts at the start of the cycle.
+    pub counts: &'a FrameCounts,
+}
+
+/// The two ports of a unit between two FIFOs.
+pub struct UnitIo<'a, I, O> {
+    /// Its input FIFO's consumer side.
+    pub input: PopPort<'a, I>,
+    /// Its output FIFO's producer side.
+    pub out: PushPort<'a, O>,
+}
+
+/// Scratch of a stage's cross-check (and of the plan's unit functions it calls): its own,
+/// so that kernels read the frame's inputs through a shared reference.
+#[derive(Default)]
+pub struct Scratch {
+    /// This model's own candidates of a ray.
+    pub cands: Vec<(i64, u16)>,
+    /// Counters the plan's unit functions update (not reported by the cycle model).
+    pub counters: PixelCounters,
 }
 
 /// A ray in the walk section.
@@ -214,12 +246,6 @@ impl RaySlots {
         }
     }
 
-    /// Whether a slot is free.
-    #[inline]
-    pub fn has_free(&self) -> bool {
-        !self.free.is_empty()
-    }
-
     /// Takes a free slot for the ray `stamps` of `pixel` with its sorted candidates `cands`,
     /// initialising it afresh.
     pub fn take(
@@ -240,6 +266,30 @@ impl RaySlots {
         s.walks = 0;
         s.stamps = Some(stamps);
         Ok(slot)
+    }
+
+    /// Free slots.
+    #[inline]
+    pub fn free_count(&self) -> usize {
+        self.free.len()
+    }
+
+    /// The free slot `k` places below the top of the free stack (0: the next one taken).
+    #[inline]
+    pub fn free_from_top(&self, k: usize) -> Option<u32> {
+        self.free
+            .len()
+            .checked_sub(k + 1)
+            .and_then(|i| self.free.get(i))
+            .copied()
+    }
+
+    /// Slot `slot`, read only.
+    #[inline]
+    pub fn get(&self, slot: u32) -> Result<&Slot, CycleError> {
+        self.slots
+            .get(slot as usize)
+            .ok_or_else(|| CycleError::Internal(format!("no ray slot {slot}")))
     }
 
     /// Slot `slot`.
@@ -272,7 +322,7 @@ pub struct FrameSetup {
 
 /// The frame's inputs as the stages read them: the prepared datapath, the direction table,
 /// the scene's placement in node memory, and the functional model's trace, taken row by row
-/// as it arrives. Also the scratch of the cross-check.
+/// as it arrives.
 pub struct FrameInputs<'f> {
     /// Where the frame sits and how it is checked.
     pub setup: FrameSetup,
@@ -287,10 +337,6 @@ pub struct FrameInputs<'f> {
     pub instance_asset: &'f [usize],
     /// Where each asset's image is in node memory.
     pub layout: &'f SceneLayout,
-    /// Cross-check scratch: this model's own candidates of a ray.
-    pub xc_cands: Vec<(i64, u16)>,
-    /// Counters the plan's unit functions update (not reported by the cycle model).
-    pub xc_counters: PixelCounters,
 }
 
 impl<'f> FrameInputs<'f> {
@@ -318,8 +364,6 @@ impl<'f> FrameInputs<'f> {
             dir,
             instance_asset,
             layout,
-            xc_cands: Vec::new(),
-            xc_counters: PixelCounters::default(),
         })
     }
 
