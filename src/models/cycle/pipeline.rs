@@ -94,18 +94,21 @@ pub enum EvalOrder {
     /// Write port first, ray generation last: what every run uses.
     #[default]
     ConsumersFirst,
-    /// Ray generation first, write port last, except the record stage, which goes first (its
-    /// same-cycle signals are the only ones another stage reads). A test hook: the cycles,
-    /// images and reports must be the same as [`EvalOrder::ConsumersFirst`]'s.
+    /// The reverse: ray generation first, write port last, except that the record stage
+    /// moves up to just before the check stage, the first stage that reads its same-cycle
+    /// signals (its offers to the write FIFO, the slots it frees). A test hook: the cycles,
+    /// stall counters, stage states, images and reports must be the same as
+    /// [`EvalOrder::ConsumersFirst`]'s.
     ProducersFirst,
 }
 
-/// Producers first, but the record stage before the transform and the check stage.
+/// [`EvalOrder::ProducersFirst`]: `ConsumersFirst` reversed, the record stage moved up to
+/// just before the check stage.
 const PRODUCERS_FIRST: [usize; 10] = [
-    S_RECORD,
     S_RAYGEN,
     S_SPHERE,
     S_SORTER,
+    S_RECORD,
     S_CHECK,
     S_TRANSFORM,
     S_RECIP,
