@@ -12,7 +12,7 @@ use rtl_model::cycle::memory::NodeMemory;
 use rtl_model::cycle::walker_pool::WalkerPoolModel;
 
 /// The parts of the machine that keep their state across frames (cache lines, hit-buffer
-/// words, the cycle count); a frame's [`Pipeline`] borrows them.
+/// words, the cycle count); a frame's `pipeline::Pipeline` borrows them.
 pub struct Machine {
     /// The node memory.
     pub mem: NodeMemory,

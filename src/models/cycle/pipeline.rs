@@ -2,11 +2,14 @@
 //! valid/ready FIFOs, with the walker pool, node memory and hit-buffer memory.
 //!
 //! Pipeline position: the whole datapath of docs/cycle-model.md §2 in time. [`Pipeline::step`]
-//! is one clock: the stages (`super::stages`, one file each) in the order below, consumers
-//! first, so each sees the registered state of the FIFOs around it — FIFO `ready`/`valid` are
-//! registered, so the order cannot change any result through them — and then one edge that
-//! commits every FIFO and the hit-buffer BRAM together (`Clock::edge`; the clocking discipline
-//! is described in `rtl_model::cycle::clocked`).
+//! is one clock: the stage kernels (`super::stages`, one file each) in the order below,
+//! consumers first, each reading only registered state through read-only ports
+//! (`stages::io`) and returning its effects into the reused buffers of `commit::Effects`, so the
+//! order cannot change any result (the record stage's same-cycle signals excepted, see
+//! [`EvalOrder`]); then one commit, `Effects::apply`, that drives the FIFOs, the ray slots,
+//! the hit buffer, the counts and the transaction log with every stage's effects, and one
+//! edge that commits every FIFO and the hit-buffer BRAM together (`Clock::edge`; the clocking
+//! discipline is described in `rtl_model::cycle::clocked`).
 //!
 //! | stage | unit | in → out |
 //! |---|---|---|

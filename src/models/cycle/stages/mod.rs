@@ -3,18 +3,24 @@
 //! Pipeline position: the parts [`super::pipeline::Pipeline`] evaluates once per clock,
 //! consumers first (docs/cycle-model.md §2.1). A stage is a struct holding its registers — a
 //! fixed-latency [`UnitPipe`] for the units, the pixel counter for ray generation — with one
-//! `eval` that runs one cycle of it: it reads the registered `ready`/`valid` of the FIFOs
-//! around it, hands on the result at its head, takes the next transaction, and returns its
-//! state for the cycle's accounting. Pushes, pops and hit-buffer writes land at the clock edge
-//! the pipeline takes after every stage has been evaluated (`rtl_model::cycle::clocked`).
+//! `eval` that is a kernel (issue 30, rhdl style): a function of its own state and a read-only
+//! view of the registered state around it — `io::PopPort`/`io::PushPort` on its FIFOs, the ray
+//! slots, the hit buffer's words, the frame's inputs and counts as the cycle started ([`Cx`]) —
+//! that updates its own state and returns the cycle's effects into the pipeline's reused
+//! buffers (`io`: pops, offered items, slot writes/takes/releases, BRAM reads and writes, count
+//! increments) and its state for the cycle's accounting. No stage holds a `&mut` to a FIFO,
+//! the slot table or a memory; `commit::Effects::apply` applies every stage's effects in one
+//! place after all of them, then the clock edge commits (`rtl_model::cycle::clocked`). The
+//! walker stage's own state is the walker pool and the node memory (`walkers::WalkerRegs`).
 //!
-//! Interface rule: a stage takes the FIFOs, slot indices and plain data it touches as
-//! arguments — no trait objects, no allocation per transaction beyond its stamps — so that the
-//! loop's data layout can change under the stages without changing what they decide.
+//! Interface rule: a stage takes its ports grouped in one struct (`UnitIo`, `CheckIo`, …) —
+//! no trait objects, no allocation per transaction beyond its stamps — so that the loop's data
+//! layout can change under the stages without changing what they decide. Nothing here imports
+//! the model or the pipeline (`imports.rs` checks it).
 //!
 //! This file holds what several stages share: the transactions, the ray slots of the walk
-//! section, the frame's inputs (the functional model's trace, read as rows arrive) and the
-//! frame's counters.
+//! section, the frame's inputs (the functional model's trace, read as rows arrive), the
+//! frame's counters and the kernels' cycle context.
 
 pub mod check;
 #[cfg(test)]
