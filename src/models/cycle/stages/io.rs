@@ -78,7 +78,11 @@ impl<'a, T: Clone> PopPort<'a, T> {
         };
         self.got += 1;
         let mut item = item.clone();
-        let _ = item.leave(self.fifo.stage(), now);
+        // Only a tracked history keeps the exit: an untracked copy's latest visit is
+        // overwritten by the stage's own `enter` before anything reads it.
+        if item.is_tracked() {
+            let _ = item.leave(self.fifo.stage(), now);
+        }
         Ok(Some(item))
     }
 
