@@ -17,7 +17,7 @@
 use super::{internal, Ray, RaySlots};
 use crate::models::cycle::error::CycleError;
 use crate::models::fixed::plan::Best;
-use rtl_model::cycle::clocked::Stamped;
+use rtl_model::cycle::clocked::{StageId, Stamped};
 use rtl_model::cycle::fifo::Fifo;
 use rtl_model::units::walker::WalkerT;
 
@@ -64,13 +64,10 @@ impl<'a, T: Clone> PopPort<'a, T> {
 
     /// Asks for the next item: a copy of it, stamped as leaving the FIFO now (as the FIFO
     /// stamps its own at the commit), or `None` when none is left (a starved ask).
-    #[inline]
+    #[inline(always)]
     pub fn pop(&mut self, now: u64) -> Result<Option<Stamped<T>>, CycleError> {
         if self.asked >= self.fifo.ports() {
-            return Err(internal(format!(
-                "consumer side of FIFO {:?} driven more than its ports in cycle {now}",
-                self.fifo.stage()
-            )));
+            return Err(overdriven(self.fifo.stage(), now));
         }
         self.asked += 1;
         let Some(item) = self.fifo.registered(self.got) else {
@@ -91,6 +88,25 @@ impl<'a, T: Clone> PopPort<'a, T> {
     pub fn asked(&self) -> usize {
         self.asked
     }
+}
+
+/// A consumer that asked more pops than the FIFO has ports (a model bug); out of line, so
+/// that the pop itself stays small enough to inline.
+#[cold]
+#[inline(never)]
+fn overdriven(stage: StageId, now: u64) -> CycleError {
+    internal(format!(
+        "consumer side of FIFO {stage:?} driven more than its ports in cycle {now}"
+    ))
+}
+
+/// A FIFO that could not take an offered item (a model bug), out of line.
+#[cold]
+#[inline(never)]
+fn refused(stage: StageId, inside: usize, offered: usize) -> CycleError {
+    internal(format!(
+        "FIFO {stage:?} offered an item it cannot take this cycle ({inside} inside, {offered} offered)"
+    ))
 }
 
 /// A stage's producer side of a FIFO: its registered room, and the items offered this
@@ -123,15 +139,14 @@ impl<'a, T> PushPort<'a, T> {
     }
 
     /// Offers `item`; refused (a model bug) if the FIFO could not take it.
-    #[inline]
+    #[inline(always)]
     pub fn push(&mut self, item: Stamped<T>) -> Result<(), CycleError> {
         if !self.can_push() {
-            return Err(internal(format!(
-                "FIFO {:?} offered an item it cannot take this cycle ({} inside, {} offered)",
+            return Err(refused(
                 self.fifo.stage(),
                 self.fifo.occupancy(),
-                self.out.len()
-            )));
+                self.out.len(),
+            ));
         }
         self.out.push(item);
         Ok(())
