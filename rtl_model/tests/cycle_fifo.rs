@@ -518,3 +518,27 @@ fn a_wide_fifo_passes_half_its_depth_a_cycle() {
     // A port-bound FIFO: deep enough, the ports decide.
     assert!((rate(64, 2) - 2.0).abs() < 0.01);
 }
+
+/// `Fifo::registered`, what the cycle model's stage kernels read (issue 30): the items inside
+/// at the start of the cycle, head first, unchanged by this cycle's pushes, and past the ones
+/// already handed out by a pop.
+#[test]
+fn registered_items_are_the_start_of_cycle_contents() {
+    let mut clock = Clock::new();
+    let mut f = Fifo::new_wide(StageId(1), 4, 2).unwrap();
+    for v in [10u32, 11] {
+        f.try_push(Stamped::untracked(v)).unwrap();
+    }
+    // Pushed this cycle: not visible before the edge.
+    assert!(f.registered(0).is_none());
+    clock.edge(&mut [&mut f]).unwrap();
+    f.try_push(Stamped::untracked(12)).unwrap();
+    let at = |f: &Fifo<u32>, i| f.registered(i).map(|s| s.payload);
+    assert_eq!(
+        (at(&f, 0), at(&f, 1), at(&f, 2)),
+        (Some(10), Some(11), None)
+    );
+    // A pop hands out the head: index 0 is still the head of the start of the cycle, gone.
+    assert_eq!(f.try_pop().unwrap().map(|s| s.payload), Some(10));
+    assert_eq!((at(&f, 0), at(&f, 1)), (None, Some(11)));
+}

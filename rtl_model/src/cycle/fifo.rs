@@ -333,6 +333,17 @@ impl<T> Fifo<T> {
         }
     }
 
+    /// The `i`-th item (0: the head) of those inside at the start of the cycle, if not yet
+    /// handed out: what a consumer evaluated as a pure kernel reads (a wide consumer reads
+    /// beyond the head) before its pops are applied at the edge.
+    #[inline]
+    pub fn registered(&self, i: usize) -> Option<&Stamped<T>> {
+        if i >= self.occupancy {
+            return None;
+        }
+        i.checked_sub(self.taken).and_then(|k| self.items.get(k))
+    }
+
     /// The counters so far.
     pub fn stats(&self) -> FifoStats {
         let mut s = self.stats.clone();

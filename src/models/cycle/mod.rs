@@ -8,9 +8,13 @@
 //! the frame's `pipeline::Pipeline` of `stages`, times the work and checks every decision and
 //! the final hit buffer against it.
 
+mod commit;
 pub mod elaboration;
+pub mod error;
+mod fifos;
 pub mod layout;
 pub mod lift;
+pub mod machine;
 pub mod model;
 pub mod pipeline;
 pub mod runner;
@@ -20,6 +24,7 @@ pub mod stats;
 pub mod validate;
 pub mod waves;
 
+pub use error::CycleError;
 pub use layout::SceneLayout;
-pub use model::{CycleError, CycleModel, CycleOptions};
+pub use model::{CycleModel, CycleOptions};
 pub use stats::CycleFrame;

@@ -18,49 +18,12 @@ use rtl_model::cycle::bram::Bram;
 use rtl_model::cycle::clocked::{Clock, StageStamp};
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::memory::NodeMemory;
-use rtl_model::cycle::walker_pool::{PoolError, WalkerPoolModel};
+use rtl_model::cycle::walker_pool::WalkerPoolModel;
 use std::time::Instant;
-use thiserror::Error;
 
-/// Why the cycle model stopped.
-#[derive(Debug, Error)]
-pub enum CycleError {
-    /// The hardware configuration is invalid.
-    #[error("hardware configuration: {0}")]
-    Config(String),
-    /// The cycle model and the functional model disagree (a bug in one of them).
-    #[error("cross-check failed at frame {frame}, pixel ({i}, {j}): {what}")]
-    Mismatch {
-        /// Frame.
-        frame: u32,
-        /// Column.
-        i: u32,
-        /// Row.
-        j: u32,
-        /// What differs.
-        what: String,
-    },
-    /// The walker pool or node memory refused something.
-    #[error(transparent)]
-    Pool(#[from] PoolError),
-    /// The pipeline made no progress for far longer than any latency (a model bug).
-    #[error("frame {frame}: no progress for {cycles} cycles at cycle {at} ({written} of {pixels} pixels written)")]
-    Stuck {
-        /// Frame.
-        frame: u32,
-        /// Cycles without progress.
-        cycles: u64,
-        /// Cycle.
-        at: u64,
-        /// Pixels written.
-        written: u64,
-        /// Pixels.
-        pixels: u64,
-    },
-    /// A FIFO or BRAM was misused (a model bug).
-    #[error("pipeline: {0}")]
-    Internal(String),
-}
+// Re-exported where the public API has always had them (`cycle::model::CycleError`).
+pub use super::error::CycleError;
+pub use super::machine::Machine;
 
 /// Options of a cycle-model run.
 #[derive(Default)]
@@ -81,21 +44,6 @@ pub struct CycleOptions {
     /// The stages' evaluation order within a clock: a test hook (docs/architecture.md §4);
     /// every order it offers gives the same cycles and reports.
     pub eval_order: EvalOrder,
-}
-
-/// The parts of the machine that keep their state across frames (cache lines, hit-buffer
-/// words, the cycle count); a frame's [`Pipeline`] borrows them.
-pub struct Machine {
-    /// The node memory.
-    pub mem: NodeMemory,
-    /// The walker pool.
-    pub pool: WalkerPoolModel,
-    /// The hit buffer.
-    pub bram: Bram<u128>,
-    /// The clock: the run's cycle counter and the one place the parts commit.
-    pub clock: Clock,
-    /// The waveform recorder, if any.
-    pub waves: Option<PipelineWaves>,
 }
 
 /// Per-run state of the cycle model: the memories and the pool keep their contents across

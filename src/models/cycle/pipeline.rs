@@ -2,11 +2,14 @@
 //! valid/ready FIFOs, with the walker pool, node memory and hit-buffer memory.
 //!
 //! Pipeline position: the whole datapath of docs/cycle-model.md §2 in time. [`Pipeline::step`]
-//! is one clock: the stages (`super::stages`, one file each) in the order below, consumers
-//! first, so each sees the registered state of the FIFOs around it — FIFO `ready`/`valid` are
-//! registered, so the order cannot change any result through them — and then one edge that
-//! commits every FIFO and the hit-buffer BRAM together (`Clock::edge`; the clocking discipline
-//! is described in `rtl_model::cycle::clocked`).
+//! is one clock: the stage kernels (`super::stages`, one file each) in the order below,
+//! consumers first, each reading only registered state through read-only ports
+//! (`stages::io`) and returning its effects into the reused buffers of `commit::Effects`, so the
+//! order cannot change any result (the record stage's same-cycle signals excepted, see
+//! [`EvalOrder`]); then one commit, `Effects::apply`, that drives the FIFOs, the ray slots,
+//! the hit buffer, the counts and the transaction log with every stage's effects, and one
+//! edge that commits every FIFO and the hit-buffer BRAM together (`Clock::edge`; the clocking
+//! discipline is described in `rtl_model::cycle::clocked`).
 //!
 //! | stage | unit | in → out |
 //! |---|---|---|
@@ -39,22 +42,26 @@
 //! the trace. After the frame its BRAM must equal the functional buffer word for word
 //! ([`Pipeline::check_hit_buffer`]).
 
-use super::model::{CycleError, Machine};
+use super::commit::{Effects, Targets};
+use super::error::CycleError;
+use super::fifos::Fifos;
+use super::machine::Machine;
 use super::sample::{walking_in_row, warm_gap, Sampler};
-use super::stages::check::Check;
+use super::stages::check::{Check, CheckIo};
+use super::stages::io::{PopPort, PushPort, SlotView};
 use super::stages::passthrough::PassThrough;
 use super::stages::raygen::Raygen;
-use super::stages::record::Record;
+use super::stages::record::{Record, RecordIo};
 use super::stages::sorter::Sorter;
 use super::stages::sphere::Sphere;
 use super::stages::tile_list::TilePasses;
-use super::stages::transform::Transform;
-use super::stages::walkers::Walkers;
-use super::stages::write::Write;
-use super::stages::{id, internal, FrameCounts, FrameInputs, Ray, RaySlots, Rec, Walk};
-use super::stats::{CycleFrame, StallCounts};
-use rtl_model::cycle::clocked::{Commit, StageId, StageStamp};
-use rtl_model::cycle::fifo::{Fifo, FifoStats};
+use super::stages::transform::{Transform, TransformIo};
+use super::stages::walkers::{WalkerIo, WalkerRegs, Walkers};
+use super::stages::write::{Write, WriteIo};
+use super::stages::{internal, Cx, FrameCounts, FrameInputs, RaySlots, UnitIo};
+use super::stats::{CycleFrame, FrameMeasures, StallCounts};
+use super::waves::WaveSample;
+use rtl_model::cycle::clocked::{Commit, StageStamp};
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::{StageCycles, StageState};
 
@@ -90,18 +97,21 @@ pub enum EvalOrder {
     /// Write port first, ray generation last: what every run uses.
     #[default]
     ConsumersFirst,
-    /// Ray generation first, write port last, except the record stage, which goes first (its
-    /// same-cycle signals are the only ones another stage reads). A test hook: the cycles,
-    /// images and reports must be the same as [`EvalOrder::ConsumersFirst`]'s.
+    /// The reverse: ray generation first, write port last, except that the record stage
+    /// moves up to just before the check stage, the first stage that reads its same-cycle
+    /// signals (its offers to the write FIFO, the slots it frees). A test hook: the cycles,
+    /// stall counters, stage states, images and reports must be the same as
+    /// [`EvalOrder::ConsumersFirst`]'s.
     ProducersFirst,
 }
 
-/// Producers first, but the record stage before the transform and the check stage.
+/// [`EvalOrder::ProducersFirst`]: `ConsumersFirst` reversed, the record stage moved up to
+/// just before the check stage.
 const PRODUCERS_FIRST: [usize; 10] = [
-    S_RECORD,
     S_RAYGEN,
     S_SPHERE,
     S_SORTER,
+    S_RECORD,
     S_CHECK,
     S_TRANSFORM,
     S_RECIP,
@@ -125,125 +135,6 @@ struct Wires {
     record_done: bool,
 }
 
-/// The FIFOs between the stages, in pipeline order.
-pub struct Fifos {
-    rg_sp: Fifo<Ray>,
-    sp_so: Fifo<Ray>,
-    so_ck: Fifo<Ray>,
-    ck_tr: Fifo<Ray>,
-    loop_back: Fifo<Walk>,
-    tr_rc: Fifo<Walk>,
-    rc_rt: Fifo<Walk>,
-    rt_dp: Fifo<Walk>,
-    wk_rc: Fifo<Walk>,
-    rc_wr: Fifo<Rec>,
-    /// The check stage's own write FIFO, used with two hit-buffer write paths
-    /// (`hit_buffer.write_ports: 2`); otherwise it stays empty and out of the report.
-    ck_wr: Fifo<Rec>,
-    /// Whether `ck_wr` is in use.
-    two_write_paths: bool,
-}
-
-fn fifo<T>(id: StageId, depth: u32, now: u64) -> Result<Fifo<T>, CycleError> {
-    wide(id, depth, 1, now)
-}
-
-/// A FIFO of `ports` pushes and pops per cycle (the walk section's, docs/cycle-model.md §2.1).
-fn wide<T>(id: StageId, depth: u32, ports: u32, now: u64) -> Result<Fifo<T>, CycleError> {
-    Fifo::new_wide_at(id, depth as usize, ports as usize, now)
-        .map_err(|e| CycleError::Config(e.to_string()))
-}
-
-impl Fifos {
-    /// Empty FIFOs of `hw`'s depths, out of reset at cycle `now`; the loop-back FIFO has one
-    /// entry per ray slot. The walk section's FIFOs, from the walk queue to the write FIFO,
-    /// take `hw.walk_lanes()` pushes and pops per cycle; the check stage's own write FIFO
-    /// has `record_to_write`'s depth.
-    fn new(hw: &HwConfig, ray_slots: u32, now: u64) -> Result<Self, CycleError> {
-        let fd = &hw.fifos;
-        let k = hw.walk_lanes();
-        Ok(Self {
-            rg_sp: fifo(id::F_RG_SP, fd.raygen_to_sphere, now)?,
-            sp_so: fifo(id::F_SP_SO, fd.sphere_to_sorter, now)?,
-            so_ck: fifo(id::F_SO_CK, fd.sorter_to_check, now)?,
-            ck_tr: wide(id::F_CK_TR, fd.check_to_transform, k, now)?,
-            loop_back: wide(id::F_LOOP, ray_slots, k, now)?,
-            tr_rc: wide(id::F_TR_RC, fd.transform_to_reciprocal, k, now)?,
-            rc_rt: wide(id::F_RC_RT, fd.reciprocal_to_root, k, now)?,
-            rt_dp: wide(id::F_RT_DP, fd.root_to_dispatch, k, now)?,
-            wk_rc: wide(id::F_WK_RC, fd.walker_to_record, k, now)?,
-            // Two records a cycle leave it with `hit_buffer.record_writes: 2`.
-            rc_wr: wide(
-                id::F_RC_WR,
-                fd.record_to_write,
-                k.max(u32::from(hw.hit_buffer.record_writes)),
-                now,
-            )?,
-            ck_wr: fifo(id::F_CK_WR, fd.record_to_write, now)?,
-            two_write_paths: hw.hit_buffer.write_ports >= 2,
-        })
-    }
-
-    /// Registered occupancy of each FIFO, in pipeline order.
-    fn occupancy(&self) -> [usize; 10] {
-        [
-            self.rg_sp.occupancy(),
-            self.sp_so.occupancy(),
-            self.so_ck.occupancy(),
-            self.ck_tr.occupancy(),
-            self.loop_back.occupancy(),
-            self.tr_rc.occupancy(),
-            self.rc_rt.occupancy(),
-            self.rt_dp.occupancy(),
-            self.wk_rc.occupancy(),
-            self.rc_wr.occupancy(),
-        ]
-    }
-
-    /// Registered (valid, ready) of each FIFO, in pipeline order.
-    fn handshakes(&self) -> [(bool, bool); 10] {
-        fn vr<T>(f: &Fifo<T>) -> (bool, bool) {
-            (f.valid(), f.ready())
-        }
-        [
-            vr(&self.rg_sp),
-            vr(&self.sp_so),
-            vr(&self.so_ck),
-            vr(&self.ck_tr),
-            vr(&self.loop_back),
-            vr(&self.tr_rc),
-            vr(&self.rc_rt),
-            vr(&self.rt_dp),
-            vr(&self.wk_rc),
-            vr(&self.rc_wr),
-        ]
-    }
-
-    /// Name, depth and counters of each FIFO, for the report (`check_to_write` only with two
-    /// write paths).
-    fn stats(&self) -> Vec<(&'static str, usize, FifoStats)> {
-        fn s<T>(name: &'static str, f: &Fifo<T>) -> (&'static str, usize, FifoStats) {
-            (name, f.depth(), f.stats())
-        }
-        let mut v = vec![
-            s("raygen_to_sphere", &self.rg_sp),
-            s("sphere_to_sorter", &self.sp_so),
-            s("sorter_to_check", &self.so_ck),
-            s("check_to_transform", &self.ck_tr),
-            s("loop_back", &self.loop_back),
-            s("transform_to_reciprocal", &self.tr_rc),
-            s("reciprocal_to_root", &self.rc_rt),
-            s("root_to_dispatch", &self.rt_dp),
-            s("walker_to_record", &self.wk_rc),
-            s("record_to_write", &self.rc_wr),
-        ];
-        if self.two_write_paths {
-            v.push(s("check_to_write", &self.ck_wr));
-        }
-        v
-    }
-}
-
 /// One frame's pipeline: the stages with their registers, the FIFOs between them, the ray
 /// slots, the frame's counters and stage accounting, over the machine's persistent parts.
 pub struct Pipeline<'f> {
@@ -251,7 +142,11 @@ pub struct Pipeline<'f> {
     frame: FrameInputs<'f>,
     machine: &'f mut Machine,
     log: &'f mut Vec<(u32, Vec<StageStamp>)>,
+    /// Records whose stamps the transaction log keeps, per run.
+    log_limit: usize,
     fifos: Fifos,
+    /// The cycle's effects, applied in one commit after every stage (buffers reused).
+    fx: Effects,
     raygen: Raygen,
     sphere: Sphere,
     sorter: Sorter,
@@ -327,7 +222,9 @@ impl<'f> Pipeline<'f> {
             frame,
             machine,
             log,
+            log_limit,
             fifos,
+            fx: Effects::default(),
             raygen: Raygen::new(hw, track),
             sphere: Sphere::new(hw, instances).with_tiles(tiles),
             sorter: Sorter::new(hw, instances),
@@ -335,9 +232,9 @@ impl<'f> Pipeline<'f> {
             transform: Transform::new(hw),
             recip: PassThrough::reciprocal(hw),
             root: PassThrough::root(hw),
-            walkers: Walkers,
+            walkers: Walkers::default(),
             record: Record::new(hw),
-            write: Write::new(log_limit, hw.hit_buffer.record_writes),
+            write: Write::new(hw.hit_buffer.record_writes),
             slots: RaySlots::new(ray_slots),
             stages: STAGE_ROWS.map(StageCycles::named),
             states: [StageState::Idle; 10],
@@ -494,8 +391,7 @@ impl<'f> Pipeline<'f> {
             self.record.write_blocked,
         ];
         self.count_stalls(1);
-        self.sample_waves(now);
-        self.edge()?;
+        self.commit(now)?;
         self.watch(now)?;
         if let Some(s) = self.sampler.as_mut() {
             // The walk queue as generation reaches the segment's end, before the drain.
@@ -524,11 +420,13 @@ impl<'f> Pipeline<'f> {
         s.record_write += u64::from(record_write) * k;
     }
 
-    /// Evaluates stage `stage` (an `S_*` row) for cycle `now`. `wires` carries the two
-    /// same-cycle signals of the record stage (docs/architecture.md §4): whether it took the
-    /// write FIFO's port (the check stage may not then) and that it has freed its ray slots
-    /// (the transform may take them in the same cycle); a stage that reads one before the
-    /// record stage has been evaluated is an error, not a silent different result.
+    /// Evaluates stage `stage` (an `S_*` row) for cycle `now`: its kernel, on read-only
+    /// ports of the registered FIFOs, slots and memory, its effects into `self.fx`. `wires`
+    /// carries the two same-cycle signals of the record stage (docs/architecture.md §4), which
+    /// reach the check stage and the transform through the effects it has already returned:
+    /// its offers to the write FIFO (the check stage may not take those ports) and the slots
+    /// it frees (the transform may take them in the same cycle); a stage that reads one before
+    /// the record stage has been evaluated is an error, not a silent different result.
     #[inline(always)]
     fn eval_stage(
         &mut self,
@@ -536,7 +434,12 @@ impl<'f> Pipeline<'f> {
         now: u64,
         wires: &mut Wires,
     ) -> Result<StageState, CycleError> {
-        let (f, c, m) = (&mut self.fifos, &mut self.counts, &mut *self.machine);
+        let (f, fx) = (&self.fifos, &mut self.fx);
+        let cx = Cx {
+            now,
+            frame: &self.frame,
+            counts: &self.counts,
+        };
         let record_first = |what: &str| {
             if wires.record_done {
                 Ok(())
@@ -548,88 +451,134 @@ impl<'f> Pipeline<'f> {
         };
         Ok(match stage {
             S_WRITE => {
-                let second = f.two_write_paths.then_some(&mut f.ck_wr);
-                self.write
-                    .eval(&mut f.rc_wr, second, &mut m.bram, self.log, c, now)?
+                let mut io = WriteIo {
+                    input: PopPort::new(&f.rc_wr),
+                    second: f.two_write_paths.then(|| PopPort::new(&f.ck_wr)),
+                    writes: &mut fx.bram.writes,
+                };
+                let state = self.write.eval(&mut io, &cx)?;
+                fx.rc_wr.pops += io.input.asked();
+                fx.ck_wr.pops += io.second.map_or(0, |p| p.asked());
+                state
             }
             S_RECORD => {
-                let (state, _pushed) = self.record.eval(
-                    &mut f.wk_rc,
-                    &mut f.loop_back,
-                    &mut f.rc_wr,
-                    &mut self.slots,
-                    &mut self.frame,
-                    c,
-                    wires.walked,
-                    now,
-                )?;
+                let mut io = RecordIo {
+                    input: PopPort::new(&f.wk_rc),
+                    loop_back: PushPort::new(&f.loop_back, &mut fx.loop_back.pushes),
+                    out: PushPort::new(&f.rc_wr, &mut fx.rc_wr.pushes),
+                    slots: &self.slots,
+                    slot_fx: &mut fx.slots,
+                };
+                let state = self
+                    .record
+                    .eval(&mut io, &cx, &mut fx.frame, wires.walked)?;
+                fx.wk_rc.pops += io.input.asked();
                 wires.record_done = true;
                 state
             }
-            S_WALK => self.walkers.eval(
-                &mut f.rt_dp,
-                &mut f.wk_rc,
-                &mut m.pool,
-                &mut m.mem,
-                &mut self.slots,
-                &mut self.frame,
-                wires.more_walks,
-                now,
-            )?,
-            S_ROOT => self
-                .root
-                .eval(&mut f.rc_rt, &mut f.rt_dp, wires.more_walks, now)?,
-            S_RECIP => self
-                .recip
-                .eval(&mut f.tr_rc, &mut f.rc_rt, wires.more_walks, now)?,
+            S_WALK => {
+                let m = &mut *self.machine;
+                let mut io = WalkerIo {
+                    input: PopPort::new(&f.rt_dp),
+                    out: PushPort::new(&f.wk_rc, &mut fx.wk_rc.pushes),
+                    slots: &self.slots,
+                    best_full: &mut fx.slots.best_full,
+                };
+                let mut regs = WalkerRegs {
+                    pool: &mut m.pool,
+                    mem: &mut m.mem,
+                };
+                let state = self
+                    .walkers
+                    .eval(&mut io, &mut regs, &cx, wires.more_walks)?;
+                fx.rt_dp.pops += io.input.asked();
+                state
+            }
+            S_ROOT => {
+                let mut io = UnitIo {
+                    input: PopPort::new(&f.rc_rt),
+                    out: PushPort::new(&f.rt_dp, &mut fx.rt_dp.pushes),
+                };
+                let state = self.root.eval(&mut io, wires.more_walks, now)?;
+                fx.rc_rt.pops += io.input.asked();
+                state
+            }
+            S_RECIP => {
+                let mut io = UnitIo {
+                    input: PopPort::new(&f.tr_rc),
+                    out: PushPort::new(&f.rc_rt, &mut fx.rc_rt.pushes),
+                };
+                let state = self.recip.eval(&mut io, wires.more_walks, now)?;
+                fx.tr_rc.pops += io.input.asked();
+                state
+            }
             S_TRANSFORM => {
                 record_first("the transform")?;
                 if self.hold.is_some() {
                     StageState::Starved
                 } else {
-                    self.transform.eval(
-                        &mut f.loop_back,
-                        &mut f.ck_tr,
-                        &mut f.tr_rc,
-                        &mut self.slots,
-                        &self.frame,
-                        wires.more_walks,
-                        wires.more_rays,
-                        now,
-                    )?
+                    let slot_fx = &mut fx.slots;
+                    let mut io = TransformIo {
+                        loop_back: PopPort::new(&f.loop_back),
+                        new_rays: PopPort::new(&f.ck_tr),
+                        out: PushPort::new(&f.tr_rc, &mut fx.tr_rc.pushes),
+                        slots: SlotView::new(&self.slots, &slot_fx.releases),
+                        takes: &mut slot_fx.takes,
+                    };
+                    let state =
+                        self.transform
+                            .eval(&mut io, &cx, wires.more_walks, wires.more_rays)?;
+                    fx.loop_back.pops += io.loop_back.asked();
+                    fx.ck_tr.pops += io.new_rays.asked();
+                    state
                 }
             }
             S_CHECK => {
                 record_first("the check stage")?;
-                let to_write = if f.two_write_paths {
-                    &mut f.ck_wr
+                let (to_write, write_fx) = if f.two_write_paths {
+                    (&f.ck_wr, &mut fx.ck_wr.pushes)
                 } else {
-                    &mut f.rc_wr
+                    (&f.rc_wr, &mut fx.rc_wr.pushes)
                 };
-                self.check.eval(
-                    &mut f.so_ck,
-                    &mut f.ck_tr,
-                    to_write,
-                    &mut m.bram,
-                    &mut self.frame,
-                    c,
-                    wires.upstream_more[2],
-                    now,
-                )?
+                let mut io = CheckIo {
+                    input: PopPort::new(&f.so_ck),
+                    to_walk: PushPort::new(&f.ck_tr, &mut fx.ck_tr.pushes),
+                    to_write: PushPort::new(to_write, write_fx),
+                    bram: &self.machine.bram,
+                    reads: &mut fx.bram.reads,
+                };
+                let state = self
+                    .check
+                    .eval(&mut io, &cx, &mut fx.frame, wires.upstream_more[2])?;
+                fx.so_ck.pops += io.input.asked();
+                state
             }
-            S_SORTER => self.sorter.eval(
-                &mut f.sp_so,
-                &mut f.so_ck,
-                &mut self.frame,
-                c,
-                wires.upstream_more[1],
-                now,
-            )?,
+            S_SORTER => {
+                let mut io = UnitIo {
+                    input: PopPort::new(&f.sp_so),
+                    out: PushPort::new(&f.so_ck, &mut fx.so_ck.pushes),
+                };
+                let state =
+                    self.sorter
+                        .eval(&mut io, &cx, &mut fx.frame, wires.upstream_more[1])?;
+                fx.sp_so.pops += io.input.asked();
+                state
+            }
             S_SPHERE => {
-                self.sphere
-                    .eval(&mut f.rg_sp, &mut f.sp_so, c, wires.upstream_more[0], now)?
+                let mut io = UnitIo {
+                    input: PopPort::new(&f.rg_sp),
+                    out: PushPort::new(&f.sp_so, &mut fx.sp_so.pushes),
+                };
+                let state =
+                    self.sphere
+                        .eval(&mut io, &cx, &mut fx.frame, wires.upstream_more[0])?;
+                fx.rg_sp.pops += io.input.asked();
+                state
             }
-            _ => self.raygen.eval(&mut f.rg_sp, &mut self.frame, c, now)?,
+            _ => {
+                let mut out = PushPort::new(&f.rg_sp, &mut fx.rg_sp.pushes);
+                self.raygen.eval(&mut out, &cx, &mut fx.frame)?
+            }
         })
     }
 
@@ -724,21 +673,34 @@ impl<'f> Pipeline<'f> {
         let m = &mut *self.machine;
         if let Some(wv) = m.waves.as_mut() {
             let occupancy = self.fifos.occupancy();
-            wv.sample(
+            wv.sample(&WaveSample {
                 now,
-                &occupancy.each_ref(),
-                &self.fifos.handshakes(),
-                &m.pool,
-                &m.mem,
-                self.raygen.next_pixel(),
-                self.counts.written,
-                self.frame.setup.frame,
-            );
+                occupancy: &occupancy.each_ref(),
+                valid_ready: &self.fifos.handshakes(),
+                pool: &m.pool,
+                mem: &m.mem,
+                generated: self.raygen.next_pixel(),
+                written: self.counts.written,
+                frame: self.frame.setup.frame,
+            });
         }
     }
 
-    /// The clock edge: every FIFO and the BRAM commit together.
-    fn edge(&mut self) -> Result<(), CycleError> {
+    /// The end of stepped cycle `now`: every stage's effects applied in one place
+    /// ([`Effects::apply`]), the cycle sampled into the waveforms, then the clock edge that
+    /// commits every FIFO and the BRAM together.
+    fn commit(&mut self, now: u64) -> Result<(), CycleError> {
+        let m = &mut *self.machine;
+        self.fx.apply(Targets {
+            fifos: &mut self.fifos,
+            slots: &mut self.slots,
+            bram: &mut m.bram,
+            counts: &mut self.counts,
+            frame: &mut self.frame,
+            log: self.log,
+            log_limit: self.log_limit,
+        })?;
+        self.sample_waves(now);
         let f = &mut self.fifos;
         let m = &mut *self.machine;
         m.clock
@@ -828,21 +790,23 @@ impl<'f> Pipeline<'f> {
         let m = &mut *self.machine;
         CycleFrame::new(
             self.hw,
-            self.frame.setup.frame,
-            cycles,
-            c.pixels,
-            self.stages.into(),
-            &self.fifos.stats(),
-            m.pool.take_cycles(),
-            m.mem.reset_stats(),
-            c.reused,
-            c.early,
-            c.walks_entered,
-            StallCounts {
-                write_bank_conflicts: self.write.bank_conflicts,
-                ..self.stalls
+            FrameMeasures {
+                frame: self.frame.setup.frame,
+                cycles,
+                pixels: c.pixels,
+                stages: self.stages.into(),
+                fifos: &self.fifos.stats(),
+                walkers: m.pool.take_cycles(),
+                mem: m.mem.reset_stats(),
+                reused: c.reused,
+                early: c.early,
+                traced: c.walks_entered,
+                stalls: StallCounts {
+                    write_bank_conflicts: self.write.bank_conflicts,
+                    ..self.stalls
+                },
+                sim_wall_s,
             },
-            sim_wall_s,
         )
     }
 }

@@ -23,7 +23,7 @@
 //! `y_b = t_{b+1} − t_b`. A timed band measures its `y_b` (the warming after it gives
 //! `t_{b+1}`); the estimator and its interval are in [`Estimate::of`].
 
-use super::model::CycleError;
+use super::error::CycleError;
 use super::stages::internal;
 use super::stats::fps_at_clock;
 use rtl_model::cycle::hw_config::HwConfig;

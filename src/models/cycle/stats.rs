@@ -341,24 +341,51 @@ pub fn fps_at_clock(clock_mhz: u32, frames: f64, cycles: f64) -> f64 {
     frames * f64::from(clock_mhz) * 1e6 / cycles.max(1.0)
 }
 
+/// What a frame's pipeline measured, for [`CycleFrame::new`].
+pub struct FrameMeasures<'a> {
+    /// Frame number.
+    pub frame: u32,
+    /// Cycles of the frame.
+    pub cycles: u64,
+    /// Pixels in the frame.
+    pub pixels: u64,
+    /// The stage rows, in pipeline order.
+    pub stages: Vec<StageCycles>,
+    /// Name, depth and counters of each FIFO.
+    pub fifos: &'a [(&'a str, usize, FifoStats)],
+    /// The walker pool's cycle counts.
+    pub walkers: PoolCycles,
+    /// The node memory's statistics.
+    pub mem: NodeMemoryStats,
+    /// Pixels reused from the hit buffer.
+    pub reused: u64,
+    /// Rays that stopped with candidates left.
+    pub early: u64,
+    /// Rays that entered the walk section.
+    pub traced: u64,
+    /// The pipeline's per-cause stall counters.
+    pub stalls: StallCounts,
+    /// Wall time the frame took.
+    pub sim_wall_s: f64,
+}
+
 impl CycleFrame {
-    /// Assembles the report.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        hw: &HwConfig,
-        frame: u32,
-        cycles: u64,
-        pixels: u64,
-        stages: Vec<StageCycles>,
-        fifos: &[(&str, usize, FifoStats)],
-        walkers: PoolCycles,
-        mem: NodeMemoryStats,
-        reused: u64,
-        early: u64,
-        traced: u64,
-        stalls: StallCounts,
-        sim_wall_s: f64,
-    ) -> Self {
+    /// Assembles the report of a frame on `hw` from what its pipeline measured.
+    pub fn new(hw: &HwConfig, m: FrameMeasures<'_>) -> Self {
+        let FrameMeasures {
+            frame,
+            cycles,
+            pixels,
+            stages,
+            fifos,
+            walkers,
+            mem,
+            reused,
+            early,
+            traced,
+            stalls,
+            sim_wall_s,
+        } = m;
         let c = cycles.max(1) as f64;
         let contexts = f64::from(hw.walker_pool.walkers * hw.walker_pool.contexts_per_walker);
         let fifos = fifos

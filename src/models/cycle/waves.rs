@@ -81,6 +81,26 @@ fn bits(max: u64) -> u32 {
     (64 - max.leading_zeros()).max(1)
 }
 
+/// What one cycle of the pipeline shows in the waveforms.
+pub struct WaveSample<'a> {
+    /// The cycle.
+    pub now: u64,
+    /// Registered occupancy of each FIFO, in pipeline order.
+    pub occupancy: &'a [&'a usize],
+    /// Registered (valid, ready) of each FIFO, in pipeline order.
+    pub valid_ready: &'a [(bool, bool)],
+    /// The walker pool.
+    pub pool: &'a WalkerPoolModel,
+    /// The node memory.
+    pub mem: &'a NodeMemory,
+    /// Rays generated so far this frame.
+    pub generated: u64,
+    /// Records written so far this frame.
+    pub written: u64,
+    /// The frame number.
+    pub frame: u32,
+}
+
 impl PipelineWaves {
     /// A recorder for a pool of `walkers` × `contexts`.
     pub fn new(
@@ -150,20 +170,19 @@ impl PipelineWaves {
         Ok(())
     }
 
-    /// Samples cycle `now` (see the module doc). Errors are kept and reported by
+    /// Samples cycle `c.now` (see the module doc). Errors are kept and reported by
     /// [`write_to`](Self::write_to), so a waveform problem never stops the simulation midway.
-    #[allow(clippy::too_many_arguments)]
-    pub fn sample(
-        &mut self,
-        now: u64,
-        occupancy: &[&usize],
-        valid_ready: &[(bool, bool)],
-        pool: &WalkerPoolModel,
-        mem: &NodeMemory,
-        generated: u64,
-        written: u64,
-        frame: u32,
-    ) {
+    pub fn sample(&mut self, c: &WaveSample<'_>) {
+        let &WaveSample {
+            now,
+            occupancy,
+            valid_ready,
+            pool,
+            mem,
+            generated,
+            written,
+            frame,
+        } = c;
         if self.finished || self.error.is_some() {
             return;
         }

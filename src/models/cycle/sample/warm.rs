@@ -5,7 +5,8 @@
 //! Pipeline position: inside `model::CycleModel::run_frame`, between the sampled segments that
 //! `pipeline::Pipeline` runs cycle by cycle.
 
-use super::super::model::{CycleError, Machine};
+use super::super::error::CycleError;
+use super::super::machine::Machine;
 use super::super::stages::{internal, FrameCounts, FrameInputs};
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::svo::FetchKind;

@@ -9,12 +9,13 @@
 //! the write FIFO (it is evaluated first and takes its ports); with two
 //! (`hit_buffer.write_ports: 2`) this stage has its own write FIFO.
 
-use super::{id, internal, FrameCounts, FrameInputs, Ray, Rec};
-use crate::models::cycle::model::CycleError;
+use super::io::{FrameFx, PopPort, PushPort};
+use super::{id, internal, Cx, Ray, Rec};
+use crate::models::cycle::error::CycleError;
+use crate::models::fixed::plan::PixelCounters;
 use crate::models::reference::SphereCount;
 use rtl_model::cycle::bram::Bram;
 use rtl_model::cycle::clocked::Stamped;
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::unit_pipe::UnitPipe;
@@ -28,6 +29,23 @@ pub struct Check {
     /// This cycle a decided word waited for the write path (the frame's
     /// `stalls.write_port`).
     pub write_blocked: bool,
+    /// Counters the plan's reuse rule and record packing update (not reported).
+    counters: PixelCounters,
+}
+
+/// The check stage's ports: its input, the walk queue, the write path, and the hit-buffer
+/// memory it reads (registered contents; the read takes a port at the commit).
+pub struct CheckIo<'a> {
+    /// `sorter_to_check`.
+    pub input: PopPort<'a, Ray>,
+    /// `check_to_transform`.
+    pub to_walk: PushPort<'a, Ray>,
+    /// `record_to_write` (after the record stage's offers) or `check_to_write`.
+    pub to_write: PushPort<'a, Rec>,
+    /// The hit buffer.
+    pub bram: &'a Bram<u128>,
+    /// The addresses read this cycle.
+    pub reads: &'a mut Vec<usize>,
 }
 
 impl Check {
@@ -47,25 +65,23 @@ impl Check {
             pipe: UnitPipe::new(latency, u.ii),
             miss_word: None,
             write_blocked: false,
+            counters: PixelCounters::default(),
         }
     }
 
     /// One cycle: the ready ray is decided and leaves into `to_walk` or `to_write` (if the
     /// write FIFO has a port and room left after the record stage); the next ray enters from
-    /// `input` and reads `bram`. `upstream_more`: the sorter had rays still to pass as the cycle started.
-    #[allow(clippy::too_many_arguments)]
+    /// `input` and reads the hit buffer. `upstream_more`: the sorter had rays still to pass as
+    /// the cycle started.
     #[inline]
     pub fn eval(
         &mut self,
-        input: &mut Fifo<Ray>,
-        to_walk: &mut Fifo<Ray>,
-        to_write: &mut Fifo<Rec>,
-        bram: &mut Bram<u128>,
-        frame: &mut FrameInputs<'_>,
-        counts: &mut FrameCounts,
+        io: &mut CheckIo<'_>,
+        cx: &Cx<'_, '_>,
+        fx: &mut FrameFx,
         upstream_more: bool,
-        now: u64,
     ) -> Result<StageState, CycleError> {
+        let (now, frame) = (cx.now, cx.frame);
         let mut blocked = false;
         self.write_blocked = false;
         if let Some(&(ref ray, prev)) = self.pipe.ready(now) {
@@ -73,7 +89,8 @@ impl Check {
             let (tr, pw, _) = frame.trace_at(pixel)?;
             let cands = tr.candidates_of(pw);
             let plan = frame.plan;
-            let reuse = plan.reuse(prev, cands, &mut frame.xc_counters);
+            let counters = &mut self.counters;
+            let reuse = plan.reuse(prev, cands, counters);
             if reuse.is_some() != pw.reused {
                 return Err(frame.mismatch(
                     pixel,
@@ -87,45 +104,49 @@ impl Check {
             let miss_word = &mut self.miss_word;
             let direct = reuse.or_else(|| {
                 cands.is_empty().then(|| {
-                    *miss_word.get_or_insert_with(|| {
-                        plan.finish(None, SphereCount::None, &mut frame.xc_counters)
-                            .word
-                    })
+                    *miss_word
+                        .get_or_insert_with(|| plan.finish(None, SphereCount::None, counters).word)
                 })
             });
             if let Some(word) = direct {
                 // Reused word, or a ray with no candidate: straight to the write port.
-                if to_write.can_push() {
+                if io.to_write.can_push() {
                     if let Some((mut ray, _)) = self.pipe.pop(now) {
                         let _ = ray.leave(id::CHECK, now);
-                        counts.reused += u64::from(reuse.is_some());
-                        to_write
-                            .try_push(ray.map(|r| Rec {
-                                pixel: r.pixel,
-                                word,
-                            }))
-                            .map_err(internal)?;
-                        counts.passed[3] += 1;
+                        fx.reused += u64::from(reuse.is_some());
+                        io.to_write.push(ray.map(|r| Rec {
+                            pixel: r.pixel,
+                            word,
+                        }))?;
+                        fx.passed[3] += 1;
                     }
                 } else {
                     blocked = true;
                     self.write_blocked = true;
                 }
-            } else if to_walk.ready() {
+            } else if io.to_walk.ready() {
                 if let Some((mut ray, _)) = self.pipe.pop(now) {
                     let _ = ray.leave(id::CHECK, now);
-                    to_walk.try_push(ray).map_err(internal)?;
-                    counts.walks_entered += 1;
-                    counts.passed[3] += 1;
+                    io.to_walk.push(ray)?;
+                    fx.walks_entered += 1;
+                    fx.passed[3] += 1;
                 }
             } else {
                 blocked = true;
             }
         }
-        if input.valid() && self.pipe.can_accept(now) {
-            if let Some(mut ray) = input.try_pop().map_err(internal)? {
+        if io.input.valid() && self.pipe.can_accept(now) {
+            if let Some(mut ray) = io.input.pop(now)? {
                 ray.enter(id::CHECK, now);
-                let word = bram.read(ray.payload.pixel as usize).map_err(internal)?;
+                let addr = ray.payload.pixel as usize;
+                // READ_FIRST: the word at the start of the cycle, whatever is written in it.
+                let word = io.bram.peek(addr).copied().ok_or_else(|| {
+                    internal(format!(
+                        "hit-buffer read of pixel {addr} beyond its {} words",
+                        io.bram.depth()
+                    ))
+                })?;
+                io.reads.push(addr);
                 self.pipe.accept(now, (ray, word), 1, 0);
             }
         }

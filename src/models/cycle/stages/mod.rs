@@ -3,20 +3,29 @@
 //! Pipeline position: the parts [`super::pipeline::Pipeline`] evaluates once per clock,
 //! consumers first (docs/cycle-model.md §2.1). A stage is a struct holding its registers — a
 //! fixed-latency [`UnitPipe`] for the units, the pixel counter for ray generation — with one
-//! `eval` that runs one cycle of it: it reads the registered `ready`/`valid` of the FIFOs
-//! around it, hands on the result at its head, takes the next transaction, and returns its
-//! state for the cycle's accounting. Pushes, pops and hit-buffer writes land at the clock edge
-//! the pipeline takes after every stage has been evaluated (`rtl_model::cycle::clocked`).
+//! `eval` that is a kernel (issue 30, rhdl style): a function of its own state and a read-only
+//! view of the registered state around it — `io::PopPort`/`io::PushPort` on its FIFOs, the ray
+//! slots, the hit buffer's words, the frame's inputs and counts as the cycle started ([`Cx`]) —
+//! that updates its own state and returns the cycle's effects into the pipeline's reused
+//! buffers (`io`: pops, offered items, slot writes/takes/releases, BRAM reads and writes, count
+//! increments) and its state for the cycle's accounting. No stage holds a `&mut` to a FIFO,
+//! the slot table or a memory; `commit::Effects::apply` applies every stage's effects in one
+//! place after all of them, then the clock edge commits (`rtl_model::cycle::clocked`). The
+//! walker stage's own state is the walker pool and the node memory (`walkers::WalkerRegs`).
 //!
-//! Interface rule: a stage takes the FIFOs, slot indices and plain data it touches as
-//! arguments — no trait objects, no allocation per transaction beyond its stamps — so that the
-//! loop's data layout can change under the stages without changing what they decide.
+//! Interface rule: a stage takes its ports grouped in one struct (`UnitIo`, `CheckIo`, …) —
+//! no trait objects, no allocation per transaction beyond its stamps — so that the loop's data
+//! layout can change under the stages without changing what they decide. Nothing here imports
+//! the model or the pipeline (`imports.rs` checks it).
 //!
 //! This file holds what several stages share: the transactions, the ray slots of the walk
-//! section, the frame's inputs (the functional model's trace, read as rows arrive) and the
-//! frame's counters.
+//! section, the frame's inputs (the functional model's trace, read as rows arrive), the
+//! frame's counters and the kernels' cycle context.
 
 pub mod check;
+#[cfg(test)]
+mod imports;
+pub mod io;
 pub mod passthrough;
 pub mod raygen;
 pub mod record;
@@ -27,13 +36,13 @@ pub mod transform;
 pub mod walkers;
 pub mod write;
 
+use super::error::CycleError;
 use super::layout::SceneLayout;
-use super::model::CycleError;
 use crate::models::fixed::plan::{Best, FramePlan, PixelCounters};
 use crate::models::fixed::row_feed::RowFeed;
 use crate::models::fixed::trace::{PixelWork, RowTrace};
+use io::{PopPort, PushPort};
 use rtl_model::cycle::clocked::{StageId, Stamped};
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::unit_lanes::UnitLanes;
 use rtl_model::cycle::unit_pipe::UnitPipe;
 use rtl_model::units::walker::WalkerT;
@@ -147,13 +156,13 @@ pub fn internal(e: impl std::fmt::Display) -> CycleError {
 pub fn hand_on<T>(
     pipe: &mut UnitPipe<Stamped<T>>,
     stage: StageId,
-    out: &mut Fifo<T>,
+    out: &mut PushPort<'_, T>,
     now: u64,
 ) -> Result<bool, CycleError> {
     if pipe.ready(now).is_some() && out.ready() {
         if let Some(mut w) = pipe.pop(now) {
             let _ = w.leave(stage, now);
-            out.try_push(w).map_err(internal)?;
+            out.push(w)?;
             return Ok(true);
         }
     }
@@ -166,17 +175,48 @@ pub fn hand_on<T>(
 pub fn hand_on_lanes<T>(
     lanes: &mut UnitLanes<Stamped<T>>,
     stage: StageId,
-    out: &mut Fifo<T>,
+    out: &mut PushPort<'_, T>,
     now: u64,
 ) -> Result<bool, CycleError> {
     let mut any = false;
     while lanes.ready(now).is_some() && out.can_push() {
         let Some(mut w) = lanes.pop(now) else { break };
         let _ = w.leave(stage, now);
-        out.try_push(w).map_err(internal)?;
+        out.push(w)?;
         any = true;
     }
     Ok(any)
+}
+
+/// What every kernel reads of the cycle besides its ports: the cycle, the frame's inputs and
+/// the frame's counts as the cycle started (registered: no stage sees another's count of this
+/// cycle).
+#[derive(Clone, Copy)]
+pub struct Cx<'a, 'f> {
+    /// The cycle.
+    pub now: u64,
+    /// The frame's inputs (trace rows received so far, plan, direction table, layout).
+    pub frame: &'a FrameInputs<'f>,
+    /// The frame's counts at the start of the cycle.
+    pub counts: &'a FrameCounts,
+}
+
+/// The two ports of a unit between two FIFOs.
+pub struct UnitIo<'a, I, O> {
+    /// Its input FIFO's consumer side.
+    pub input: PopPort<'a, I>,
+    /// Its output FIFO's producer side.
+    pub out: PushPort<'a, O>,
+}
+
+/// Scratch of a stage's cross-check (and of the plan's unit functions it calls): its own,
+/// so that kernels read the frame's inputs through a shared reference.
+#[derive(Default)]
+pub struct Scratch {
+    /// This model's own candidates of a ray.
+    pub cands: Vec<(i64, u16)>,
+    /// Counters the plan's unit functions update (not reported by the cycle model).
+    pub counters: PixelCounters,
 }
 
 /// A ray in the walk section.
@@ -212,12 +252,6 @@ impl RaySlots {
         }
     }
 
-    /// Whether a slot is free.
-    #[inline]
-    pub fn has_free(&self) -> bool {
-        !self.free.is_empty()
-    }
-
     /// Takes a free slot for the ray `stamps` of `pixel` with its sorted candidates `cands`,
     /// initialising it afresh.
     pub fn take(
@@ -238,6 +272,30 @@ impl RaySlots {
         s.walks = 0;
         s.stamps = Some(stamps);
         Ok(slot)
+    }
+
+    /// Free slots.
+    #[inline]
+    pub fn free_count(&self) -> usize {
+        self.free.len()
+    }
+
+    /// The free slot `k` places below the top of the free stack (0: the next one taken).
+    #[inline]
+    pub fn free_from_top(&self, k: usize) -> Option<u32> {
+        self.free
+            .len()
+            .checked_sub(k + 1)
+            .and_then(|i| self.free.get(i))
+            .copied()
+    }
+
+    /// Slot `slot`, read only.
+    #[inline]
+    pub fn get(&self, slot: u32) -> Result<&Slot, CycleError> {
+        self.slots
+            .get(slot as usize)
+            .ok_or_else(|| CycleError::Internal(format!("no ray slot {slot}")))
     }
 
     /// Slot `slot`.
@@ -270,7 +328,7 @@ pub struct FrameSetup {
 
 /// The frame's inputs as the stages read them: the prepared datapath, the direction table,
 /// the scene's placement in node memory, and the functional model's trace, taken row by row
-/// as it arrives. Also the scratch of the cross-check.
+/// as it arrives.
 pub struct FrameInputs<'f> {
     /// Where the frame sits and how it is checked.
     pub setup: FrameSetup,
@@ -285,10 +343,6 @@ pub struct FrameInputs<'f> {
     pub instance_asset: &'f [usize],
     /// Where each asset's image is in node memory.
     pub layout: &'f SceneLayout,
-    /// Cross-check scratch: this model's own candidates of a ray.
-    pub xc_cands: Vec<(i64, u16)>,
-    /// Counters the plan's unit functions update (not reported by the cycle model).
-    pub xc_counters: PixelCounters,
 }
 
 impl<'f> FrameInputs<'f> {
@@ -316,8 +370,6 @@ impl<'f> FrameInputs<'f> {
             dir,
             instance_asset,
             layout,
-            xc_cands: Vec::new(),
-            xc_counters: PixelCounters::default(),
         })
     }
 

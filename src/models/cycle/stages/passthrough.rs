@@ -6,10 +6,9 @@
 //! (under cross-check the walker stage re-executes it with the walk, §2.4); here they only
 //! take time: a latency, and an initiation interval shared by their units.
 
-use super::{hand_on_lanes, id, internal, Walk};
-use crate::models::cycle::model::CycleError;
+use super::{hand_on_lanes, id, UnitIo, Walk};
+use crate::models::cycle::error::CycleError;
 use rtl_model::cycle::clocked::{StageId, Stamped};
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::unit_lanes::UnitLanes;
@@ -63,25 +62,25 @@ impl PassThrough {
         }
     }
 
-    /// One cycle: the ready walks leave into `out`, the next ones enter from `input` while a
-    /// unit is free.
+    /// One cycle: the ready walks leave into `io.out`, the next ones enter from `io.input`
+    /// while a unit is free.
     /// `more_walks`: whether walks may still come (for the starved/idle accounting).
     #[inline]
     pub fn eval(
         &mut self,
-        input: &mut Fifo<Walk>,
-        out: &mut Fifo<Walk>,
+        io: &mut UnitIo<'_, Walk, Walk>,
         more_walks: bool,
         now: u64,
     ) -> Result<StageState, CycleError> {
-        let pushed = hand_on_lanes(&mut self.pipe, self.stage, out, now)?;
+        let pushed = hand_on_lanes(&mut self.pipe, self.stage, &mut io.out, now)?;
+        let input = &mut io.input;
         while input.can_pop() && self.pipe.can_accept(now) {
-            if let Some(mut w) = input.try_pop().map_err(internal)? {
+            if let Some(mut w) = input.pop(now)? {
                 w.enter(self.stage, now);
                 self.pipe.accept(now, w, self.passes, 0);
             }
         }
-        self.issue_stall = input.can_pop() && !self.pipe.can_accept(now) && out.ready();
+        self.issue_stall = input.can_pop() && !self.pipe.can_accept(now) && io.out.ready();
         Ok(self.pipe.state(now, !pushed, more_walks))
     }
 }

@@ -10,10 +10,10 @@
 //! table, built once per frame size. Sampled timing (§3.5) times bands of rows, so it refuses
 //! any order but scanline.
 
-use super::{hand_on, id, internal, FrameCounts, FrameInputs, Ray};
-use crate::models::cycle::model::CycleError;
+use super::io::{FrameFx, PushPort};
+use super::{hand_on, id, internal, Cx, Ray};
+use crate::models::cycle::error::CycleError;
 use rtl_model::cycle::clocked::Stamped;
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::{HwConfig, RayOrder};
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::unit_pipe::UnitPipe;
@@ -75,22 +75,23 @@ impl Raygen {
         self.next_pixel
     }
 
-    /// One cycle: the ready ray leaves into `out`, the next pixel enters.
+    /// One cycle: the ready ray leaves into `out`, the next pixel enters (its trace row is
+    /// asked for in `fx`, received at the commit).
     #[inline]
     pub fn eval(
         &mut self,
-        out: &mut Fifo<Ray>,
-        frame: &mut FrameInputs<'_>,
-        counts: &mut FrameCounts,
-        now: u64,
+        out: &mut PushPort<'_, Ray>,
+        cx: &Cx<'_, '_>,
+        fx: &mut FrameFx,
     ) -> Result<StageState, CycleError> {
+        let now = cx.now;
         let pushed = hand_on(&mut self.pipe, id::RAYGEN, out, now)?;
-        counts.passed[0] += u64::from(pushed);
-        let pixels = counts.pixels;
+        fx.passed[0] += u64::from(pushed);
+        let pixels = cx.counts.pixels;
         if self.next_pixel < pixels.min(self.limit) && self.pipe.can_accept(now) {
-            let pixel = self.pixel_of(self.next_pixel, frame)?;
-            let width = frame.setup.width;
-            frame.need_row((pixel / width) as usize)?;
+            let width = cx.frame.setup.width;
+            let pixel = self.pixel_of(self.next_pixel, width, cx.frame.setup.height)?;
+            fx.need_row = Some((pixel / width) as usize);
             let mut ray = Stamped::with_history(Ray { pixel }, self.track);
             ray.enter(id::RAYGEN, now);
             self.pipe.accept(now, ray, 1, 0);
@@ -101,7 +102,7 @@ impl Raygen {
 
     /// The pixel (raster index) of the `s`-th ray of the frame.
     #[inline]
-    fn pixel_of(&mut self, s: u64, frame: &FrameInputs<'_>) -> Result<u32, CycleError> {
+    fn pixel_of(&mut self, s: u64, width: u32, height: u32) -> Result<u32, CycleError> {
         if self.order.is_scanline() {
             return u32::try_from(s).map_err(internal);
         }
@@ -112,7 +113,7 @@ impl Raygen {
                 self.order
             )));
         }
-        let size = (frame.setup.width, frame.setup.height);
+        let size = (width, height);
         if self.table_size != size {
             self.table = self.order.sequence(size.0, size.1);
             self.table_size = size;

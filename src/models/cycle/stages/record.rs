@@ -8,11 +8,11 @@
 //! functional model (§2.4); under cross-check the word is packed from this model's own best
 //! walk instead of taken from the trace.
 
-use super::{hand_on_lanes, id, internal, FrameCounts, FrameInputs, Ray, RaySlots, Rec, Walk};
-use crate::models::cycle::model::CycleError;
-use crate::models::fixed::plan::FramePlan;
+use super::io::{FrameFx, PopPort, PushPort, SlotFx, SlotWrite};
+use super::{hand_on_lanes, id, Cx, Ray, RaySlots, Rec, Walk};
+use crate::models::cycle::error::CycleError;
+use crate::models::fixed::plan::{FramePlan, PixelCounters};
 use rtl_model::cycle::clocked::Stamped;
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::unit_lanes::UnitLanes;
@@ -24,6 +24,24 @@ pub struct Record {
     /// In the last cycle evaluated, a packed record could not enter `record_to_write` (full):
     /// the bound line's `record_write` cause (docs/cycle-model.md §2.2).
     pub write_blocked: bool,
+    /// Counters the plan's record packing updates under cross-check (not reported).
+    counters: PixelCounters,
+}
+
+/// The record stage's ports: walk results in, the loop-back and the write FIFO out, the ray
+/// slots it reads (registered) and its slot effects (writes and releases, which the
+/// transform sees in the same cycle).
+pub struct RecordIo<'a> {
+    /// `walker_to_record`.
+    pub input: PopPort<'a, Walk>,
+    /// `loop_back`.
+    pub loop_back: PushPort<'a, Walk>,
+    /// `record_to_write` (its ports are the record stage's first).
+    pub out: PushPort<'a, Rec>,
+    /// The ray slots at the start of the cycle.
+    pub slots: &'a RaySlots,
+    /// Slot writes and releases.
+    pub slot_fx: &'a mut SlotFx,
 }
 
 impl Record {
@@ -40,51 +58,47 @@ impl Record {
         Self {
             pack: UnitLanes::new(hw.walk_lanes(), u.latency_cycles, u.ii),
             write_blocked: false,
+            counters: PixelCounters::default(),
         }
     }
 
     /// One cycle: the packed records leave into `out` (the write FIFO's ports are the record
-    /// stage's first), then walk results from `input` are decided, one per lane. Returns the
-    /// stage's state and whether it pushed into the write FIFO this cycle.
+    /// stage's first), then walk results from `input` are decided, one per lane.
     /// `walked`: a ray had entered the walk section as the cycle started.
-    #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn eval(
         &mut self,
-        input: &mut Fifo<Walk>,
-        loop_back: &mut Fifo<Walk>,
-        out: &mut Fifo<Rec>,
-        slots: &mut RaySlots,
-        frame: &mut FrameInputs<'_>,
-        counts: &mut FrameCounts,
+        io: &mut RecordIo<'_>,
+        cx: &Cx<'_, '_>,
+        fx: &mut FrameFx,
         walked: bool,
-        now: u64,
-    ) -> Result<(StageState, bool), CycleError> {
-        let pushed = hand_on_lanes(&mut self.pack, id::RECORD, out, now)?;
-        self.write_blocked = self.pack.ready(now).is_some() && !out.can_push();
+    ) -> Result<StageState, CycleError> {
+        let now = cx.now;
+        let pushed = hand_on_lanes(&mut self.pack, id::RECORD, &mut io.out, now)?;
+        self.write_blocked = self.pack.ready(now).is_some() && !io.out.can_push();
         let mut state = self.pack.state(now, !pushed, walked);
-        while input.can_pop() && self.pack.can_accept(now) {
-            if let Some(wk) = input.try_pop().map_err(internal)? {
-                self.decide(wk, loop_back, slots, frame, counts, now)?;
+        while io.input.can_pop() && self.pack.can_accept(now) {
+            if let Some(wk) = io.input.pop(now)? {
+                self.decide(wk, io, cx, fx)?;
                 state = StageState::Busy;
             }
         }
-        Ok((state, pushed))
+        Ok(state)
     }
 
     /// The decision on walk result `wk`: loop back for the next candidate, or pack the record
-    /// and free the slot.
+    /// and free the slot. Reads the slot as registered (a ray has one walk in flight, so no
+    /// other effect of this cycle touches it) and writes it through the effects.
     fn decide(
         &mut self,
         wk: Stamped<Walk>,
-        loop_back: &mut Fifo<Walk>,
-        slots: &mut RaySlots,
-        frame: &mut FrameInputs<'_>,
-        counts: &mut FrameCounts,
-        now: u64,
+        io: &mut RecordIo<'_>,
+        cx: &Cx<'_, '_>,
+        fx: &mut FrameFx,
     ) -> Result<(), CycleError> {
+        let (now, frame) = (cx.now, cx.frame);
         let Walk { slot, cand } = wk.payload;
-        let s = slots.get_mut(slot)?;
+        let s = io.slots.get(slot)?;
         let (tr, pw, i) = frame.trace_at(s.pixel)?;
         let twalks = tr.walks_of(pw);
         let Some(tw) = twalks.get(usize::from(cand)) else {
@@ -96,17 +110,17 @@ impl Record {
                 ),
             ));
         };
+        let mut best = s.best;
         if let Some(t) = tw.hit_t {
-            if s.best.is_none_or(|(bt, _)| t < bt) {
-                s.best = Some((t, cand));
+            if best.is_none_or(|(bt, _)| t < bt) {
+                best = Some((t, cand));
             }
         }
-        s.walks += 1;
+        let walks = s.walks + 1;
+        io.slot_fx.writes.push(SlotWrite { slot, best, walks });
         let next = usize::from(cand) + 1;
         let more = next < s.cands.len()
-            && !s
-                .best
-                .is_some_and(|(bt, _)| frame.plan.stops(bt, s.cands[next].0));
+            && !best.is_some_and(|(bt, _)| frame.plan.stops(bt, s.cands[next].0));
         if more {
             let mut w2 = wk.map(|_| Walk {
                 slot,
@@ -114,20 +128,20 @@ impl Record {
             });
             w2.enter(id::RECORD, now);
             let _ = w2.leave(id::RECORD, now);
-            loop_back
-                .try_push(w2)
-                .map_err(|e| CycleError::Internal(format!("loop-back: {e}")))?;
-            return Ok(());
+            return io
+                .loop_back
+                .push(w2)
+                .map_err(|e| CycleError::Internal(format!("loop-back: {e}")));
         }
         if next < s.cands.len() {
-            counts.early += 1;
+            fx.early += 1;
         }
-        if s.walks != pw.walk_len {
+        if walks != pw.walk_len {
             return Err(frame.mismatch(
                 s.pixel,
                 format!(
                     "{} walks here, {} in the functional model (early termination differs)",
-                    s.walks, pw.walk_len
+                    walks, pw.walk_len
                 ),
             ));
         }
@@ -135,7 +149,7 @@ impl Record {
             let spheres = FramePlan::sphere_count(&s.cands);
             frame
                 .plan
-                .finish(s.best_full, spheres, &mut frame.xc_counters)
+                .finish(s.best_full, spheres, &mut self.counters)
                 .word
         } else {
             tr.words
@@ -143,9 +157,10 @@ impl Record {
                 .copied()
                 .ok_or_else(|| CycleError::Internal(format!("no word for pixel {}", s.pixel)))?
         };
+        // The slot's stamps are dropped at the commit, as the slot is freed.
         let mut ray = s
             .stamps
-            .take()
+            .clone()
             .unwrap_or_else(|| Stamped::untracked(Ray { pixel: s.pixel }));
         ray.enter(id::RECORD, now);
         let rec = ray.map(|r| Rec {
@@ -154,7 +169,7 @@ impl Record {
         });
         self.pack.accept(now, rec, 1, 0);
         // The slot is initialised afresh when the transform takes it again.
-        slots.release(slot);
+        io.slot_fx.releases.push(slot);
         Ok(())
     }
 }

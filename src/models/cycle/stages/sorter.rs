@@ -9,11 +9,11 @@
 //! ray passes the network's registers in one issue, in instance order; without culling only
 //! the pierced candidates are sorted, the others follow.
 
-use super::{hand_on, id, internal, FrameCounts, FrameInputs, Ray};
-use crate::models::cycle::model::CycleError;
+use super::io::FrameFx;
+use super::{hand_on, id, Cx, Ray, Scratch, UnitIo};
+use crate::models::cycle::error::CycleError;
 use crate::models::fixed::plan::NOT_PIERCED;
 use rtl_model::cycle::clocked::Stamped;
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::unit_pipe::UnitPipe;
@@ -35,6 +35,8 @@ pub struct Sorter {
     sort_cost: Vec<(u64, u64)>,
     lanes: u8,
     network_latency: u32,
+    /// The cross-check's scratch.
+    xc: Scratch,
 }
 
 /// Passes (initiation intervals) a ray of `n` candidates occupies the sorter for, and its
@@ -67,40 +69,40 @@ impl Sorter {
                 .collect(),
             lanes,
             network_latency: u.latency_cycles,
+            xc: Scratch::default(),
         }
     }
 
-    /// One cycle: the ready ray leaves into `out`, the next one enters from `input`.
+    /// One cycle: the ready ray leaves into `io.out`, the next one enters from `io.input`.
     /// `upstream_more`: the sphere stage had rays still to pass as the cycle started.
     #[inline]
     pub fn eval(
         &mut self,
-        input: &mut Fifo<Ray>,
-        out: &mut Fifo<Ray>,
-        frame: &mut FrameInputs<'_>,
-        counts: &mut FrameCounts,
+        io: &mut UnitIo<'_, Ray, Ray>,
+        cx: &Cx<'_, '_>,
+        fx: &mut FrameFx,
         upstream_more: bool,
-        now: u64,
     ) -> Result<StageState, CycleError> {
-        let pushed = hand_on(&mut self.pipe, id::SORTER, out, now)?;
-        counts.passed[2] += u64::from(pushed);
+        let (now, frame) = (cx.now, cx.frame);
+        let pushed = hand_on(&mut self.pipe, id::SORTER, &mut io.out, now)?;
+        fx.passed[2] += u64::from(pushed);
+        let input = &mut io.input;
         self.held = input.valid() && self.pipe.in_interval(now);
         if input.valid() && self.pipe.can_accept(now) {
-            if let Some(mut ray) = input.try_pop().map_err(internal)? {
+            if let Some(mut ray) = input.pop(now)? {
                 ray.enter(id::SORTER, now);
                 let pixel = ray.payload.pixel;
                 let (tr, pw, _) = frame.trace_at(pixel)?;
                 if frame.setup.cross_check {
                     let d = frame.dir[pixel as usize];
-                    frame
-                        .plan
-                        .walk_list(d, &mut frame.xc_cands, &mut frame.xc_counters);
-                    if frame.xc_cands.as_slice() != tr.candidates_of(pw) {
+                    let xc = &mut self.xc;
+                    frame.plan.walk_list(d, &mut xc.cands, &mut xc.counters);
+                    if xc.cands.as_slice() != tr.candidates_of(pw) {
                         return Err(frame.mismatch(
                             pixel,
                             format!(
                                 "sorted candidates {:?} here, {:?} in the functional model",
-                                frame.xc_cands,
+                                xc.cands,
                                 tr.candidates_of(pw)
                             ),
                         ));

@@ -5,10 +5,10 @@
 //! candidates themselves come from the functional model's trace; under cross-check the sorter
 //! stage re-runs the tests and the sort from the direction (§2.4).
 
-use super::{hand_on, id, internal, FrameCounts, Ray};
-use crate::models::cycle::model::CycleError;
+use super::io::FrameFx;
+use super::{hand_on, id, Cx, Ray, UnitIo};
+use crate::models::cycle::error::CycleError;
 use rtl_model::cycle::clocked::Stamped;
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::unit_pipe::UnitPipe;
@@ -58,23 +58,24 @@ impl Sphere {
         self
     }
 
-    /// One cycle: the ready ray leaves into `out`, the next one enters from `input`.
+    /// One cycle: the ready ray leaves into `io.out`, the next one enters from `io.input`.
     /// `upstream_more`: ray generation had rays still to pass as the cycle started (starved,
     /// not idle, while it waits).
     #[inline]
     pub fn eval(
         &mut self,
-        input: &mut Fifo<Ray>,
-        out: &mut Fifo<Ray>,
-        counts: &mut FrameCounts,
+        io: &mut UnitIo<'_, Ray, Ray>,
+        cx: &Cx<'_, '_>,
+        fx: &mut FrameFx,
         upstream_more: bool,
-        now: u64,
     ) -> Result<StageState, CycleError> {
-        let pushed = hand_on(&mut self.pipe, id::SPHERE, out, now)?;
-        counts.passed[1] += u64::from(pushed);
+        let now = cx.now;
+        let pushed = hand_on(&mut self.pipe, id::SPHERE, &mut io.out, now)?;
+        fx.passed[1] += u64::from(pushed);
+        let input = &mut io.input;
         self.held = input.valid() && self.pipe.in_interval(now);
         if input.valid() && self.pipe.can_accept(now) {
-            if let Some(mut ray) = input.try_pop().map_err(internal)? {
+            if let Some(mut ray) = input.pop(now)? {
                 ray.enter(id::SPHERE, now);
                 let (passes, extra) = match &self.tiles {
                     Some(t) => (t.passes(ray.payload.pixel), t.latency),

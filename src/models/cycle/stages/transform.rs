@@ -7,10 +7,10 @@
 //! its first walk enters here and keeps it until its record leaves; `loop_back` has one entry
 //! per slot, so it can always take a returning walk and the loop cannot deadlock.
 
-use super::{hand_on_lanes, id, internal, FrameInputs, Ray, RaySlots, Walk};
-use crate::models::cycle::model::CycleError;
+use super::io::{PopPort, PushPort, SlotTake, SlotView};
+use super::{hand_on_lanes, id, Cx, Ray, Walk};
+use crate::models::cycle::error::CycleError;
 use rtl_model::cycle::clocked::Stamped;
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::unit_lanes::UnitLanes;
@@ -24,6 +24,21 @@ pub struct Transform {
     /// This cycle a unit was free and no walk was at either input though rays were still to
     /// come: the walk section waited for ray generation (`stalls.ray_generation`).
     pub input_starved: bool,
+}
+
+/// The transform's ports: the loop-back and new-ray inputs, its output, the ray slots as it
+/// may take them this cycle, and where its takes go.
+pub struct TransformIo<'a> {
+    /// `loop_back` (first).
+    pub loop_back: PopPort<'a, Walk>,
+    /// `check_to_transform`.
+    pub new_rays: PopPort<'a, Ray>,
+    /// `transform_to_reciprocal`.
+    pub out: PushPort<'a, Walk>,
+    /// The slots free for a take (the record stage's releases of this cycle included).
+    pub slots: SlotView<'a>,
+    /// The slots taken this cycle.
+    pub takes: &'a mut Vec<SlotTake>,
 }
 
 impl Transform {
@@ -47,33 +62,33 @@ impl Transform {
 
     /// One cycle: the ready walks leave into `out`; then, while a unit is free, a returning
     /// walk from `loop_back` enters, or else the first walk of a new ray from `new_rays` if a
-    /// slot is free. `frame_more_rays`: rays of the frame are still to leave the check stage
-    /// (what `input_starved` needs).
-    #[allow(clippy::too_many_arguments)]
+    /// slot is free (taken at the commit). `frame_more_rays`: rays of the frame are still to
+    /// leave the check stage (what `input_starved` needs).
     #[inline]
     pub fn eval(
         &mut self,
-        loop_back: &mut Fifo<Walk>,
-        new_rays: &mut Fifo<Ray>,
-        out: &mut Fifo<Walk>,
-        slots: &mut RaySlots,
-        frame: &FrameInputs<'_>,
+        io: &mut TransformIo<'_>,
+        cx: &Cx<'_, '_>,
         more_walks: bool,
         frame_more_rays: bool,
-        now: u64,
     ) -> Result<StageState, CycleError> {
-        let pushed = hand_on_lanes(&mut self.pipe, id::TRANSFORM, out, now)?;
+        let now = cx.now;
+        let pushed = hand_on_lanes(&mut self.pipe, id::TRANSFORM, &mut io.out, now)?;
         while self.pipe.can_accept(now) {
-            if loop_back.can_pop() {
-                if let Some(mut w) = loop_back.try_pop().map_err(internal)? {
+            if io.loop_back.can_pop() {
+                if let Some(mut w) = io.loop_back.pop(now)? {
                     w.enter(id::TRANSFORM, now);
                     self.pipe.accept(now, w, 1, 0);
                 }
-            } else if new_rays.can_pop() && slots.has_free() {
-                if let Some(ray) = new_rays.try_pop().map_err(internal)? {
+            } else if io.new_rays.can_pop() && io.slots.has_free() {
+                if let Some(ray) = io.new_rays.pop(now)? {
                     let pixel = ray.payload.pixel;
-                    let (tr, pw, _) = frame.trace_at(pixel)?;
-                    let slot = slots.take(pixel, tr.candidates_of(pw), ray)?;
+                    let slot = io.slots.take()?;
+                    io.takes.push(SlotTake {
+                        slot,
+                        pixel,
+                        stamps: ray,
+                    });
                     let mut w = Stamped::untracked(Walk { slot, cand: 0 });
                     w.enter(id::TRANSFORM, now);
                     self.pipe.accept(now, w, 1, 0);
@@ -82,10 +97,12 @@ impl Transform {
                 break;
             }
         }
-        let waiting = loop_back.can_pop() || (new_rays.can_pop() && slots.has_free());
-        self.issue_stall = waiting && !self.pipe.can_accept(now) && out.ready();
-        self.input_starved =
-            !loop_back.valid() && !new_rays.valid() && self.pipe.can_accept(now) && frame_more_rays;
+        let waiting = io.loop_back.can_pop() || (io.new_rays.can_pop() && io.slots.has_free());
+        self.issue_stall = waiting && !self.pipe.can_accept(now) && io.out.ready();
+        self.input_starved = !io.loop_back.valid()
+            && !io.new_rays.valid()
+            && self.pipe.can_accept(now)
+            && frame_more_rays;
         Ok(self.pipe.state(now, !pushed, more_walks))
     }
 }

@@ -9,19 +9,47 @@
 //! the whole walk from the ray's direction and compares every op and the hit with the trace
 //! (§2.4).
 
-use super::{id, internal, FrameInputs, RaySlots, Walk};
-use crate::models::cycle::model::CycleError;
+use super::io::{PopPort, PushPort};
+use super::{id, Cx, FrameInputs, RaySlots, Scratch, Walk};
+use crate::models::cycle::error::CycleError;
+use crate::models::fixed::plan::Best;
 use crate::models::fixed::trace::{OpRecorder, WalkOp};
 use rtl_model::cycle::clocked::Stamped;
-use rtl_model::cycle::fifo::Fifo;
 use rtl_model::cycle::memory::NodeMemory;
 use rtl_model::cycle::stage_stats::StageState;
 use rtl_model::cycle::walker_pool::WalkerPoolModel;
 use rtl_model::units::walker::WalkOutcome;
 
-/// The walker stage. Its registers are the pool's contexts, which live across frames in the
-/// model ([`WalkerPoolModel`]); the stage is how the pipeline drives them.
-pub struct Walkers;
+/// The walker stage. Its registers are the pool's contexts and the node memory, which live
+/// across frames in the model ([`WalkerRegs`]); the stage is how the pipeline drives them.
+#[derive(Default)]
+pub struct Walkers {
+    /// The cross-check's scratch.
+    xc: Scratch,
+}
+
+/// The walker stage's own state that outlives the frame: the pool and the node memory. The
+/// stage mutates them in its kernel (they are its registers); its FIFO and slot effects go
+/// through the commit.
+pub struct WalkerRegs<'a> {
+    /// The walker pool.
+    pub pool: &'a mut WalkerPoolModel,
+    /// The node memory.
+    pub mem: &'a mut NodeMemory,
+}
+
+/// The walker stage's ports: walks in, finished walks out, the ray slots it reads, and the
+/// cross-check's best results it writes to them.
+pub struct WalkerIo<'a> {
+    /// `root_to_dispatch`.
+    pub input: PopPort<'a, Walk>,
+    /// `walker_to_record`.
+    pub out: PushPort<'a, Walk>,
+    /// The ray slots at the start of the cycle.
+    pub slots: &'a RaySlots,
+    /// Under cross-check: the walker's own best result per slot.
+    pub best_full: &'a mut Vec<(u32, Best)>,
+}
 
 /// The pool's tag of walk `w`: slot in the high bits, candidate in the low 16.
 #[inline]
@@ -41,19 +69,17 @@ fn walk_of(tag: u64) -> Walk {
 impl Walkers {
     /// One cycle of the pool. `more_walks`: whether walks may still come (for the
     /// starved/idle accounting). The stage is busy when any walker issued.
-    #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn eval(
         &mut self,
-        input: &mut Fifo<Walk>,
-        out: &mut Fifo<Walk>,
-        pool: &mut WalkerPoolModel,
-        mem: &mut NodeMemory,
-        slots: &mut RaySlots,
-        frame: &mut FrameInputs<'_>,
+        io: &mut WalkerIo<'_>,
+        regs: &mut WalkerRegs<'_>,
+        cx: &Cx<'_, '_>,
         more_walks: bool,
-        now: u64,
     ) -> Result<StageState, CycleError> {
+        let now = cx.now;
+        let (pool, mem) = (&mut *regs.pool, &mut *regs.mem);
+        let out = &mut io.out;
         pool.wake(now, mem)?;
         // Up to the walk lanes (the FIFOs' ports) retire and dispatch per cycle.
         while pool.finished_head().is_some() && out.can_push() {
@@ -61,15 +87,18 @@ impl Walkers {
             let mut wk = Stamped::untracked(walk_of(tag));
             wk.enter(id::WALKER, now);
             let _ = wk.leave(id::WALKER, now);
-            out.try_push(wk).map_err(internal)?;
+            out.push(wk)?;
         }
-        while input.can_pop() {
+        while io.input.can_pop() {
             if !pool.has_free() {
                 pool.note_dispatch_stall();
                 break;
             }
-            if let Some(wk) = input.try_pop().map_err(internal)? {
-                Self::dispatch(wk.payload, pool, slots, frame)?;
+            if let Some(wk) = io.input.pop(now)? {
+                let best = self.dispatch(wk.payload, pool, io.slots, cx.frame)?;
+                if let Some(b) = best {
+                    io.best_full.push((wk.payload.slot, b));
+                }
             }
         }
         pool.issue();
@@ -89,14 +118,17 @@ impl Walkers {
     }
 
     /// Hands walk `w` to a free context with its recorded ops, relocated to its asset.
+    /// Under cross-check, returns the slot's new best result when this walk improves it.
     fn dispatch(
+        &mut self,
         w: Walk,
         pool: &mut WalkerPoolModel,
-        slots: &mut RaySlots,
-        frame: &mut FrameInputs<'_>,
-    ) -> Result<(), CycleError> {
+        slots: &RaySlots,
+        frame: &FrameInputs<'_>,
+    ) -> Result<Option<Best>, CycleError> {
         let Walk { slot, cand } = w;
-        let s = slots.get_mut(slot)?;
+        let s = slots.get(slot)?;
+        let mut best = None;
         let (tr, pw, _) = frame.trace_at(s.pixel)?;
         let Some(&(_, k)) = s.cands.get(usize::from(cand)) else {
             return Err(CycleError::Internal(format!(
@@ -126,7 +158,7 @@ impl Walkers {
             let mut mine: Vec<u64> = Vec::with_capacity(ops.len());
             let mut rec = OpRecorder::new(&mut mine);
             let d = frame.dir[s.pixel as usize];
-            let (out, signs) = frame.plan.walk(d, k, &mut frame.xc_counters, &mut rec);
+            let (out, signs) = frame.plan.walk(d, k, &mut self.xc.counters, &mut rec);
             rec.finish();
             let hit_t = match out {
                 WalkOutcome::Hit(h) => Some(h.t),
@@ -158,7 +190,7 @@ impl Walkers {
             }
             if let WalkOutcome::Hit(h) = out {
                 if s.best_full.is_none_or(|(bt, _, _, _)| h.t < bt) {
-                    s.best_full = Some((h.t, k, h, signs));
+                    best = Some((h.t, k, h, signs));
                 }
             }
         }
@@ -176,6 +208,6 @@ impl Walkers {
             (kind << 32) | u64::from((o as u32).wrapping_add(base))
         };
         pool.dispatch_with(tag_of(w), |v| v.extend(ops.iter().map(relocate)));
-        Ok(())
+        Ok(best)
     }
 }

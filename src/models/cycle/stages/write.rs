@@ -12,105 +12,97 @@
 //! so a read of the same pixel in this cycle still sees the previous frame's word
 //! (READ_FIRST). The first records' stamps are kept for the transaction log (§2.5).
 
-use super::{id, internal, FrameCounts, Rec};
-use crate::models::cycle::model::CycleError;
-use rtl_model::cycle::bram::Bram;
-use rtl_model::cycle::clocked::StageStamp;
-use rtl_model::cycle::fifo::Fifo;
+use super::io::PopPort;
+use super::{id, Cx, Rec};
+use crate::models::cycle::error::CycleError;
+use rtl_model::cycle::clocked::Stamped;
 use rtl_model::cycle::stage_stats::StageState;
 
 /// The write stage.
 pub struct Write {
-    /// Records whose stamps the transaction log keeps, per run.
-    log_limit: usize,
     /// Cycles the head record waited for its bank behind the check's word (two write paths).
     pub bank_conflicts: u64,
     /// Records written per cycle at most (`hit_buffer.record_writes`).
     record_writes: u8,
 }
 
+/// The write stage's ports: the record FIFO, the check stage's own write FIFO with two write
+/// paths, and the records it writes (into the BRAM, the transaction log and the frame's
+/// count at the commit).
+pub struct WriteIo<'a> {
+    /// `record_to_write`.
+    pub input: PopPort<'a, Rec>,
+    /// `check_to_write`, with two write paths.
+    pub second: Option<PopPort<'a, Rec>>,
+    /// The records written this cycle, in port order.
+    pub writes: &'a mut Vec<Stamped<Rec>>,
+}
+
 impl Write {
-    /// The stage, keeping the stamps of the first `log_limit` records of the run, writing
-    /// up to `record_writes` records a cycle.
-    pub fn new(log_limit: usize, record_writes: u8) -> Self {
+    /// The stage, writing up to `record_writes` records a cycle.
+    pub fn new(record_writes: u8) -> Self {
         Self {
-            log_limit,
             bank_conflicts: 0,
             record_writes,
         }
     }
 
     /// One cycle: the head record of `input` (always asked for: the port is ready every
-    /// cycle) is written to `bram`; with a second path `second`, its head first, and the
-    /// record only if it falls in the other bank.
+    /// cycle) is written; with a second path `second`, its head first, and the record only
+    /// if it falls in the other bank.
     #[inline]
     pub fn eval(
         &mut self,
-        input: &mut Fifo<Rec>,
-        second: Option<&mut Fifo<Rec>>,
-        bram: &mut Bram<u128>,
-        log: &mut Vec<(u32, Vec<StageStamp>)>,
-        counts: &mut FrameCounts,
-        now: u64,
+        io: &mut WriteIo<'_>,
+        cx: &Cx<'_, '_>,
     ) -> Result<StageState, CycleError> {
+        let now = cx.now;
         // Two write paths: the check's word goes first. The check stage takes one ray a
         // cycle from the front end, so a word of it that waits stops ray generation, while a
         // record that waits a cycle sits in `record_to_write` and costs nothing until that
         // FIFO fills (the car's still frames lost 8.5 % of their cycles with the record
         // first). The record head then takes the other bank, or waits (a bank conflict).
-        let mut wrote = false;
         let mut check_bank = None;
-        if let Some(f) = second {
-            if let Some(r) = f.try_pop().map_err(internal)? {
+        let written = io.writes.len();
+        if let Some(f) = io.second.as_mut() {
+            if let Some(r) = f.pop(now)? {
                 check_bank = Some(r.payload.pixel & 1);
-                self.write(r, bram, log, counts, now)?;
-                wrote = true;
+                Self::write(r, io.writes, now);
             }
         }
+        let input = &mut io.input;
         let head_bank = input.peek().map(|r| r.payload.pixel & 1);
         if head_bank.is_some() && head_bank == check_bank {
             self.bank_conflicts += 1;
-        } else if let Some(r) = input.try_pop().map_err(internal)? {
-            self.write(r, bram, log, counts, now)?;
-            wrote = true;
+        } else if let Some(r) = input.pop(now)? {
+            Self::write(r, io.writes, now);
             // `record_writes: 2`: the record behind the head takes the other bank when the
             // check's word did not (validation allows it only with the two banks).
             if self.record_writes >= 2 && check_bank.is_none() {
                 let next_bank = input.peek().map(|r| r.payload.pixel & 1);
                 if next_bank.is_some() && next_bank != head_bank {
-                    if let Some(r) = input.try_pop().map_err(internal)? {
-                        self.write(r, bram, log, counts, now)?;
+                    if let Some(r) = input.pop(now)? {
+                        Self::write(r, io.writes, now);
                     }
                 }
             }
         }
-        Ok(if wrote {
+        let wrote = (io.writes.len() - written) as u64;
+        let c = cx.counts;
+        Ok(if wrote > 0 {
             StageState::Busy
-        } else if counts.written < counts.pixels {
+        } else if c.written < c.pixels {
             StageState::Starved
         } else {
             StageState::Idle
         })
     }
 
-    /// Writes record `r` and logs it.
+    /// Stamps record `r` through the write port and hands it to the commit.
     #[inline]
-    fn write(
-        &mut self,
-        mut r: rtl_model::cycle::clocked::Stamped<Rec>,
-        bram: &mut Bram<u128>,
-        log: &mut Vec<(u32, Vec<StageStamp>)>,
-        counts: &mut FrameCounts,
-        now: u64,
-    ) -> Result<(), CycleError> {
+    fn write(mut r: Stamped<Rec>, writes: &mut Vec<Stamped<Rec>>, now: u64) {
         r.enter(id::WRITE, now);
         let _ = r.leave(id::WRITE, now);
-        bram.write(r.payload.pixel as usize, r.payload.word)
-            .map_err(internal)?;
-        if log.len() < self.log_limit {
-            log.push((r.payload.pixel, r.stamps().to_vec()));
-        }
-        counts.written += 1;
-        Ok(())
+        writes.push(r);
     }
 }
