@@ -1055,6 +1055,55 @@ fn frame_writes_land_in_the_models_cycles_for_both_write_paths() {
     assert_eq!(wrong, designs_differ);
 }
 
+/// Random memory stalls under svo_core: the node memory holds its request ready low in 30 % of
+/// cycles and answers each read 0–6 cycles late (`+mem_stall=30 +mem_jitter=6`, seeded). The
+/// frame still writes every pixel once and right (none lost, none repeated, no deadlock), in
+/// more cycles than the model's fixed-latency figure; the stalls are counted so that a run that
+/// never stalled shows it. The deadlock check is shown failing: the same run cut off at 300
+/// cycles fails on the unfinished frame and each pixel never written.
+#[test]
+fn frame_survives_random_memory_stalls() {
+    let Some(&sim) = simulators().first() else {
+        return;
+    };
+    let t = Tmp::new("frame_stalls");
+    let (mc, out) = ("scenes/moving_camera.ron", t.p("mc"));
+    let scene = repo().join(mc).display().to_string();
+    let args = [
+        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
+        "10", "--depth", "4", "--scene", &scene,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    let dir = t.dir.join("mc");
+    let model = model_frame_cycles(&t, Some(mc), "16", "10", "4");
+    for seed in [1, 2, 3] {
+        let a = format!(
+            "+model_cycles={model} +latency={FRAME_MEM_LATENCY} +mem_stall=30 +mem_jitter=6 +seed={seed}"
+        );
+        let (equal, pixels, rtl, passed, failed, text) = frame_run(sim, &dir, &a);
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("frame: random stalls"))
+            .unwrap_or_else(|| panic!("no stall line:\n{text}"));
+        let n = numbers(line);
+        println!("frame with stalls ({sim}, seed {seed}): {equal}/{pixels} pixels equal, RTL {rtl} cycles (model {model} without stalls); {line}");
+        assert_eq!((equal, passed, failed), (pixels, pixels + 1, 0), "seed {seed}:\n{text}");
+        assert!(n[1] > 0 && n[2] > 0, "seed {seed}: no stall happened: {line}");
+        assert!(rtl > model, "seed {seed}: stalls cost nothing? {rtl} vs {model}");
+    }
+    // Cut off before the end: the frame fails, naming the unfinished frame and the pixels.
+    let a = format!(
+        "+model_cycles={model} +latency={FRAME_MEM_LATENCY} +mem_stall=30 +mem_jitter=6 +seed=1 +max_cycles=300"
+    );
+    let (_, pixels, _, passed, failed, text) = frame_run(sim, &dir, &a);
+    let unwritten = pixels - passed;
+    println!("frame with stalls cut at 300 cycles: {passed} passed, {failed} failed");
+    assert!(text.contains("FAIL frame: with stalls,"), "{text}");
+    assert!(text.contains("never written"), "{text}");
+    assert_eq!(failed, unwritten + 1, "{text}");
+}
+
 /// The committed hardware packages are what `sim hardware --sv-package` writes from their
 /// files today: testbench/hw/svo_hw_pkg.sv from the default hardware, frame_hw_pkg.sv from
 /// frame_hw.ron. A change of the default or of the schema that is not regenerated fails here,

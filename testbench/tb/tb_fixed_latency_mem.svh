@@ -4,10 +4,15 @@
 // mem_req_valid, mem_req_attr, mem_req_addr, mem_resp_valid (a wire), mem_resp_data, the
 // countdown `int left`, `int mem_latency`, the images nodes[]/attrs[] with NODE_WORDS and
 // ATTR_RECORDS entries and the task report(msg); and defines TB_MEM_WHERE, the message
-// prefix naming what made an out-of-range read (undefined here again at the end).
+// prefix naming what made an out-of-range read (undefined here again at the end). An includer
+// may define TB_MEM_EXTRA, an expression of cycles added to each read's latency (random
+// stalls; default 0), and must then hold the request's ready low while it wants to stall.
+`ifndef TB_MEM_EXTRA
+`define TB_MEM_EXTRA 0
+`endif
 always @(posedge clk) begin
     if (mem_req_valid && left <= 1) begin
-        left <= mem_latency;
+        left <= mem_latency + `TB_MEM_EXTRA;
         if (mem_req_attr ? mem_req_addr >= ATTR_RECORDS : mem_req_addr >= NODE_WORDS) begin
             report($sformatf("%sread of %s %0d outside the memory", `TB_MEM_WHERE,
                              mem_req_attr ? "attribute" : "node word", mem_req_addr));
@@ -21,3 +26,4 @@ always @(posedge clk) begin
 end
 assign mem_resp_valid = left == 1;   // (an always @* would not run at time 0: x)
 `undef TB_MEM_WHERE
+`undef TB_MEM_EXTRA

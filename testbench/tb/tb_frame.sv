@@ -90,6 +90,14 @@ module tb_frame;
     reg [63:0]   attrs [0:(ATTR_RECORDS > 0 ? ATTR_RECORDS : 1)-1];
     int nb [0:15], ab [0:15];
     int mem_latency = 3;
+    // Random memory stalls (+mem_stall=PCT: the request's ready held low in PCT % of cycles;
+    // +mem_jitter=J: each read 0..J cycles later; +seed=S): the frame must still write every
+    // pixel once and right, in whatever cycles it takes.
+    int mem_stall = 0, mem_jitter = 0;
+    int unsigned mem_seed = 1, seed_state;
+    bit stall_now = 0;
+    longint n_stalled = 0, n_extra = 0;
+    int extra_now = 0;
     longint model_cycles = -1;
     longint max_cycles = 1000000;
     string dir;
@@ -225,7 +233,8 @@ module tb_frame;
         .inst_attr_base(wk_ab), .lane_used(lane_used), .buffer_valid(hb_buffer_valid),
         .camera_dirty(hb_camera_dirty), .instance_dirty(hb_instance_dirty),
         .miss_word(miss_word), .nrm_inst(wk_nrm_inst), .nrm_oct(wk_nrm_oct), .nrm(wk_nrm),
-        .mem_req_valid(mem_req_valid), .mem_req_ready(left <= 1), .mem_req_attr(mem_req_attr),
+        .mem_req_valid(mem_req_valid), .mem_req_ready(left <= 1 && !stall_now),
+        .mem_req_attr(mem_req_attr),
         .mem_req_addr(mem_req_addr), .mem_resp_valid(mem_resp_valid),
         .mem_resp_data(mem_resp_data), .wr_valid(hb_wr_valid), .wr_pixel(hb_wr_pixel),
         .wr_word(hb_wr_word), .wr_direct(hb_wr_direct), .wr1_valid(hb_wr1_valid),
@@ -238,7 +247,16 @@ module tb_frame;
         .err_overflow(core_err_ov), .err_pixel(core_err_pixel));
     /* verilator lint_on PINCONNECTEMPTY */
     // The node memory: a read requested in cycle c is valid in cycle c + L (tb_walker's).
+    // With stalls: ready low in a random mem_stall % of cycles (drawn at the falling edge, for
+    // the cycle that follows), each read's latency 0..mem_jitter more.
+    always @(negedge clk) begin
+        stall_now = mem_stall > 0 && ($urandom % 100) < mem_stall;
+        if (stall_now && mem_req_valid && left <= 1) n_stalled++;
+        extra_now = mem_jitter > 0 ? int'($urandom_range(mem_jitter, 0)) : 0;
+    end
+    always @(posedge clk) if (mem_req_valid && left <= 1 && !stall_now) n_extra += extra_now;
     `define TB_MEM_WHERE ""
+    `define TB_MEM_EXTRA extra_now
     `include "tb_fixed_latency_mem.svh"
 
     // =====================================================================================
@@ -253,6 +271,16 @@ module tb_frame;
     reg [TW-1:0] pix_t [0:NPIX-1];
     reg [59:0] pix_voxel [0:NPIX-1];
     int   written = 0;
+    bit   pix_done [0:NPIX-1];
+    // Every pixel is written once: a second write is a failure (and the frame ends when every
+    // pixel has been written, so a repeat would otherwise hide a missing one).
+    task automatic note_write(input int p);
+        if (pix_done[p]) begin
+            n_failed++;
+            report($sformatf("pixel %0d: written twice (cycle %0d)", p, cyc));
+        end else written++;
+        pix_done[p] = 1;
+    endtask
     longint cyc = 0;
     // +write_log: one line per hit-buffer write, "write <pixel> <cycle> <path>" (path 0: the
     // record FIFO's head, 1: the check's, 2: the second record), for a comparison with the
@@ -282,7 +310,7 @@ module tb_frame;
             pix_walks[p] = 0; pix_hit[p] = 0;
             check_pixel(p, hb_wr1_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
             log_write(p, 1);
-            written++;
+            note_write(p);
         end
         if (hb_wr_valid) begin
             int p = int'(hb_wr_pixel);
@@ -291,13 +319,13 @@ module tb_frame;
             end
             check_pixel(p, hb_wr_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
             log_write(p, 0);
-            written++;
+            note_write(p);
         end
         if (hb_wr2_valid) begin
             int p = int'(hb_wr2_pixel);
             check_pixel(p, hb_wr2_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
             log_write(p, 2);
-            written++;
+            note_write(p);
         end
         if (wk_done_valid) begin
             int p = int'(wk_done_pixel);
@@ -323,6 +351,11 @@ module tb_frame;
         if ($value$plusargs("latency=%d", mem_latency)) junk = 0;
         if ($value$plusargs("model_cycles=%d", model_cycles)) junk = 0;
         if ($value$plusargs("max_cycles=%d", max_cycles)) junk = 0;
+        if ($value$plusargs("mem_stall=%d", mem_stall)) junk = 0;
+        if ($value$plusargs("mem_jitter=%d", mem_jitter)) junk = 0;
+        if ($value$plusargs("seed=%d", mem_seed)) junk = 0;
+        seed_state = mem_seed;                 // $urandom(seed) may update its argument
+        junk = $urandom(seed_state);
         write_log = $test$plusargs("write_log");
         for (int i = 0; i < 16; i++) begin
             nb[i] = 0; ab[i] = 0;
@@ -381,8 +414,18 @@ module tb_frame;
         $display("frame: %0d/%0d pixels equal, RTL %0d cycles, model %0d cycles", n_passed, NPIX,
                  cyc, model_cycles);
         // The cycles are part of what this testbench checks: without the model's figure the
-        // frame fails rather than passing on its pixels alone.
-        if (model_cycles < 0) begin
+        // frame fails rather than passing on its pixels alone. With random memory stalls the
+        // model's figure (for the fixed-latency memory) is only a lower bound: the row passes
+        // when the frame completed, and the stalls are counted.
+        if (mem_stall > 0 || mem_jitter > 0) begin
+            $display("frame: random stalls (seed %0d): %0d request cycles held, %0d read cycles added; RTL %0d cycles, %0d without stalls",
+                     mem_seed, n_stalled, n_extra, cyc, model_cycles);
+            if (written == NPIX && cyc < max_cycles) n_passed++;
+            else begin
+                n_failed++;
+                $display("FAIL frame: with stalls, %0d of %0d pixels written in %0d cycles (a deadlock or a lost ray)", written, NPIX, cyc);
+            end
+        end else if (model_cycles < 0) begin
             n_failed++;
             $display("FAIL frame: no +model_cycles=N given (the cycle model's frame cycles, from `sim --model cycle` on the testbench's hardware; see testbench/README.md)");
         end else if (cyc == model_cycles) n_passed++;
@@ -390,7 +433,14 @@ module tb_frame;
             n_failed++;
             $display("FAIL frame: %0d cycles, the cycle model's %0d", cyc, model_cycles);
         end
-        if (written < NPIX) n_failed += NPIX - written;
+        begin
+            bit first = 1;
+            for (int p = 0; p < NPIX; p++) if (!pix_done[p]) begin
+                n_failed++;
+                if (first) $display("FAIL frame: pixel %0d (and %0d more) never written", p, NPIX - written - 1);
+                first = 0;
+            end
+        end
         // svo_front's sticky flags: a broken pipe rule fails the frame; a datapath overflow
         // flag (saturation, which the model counts too) is reported.
         if (core_err_pipe || core_err_pixel) begin
