@@ -1055,6 +1055,114 @@ fn frame_writes_land_in_the_models_cycles_for_both_write_paths() {
     assert_eq!(wrong, designs_differ);
 }
 
+/// Two frames through svo_core with the hit buffer kept: scenes/static_single.ron at 16 × 10
+/// (a still camera and a still instance). Frame 1 runs after a reset of the pipeline with
+/// buffer_valid 1 and nothing dirty; its pixels are the words of frame 0 read back through the
+/// reuse rule, and it takes the model's frame-1 cycles, reusing as many words as the model
+/// (`hit_buffer_reused`) and walking as many rays (`walks`). Shown failing: with the camera
+/// flagged dirty nothing is reused, every ray is walked again, and the frame fails on its
+/// cycles alone (the words come out the same).
+#[test]
+fn frame_reuses_the_hit_buffer_in_the_second_frame() {
+    let Some(&sim) = simulators().first() else {
+        return;
+    };
+    let t = Tmp::new("frame_reuse");
+    let (st, out) = ("scenes/static_single.ron", t.p("st"));
+    let scene = repo().join(st).display().to_string();
+    let args = [
+        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
+        "10", "--depth", "4", "--scene", &scene,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    let hw = repo()
+        .join("testbench/hw/frame_hw.ron")
+        .display()
+        .to_string();
+    let rep = t.p("st_report.json");
+    let args = [
+        "--width",
+        "16",
+        "--height",
+        "10",
+        "--depth",
+        "4",
+        "--frames",
+        "2",
+        "--hw",
+        &hw,
+        "--no-prune",
+        "--scene",
+        &scene,
+        "--report-json",
+        &rep,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&rep).expect("read the report"))
+            .expect("parse the report");
+    let f = |i: usize, k: &str| {
+        j["frames"][i][k]
+            .as_u64()
+            .unwrap_or_else(|| panic!("no frames[{i}].{k} in the report"))
+    };
+    let (c0, c1, reused, walks) = (
+        f(0, "cycles"),
+        f(1, "cycles"),
+        f(1, "hit_buffer_reused"),
+        f(1, "walks"),
+    );
+    assert!(reused > 0, "the model reused nothing in frame 1");
+    let dir = t.dir.join("st");
+    let run = |extra: &str| {
+        let a = format!(
+            "+model_cycles={c0} +latency={FRAME_MEM_LATENCY} +frames=2 +model_cycles1={c1} {extra}"
+        );
+        let d = dir.to_string_lossy();
+        let (_, text) = run_sh(&["--sim", sim, &d, "frame"], &[("FRAME_ARGS", &a)]);
+        let line = |start: &str| {
+            text.lines()
+                .find(|l| l.starts_with(start))
+                .map(numbers)
+                .unwrap_or_else(|| panic!("no \"{start}\" line:\n{text}"))
+        };
+        let (f0, f1) = (line("frame: "), line("frame 1: "));
+        let last = text
+            .lines()
+            .rev()
+            .find(|l| l.ends_with(" failed") && l.contains(" passed, "))
+            .map(numbers)
+            .unwrap_or_else(|| panic!("no closing line:\n{text}"));
+        (f0, f1, last, text)
+    };
+    let (f0, f1, last, text) = run("");
+    println!("frame reuse ({sim}): frame 0 {}/{} equal, {} cycles (model {c0}); frame 1 {}/{} equal, {} cycles (model {c1}), {} reused (model {reused}), {} walked (model {walks}); {} passed, {} failed",
+        f0[0], f0[1], f0[2], f1[1], f1[2], f1[3], f1[5], f1[6], last[0], last[1]);
+    assert_eq!(
+        (f0[0], f0[2], f1[1], f1[3]),
+        (f0[1], c0, f1[2], c1),
+        "{text}"
+    );
+    assert_eq!((f1[5], f1[6]), (reused, walks), "{text}");
+    assert_eq!(last, vec![2 * f0[1] + 2, 0], "{text}");
+    // The camera flagged dirty: the same words, every ray walked, the cycles row fails.
+    let (_, f1, last, text) = run("+f1_camera_dirty=1");
+    println!(
+        "frame reuse with the camera dirty: frame 1 {} cycles, {} reused; {} passed, {} failed",
+        f1[3], f1[5], last[0], last[1]
+    );
+    assert_eq!((f1[1], f1[5], last[1]), (f1[2], 0, 1), "{text}");
+    assert!(
+        text.contains(&format!(
+            "FAIL frame: {} cycles, the cycle model's {c1}",
+            f1[3]
+        )),
+        "{text}"
+    );
+}
+
 /// Random memory stalls under svo_core: the node memory holds its request ready low in 30 % of
 /// cycles and answers each read 0–6 cycles late (`+mem_stall=30 +mem_jitter=6`, seeded). The
 /// frame still writes every pixel once and right (none lost, none repeated, no deadlock), in
@@ -1088,9 +1196,19 @@ fn frame_survives_random_memory_stalls() {
             .unwrap_or_else(|| panic!("no stall line:\n{text}"));
         let n = numbers(line);
         println!("frame with stalls ({sim}, seed {seed}): {equal}/{pixels} pixels equal, RTL {rtl} cycles (model {model} without stalls); {line}");
-        assert_eq!((equal, passed, failed), (pixels, pixels + 1, 0), "seed {seed}:\n{text}");
-        assert!(n[1] > 0 && n[2] > 0, "seed {seed}: no stall happened: {line}");
-        assert!(rtl > model, "seed {seed}: stalls cost nothing? {rtl} vs {model}");
+        assert_eq!(
+            (equal, passed, failed),
+            (pixels, pixels + 1, 0),
+            "seed {seed}:\n{text}"
+        );
+        assert!(
+            n[1] > 0 && n[2] > 0,
+            "seed {seed}: no stall happened: {line}"
+        );
+        assert!(
+            rtl > model,
+            "seed {seed}: stalls cost nothing? {rtl} vs {model}"
+        );
     }
     // Cut off before the end: the frame fails, naming the unfinished frame and the pixels.
     let a = format!(

@@ -99,6 +99,11 @@ module tb_frame;
     longint n_stalled = 0, n_extra = 0;
     int extra_now = 0;
     longint model_cycles = -1;
+    // +frames=2: a second frame of the same (still) scene after frame 0, with the hit buffer
+    // kept: buffer_valid 1, the camera and instance dirty flags +f1_camera_dirty=0/1 and
+    // +f1_instance_dirty=HEX (default 0: nothing moved), its cycles against +model_cycles1=N.
+    int frames = 1, frame_no = 0, f1_camera_dirty = 0, f1_instance_dirty = 0;
+    longint model_cycles1 = -1;
     longint max_cycles = 1000000;
     string dir;
 
@@ -200,7 +205,8 @@ module tb_frame;
     wire [PIXW-1:0] chk_pixel;
     wire [95:0] chk_dir;
     wire [5:0] chk_count;
-    wire wk_done_valid, wk_done_hit, core_err_pipe, core_err_ov, core_err_pixel;
+    wire wk_done_valid, wk_done_hit, core_err_pipe, core_err_ov, core_err_pixel, core_ev_reused;
+    int n_reused = 0, n_records = 0;      // this frame's reused words and walked rays
     wire [PIXW-1:0] wk_done_pixel;
     wire [15:0] wk_done_walks;
     wire [TW-1:0] wk_done_t;
@@ -242,7 +248,8 @@ module tb_frame;
         .wr2_pixel(hb_wr2_pixel), .wr2_word(hb_wr2_word), .chk_valid(chk_valid),
         .chk_pixel(chk_pixel), .chk_dir(chk_dir), .chk_count(chk_count),
         .done_valid(wk_done_valid), .done_pixel(wk_done_pixel), .done_walks(wk_done_walks),
-        .done_hit(wk_done_hit), .done_t(wk_done_t), .done_voxel(wk_done_voxel), .ev_reused(),
+        .done_hit(wk_done_hit), .done_t(wk_done_t), .done_voxel(wk_done_voxel),
+        .ev_reused(core_ev_reused),
         .ev_write_stall(), .ev_walk_stall(), .ev_bank_conflict(), .err_pipe(core_err_pipe),
         .err_overflow(core_err_ov), .err_pixel(core_err_pixel));
     /* verilator lint_on PINCONNECTEMPTY */
@@ -308,7 +315,10 @@ module tb_frame;
         if (hb_wr1_valid) begin
             int p = int'(hb_wr1_pixel);
             pix_walks[p] = 0; pix_hit[p] = 0;
-            check_pixel(p, hb_wr1_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
+            // Frame 1 reuses frame 0's word without a walk: the word and the candidates are
+            // what must match.
+            if (frame_no > 0) check_word(p, hb_wr1_word);
+            else check_pixel(p, hb_wr1_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
             log_write(p, 1);
             note_write(p);
         end
@@ -317,7 +327,8 @@ module tb_frame;
             if (hb_wr_direct) begin
                 pix_walks[p] = 0; pix_hit[p] = 0;
             end
-            check_pixel(p, hb_wr_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
+            if (frame_no > 0 && hb_wr_direct) check_word(p, hb_wr_word);
+            else check_pixel(p, hb_wr_word, pix_walks[p], pix_hit[p], pix_t[p], pix_voxel[p]);
             log_write(p, 0);
             note_write(p);
         end
@@ -327,8 +338,10 @@ module tb_frame;
             log_write(p, 2);
             note_write(p);
         end
+        n_reused += int'(core_ev_reused);
         if (wk_done_valid) begin
             int p = int'(wk_done_pixel);
+            n_records++;
             pix_walks[p] = int'(wk_done_walks);
             pix_hit[p] = wk_done_hit;
             pix_t[p] = wk_done_t;
@@ -345,6 +358,53 @@ module tb_frame;
         fr_dir_f64 = dir_f64(int'(fr_dir_pixel));
     endtask
 
+    // One frame: model cycle n is evaluated at the falling edge inside it; then the cycles
+    // row and the pixels never written.
+    task automatic run_frame(input longint model_f);
+        int passed0 = n_passed;
+        while (written < NPIX && cyc < max_cycles) begin
+            @(negedge clk);
+            step();
+            cyc++;
+            if (cyc % 1000 == 0 && $test$plusargs("progress"))
+                $display("cycle %0d: raygen %0d, written %0d", cyc, int'(fr_dir_pixel), written);
+        end
+        if (frame_no == 0)
+            $display("frame: %0d/%0d pixels equal, RTL %0d cycles, model %0d cycles",
+                     n_passed - passed0, NPIX, cyc, model_f);
+        else
+            $display("frame 1: %0d/%0d pixels equal, RTL %0d cycles, model %0d cycles; %0d words reused, %0d rays walked",
+                     n_passed - passed0, NPIX, cyc, model_f, n_reused, n_records);
+        // The cycles are part of what this testbench checks: without the model's figure the
+        // frame fails rather than passing on its pixels alone. With random memory stalls the
+        // model's figure (for the fixed-latency memory) is only a lower bound: the row passes
+        // when the frame completed, and the stalls are counted.
+        if (mem_stall > 0 || mem_jitter > 0) begin
+            $display("frame: random stalls (seed %0d): %0d request cycles held, %0d read cycles added; RTL %0d cycles, %0d without stalls",
+                     mem_seed, n_stalled, n_extra, cyc, model_f);
+            if (written == NPIX && cyc < max_cycles) n_passed++;
+            else begin
+                n_failed++;
+                $display("FAIL frame: with stalls, %0d of %0d pixels written in %0d cycles (a deadlock or a lost ray)", written, NPIX, cyc);
+            end
+        end else if (model_f < 0) begin
+            n_failed++;
+            $display("FAIL frame: no +model_cycles=N given (the cycle model's frame cycles, from `sim --model cycle` on the testbench's hardware; see testbench/README.md)");
+        end else if (cyc == model_f) n_passed++;
+        else begin
+            n_failed++;
+            $display("FAIL frame: %0d cycles, the cycle model's %0d", cyc, model_f);
+        end
+        begin
+            bit first = 1;
+            for (int p = 0; p < NPIX; p++) if (!pix_done[p]) begin
+                n_failed++;
+                if (first) $display("FAIL frame: pixel %0d (and %0d more) never written", p, NPIX - written - 1);
+                first = 0;
+            end
+        end
+    endtask
+
     initial begin
         string f;
         if (!$value$plusargs("vectors=%s", dir)) dir = "vectors";
@@ -352,6 +412,10 @@ module tb_frame;
         if ($value$plusargs("model_cycles=%d", model_cycles)) junk = 0;
         if ($value$plusargs("max_cycles=%d", max_cycles)) junk = 0;
         if ($value$plusargs("mem_stall=%d", mem_stall)) junk = 0;
+        if ($value$plusargs("frames=%d", frames)) junk = 0;
+        if ($value$plusargs("model_cycles1=%d", model_cycles1)) junk = 0;
+        if ($value$plusargs("f1_camera_dirty=%d", f1_camera_dirty)) junk = 0;
+        if ($value$plusargs("f1_instance_dirty=%h", f1_instance_dirty)) junk = 0;
         if ($value$plusargs("mem_jitter=%d", mem_jitter)) junk = 0;
         if ($value$plusargs("seed=%d", mem_seed)) junk = 0;
         seed_state = mem_seed;                 // $urandom(seed) may update its argument
@@ -403,43 +467,26 @@ module tb_frame;
         repeat (64) @(posedge clk);   // longer than every unit's latency: no X valid bit left
         rst = 1'b0;
         @(posedge clk);
-        // Model cycle n is evaluated at the falling edge inside it.
-        while (written < NPIX && cyc < max_cycles) begin
-            @(negedge clk);
-            step();
-            cyc++;
-            if (cyc % 1000 == 0 && $test$plusargs("progress"))
-                $display("cycle %0d: raygen %0d, written %0d", cyc, int'(fr_dir_pixel), written);
-        end
-        $display("frame: %0d/%0d pixels equal, RTL %0d cycles, model %0d cycles", n_passed, NPIX,
-                 cyc, model_cycles);
-        // The cycles are part of what this testbench checks: without the model's figure the
-        // frame fails rather than passing on its pixels alone. With random memory stalls the
-        // model's figure (for the fixed-latency memory) is only a lower bound: the row passes
-        // when the frame completed, and the stalls are counted.
-        if (mem_stall > 0 || mem_jitter > 0) begin
-            $display("frame: random stalls (seed %0d): %0d request cycles held, %0d read cycles added; RTL %0d cycles, %0d without stalls",
-                     mem_seed, n_stalled, n_extra, cyc, model_cycles);
-            if (written == NPIX && cyc < max_cycles) n_passed++;
-            else begin
-                n_failed++;
-                $display("FAIL frame: with stalls, %0d of %0d pixels written in %0d cycles (a deadlock or a lost ray)", written, NPIX, cyc);
-            end
-        end else if (model_cycles < 0) begin
-            n_failed++;
-            $display("FAIL frame: no +model_cycles=N given (the cycle model's frame cycles, from `sim --model cycle` on the testbench's hardware; see testbench/README.md)");
-        end else if (cyc == model_cycles) n_passed++;
-        else begin
-            n_failed++;
-            $display("FAIL frame: %0d cycles, the cycle model's %0d", cyc, model_cycles);
-        end
-        begin
-            bit first = 1;
-            for (int p = 0; p < NPIX; p++) if (!pix_done[p]) begin
-                n_failed++;
-                if (first) $display("FAIL frame: pixel %0d (and %0d more) never written", p, NPIX - written - 1);
-                first = 0;
-            end
+        run_frame(model_cycles);
+        if (frames > 1) begin
+            // Frame 1: the same scene again (the testbench's tables are frame 0's, so the
+            // scene must be still). The pipeline is reset between frames, as the model
+            // rebuilds it; the hit buffer keeps its words and the host sets the reuse flags.
+            fr_run = 0;
+            rst = 1'b1;
+            repeat (64) @(posedge clk);
+            hb_buffer_valid = 1'b1;
+            hb_camera_dirty = 1'(f1_camera_dirty);
+            hb_instance_dirty = LANES'(f1_instance_dirty);
+            frame_no = 1;
+            written = 0;
+            n_reused = 0;
+            n_records = 0;
+            cyc = 0;
+            for (int p = 0; p < NPIX; p++) pix_done[p] = 0;
+            rst = 1'b0;
+            @(posedge clk);
+            run_frame(model_cycles1);
         end
         // svo_front's sticky flags: a broken pipe rule fails the frame; a datapath overflow
         // flag (saturation, which the model counts too) is reported.

@@ -101,3 +101,18 @@
         end
         if (ok) n_passed++; else n_failed++;
     endtask
+
+    // The check of a word written without a walk in a later frame (reused, or the miss word):
+    // the word and the candidate count against frame_pixels.hex.
+    task automatic check_word(input int p, input reg [71:0] word);
+        reg [PB-1:0] e;
+        bit ok;
+        e = pix[p];
+        ok = word === e[frame_pixels_vectors_pkg::WORD_LSB +: 72]
+          && n_cands[p] == e[frame_pixels_vectors_pkg::CANDIDATES_LSB +: 16];
+        if (!ok)
+            report($sformatf("frame 1 pixel %0d: word %018h (%0d candidates), expected %018h (%0d)",
+                             p, word, n_cands[p], e[frame_pixels_vectors_pkg::WORD_LSB +: 72],
+                             e[frame_pixels_vectors_pkg::CANDIDATES_LSB +: 16]));
+        if (ok) n_passed++; else n_failed++;
+    endtask
