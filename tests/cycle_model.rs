@@ -418,8 +418,14 @@ fn reverse_order_gives_the_same_cycles_stalls_and_stage_states() {
         // stall counters compared are not all zero.
         ("crowd_100", (320, 192)),
     ];
+    // scenes/car.ron reads the shared .vox models: without them the other scenes still run,
+    // and the SKIPPED line says so (under CI=true a missing folder fails).
+    let with_car = common::skip::shared_vox_dir_for("the car scene").is_some();
     for (hw_name, hw, dp) in &configs {
         for (scene_name, size) in scenes {
+            if scene_name == "car" && !with_car {
+                continue;
+            }
             let path = repo.join(format!("scenes/{scene_name}.ron"));
             let mut scene = Scene::load(&path).unwrap_or_else(|e| panic!("{scene_name}: {e}"));
             scene.file.resolution = size;
