@@ -682,6 +682,19 @@ fn hw_package(t: &Tmp, name: &str, hw_ron: &str) -> PathBuf {
 }
 const FRAME_MEM_LATENCY: u64 = 3;
 
+/// The vectors of `scene`'s 16 × 10 frame at depth 4 (32 rows a stage, the suite's seed),
+/// written into `t`'s folder `name`: the small end-to-end frames of the frame tests.
+fn small_frame_vectors(t: &Tmp, scene: &str, name: &str) -> PathBuf {
+    let (out, scene) = (t.p(name), repo().join(scene).display().to_string());
+    let args = [
+        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
+        "10", "--depth", "4", "--scene", &scene,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    t.dir.join(name)
+}
+
 /// The cycle model's cycles for frame 0 of `scene` (`None`: the default) at this size and
 /// depth on `frame_hw()`, from `sim --report-json` (the test's own run of the model).
 fn model_frame_cycles(t: &Tmp, scene: Option<&str>, width: &str, height: &str, depth: &str) -> u64 {
@@ -822,16 +835,10 @@ fn frame_end_to_end_matches_pixels_and_model_cycles() {
                 golden.clone(),
                 model_frame_cycles(&t, None, "16", "10", "4"),
             ));
-            let (mc, out) = ("scenes/moving_camera.ron", t.p("mc"));
-            let scene = repo().join(mc).display().to_string();
-            let args = [
-                "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16",
-                "--height", "10", "--depth", "4", "--scene", &scene,
-            ];
-            let r = run_sim(&args, None, Duration::from_secs(300));
-            assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+            let mc = "scenes/moving_camera.ron";
+            let dir = small_frame_vectors(&t, mc, "mc");
             let cycles = model_frame_cycles(&t, Some(mc), "16", "10", "4");
-            jobs.push((sim, t.dir.join("mc"), cycles));
+            jobs.push((sim, dir, cycles));
         } else {
             let args = [
                 "vectors",
@@ -925,15 +932,8 @@ fn frame_cycles_are_required_and_checked() {
         return;
     }
     let t = Tmp::new("frame_cycles");
-    let (mc, out) = ("scenes/moving_camera.ron", t.p("mc"));
-    let scene = repo().join(mc).display().to_string();
-    let args = [
-        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
-        "10", "--depth", "4", "--scene", &scene,
-    ];
-    let r = run_sim(&args, None, Duration::from_secs(300));
-    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
-    let golden = t.dir.join("mc");
+    let mc = "scenes/moving_camera.ron";
+    let golden = small_frame_vectors(&t, mc, "mc");
     let model = model_frame_cycles(&t, Some(mc), "16", "10", "4");
     let runs = [
         format!("+latency={FRAME_MEM_LATENCY}"),
@@ -989,15 +989,8 @@ fn frame_writes_land_in_the_models_cycles_for_both_write_paths() {
         return;
     };
     let t = Tmp::new("frame_writes");
-    let (mc, out) = ("scenes/moving_camera.ron", t.p("mc"));
-    let scene = repo().join(mc).display().to_string();
-    let args = [
-        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
-        "10", "--depth", "4", "--scene", &scene,
-    ];
-    let r = run_sim(&args, None, Duration::from_secs(300));
-    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
-    let dir = t.dir.join("mc");
+    let mc = "scenes/moving_camera.ron";
+    let dir = small_frame_vectors(&t, mc, "mc");
     let one_path = frame_hw_one_path();
     let designs = [
         ("two banks, check first", frame_hw(), None),
@@ -1068,14 +1061,9 @@ fn frame_reuses_the_hit_buffer_in_the_second_frame() {
         return;
     };
     let t = Tmp::new("frame_reuse");
-    let (st, out) = ("scenes/static_single.ron", t.p("st"));
+    let st = "scenes/static_single.ron";
+    let dir = small_frame_vectors(&t, st, "st");
     let scene = repo().join(st).display().to_string();
-    let args = [
-        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
-        "10", "--depth", "4", "--scene", &scene,
-    ];
-    let r = run_sim(&args, None, Duration::from_secs(300));
-    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
     let hw = repo()
         .join("testbench/hw/frame_hw.ron")
         .display()
@@ -1115,7 +1103,6 @@ fn frame_reuses_the_hit_buffer_in_the_second_frame() {
         f(1, "walks"),
     );
     assert!(reused > 0, "the model reused nothing in frame 1");
-    let dir = t.dir.join("st");
     let run = |extra: &str| {
         let a = format!(
             "+model_cycles={c0} +latency={FRAME_MEM_LATENCY} +frames=2 +model_cycles1={c1} {extra}"
@@ -1175,15 +1162,8 @@ fn frame_survives_random_memory_stalls() {
         return;
     };
     let t = Tmp::new("frame_stalls");
-    let (mc, out) = ("scenes/moving_camera.ron", t.p("mc"));
-    let scene = repo().join(mc).display().to_string();
-    let args = [
-        "vectors", "--out", &out, "--count", "32", "--seed", SEED, "--width", "16", "--height",
-        "10", "--depth", "4", "--scene", &scene,
-    ];
-    let r = run_sim(&args, None, Duration::from_secs(300));
-    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
-    let dir = t.dir.join("mc");
+    let mc = "scenes/moving_camera.ron";
+    let dir = small_frame_vectors(&t, mc, "mc");
     let model = model_frame_cycles(&t, Some(mc), "16", "10", "4");
     for seed in [1, 2, 3] {
         let a = format!(

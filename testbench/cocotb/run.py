@@ -30,7 +30,7 @@ BENCHES = {
     # One write path (hit_buffer.write_ports: 1), cycle by cycle in the clean pass.
     "hit_buffer": (
         "svo_hit_buffer",
-        [RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
+        [RTL / "svo_elastic.v", RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
         "test_hit_buffer",
         dict(HIT_BUFFER, WRITE_PORTS=1),
     ),
@@ -38,7 +38,7 @@ BENCHES = {
     # records a cycle (write_ports: 2, record_writes: 2), cycle by cycle in the clean pass.
     "hit_buffer_2p": (
         "svo_hit_buffer",
-        [RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
+        [RTL / "svo_elastic.v", RTL / "svo_hit_check.v", RTL / "svo_hit_buffer.v"],
         "test_hit_buffer",
         dict(HIT_BUFFER, WRITE_PORTS=2, RECORD_WRITES=2),
     ),

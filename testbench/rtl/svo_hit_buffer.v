@@ -11,9 +11,9 @@
 //   at the edge ending n (READ_FIRST: a write of the same edge is not seen) and is decided in
 //   cycle n + L: reused (svo_hit_check's rule with this frame's dirty flags), or without
 //   candidates (the host's miss word), both straight to the write FIFO; else out to walk.
-//   `in_ready` is high while fewer than L rays are n_in, counting the one that leaves this
-//   cycle (so it depends combinationally on walk_ready and rec_valid, as the model's pipe
-//   frees its slot before it accepts).
+//   The pipe is svo_elastic: `in_ready` is high while fewer than L rays are inside, counting
+//   the one that leaves this cycle (so it depends combinationally on walk_ready and the write
+//   FIFO's room, as the model's pipe frees its slot before it accepts).
 // - the write FIFO (record_to_write, WR_DEPTH deep, registered occupancy): the record stage
 //   (`rec_*`) has the port first; the check's word enters only in a cycle the record did not
 //   push. The head is written to the buffer every cycle (the write port is always ready) and
@@ -98,21 +98,15 @@ module svo_hit_buffer #(
     output reg                  err_pixel
 );
     localparam CAP = HB_READ + 1;                  // the check pipe's capacity = its latency
-    localparam CW = $clog2(CAP + 1);
-    localparam QW = CAP > 1 ? $clog2(CAP) : 1;
     localparam FW = $clog2(WR_DEPTH + 1);
     localparam WW = WR_DEPTH > 1 ? $clog2(WR_DEPTH) : 1;
     localparam SB = PIXW + 1 + PAYW;               // side band: pixel, no candidate, payload
     localparam QB = PIXW + 1 + 1 + WB + PAYW;      // queue: pixel, direct, reuse, word, payload
-    localparam integer Q_LAST_I = CAP - 1;
     localparam integer F_LAST_I = WR_DEPTH - 1;
-    localparam [QW-1:0] Q_LAST = Q_LAST_I[QW-1:0];
     localparam [WW-1:0] F_LAST = F_LAST_I[WW-1:0];
-    localparam integer CAP_I = CAP;
     localparam integer DEPTH_I = WR_DEPTH;
     localparam integer NPIX_I = NPIX;
     localparam integer INSTANCES_I = INSTANCES;
-    localparam [CW-1:0] CAP_C = CAP_I[CW-1:0];
     localparam [FW-1:0] DEPTH_C = DEPTH_I[FW-1:0];
     localparam [AW:0] NPIX_C = NPIX_I[AW:0];
     localparam IXW = INSTANCES > 1 ? $clog2(INSTANCES) : 1;
@@ -239,14 +233,16 @@ module svo_hit_buffer #(
     wire          p_direct = p_reuse || p_nocand;
     wire [WB-1:0] p_dword = p_reuse ? p_reused : miss_word;
 
-    // The decided rays that could not leave yet (at most CAP), oldest first; the head is the
-    // oldest of these, else svo_hit_check's output of this cycle.
-    reg [QB-1:0] q [0:CAP-1];
-    reg [QW-1:0] q_rd, q_wr;
-    reg [CW-1:0] q_n;
-    wire            q_any = q_n != {CW{1'b0}};
-    wire            h_valid = q_any || p_valid;
-    wire [QB-1:0]   h = q_any ? q[q_rd] : {p_pixel, p_direct, p_reuse, p_dword, p_payload};
+    // The check pipe's back-pressure: svo_elastic of capacity CAP around the read and
+    // svo_hit_check. The decided rays that could not leave yet wait in order; the head is the
+    // oldest of these, else svo_hit_check's output of this cycle. A direct word leaves when
+    // the write FIFO has room, a ray to walk when walk_ready is high.
+    wire            h_valid, h_ready;
+    wire [QB-1:0]   h;
+    svo_elastic #(.L(CAP), .W(QB)) check_pipe (.clk(clk), .rst(rst), .in_valid(in_valid),
+        .in_ready(in_ready), .unit_valid(p_valid),
+        .unit_data({p_pixel, p_direct, p_reuse, p_dword, p_payload}), .out_valid(h_valid),
+        .out_ready(h_ready), .out_data(h));
     wire [PIXW-1:0] h_pixel;
     wire            h_direct, h_reuse;
     wire [WB-1:0]   h_word;
@@ -265,7 +261,6 @@ module svo_hit_buffer #(
     assign walk_valid = h_valid && !h_direct;
     assign walk_pixel = h_pixel;
     assign walk_payload = h_payload;
-    wire pop = ck_push || (walk_valid && walk_ready);
     wire f0_push_ck = (WRITE_PORTS == 1) && ck_push;
     wire f0_push = rec_push || f0_push_ck;
     // The record FIFO's head, and the record behind it (RECORD_WRITES = 2).
@@ -296,36 +291,19 @@ module svo_hit_buffer #(
     assign w2_addr = wr2_pixel[AW-1:0];
     assign w2_data = wr2_word;
 
-    // In the check pipe: every stage's valid bit, svo_hit_check's and the queue's.
-    reg [CW-1:0] n_in;
-    always @* begin
-        n_in = q_n + {{(CW - 1){1'b0}}, p_valid};
-        for (k = 1; k <= HB_READ; k = k + 1) n_in = n_in + {{(CW - 1){1'b0}}, s_valid[k]};
-    end
-    assign in_ready = n_in < CAP_C || (pop && n_in == CAP_C);
+    assign h_ready = h_direct ? ck_room : walk_ready;
 
     function out_of_range(input [PIXW-1:0] p);
         out_of_range = (|p[PIXW-1:AW]) || {1'b0, p[AW-1:0]} >= NPIX_C;
     endfunction
 
-    wire q_push = p_valid && (q_any || !pop);
-    wire q_pop = q_any && pop;
     always @(posedge clk) begin
         if (rst) begin
-            q_rd <= {QW{1'b0}};
-            q_wr <= {QW{1'b0}};
-            q_n <= {CW{1'b0}};
             f0_rd <= {WW{1'b0}};
             f0_wr <= {WW{1'b0}};
             f0_n <= {FW{1'b0}};
             err_pixel <= 1'b0;
         end else begin
-            if (q_push) begin
-                q[q_wr] <= {p_pixel, p_direct, p_reuse, p_dword, p_payload};
-                q_wr <= (q_wr == Q_LAST) ? {QW{1'b0}} : q_wr + 1'b1;
-            end
-            if (q_pop) q_rd <= (q_rd == Q_LAST) ? {QW{1'b0}} : q_rd + 1'b1;
-            q_n <= q_n + {{(CW - 1){1'b0}}, q_push} - {{(CW - 1){1'b0}}, q_pop};
             if (f0_push) begin
                 f0[f0_wr] <= rec_push ? {1'b0, rec_pixel, rec_word} : {1'b1, h_pixel, h_word};
                 f0_wr <= (f0_wr == F_LAST) ? {WW{1'b0}} : f0_wr + 1'b1;

@@ -200,16 +200,13 @@ mod tests {
                 hw.hit_buffer.write_ports
             ),
             format!(
-                "localparam longint NODE_MEMORY_ONCHIP_MAX_BYTES = {};",
-                hw.node_memory.onchip.max_bytes
-            )
-            .replace(
-                "longint",
+                "localparam {} NODE_MEMORY_ONCHIP_MAX_BYTES = {};",
                 if hw.node_memory.onchip.max_bytes <= i32::MAX as u64 {
                     "int"
                 } else {
                     "longint"
                 },
+                hw.node_memory.onchip.max_bytes
             ),
             format!(
                 "localparam int UNITS_RECIPROCAL_LATENCY_CYCLES = {};",
