@@ -160,8 +160,9 @@ fn hit_buffer_reuses_across_frames_as_the_model_rows_say() {
 }
 
 /// `fusesoc run` of the core's targets (testbench/svo_core.core): `lint` (svo_hit_buffer under
-/// `verilator --lint-only -Wall`), `lint_core` (svo_core, the whole accelerator top, the same)
-/// and `lint_regs` (the generated register block, without -Wall:
+/// `verilator --lint-only -Wall`), `lint_core` (svo_core, the whole accelerator, the same),
+/// `lint_top` (svo_top, the core behind its AXI interfaces, the same, with the generated files'
+/// waivers of testbench/lint_waivers.vlt) and `lint_regs` (the generated register block, without -Wall:
 /// PeakRDL's code), both with the venv's Verilator 5.048 (Debian's 5.006 fails inside on the
 /// register block); `sim` (tb_hit_record in Icarus on the golden vectors: every row passes);
 /// `synth` (Yosys `synth_xilinx -family xcup` of svo_hit_buffer: accepted, the buffer in block
@@ -186,6 +187,7 @@ fn fusesoc_lint_sim_and_synth_targets_pass() {
     for (target, extra) in [
         ("lint", None),
         ("lint_core", None),
+        ("lint_top", None),
         ("lint_regs", None),
         ("sim", Some(vectors.as_str())),
         ("synth", None),
@@ -232,3 +234,185 @@ fn fusesoc_lint_sim_and_synth_targets_pass() {
         }
     }
 }
+
+/// A folder of its own under the test target's temporary folder (emptied first).
+fn fresh_dir(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap_or_else(|e| panic!("create {}: {e}", d.display()));
+    d
+}
+
+/// `sim vectors` of `scene`'s 16 × 10 frame at depth 4 into `dir` (the small frame of
+/// tests/testbench_icarus.rs), and the cycle model's report of `frames` frames of it on the
+/// frame's hardware (testbench/hw/frame_hw.ron): frames[i].{cycles, hit_buffer_reused}.
+fn core_frame_case(dir: &Path, scene: &str, frames: u32) -> Vec<(u64, u64)> {
+    use common::process::run_sim;
+    use std::time::Duration;
+    let scene = repo().join(scene).display().to_string();
+    let out = dir.display().to_string();
+    let seed = common::test_seed().to_string();
+    let args = [
+        "vectors", "--out", &out, "--count", "32", "--seed", &seed, "--width", "16", "--height",
+        "10", "--depth", "4", "--scene", &scene,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    let hw = repo()
+        .join("testbench/hw/frame_hw.ron")
+        .display()
+        .to_string();
+    let rep = dir.join("report.json").display().to_string();
+    let n = frames.to_string();
+    let args = [
+        "--width",
+        "16",
+        "--height",
+        "10",
+        "--depth",
+        "4",
+        "--frames",
+        &n,
+        "--hw",
+        &hw,
+        "--no-prune",
+        "--scene",
+        &scene,
+        "--report-json",
+        &rep,
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(300));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&rep).expect("read the report"))
+            .expect("parse the report");
+    (0..frames as usize)
+        .map(|i| {
+            let f = |k: &str| {
+                j["frames"][i][k]
+                    .as_u64()
+                    .unwrap_or_else(|| panic!("no frames[{i}].{k} in {rep}"))
+            };
+            (f("cycles"), f("hit_buffer_reused"))
+        })
+        .collect()
+}
+
+/// The numbers of a bench line "core: frame F: P/N pixels equal, RTL C cycles, model M
+/// cycles; ... REUSED R" for frame `f`: (P, N, C, R).
+fn core_frame_line(text: &str, f: u32) -> (u64, u64, u64, u64) {
+    let prefix = format!("core: frame {f}: ");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with(&prefix) && l.contains("pixels equal"))
+        .unwrap_or_else(|| panic!("no \"{prefix}... pixels equal\" line:\n{text}"));
+    let n: Vec<u64> = line[prefix.len()..]
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|s| s.parse().ok())
+        .collect();
+    let reused = line
+        .rsplit("REUSED ")
+        .next()
+        .and_then(|s| s.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no REUSED counter in: {line}"));
+    (n[0], n[1], n[2], reused)
+}
+
+/// svo_top — svo_core behind the AXI4-Lite registers, the AXI4 node and direction read
+/// masters and the AXI4-Stream of hit records — renders 16 × 10 frames with cocotbext-axi as
+/// the host:
+/// - moving_camera, frame 0, a memory of the frame's hardware's fixed latency: every pixel
+///   streamed once with the model's word, and CYCLES (read over AXI4-Lite) equal to the
+///   model's;
+/// - static_single, two frames with the hit buffer kept (BUFFER_VALID 1, nothing dirty): both
+///   frames at the model's cycles, frame 1 reusing as many words as the model;
+/// - moving_camera with AxiRamRead and 20 % random pauses on both read masters' AR and R and
+///   on the stream's tready, seeds 1–3: every pixel still once and right, no deadlock.
+///
+/// A flipped expected pixel and one more expected cycle are each exactly one failure.
+#[test]
+fn core_behind_axi_renders_frames_equal_to_the_model() {
+    let Some(venv) = venv() else { return };
+    let root = fresh_dir("core_frames");
+    let mc = root.join("moving_camera");
+    let mc_model = core_frame_case(&mc, "scenes/moving_camera.ron", 1);
+    let st = root.join("static_single");
+    let st_model = core_frame_case(&st, "scenes/static_single.ron", 2);
+    let latency = format!("SVO_MEM_LATENCY={FRAME_MEM_LATENCY}");
+    let vec_env = |d: &Path| format!("SVO_VECTORS={}", d.display());
+    let run_core = |d: &Path, extra: &[String]| {
+        let mut env = vec![vec_env(d), "SVO_NPIX=160".to_string(), latency.clone()];
+        env.extend(extra.iter().cloned());
+        let env: Vec<&str> = env.iter().map(String::as_str).collect();
+        bench(&venv, "core", &env)
+    };
+
+    let c0 = format!("SVO_MODEL_CYCLES={}", mc_model[0].0);
+    let (ok, text, secs) = run_core(&mc, &[c0.clone()]);
+    eprintln!("core moving_camera: {secs:.1} s (build included)");
+    assert!(ok, "core bench:\n{text}");
+    let (equal, n, cycles, _) = core_frame_line(&text, 0);
+    println!(
+        "core moving_camera 16x10: {equal}/{n} pixels equal, RTL {cycles} cycles, model {}",
+        mc_model[0].0
+    );
+    assert_eq!((equal, n, cycles), (160, 160, mc_model[0].0), "{text}");
+    assert_eq!(tally(&text, "core: "), (161, 0), "{text}");
+
+    let st_env = [
+        format!("SVO_MODEL_CYCLES={}", st_model[0].0),
+        format!("SVO_MODEL_CYCLES1={}", st_model[1].0),
+        "SVO_FRAMES=2".to_string(),
+    ];
+    let (ok, text, _) = run_core(&st, &st_env);
+    assert!(ok, "core bench, static_single:\n{text}");
+    for f in 0..2 {
+        let (equal, n, cycles, reused) = core_frame_line(&text, f);
+        println!(
+            "core static_single frame {f}: {equal}/{n} pixels equal, RTL {cycles} cycles, model {}; reused {reused}, model {}",
+            st_model[f as usize].0, st_model[f as usize].1
+        );
+        assert_eq!(
+            (equal, n, cycles),
+            (160, 160, st_model[f as usize].0),
+            "{text}"
+        );
+        assert_eq!(reused, st_model[f as usize].1, "frame {f} reuse:\n{text}");
+    }
+    assert!(st_model[1].1 > 0, "the model reused nothing in frame 1");
+
+    for seed in 1..=3 {
+        let env = [
+            c0.clone(),
+            "SVO_STALL=20".to_string(),
+            format!("SVO_SEED={seed}"),
+        ];
+        let (ok, text, _) = run_core(&mc, &env);
+        assert!(ok, "core bench with stalls, seed {seed}:\n{text}");
+        let (equal, n, cycles, _) = core_frame_line(&text, 0);
+        let stalls = text
+            .lines()
+            .find(|l| l.starts_with("core: frame 0: random stalls"))
+            .unwrap_or_else(|| panic!("no stall line:\n{text}"));
+        println!("core moving_camera, stalls seed {seed}: {equal}/{n} pixels equal in {cycles} cycles; {stalls}");
+        assert_eq!((equal, n), (160, 160), "{text}");
+    }
+
+    for (env, what) in [
+        ("SVO_CORRUPT=pixel:17".to_string(), "pixel 17:"),
+        (
+            "SVO_CORRUPT=cycles".to_string(),
+            "cycles, the cycle model's",
+        ),
+    ] {
+        let (ok, text, _) = run_core(&mc, &[c0.clone(), env.clone()]);
+        assert!(!ok, "{env} must fail the bench:\n{text}");
+        assert_eq!(tally(&text, "core: ").1, 1, "{env}:\n{text}");
+        let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("FAIL ")).collect();
+        assert_eq!(fails.len(), 1, "{env}:\n{text}");
+        assert!(fails[0].contains(what), "{env}: {}", fails[0]);
+    }
+}
+
+/// The node memory's latency of testbench/hw/frame_hw.ron (every read, cycles).
+const FRAME_MEM_LATENCY: u64 = 3;

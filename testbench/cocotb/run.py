@@ -42,6 +42,15 @@ BENCHES = {
         "test_hit_buffer",
         dict(HIT_BUFFER, WRITE_PORTS=2, RECORD_WRITES=2),
     ),
+    # svo_top: the whole core behind its AXI interfaces, on the frame's hardware
+    # (testbench/hw/frame_hw_pkg.sv); NPIX from SVO_NPIX (default 768, a 32 x 24 frame).
+    "core": (
+        "svo_top",
+        [TB / "hw" / "frame_hw_pkg.sv", GEN / "svo_core_regs_pkg.sv", GEN / "svo_core_regs.sv"]
+        + sorted(RTL.glob("*.v")) + [RTL / "svo_top.sv"],
+        "test_core",
+        {},
+    ),
 }
 
 
@@ -103,6 +112,21 @@ def main() -> int:
     top, sources, module, parameters = BENCHES[bench]
     build_dir = Path(os.environ.get("SVO_COCOTB_BUILD", TB.parent / "target" / "cocotb")) / bench
     includes = []
+    if bench == "core":
+        # The hit buffer's size is a build parameter (one build per size); the reciprocal
+        # seed ROM is read at run time from a fixed path in the build folder, copied from
+        # the vectors (its content depends on the datapath only).
+        npix = int(extra_env.get("SVO_NPIX", "768"))
+        build_dir = build_dir.with_name(f"core_{npix}")
+        build_dir.mkdir(parents=True, exist_ok=True)
+        vectors = extra_env.get("SVO_VECTORS")
+        if not vectors:
+            print("run.py: core needs SVO_VECTORS=DIR (a `sim vectors` folder)", file=sys.stderr)
+            return 2
+        seed = build_dir / "reciprocal_seed.hex"
+        shutil.copyfile(Path(vectors) / "reciprocal_seed.hex", seed)
+        extra_env["SVO_VECTORS"] = str(Path(vectors).resolve())
+        parameters = dict(parameters, NPIX=npix, RECIP_SEED_FILE=f'"{seed}"')
     if bench == "regs":
         build_dir.mkdir(parents=True, exist_ok=True)
         write_regs_hw(build_dir / "tb_regs_hw.svh")

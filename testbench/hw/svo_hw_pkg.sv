@@ -88,4 +88,7 @@ package svo_hw_pkg;
     localparam int RECIPROCAL_WALK_LANES = 2;  // walks a cycle the reciprocal units take (three reciprocals a walk)
     localparam int RAY_SLOTS = 832;  // rays in the walk section at once: walkers x contexts + root_to_dispatch
     localparam int CHECK_LATENCY = 5;  // the check stage: the hit-buffer read and the unpacking register
+    localparam int SORTER_NET_DEPTH = 10;  // network layers D (units.sorter.latency_cycles must equal it)
+    localparam int SORTER_NET_SLOTS = 8;  // comparator slots per layer, max(N / 2, 1)
+    localparam bit [1279:0] SORTER_NET_PAIRS = 1280'h000000000000000000000000080906070000000000000b0c090a07080506030400000000000000000a0c07090608030500000000000000000b0d090c03060204000000000b0e090d070a05080206010400000d0e090b080a05070406030c01020d0f0c0e08090607050b040a010300020e0f0c0d0a0b070906080405020300010b0c0a0f080e060d0304020901070005090a070b05060408030e020f010c000d;  // comparator (i, j) of layer l, slot p as {i[7:0], j[7:0]} at [(l*SLOTS + p)*16 +: 16]
 endpackage

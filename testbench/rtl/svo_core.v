@@ -4,18 +4,21 @@
 //
 // Pipeline position: all of docs/cycle-model.md §2.1, raygen to the hit-buffer write. What it
 // takes from outside (the host's side, as the register block and memories of a board would
-// give it): the direction table (`dir_pixel` → `dir_f64`, read in the cycle), the camera,
+// give it): the direction table (`dir_pixel` → `dir_f64`, read in the cycle, or a stream:
+// `dir_valid` low holds ray generation, `dir_take` pops it), the camera,
 // the instance registers (lane k = instance k), the frame's reuse flags and miss word, the
 // record's normal (`nrm_*`: the model computes it in f64 on the host path), and the node
 // memory behind one read port. What it gives: the hit-buffer writes, one per bank and cycle
 // (`wr_*`: the record FIFO's head; `wr1_*`: the check's word; `wr2_*`: a second record), which
 // are the frame's pixel stream; the rays the check stage takes and each ray's walk results
-// (`chk_*`, `done_*`), for checking; sticky errors and overflow flags.
+// (`chk_*`, `done_*`), for checking; sticky errors and overflow flags. `wr_hold` (a full pixel
+// stream) stops the writes for a cycle; tied to 0 the write stage is the model's.
 //
 // Cycle-exact with the cycle model on the hardware of testbench/hw/frame_hw.ron (tb_frame.sv,
 // tests/testbench_icarus.rs): the frame's cycles and every pixel's write cycle equal the
 // model's. The walker pool of W walkers × R contexts, the node memory of the default hardware
-// (banks, cache, MSHRs, DRAM) and the AXI host interfaces are not here yet (issue 29).
+// (banks, cache, MSHRs, DRAM) are not here yet (issue 29); svo_top.sv wraps this core in its
+// AXI interfaces.
 `timescale 1ns/1ps
 `default_nettype none
 module svo_core #(
@@ -56,7 +59,9 @@ module svo_core #(
     parameter D_RC_RT  = 4,
     parameter D_RT_DP  = 64,
     parameter D_WK_RC  = 16,
-    parameter D_RC_WR  = 8
+    parameter D_RC_WR  = 8,
+    parameter DIR_FIXED = 0,                      // dir_f64 holds sQ2.30 codes (svo_raygen)
+    parameter RECIP_SEED_FILE = ""                // reciprocal seed ROM file ("": the bench loads it)
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -65,6 +70,8 @@ module svo_core #(
     // host: direction table and camera
     output wire [PIXW-1:0]         dir_pixel,
     input  wire [3*64-1:0]         dir_f64,
+    input  wire                    dir_valid,
+    output wire                    dir_take,
     input  wire [3*64-1:0]         origin_f64,
     input  wire [3*PW-1:0]         cam_o,
     // host: instance registers
@@ -84,6 +91,7 @@ module svo_core #(
     input  wire                    camera_dirty,
     input  wire [LANES-1:0]        instance_dirty,
     input  wire [71:0]             miss_word,
+    input  wire                    wr_hold,
     // the record's normal
     output wire [7:0]              nrm_inst,
     output wire [31:0]             nrm_oct,
@@ -137,9 +145,10 @@ module svo_core #(
     wire [LANES*40-1:0] fr_keys;
     svo_front #(.LANES(LANES), .PIXW(PIXW), .RG_L(RG_L), .SP_L(SP_L), .SO_N(SO_N), .SO_D(SO_D),
         .SO_S(SO_S), .SO_PAIRS(SO_PAIRS), .SO_MAX_KEYS(SO_MAX_KEYS), .SO_CW(SO_CW),
-        .D_RG_SP(D_RG_SP), .D_SP_SO(D_SP_SO), .D_SO_CK(D_SO_CK))
+        .D_RG_SP(D_RG_SP), .D_SP_SO(D_SP_SO), .D_SO_CK(D_SO_CK), .DIR_FIXED(DIR_FIXED))
         u_front (.clk(clk), .rst(rst), .run(run), .npix(npix), .dir_pixel(dir_pixel),
-        .dir_f64(dir_f64), .origin_f64(origin_f64), .cam_o(cam_o), .inst_c(inst_c),
+        .dir_f64(dir_f64), .dir_valid(dir_valid), .dir_take(dir_take),
+        .origin_f64(origin_f64), .cam_o(cam_o), .inst_c(inst_c),
         .inst_threshold(inst_threshold), .inst_inside(inst_inside),
         .inst_delta_t(inst_delta_t), .inst_reach(inst_reach), .inst_reach2(inst_reach2),
         .lane_used(lane_used), .out_valid(fr_valid), .out_ready(hb_in_ready),
@@ -160,7 +169,7 @@ module svo_core #(
         .RECORD_WRITES(RECORD_WRITES))
     u_hit_buffer (.clk(clk), .rst(rst), .buffer_valid(buffer_valid),
         .camera_dirty(camera_dirty), .instance_dirty(instance_dirty), .miss_word(miss_word),
-        .in_valid(fr_valid), .in_ready(hb_in_ready), .in_pixel(fr_pixel),
+        .wr_hold(wr_hold), .in_valid(fr_valid), .in_ready(hb_in_ready), .in_pixel(fr_pixel),
         .in_candidates({{(16-SO_CW){1'b0}}, fr_count}),
         .in_candidate(fr_count == 6'd1 ? {8'd0, fr_keys[39:32]} : 16'd0),
         .in_payload({fr_dir, fr_count, fr_keys}), .walk_valid(hb_walk_valid),
@@ -179,7 +188,7 @@ module svo_core #(
         .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
         .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
         .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
-        .D_WK_RC(D_WK_RC))
+        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE))
     u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .inst_axes(inst_axes), .inst_c(inst_c),
         .inst_half(inst_half), .inst_node_base(inst_node_base),
         .inst_attr_base(inst_attr_base), .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),

@@ -11,7 +11,10 @@
 //
 // - raygen: while `run` is high, pixel `next` (0, 1, ... `npix` − 1) enters svo_raygen with the
 //   host's direction for it (`dir_pixel` → `dir_f64`, read in the same cycle: the direction
-//   table) and the camera position; the quantised direction travels with the ray.
+//   table) and the camera position; the quantised direction travels with the ray. `dir_valid`
+//   low holds ray generation (a table streamed from memory that has not arrived); `dir_take`
+//   is high in the cycle the direction is taken. DIR_FIXED = 1: `dir_f64` carries sQ2.30 codes
+//   {z, y, x} in its low 96 bits (svo_raygen's DIR_FIXED).
 // - sphere: LANES svo_sphere lanes test the ray against the instance registers (`inst_*`,
 //   lane l = instance l; lanes not in `lane_used` never hit). The hits leave compacted in
 //   lane order as sorter keys {lane 8, t_enter uQ10.22 32}, with their count.
@@ -43,7 +46,8 @@ module svo_front #(
     parameter SO_CW    = $clog2(SO_MAX_KEYS + 1),
     parameter D_RG_SP  = 4,                       // fifos.raygen_to_sphere
     parameter D_SP_SO  = 4,                       // fifos.sphere_to_sorter
-    parameter D_SO_CK  = 8                        // fifos.sorter_to_check
+    parameter D_SO_CK  = 8,                       // fifos.sorter_to_check
+    parameter DIR_FIXED = 0                       // dir_f64 holds sQ2.30 codes
 ) (
     input  wire                     clk,
     input  wire                     rst,
@@ -52,6 +56,8 @@ module svo_front #(
     // the direction table: the host's direction of pixel dir_pixel, this cycle
     output wire [PIXW-1:0]          dir_pixel,
     input  wire [3*64-1:0]          dir_f64,      // {z, y, x}, binary64
+    input  wire                     dir_valid,    // dir_f64 is there (else raygen waits)
+    output wire                     dir_take,     // the direction is taken this cycle
     input  wire [3*64-1:0]          origin_f64,   // the camera, binary64
     input  wire [3*40-1:0]          cam_o,        // the camera register, sQ8.32
     // instance registers, lane l in bits l·W +: W
@@ -86,12 +92,13 @@ module svo_front #(
     reg  [PIXW-1:0] next;
     assign dir_pixel = next;
     wire rg_in_ready, rg_u_valid, rg_ov_d, rg_ov_o;
-    wire rg_in = run && next < npix;
+    wire rg_in = run && next < npix && dir_valid;
     wire rg_accept = rg_in && rg_in_ready;
+    assign dir_take = rg_accept;
     wire [31:0] rg_u_pixel;
     wire [95:0] rg_u_dir;
     /* verilator lint_off PINCONNECTEMPTY */
-    svo_raygen u_raygen (.clk(clk), .rst(rst), .in_valid(rg_accept), .in_pixel(next[31:0]),
+    svo_raygen #(.DIR_FIXED(DIR_FIXED)) u_raygen (.clk(clk), .rst(rst), .in_valid(rg_accept), .in_pixel(next[31:0]),
         .in_dir(dir_f64), .in_origin(origin_f64), .out_valid(rg_u_valid),
         .out_pixel(rg_u_pixel), .out_dir(rg_u_dir), .out_origin(), .out_ov_dir(rg_ov_d),
         .out_ov_origin(rg_ov_o));

@@ -38,6 +38,9 @@
 // Events for the performance counters, one pulse per cycle: ev_reused (a reused word entered
 // the write FIFO), ev_write_stall (a decided word waited for the write port), ev_walk_stall (a
 // ray to walk waited for walk_ready).
+// wr_hold (the pixel stream behind the writes is full, svo_top): no word is written this
+// cycle; the write FIFOs keep theirs and fill, and back-pressure does the rest. Tied to 0 the
+// write stage is the model's (its write port is always ready).
 `timescale 1ns/1ps
 `default_nettype none
 module svo_hit_buffer #(
@@ -62,6 +65,7 @@ module svo_hit_buffer #(
     input  wire                 camera_dirty,
     input  wire [INSTANCES-1:0] instance_dirty,
     input  wire [WB-1:0]        miss_word,
+    input  wire                 wr_hold,          // no write this cycle (stream full)
     // rays from the sorter
     input  wire                 in_valid,
     output wire                 in_ready,
@@ -275,7 +279,7 @@ module svo_hit_buffer #(
     // Two banks: the check's word goes first; the record head waits if it shares the bank.
     wire conflict = (WRITE_PORTS == 2) && wr1_valid && f0_n != {FW{1'b0}}
                  && wr1_pixel[0] == wr_pixel[0];
-    assign wr_valid = f0_n != {FW{1'b0}} && !conflict;
+    assign wr_valid = f0_n != {FW{1'b0}} && !conflict && !wr_hold;
     assign wr2_valid = (RECORD_WRITES == 2) && wr_valid && !wr1_valid && f0_two
                     && wr2_pixel[0] != wr_pixel[0];
     // One bit wider than the occupancy so that WR_DEPTH = 1 needs no special case; the top
@@ -323,7 +327,7 @@ module svo_hit_buffer #(
             reg [WW-1:0] f1_rd, f1_wr;
             reg [FW-1:0] f1_n;
             assign f1_free = f1_n < DEPTH_C;
-            assign wr1_valid = f1_n != {FW{1'b0}};
+            assign wr1_valid = f1_n != {FW{1'b0}} && !wr_hold;
             assign {wr1_pixel, wr1_word} = f1[f1_rd];
             always @(posedge clk) begin
                 if (rst) begin

@@ -13,13 +13,18 @@
 //
 // Latency 4 (units.raygen: the direction table's URAM read), II = 1: svo_f64_to_fixed's four
 // stages; the flags are ORs of its registered flags.
+// DIR_FIXED = 1: the table holds the codes already (the model's design: the host writes sQ2.30
+// entries), in_dir's low 3·DW bits are {z, y, x} codes and only ride the same 4 registers (the
+// table read's pipeline); out_ov_dir is then 0. svo_top builds it so, reading the table from
+// external memory.
 `timescale 1ns/1ps
 `default_nettype none
 module svo_raygen #(
     parameter DW = 32,
     parameter DF = 30,
     parameter PW = 40,
-    parameter PF = 32
+    parameter PF = 32,
+    parameter DIR_FIXED = 0
 ) (
     input  wire            clk,
     input  wire            rst,
@@ -45,12 +50,24 @@ module svo_raygen #(
     genvar k;
     generate
         for (k = 0; k < 3; k = k + 1) begin : axis
-            svo_f64_to_fixed #(.W(DW), .F(DF)) dir_q (
-                .clk(clk), .in_x(in_dir[k*64 +: 64]),
-                .out_code(out_dir[k*DW +: DW]), .out_ov(ov_d[k]));
+            if (DIR_FIXED != 0) begin : dir_code
+                svo_delay #(.W(DW), .D(LATENCY)) dir_line (
+                    .clk(clk), .rst(1'b0), .d(in_dir[k*DW +: DW]), .q(out_dir[k*DW +: DW]));
+                assign ov_d[k] = 1'b0;
+            end else begin : dir_f64
+                svo_f64_to_fixed #(.W(DW), .F(DF)) dir_q (
+                    .clk(clk), .in_x(in_dir[k*64 +: 64]),
+                    .out_code(out_dir[k*DW +: DW]), .out_ov(ov_d[k]));
+            end
             svo_f64_to_fixed #(.W(PW), .F(PF)) pos_q (
                 .clk(clk), .in_x(in_origin[k*64 +: 64]),
                 .out_code(out_origin[k*PW +: PW]), .out_ov(ov_o[k]));
+        end
+        if (DIR_FIXED != 0) begin : dir_code_unused
+            // The codes are the low 3·DW bits.
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire unused_hi = &{1'b0, in_dir[3*64-1:3*DW]};
+            /* verilator lint_on UNUSEDSIGNAL */
         end
     endgenerate
     assign out_ov_dir    = |ov_d;

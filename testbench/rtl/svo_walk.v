@@ -53,7 +53,8 @@ module svo_walk #(
     parameter D_TR_RC   = 4,
     parameter D_RC_RT   = 4,
     parameter D_RT_DP   = 64,
-    parameter D_WK_RC   = 16
+    parameter D_WK_RC   = 16,
+    parameter RECIP_SEED_FILE = ""             // the reciprocal seed ROM (reciprocal_seed.hex); "": loaded by the testbench
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -273,7 +274,7 @@ module svo_walk #(
     genvar ga;
     generate
         for (ga = 0; ga < 3; ga = ga + 1) begin : recip
-            svo_reciprocal u_recip (.clk(clk), .rst(rst), .in_valid(rc_accept),
+            svo_reciprocal #(.SEED_FILE(RECIP_SEED_FILE)) u_recip (.clk(clk), .rst(rst), .in_valid(rc_accept),
                 .in_d(s_d[tr_slot_head][ga*32 +: 32]),
                 .in_sign_negative(s_sign[tr_slot_head][ga]), .out_valid(rc_u_valid[ga]),
                 .out_inv(rc_u_inv[ga]), .out_zero(rc_u_zero[ga]), .out_negative(rc_u_neg[ga]),

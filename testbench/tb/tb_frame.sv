@@ -230,7 +230,7 @@ module tb_frame;
         .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP), .D_WK_RC(D_WK_RC),
         .D_RC_WR(D_RC_WR))
     u_core (.clk(clk), .rst(rst), .run(fr_run), .npix(PIXW'(NPIX)), .dir_pixel(fr_dir_pixel),
-        .dir_f64(fr_dir_f64),
+        .dir_f64(fr_dir_f64), .dir_valid(1'b1), .dir_take(),
         .origin_f64({f64_of($signed(cam_o[80 +: 40]), 32), f64_of($signed(cam_o[40 +: 40]), 32),
                      f64_of($signed(cam_o[0 +: 40]), 32)}),
         .cam_o(cam_o), .inst_c(fr_c), .inst_threshold(fr_threshold), .inst_inside(fr_inside),
@@ -238,7 +238,7 @@ module tb_frame;
         .inst_axes(wk_axes), .inst_half(wk_half), .inst_node_base(wk_nb),
         .inst_attr_base(wk_ab), .lane_used(lane_used), .buffer_valid(hb_buffer_valid),
         .camera_dirty(hb_camera_dirty), .instance_dirty(hb_instance_dirty),
-        .miss_word(miss_word), .nrm_inst(wk_nrm_inst), .nrm_oct(wk_nrm_oct), .nrm(wk_nrm),
+        .miss_word(miss_word), .wr_hold(1'b0), .nrm_inst(wk_nrm_inst), .nrm_oct(wk_nrm_oct), .nrm(wk_nrm),
         .mem_req_valid(mem_req_valid), .mem_req_ready(left <= 1 && !stall_now),
         .mem_req_attr(mem_req_attr),
         .mem_req_addr(mem_req_addr), .mem_resp_valid(mem_resp_valid),

@@ -18,6 +18,7 @@
 //! needs as well (`WALK_LANES`, `RAY_SLOTS`, the check stage's latency), under `// derived`.
 
 use super::hw_config::HwConfig;
+use crate::vectors::stage::sorter::NetworkPairs;
 use serde_json::Value;
 use std::fmt::Write as _;
 use thiserror::Error;
@@ -78,6 +79,33 @@ pub fn hardware_package(hw: &HwConfig, name: &str, source: &str) -> Result<Strin
     for (n, v, why) in derived(hw) {
         let _ = writeln!(s, "    localparam int {n} = {v};  // {why}");
     }
+    // The sorting network the model times for `sorter_lanes` (svo_sorter's N, D, PAIRS), so
+    // that a top built from this package alone elaborates the model's network.
+    let lanes = u8::try_from(hw.sorter_lanes).map_err(|_| PackageError::Field {
+        path: "sorter_lanes".into(),
+        what: format!(
+            "{} lanes do not fit the network's 8-bit lane index",
+            hw.sorter_lanes
+        ),
+    })?;
+    let net = NetworkPairs::new(lanes);
+    let _ = writeln!(
+        s,
+        "    localparam int SORTER_NET_DEPTH = {};  // network layers D (units.sorter.latency_cycles must equal it)",
+        net.depth
+    );
+    let _ = writeln!(
+        s,
+        "    localparam int SORTER_NET_SLOTS = {};  // comparator slots per layer, max(N / 2, 1)",
+        net.slots
+    );
+    let _ = writeln!(
+        s,
+        "    localparam bit [{}:0] SORTER_NET_PAIRS = {}'h{};  // comparator (i, j) of layer l, slot p as {{i[7:0], j[7:0]}} at [(l*SLOTS + p)*16 +: 16]",
+        net.width().max(1) - 1,
+        net.width().max(1),
+        net.hex()
+    );
     let _ = writeln!(s, "endpackage");
     Ok(s)
 }

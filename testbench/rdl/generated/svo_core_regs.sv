@@ -236,8 +236,6 @@ module svo_core_regs (
         logic MISS_WORD[3];
         logic DIR_TABLE_BASE_LO;
         logic DIR_TABLE_BASE_HI;
-        logic HIT_BUFFER_BASE_LO;
-        logic HIT_BUFFER_BASE_HI;
         struct {
             logic LO;
             logic HI;
@@ -261,15 +259,15 @@ module svo_core_regs (
         struct {
             logic LO;
             logic HI;
-        } STALL_WALKERS;
+        } STALL_DIRECTIONS;
         struct {
             logic LO;
             logic HI;
-        } CACHE_HITS;
+        } STALL_STREAM;
         struct {
             logic LO;
             logic HI;
-        } CACHE_MISSES;
+        } NODE_READS;
         struct {
             logic LO;
             logic HI;
@@ -327,8 +325,6 @@ module svo_core_regs (
         end
         decoded_reg_strb.DIR_TABLE_BASE_LO = cpuif_req_masked & (cpuif_addr == 11'h50);
         decoded_reg_strb.DIR_TABLE_BASE_HI = cpuif_req_masked & (cpuif_addr == 11'h54);
-        decoded_reg_strb.HIT_BUFFER_BASE_LO = cpuif_req_masked & (cpuif_addr == 11'h58);
-        decoded_reg_strb.HIT_BUFFER_BASE_HI = cpuif_req_masked & (cpuif_addr == 11'h5c);
         decoded_reg_strb.CYCLES.LO = cpuif_req_masked & (cpuif_addr == 11'h100) & !cpuif_req_is_wr;
         decoded_reg_strb.CYCLES.HI = cpuif_req_masked & (cpuif_addr == 11'h104) & !cpuif_req_is_wr;
         decoded_reg_strb.WALKS.LO = cpuif_req_masked & (cpuif_addr == 11'h108) & !cpuif_req_is_wr;
@@ -339,12 +335,12 @@ module svo_core_regs (
         decoded_reg_strb.STALL_WRITE_PORT.HI = cpuif_req_masked & (cpuif_addr == 11'h11c) & !cpuif_req_is_wr;
         decoded_reg_strb.STALL_MEMORY.LO = cpuif_req_masked & (cpuif_addr == 11'h120) & !cpuif_req_is_wr;
         decoded_reg_strb.STALL_MEMORY.HI = cpuif_req_masked & (cpuif_addr == 11'h124) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WALKERS.LO = cpuif_req_masked & (cpuif_addr == 11'h128) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WALKERS.HI = cpuif_req_masked & (cpuif_addr == 11'h12c) & !cpuif_req_is_wr;
-        decoded_reg_strb.CACHE_HITS.LO = cpuif_req_masked & (cpuif_addr == 11'h130) & !cpuif_req_is_wr;
-        decoded_reg_strb.CACHE_HITS.HI = cpuif_req_masked & (cpuif_addr == 11'h134) & !cpuif_req_is_wr;
-        decoded_reg_strb.CACHE_MISSES.LO = cpuif_req_masked & (cpuif_addr == 11'h138) & !cpuif_req_is_wr;
-        decoded_reg_strb.CACHE_MISSES.HI = cpuif_req_masked & (cpuif_addr == 11'h13c) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_DIRECTIONS.LO = cpuif_req_masked & (cpuif_addr == 11'h128) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_DIRECTIONS.HI = cpuif_req_masked & (cpuif_addr == 11'h12c) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_STREAM.LO = cpuif_req_masked & (cpuif_addr == 11'h130) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_STREAM.HI = cpuif_req_masked & (cpuif_addr == 11'h134) & !cpuif_req_is_wr;
+        decoded_reg_strb.NODE_READS.LO = cpuif_req_masked & (cpuif_addr == 11'h138) & !cpuif_req_is_wr;
+        decoded_reg_strb.NODE_READS.HI = cpuif_req_masked & (cpuif_addr == 11'h13c) & !cpuif_req_is_wr;
         decoded_reg_strb.REUSED.LO = cpuif_req_masked & (cpuif_addr == 11'h140) & !cpuif_req_is_wr;
         decoded_reg_strb.REUSED.HI = cpuif_req_masked & (cpuif_addr == 11'h144) & !cpuif_req_is_wr;
         for(int i0=0; i0<8; i0++) begin
@@ -469,18 +465,6 @@ module svo_core_regs (
                 logic load_next;
             } VALUE;
         } DIR_TABLE_BASE_HI;
-        struct {
-            struct {
-                logic [31:0] next;
-                logic load_next;
-            } VALUE;
-        } HIT_BUFFER_BASE_LO;
-        struct {
-            struct {
-                logic [31:0] next;
-                logic load_next;
-            } VALUE;
-        } HIT_BUFFER_BASE_HI;
         struct {
             struct {
                 struct {
@@ -659,16 +643,6 @@ module svo_core_regs (
                 logic [31:0] value;
             } VALUE;
         } DIR_TABLE_BASE_HI;
-        struct {
-            struct {
-                logic [31:0] value;
-            } VALUE;
-        } HIT_BUFFER_BASE_LO;
-        struct {
-            struct {
-                logic [31:0] value;
-            } VALUE;
-        } HIT_BUFFER_BASE_HI;
         struct {
             struct {
                 struct {
@@ -1100,52 +1074,6 @@ module svo_core_regs (
         end
     end
     assign hwif_out.DIR_TABLE_BASE_HI.VALUE.value = field_storage.DIR_TABLE_BASE_HI.VALUE.value;
-    // Field: svo_core_regs.HIT_BUFFER_BASE_LO.VALUE
-    always_comb begin
-        automatic logic [31:0] next_c;
-        automatic logic load_next_c;
-        next_c = field_storage.HIT_BUFFER_BASE_LO.VALUE.value;
-        load_next_c = '0;
-        if(decoded_reg_strb.HIT_BUFFER_BASE_LO && decoded_req_is_wr) begin // SW write
-            next_c = (field_storage.HIT_BUFFER_BASE_LO.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-            load_next_c = '1;
-        end
-        field_combo.HIT_BUFFER_BASE_LO.VALUE.next = next_c;
-        field_combo.HIT_BUFFER_BASE_LO.VALUE.load_next = load_next_c;
-    end
-    always_ff @(posedge clk) begin
-        if(rst) begin
-            field_storage.HIT_BUFFER_BASE_LO.VALUE.value <= 32'h0;
-        end else begin
-            if(field_combo.HIT_BUFFER_BASE_LO.VALUE.load_next) begin
-                field_storage.HIT_BUFFER_BASE_LO.VALUE.value <= field_combo.HIT_BUFFER_BASE_LO.VALUE.next;
-            end
-        end
-    end
-    assign hwif_out.HIT_BUFFER_BASE_LO.VALUE.value = field_storage.HIT_BUFFER_BASE_LO.VALUE.value;
-    // Field: svo_core_regs.HIT_BUFFER_BASE_HI.VALUE
-    always_comb begin
-        automatic logic [31:0] next_c;
-        automatic logic load_next_c;
-        next_c = field_storage.HIT_BUFFER_BASE_HI.VALUE.value;
-        load_next_c = '0;
-        if(decoded_reg_strb.HIT_BUFFER_BASE_HI && decoded_req_is_wr) begin // SW write
-            next_c = (field_storage.HIT_BUFFER_BASE_HI.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-            load_next_c = '1;
-        end
-        field_combo.HIT_BUFFER_BASE_HI.VALUE.next = next_c;
-        field_combo.HIT_BUFFER_BASE_HI.VALUE.load_next = load_next_c;
-    end
-    always_ff @(posedge clk) begin
-        if(rst) begin
-            field_storage.HIT_BUFFER_BASE_HI.VALUE.value <= 32'h0;
-        end else begin
-            if(field_combo.HIT_BUFFER_BASE_HI.VALUE.load_next) begin
-                field_storage.HIT_BUFFER_BASE_HI.VALUE.value <= field_combo.HIT_BUFFER_BASE_HI.VALUE.next;
-            end
-        end
-    end
-    assign hwif_out.HIT_BUFFER_BASE_HI.VALUE.value = field_storage.HIT_BUFFER_BASE_HI.VALUE.value;
     for(genvar i0=0; i0<8; i0++) begin
         // Field: svo_core_regs.IMAGE[].NODE_BASE_LO.VALUE
         always_comb begin
@@ -1606,6 +1534,8 @@ module svo_core_regs (
         if(rd_mux_addr == 11'h8) begin
             readback_data_var[0] = hwif_in.STATUS.BUSY.next;
             readback_data_var[1] = field_storage.STATUS.DONE.value;
+            readback_data_var[11:8] = hwif_in.STATUS.ERROR.next;
+            readback_data_var[15:12] = hwif_in.STATUS.FAULT.next;
         end
         if(rd_mux_addr == 11'hc) begin
             readback_data_var[0] = field_storage.DIRTY.BUFFER_VALID.value;
@@ -1640,12 +1570,6 @@ module svo_core_regs (
         if(rd_mux_addr == 11'h54) begin
             readback_data_var[31:0] = field_storage.DIR_TABLE_BASE_HI.VALUE.value;
         end
-        if(rd_mux_addr == 11'h58) begin
-            readback_data_var[31:0] = field_storage.HIT_BUFFER_BASE_LO.VALUE.value;
-        end
-        if(rd_mux_addr == 11'h5c) begin
-            readback_data_var[31:0] = field_storage.HIT_BUFFER_BASE_HI.VALUE.value;
-        end
         if(rd_mux_addr == 11'h100) begin
             readback_data_var[31:0] = hwif_in.CYCLES.LO.VALUE.next;
         end
@@ -1677,22 +1601,22 @@ module svo_core_regs (
             readback_data_var[31:0] = hwif_in.STALL_MEMORY.HI.VALUE.next;
         end
         if(rd_mux_addr == 11'h128) begin
-            readback_data_var[31:0] = hwif_in.STALL_WALKERS.LO.VALUE.next;
+            readback_data_var[31:0] = hwif_in.STALL_DIRECTIONS.LO.VALUE.next;
         end
         if(rd_mux_addr == 11'h12c) begin
-            readback_data_var[31:0] = hwif_in.STALL_WALKERS.HI.VALUE.next;
+            readback_data_var[31:0] = hwif_in.STALL_DIRECTIONS.HI.VALUE.next;
         end
         if(rd_mux_addr == 11'h130) begin
-            readback_data_var[31:0] = hwif_in.CACHE_HITS.LO.VALUE.next;
+            readback_data_var[31:0] = hwif_in.STALL_STREAM.LO.VALUE.next;
         end
         if(rd_mux_addr == 11'h134) begin
-            readback_data_var[31:0] = hwif_in.CACHE_HITS.HI.VALUE.next;
+            readback_data_var[31:0] = hwif_in.STALL_STREAM.HI.VALUE.next;
         end
         if(rd_mux_addr == 11'h138) begin
-            readback_data_var[31:0] = hwif_in.CACHE_MISSES.LO.VALUE.next;
+            readback_data_var[31:0] = hwif_in.NODE_READS.LO.VALUE.next;
         end
         if(rd_mux_addr == 11'h13c) begin
-            readback_data_var[31:0] = hwif_in.CACHE_MISSES.HI.VALUE.next;
+            readback_data_var[31:0] = hwif_in.NODE_READS.HI.VALUE.next;
         end
         if(rd_mux_addr == 11'h140) begin
             readback_data_var[31:0] = hwif_in.REUSED.LO.VALUE.next;

@@ -16,8 +16,18 @@ package svo_core_regs_pkg;
     } svo_core_regs__STATUS__DONE__in_t;
 
     typedef struct {
+        logic [3:0] next;
+    } svo_core_regs__STATUS__ERROR__in_t;
+
+    typedef struct {
+        logic [3:0] next;
+    } svo_core_regs__STATUS__FAULT__in_t;
+
+    typedef struct {
         svo_core_regs__STATUS__BUSY__in_t BUSY;
         svo_core_regs__STATUS__DONE__in_t DONE;
+        svo_core_regs__STATUS__ERROR__in_t ERROR;
+        svo_core_regs__STATUS__FAULT__in_t FAULT;
     } svo_core_regs__STATUS__in_t;
 
     typedef struct {
@@ -40,9 +50,9 @@ package svo_core_regs_pkg;
         counter_rf__in_t STALL_WALK_ISSUE;
         counter_rf__in_t STALL_WRITE_PORT;
         counter_rf__in_t STALL_MEMORY;
-        counter_rf__in_t STALL_WALKERS;
-        counter_rf__in_t CACHE_HITS;
-        counter_rf__in_t CACHE_MISSES;
+        counter_rf__in_t STALL_DIRECTIONS;
+        counter_rf__in_t STALL_STREAM;
+        counter_rf__in_t NODE_READS;
         counter_rf__in_t REUSED;
     } svo_core_regs__in_t;
 
@@ -173,8 +183,6 @@ package svo_core_regs_pkg;
         sw_word_r__out_t MISS_WORD[3];
         sw_word_r__out_t DIR_TABLE_BASE_LO;
         sw_word_r__out_t DIR_TABLE_BASE_HI;
-        sw_word_r__out_t HIT_BUFFER_BASE_LO;
-        sw_word_r__out_t HIT_BUFFER_BASE_HI;
         image_rf__out_t IMAGE[8];
         instance_rf__out_t INSTANCE[8];
     } svo_core_regs__out_t;

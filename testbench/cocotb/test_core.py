@@ -1,0 +1,368 @@
+"""The whole accelerator (svo_top: svo_core behind AXI4-Lite, two AXI4 read masters and an
+AXI4-Stream) rendering a frame of `sim vectors`, against the model's pixels and cycles.
+
+Pipeline position: all of it, from the host's side. The bench is the host and the memory:
+it writes the frame's registers over AXI4-Lite (cocotbext-axi AxiLiteMaster; addresses from
+testbench/rdl/svo_core.rdl through systemrdl-compiler, not a hand list), puts the direction
+table and the images in memory, starts the frame, takes the pixel stream (AxiStreamSink),
+waits for STATUS.DONE and reads the counters. Every pixel must arrive exactly once with the
+word of frame_pixels.hex (the model's), and CYCLES must equal the cycle model's frame cycles.
+
+Memory, two modes (SVO_STALL):
+- 0 (default): a read slave of fixed latency SVO_MEM_LATENCY (the model's node memory of the
+  frame's hardware, testbench/hw/frame_hw.ron: a read asked in cycle c is there in cycle
+  c + L) on both read masters, the stream always ready: the frame's cycles must be the
+  model's.
+- P > 0: cocotbext-axi AxiRamRead on both masters with random pauses (P % of cycles) on AR
+  and R, and on the stream's tready (seeded: SVO_SEED, printed): the pixels must still all
+  arrive once and right, with no deadlock; the cycles are reported, not compared.
+
+The record's normal is still the host's (svo_core's `nrm` port): host_normal() below is the
+f64 path of FramePlan::finish, as tb_frame_host.svh has it, computed from the instance's
+registers.
+
+Environment: SVO_VECTORS (the `sim vectors` folder), SVO_MODEL_CYCLES (frame 0's model
+cycles), SVO_FRAMES=2 with SVO_MODEL_CYCLES1 (a second frame of the same still scene, the hit
+buffer kept: BUFFER_VALID 1, nothing dirty, every pixel reused), SVO_CORRUPT=pixel:N (flip
+bit 0 of pixel N's expected word) or cycles (one more expected cycle): exactly one failure.
+Prints failures (first 10), then "core: N passed, N failed".
+"""
+import json
+import logging
+import os
+import random
+from pathlib import Path
+
+import cocotb
+from cocotb.clock import Clock
+from cocotb.triggers import ClockCycles, FallingEdge, ReadOnly, RisingEdge
+from cocotbext.axi import (AxiLiteBus, AxiLiteMaster, AxiReadBus, AxiRamRead,
+                           AxiStreamBus, AxiStreamSink)
+from systemrdl import RDLCompiler
+from systemrdl.node import RegNode
+
+RDL = Path(__file__).resolve().parent.parent / "rdl" / "svo_core.rdl"
+DIR_BASE = 0x0000_0000      # the direction table (16 bytes a pixel)
+NODE_BASE = 0x0100_0000     # walker_nodes.hex, 4 bytes a word
+ATTR_BASE = 0x0200_0000     # walker_attrs.hex, 8 bytes a record
+MEM_BYTES = 0x0300_0000
+MAX_REPORTS = 10
+
+
+def register_map():
+    """path (without the top's name, e.g. 'INSTANCE[0].AXIS[3]') -> byte address."""
+    rdlc = RDLCompiler()
+    rdlc.compile_file(str(RDL))
+    root = rdlc.elaborate()
+    out = {}
+    for n in root.descendants(unroll=True):
+        if isinstance(n, RegNode):
+            out[n.get_path().split(".", 1)[1]] = n.absolute_address
+    return out
+
+
+class Table:
+    """One vectors table: its rows (ints) and fields (name -> (offset, width, signed))."""
+
+    def __init__(self, folder, name):
+        m = json.loads((folder / f"{name}.json").read_text())
+        self.fields = {f["name"]: (f["offset"], f["width"], f["signed"]) for f in m["fields"]}
+        self.rows = [int(l, 16) for l in (folder / f"{name}.hex").read_text().split("\n")
+                     if l and not l.startswith("//")]
+
+    def get(self, r, name, signed=False):
+        off, w, _ = self.fields[name]
+        v = (self.rows[r] >> off) & ((1 << w) - 1)
+        if signed and v >> (w - 1):
+            v -= 1 << w
+        return v
+
+
+def hex_words(path):
+    return [int(l, 16) for l in path.read_text().split("\n") if l and not l.startswith("//")]
+
+
+def host_normal(axes, half, oct_code):
+    """FramePlan::finish's f64 normal (tb_frame_host.svh host_normal): {v, u}, 8 bits each."""
+    def sgn1(x):
+        return 1.0 if x >= 0.0 else -1.0
+
+    def round_away(x):
+        import math
+        return int(math.floor(x + 0.5)) if x >= 0.0 else -int(math.floor(-x + 0.5))
+
+    def s16(v):
+        return v - (1 << 16) if v >> 15 else v
+    u = s16(oct_code & 0xFFFF) / 32767.0
+    v = s16((oct_code >> 16) & 0xFFFF) / 32767.0
+    z = 1.0 - abs(u) - abs(v)
+    if z < 0.0:
+        x, y = (1.0 - abs(v)) * sgn1(u), (1.0 - abs(u)) * sgn1(v)
+    else:
+        x, y = u, v
+    ln = (x * x + y * y + z * z) ** 0.5
+    n = [(x / ln) / half[0], (y / ln) / half[1], (z / ln) / half[2]]
+    w = [axes[0][j] * n[0] + axes[1][j] * n[1] + axes[2][j] * n[2] for j in range(3)]
+    ln = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) ** 0.5
+    if ln > 0.0:
+        w = [c / ln for c in w]
+    l1 = abs(w[0]) + abs(w[1]) + abs(w[2])
+    if not l1 > 0.0:
+        return 0
+    a, b, nz = w[0] / l1, w[1] / l1, w[2] / l1
+    if nz < 0.0:
+        u, v = (1.0 - abs(b)) * sgn1(a), (1.0 - abs(a)) * sgn1(b)
+    else:
+        u, v = a, b
+    u = min(1.0, max(-1.0, u))
+    v = min(1.0, max(-1.0, v))
+    return ((round_away(v * 127.0) & 0xFF) << 8) | (round_away(u * 127.0) & 0xFF)
+
+
+class FixedLatencyRead:
+    """An AXI4 read slave whose every read is there L cycles after its AR handshake (the
+    model's fixed-latency node memory), a burst's beats on consecutive cycles, arready
+    always high. Each cycle: drive R at the falling edge, then sample AR once settled."""
+
+    def __init__(self, dut, prefix, mem, latency, nbytes):
+        self.dut, self.p, self.mem, self.lat, self.nbytes = dut, prefix, mem, latency, nbytes
+        self.beats = []             # (due cycle, address, last), in order
+        self.cycle = 0
+        self.sig("arready").value = 1
+        self.sig("rvalid").value = 0
+        self.sig("rid").value = 0
+        self.sig("rresp").value = 0
+        self.sig("rlast").value = 0
+        self.sig("rdata").value = 0
+
+    def sig(self, name):
+        return getattr(self.dut, f"{self.p}_{name}")
+
+    async def run(self):
+        while True:
+            await FallingEdge(self.dut.clk)
+            self.cycle += 1
+            if self.beats and self.beats[0][0] <= self.cycle:
+                _, addr, last = self.beats.pop(0)
+                base = addr - addr % self.nbytes
+                self.sig("rdata").value = int.from_bytes(self.mem[base:base + self.nbytes], "little")
+                self.sig("rlast").value = int(last)
+                self.sig("rvalid").value = 1
+            else:
+                self.sig("rvalid").value = 0
+            await ReadOnly()
+            if self.sig("arvalid").value == 1:
+                addr = int(self.sig("araddr").value)
+                n = int(self.sig("arlen").value) + 1
+                size = 1 << int(self.sig("arsize").value)
+                for k in range(n):
+                    self.beats.append((self.cycle + self.lat + k, addr + k * size, k == n - 1))
+
+
+class Bench:
+    def __init__(self, dut):
+        self.dut = dut
+        self.failed = 0
+        self.passed = 0
+        self.reports = 0
+
+    def fail(self, what):
+        self.failed += 1
+        if self.reports < MAX_REPORTS:
+            print(f"FAIL core {what}")
+        self.reports += 1
+
+
+def stall_gen(rng, pct, counter, key):
+    while True:
+        s = rng.randrange(100) < pct
+        if s:
+            counter[key] += 1
+        yield s
+
+
+@cocotb.test()
+async def frame_against_the_model(dut):
+    vec = Path(os.environ["SVO_VECTORS"])
+    seed = int(os.environ.get("SVO_SEED", "1"))
+    stall = int(os.environ.get("SVO_STALL", "0"))
+    latency = int(os.environ.get("SVO_MEM_LATENCY", "3"))
+    frames = int(os.environ.get("SVO_FRAMES", "1"))
+    model = [int(os.environ.get("SVO_MODEL_CYCLES", "-1")),
+             int(os.environ.get("SVO_MODEL_CYCLES1", "-1"))]
+    corrupt = os.environ.get("SVO_CORRUPT", "")
+    rng = random.Random(seed)
+    print(f"core: vectors {vec}, seed {seed}, stall {stall} %, memory latency {latency}, {frames} frame(s)"
+          + (f", corrupted {corrupt}" if corrupt else ""))
+    regs = register_map()
+    b = Bench(dut)
+
+    pix = Table(vec, "frame_pixels")
+    ins = Table(vec, "frame_instances")
+    cam = Table(vec, "frame_camera")
+    images = json.loads((vec / "walker.json").read_text())["parameters"]["images"]
+    nodes = hex_words(vec / "walker_nodes.hex")
+    attrs = hex_words(vec / "walker_attrs.hex")
+    npix = len(pix.rows)
+    width, height = cam.get(0, "width"), cam.get(0, "height")
+    assert width * height == npix, f"frame_camera says {width}x{height}, frame_pixels has {npix} rows"
+
+    mem = bytearray(MEM_BYTES)
+    for p in range(npix):
+        for j, a in enumerate("xyz"):
+            mem[DIR_BASE + 16 * p + 4 * j:DIR_BASE + 16 * p + 4 * j + 4] = \
+                pix.get(p, f"dir_{a}").to_bytes(4, "little")
+    for i, w in enumerate(nodes):
+        mem[NODE_BASE + 4 * i:NODE_BASE + 4 * i + 4] = w.to_bytes(4, "little")
+    for i, w in enumerate(attrs):
+        mem[ATTR_BASE + 8 * i:ATTR_BASE + 8 * i + 8] = w.to_bytes(8, "little")
+
+    cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
+    dut.rst.value = 1
+    stalls = {"node ar": 0, "node r": 0, "dir ar": 0, "dir r": 0, "stream": 0}
+    if stall == 0:
+        cocotb.start_soon(FixedLatencyRead(dut, "m_axi", mem, latency, 8).run())
+        cocotb.start_soon(FixedLatencyRead(dut, "m_axi_dir", mem, latency, 16).run())
+    else:
+        node = AxiRamRead(AxiReadBus.from_prefix(dut, "m_axi"), dut.clk, dut.rst, size=MEM_BYTES)
+        dirs = AxiRamRead(AxiReadBus.from_prefix(dut, "m_axi_dir"), dut.clk, dut.rst, size=MEM_BYTES)
+        for ram in (node, dirs):
+            ram.write(0, bytes(mem))
+        node.ar_channel.set_pause_generator(stall_gen(rng, stall, stalls, "node ar"))
+        node.r_channel.set_pause_generator(stall_gen(rng, stall, stalls, "node r"))
+        dirs.ar_channel.set_pause_generator(stall_gen(rng, stall, stalls, "dir ar"))
+        dirs.r_channel.set_pause_generator(stall_gen(rng, stall, stalls, "dir r"))
+    sink = AxiStreamSink(AxiStreamBus.from_prefix(dut, "m_axis"), dut.clk, dut.rst)
+    if stall:
+        sink.set_pause_generator(stall_gen(rng, stall, stalls, "stream"))
+    axil = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), dut.clk, dut.rst)
+    # The agents log every transfer at INFO: keep the bench's own lines readable.
+    for name in ("s_axil", "m_axi", "m_axi_dir", "m_axis"):
+        logging.getLogger(f"cocotb.{dut._name}.{name}").setLevel(logging.WARNING)
+
+    # The record's normal: the host's f64 path from the instance's registers.
+    def fix(v, frac):
+        return v / float(1 << frac)
+    inst_axes, inst_half = [], []
+    for k in range(len(ins.rows)):
+        inst_axes.append([[fix(ins.get(k, f"axis{c}_{a}", True), 30) for a in "xyz"] for c in range(3)])
+        inst_half.append([fix(ins.get(k, f"half_{a}", True), 32) for a in "xyz"])
+
+    async def normals():
+        while True:
+            await FallingEdge(dut.clk)
+            k = int(dut.nrm_inst.value)
+            o = int(dut.nrm_oct.value)
+            dut.nrm.value = host_normal(inst_axes[k], inst_half[k], o) if k < len(inst_axes) else 0
+    dut.nrm.value = 0
+    cocotb.start_soon(normals())
+
+    await ClockCycles(dut.clk, 8)
+    dut.rst.value = 0
+    await ClockCycles(dut.clk, 2)
+
+    async def w(path, value):
+        await axil.write_dword(regs[path], value & 0xFFFF_FFFF)
+
+    async def r(path):
+        return await axil.read_dword(regs[path])
+
+    async def r64(name):
+        return (await r(f"{name}.LO")) | ((await r(f"{name}.HI")) << 32)
+
+    # The frame's registers (the host's side, once).
+    await w("FRAME_SIZE", width | (height << 16))
+    await w("INSTANCES", len(ins.rows))
+    for j, a in enumerate("xyz"):
+        o = cam.get(0, f"o_{a}")
+        await w(f"CAMERA_O_LO[{j}]", o)
+        await w(f"CAMERA_O_HI[{j}]", o >> 32)
+    miss = cam.get(0, "miss_word")
+    for j in range(3):
+        await w(f"MISS_WORD[{j}]", miss >> (32 * j))
+    await w("DIR_TABLE_BASE_LO", DIR_BASE)
+    await w("DIR_TABLE_BASE_HI", 0)
+    for im in images:
+        i = im["index"]
+        nb, ab = NODE_BASE + 4 * im["node_base"], ATTR_BASE + 8 * im["attr_base"]
+        await w(f"IMAGE[{i}].NODE_BASE_LO", nb)
+        await w(f"IMAGE[{i}].NODE_BASE_HI", nb >> 32)
+        await w(f"IMAGE[{i}].ATTR_BASE_LO", ab)
+        await w(f"IMAGE[{i}].ATTR_BASE_HI", ab >> 32)
+    for k in range(len(ins.rows)):
+        pre = f"INSTANCE[{k}]"
+        for c in range(3):
+            for j, a in enumerate("xyz"):
+                await w(f"{pre}.AXIS[{3 * c + j}]", ins.get(k, f"axis{c}_{a}"))
+        for j, a in enumerate("xyz"):
+            await w(f"{pre}.C_LO[{j}]", ins.get(k, f"c_{a}"))
+            await w(f"{pre}.C_HI[{j}]", ins.get(k, f"c_{a}") >> 32)
+            await w(f"{pre}.HALF_LO[{j}]", ins.get(k, f"half_{a}"))
+            await w(f"{pre}.HALF_HI[{j}]", ins.get(k, f"half_{a}") >> 32)
+        for name in ("reach", "threshold", "inside", "delta_t"):
+            v = ins.get(k, name)
+            await w(f"{pre}.{name.upper()}_LO", v)
+            await w(f"{pre}.{name.upper()}_HI", v >> 32)
+        await w(f"{pre}.IMAGE", ins.get(k, "image"))
+
+    expected = [pix.get(p, "word") for p in range(npix)]
+    if corrupt.startswith("pixel:"):
+        expected[int(corrupt.split(":")[1])] ^= 1
+
+    for f in range(frames):
+        # Frame 0: nothing to reuse; frame 1: the same still frame, the buffer kept.
+        await w("DIRTY", (0x1 if f else 0x2) | ((0 if f else 0xFF) << 8))
+        await w("STATUS", 0x2)                      # clear DONE
+        await w("CTRL", 0x1)
+        seen = {}
+        while True:
+            frame = await sink.recv()
+            data = bytes(frame.tdata)
+            for s in range(0, len(data), 16):
+                slot = int.from_bytes(data[s:s + 16], "little")
+                p, word = slot & 0xFFFF_FFFF, (slot >> 32) & ((1 << 72) - 1)
+                seen.setdefault(p, []).append(word)
+            if sum(len(v) for v in seen.values()) >= npix:
+                break
+        for _ in range(10000):
+            if (await r("STATUS")) & 0x2:
+                break
+            await ClockCycles(dut.clk, 10)
+        status = await r("STATUS")
+        cycles = await r64("CYCLES")
+        counters = {n: await r64(n) for n in ("WALKS", "STALL_WALK_ISSUE", "STALL_WRITE_PORT",
+                                               "STALL_MEMORY", "STALL_DIRECTIONS", "STALL_STREAM",
+                                               "NODE_READS", "REUSED")}
+        equal = 0
+        for p in range(npix):
+            got = seen.get(p, [])
+            if len(got) != 1:
+                b.fail(f"frame {f} pixel {p}: streamed {len(got)} times")
+            elif got[0] != expected[p]:
+                b.fail(f"frame {f} pixel {p}: word {got[0]:018x}, the model's {expected[p]:018x}")
+            else:
+                equal += 1
+                b.passed += 1
+        stray = [p for p in seen if p >= npix]
+        if stray:
+            b.fail(f"frame {f}: pixels outside the frame streamed: {stray[:5]}")
+        if (status >> 8) & 0xF or (status >> 12) & 0xE:
+            b.fail(f"frame {f}: STATUS {status:#x} (ERROR {(status >> 8) & 0xF}, FAULT {(status >> 12) & 0xF})")
+        want = model[f] + (1 if corrupt == "cycles" and f == 0 else 0)
+        print(f"core: frame {f}: {equal}/{npix} pixels equal, RTL {cycles} cycles, model {model[f]} cycles; "
+              + ", ".join(f"{k} {v}" for k, v in counters.items()))
+        if stall:
+            print("core: frame {}: random stalls (seed {}): {}".format(
+                f, seed, ", ".join(f"{k} {v}" for k, v in stalls.items())))
+            if counters["STALL_MEMORY"] == 0 or sum(stalls.values()) == 0:
+                b.fail(f"frame {f}: no stall was injected")
+            else:
+                b.passed += 1
+        elif model[f] < 0:
+            b.fail(f"frame {f}: no SVO_MODEL_CYCLES given")
+        elif cycles != want:
+            b.fail(f"frame {f}: {cycles} cycles, the cycle model's {want}")
+        else:
+            b.passed += 1
+    print(f"core: {b.passed} passed, {b.failed} failed")
+    assert b.failed == 0, f"{b.failed} checks failed"
