@@ -22,8 +22,10 @@ f64 path of FramePlan::finish, as tb_frame_host.svh has it, computed from the in
 registers.
 
 Environment: SVO_VECTORS (the `sim vectors` folder), SVO_MODEL_CYCLES (frame 0's model
-cycles), SVO_FRAMES=2 with SVO_MODEL_CYCLES1 (a second frame of the same still scene, the hit
-buffer kept: BUFFER_VALID 1, nothing dirty, every pixel reused), SVO_CORRUPT=pixel:N (flip
+cycles), SVO_FRAMES=2 with SVO_MODEL_CYCLES1 (a second frame with the hit buffer kept:
+BUFFER_VALID 1; its tables from SVO_VECTORS1, `sim vectors --frame 1` of the same scene, with
+the camera and the instances whose registers changed flagged dirty, or without it the same
+still frame again, nothing dirty), SVO_CORRUPT=pixel:N (flip
 bit 0 of pixel N's expected word) or cycles (one more expected cycle): exactly one failure.
 Prints failures (first 10), then "core: N passed, N failed".
 """
@@ -197,21 +199,32 @@ async def frame_against_the_model(dut):
     regs = register_map()
     b = Bench(dut)
 
-    pix = Table(vec, "frame_pixels")
-    ins = Table(vec, "frame_instances")
-    cam = Table(vec, "frame_camera")
+    # Frame f's tables: SVO_VECTORS for frame 0, SVO_VECTORS1 (`sim vectors --frame 1` of the
+    # same scene) for frame 1 if given, else frame 0's again (a still scene).
+    vec1 = os.environ.get("SVO_VECTORS1")
+    folders = [vec, Path(vec1) if vec1 else vec]
+    pix = [Table(d, "frame_pixels") for d in folders]
+    ins = [Table(d, "frame_instances") for d in folders]
+    cam = [Table(d, "frame_camera") for d in folders]
     images = json.loads((vec / "walker.json").read_text())["parameters"]["images"]
     nodes = hex_words(vec / "walker_nodes.hex")
     attrs = hex_words(vec / "walker_attrs.hex")
-    npix = len(pix.rows)
-    width, height = cam.get(0, "width"), cam.get(0, "height")
+    for d in folders[1:]:
+        assert hex_words(d / "walker_nodes.hex") == nodes and hex_words(d / "walker_attrs.hex") == attrs, \
+            f"{d}: the images differ from frame 0's (the same scene and depth are needed)"
+    npix = len(pix[0].rows)
+    width, height = cam[0].get(0, "width"), cam[0].get(0, "height")
     assert width * height == npix, f"frame_camera says {width}x{height}, frame_pixels has {npix} rows"
+    assert all(len(t.rows) == npix for t in pix), "the frames differ in size"
 
     mem = bytearray(MEM_BYTES)
-    for p in range(npix):
-        for j, a in enumerate("xyz"):
-            mem[DIR_BASE + 16 * p + 4 * j:DIR_BASE + 16 * p + 4 * j + 4] = \
-                pix.get(p, f"dir_{a}").to_bytes(4, "little")
+
+    def put_directions(t):
+        for p in range(npix):
+            for j, a in enumerate("xyz"):
+                mem[DIR_BASE + 16 * p + 4 * j:DIR_BASE + 16 * p + 4 * j + 4] = \
+                    t.get(p, f"dir_{a}").to_bytes(4, "little")
+    put_directions(pix[0])
     for i, w in enumerate(nodes):
         mem[NODE_BASE + 4 * i:NODE_BASE + 4 * i + 4] = w.to_bytes(4, "little")
     for i, w in enumerate(attrs):
@@ -220,13 +233,15 @@ async def frame_against_the_model(dut):
     cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
     dut.rst.value = 1
     stalls = {"node ar": 0, "node r": 0, "dir ar": 0, "dir r": 0, "stream": 0}
+    rams = []
     if stall == 0:
         cocotb.start_soon(FixedLatencyRead(dut, "m_axi", mem, latency, 8).run())
         cocotb.start_soon(FixedLatencyRead(dut, "m_axi_dir", mem, latency, 16).run())
     else:
         node = AxiRamRead(AxiReadBus.from_prefix(dut, "m_axi"), dut.clk, dut.rst, size=MEM_BYTES)
         dirs = AxiRamRead(AxiReadBus.from_prefix(dut, "m_axi_dir"), dut.clk, dut.rst, size=MEM_BYTES)
-        for ram in (node, dirs):
+        rams = [node, dirs]
+        for ram in rams:
             ram.write(0, bytes(mem))
         node.ar_channel.set_pause_generator(stall_gen(rng, stall, stalls, "node ar"))
         node.r_channel.set_pause_generator(stall_gen(rng, stall, stalls, "node r"))
@@ -240,20 +255,24 @@ async def frame_against_the_model(dut):
     for name in ("s_axil", "m_axi", "m_axi_dir", "m_axis"):
         logging.getLogger(f"cocotb.{dut._name}.{name}").setLevel(logging.WARNING)
 
-    # The record's normal: the host's f64 path from the instance's registers.
+    # The record's normal: the host's f64 path from the instance's registers (frame f's).
     def fix(v, frac):
         return v / float(1 << frac)
-    inst_axes, inst_half = [], []
-    for k in range(len(ins.rows)):
-        inst_axes.append([[fix(ins.get(k, f"axis{c}_{a}", True), 30) for a in "xyz"] for c in range(3)])
-        inst_half.append([fix(ins.get(k, f"half_{a}", True), 32) for a in "xyz"])
+    normal_of = []                  # per instance: (axes, half), of the frame being rendered
+
+    def set_normals(t):
+        normal_of.clear()
+        for k in range(len(t.rows)):
+            normal_of.append(([[fix(t.get(k, f"axis{c}_{a}", True), 30) for a in "xyz"] for c in range(3)],
+                              [fix(t.get(k, f"half_{a}", True), 32) for a in "xyz"]))
 
     async def normals():
         while True:
             await FallingEdge(dut.clk)
             k = int(dut.nrm_inst.value)
             o = int(dut.nrm_oct.value)
-            dut.nrm.value = host_normal(inst_axes[k], inst_half[k], o) if k < len(inst_axes) else 0
+            dut.nrm.value = host_normal(*normal_of[k], o) if k < len(normal_of) else 0
+    set_normals(ins[0])
     dut.nrm.value = 0
     cocotb.start_soon(normals())
 
@@ -270,48 +289,65 @@ async def frame_against_the_model(dut):
     async def r64(name):
         return (await r(f"{name}.LO")) | ((await r(f"{name}.HI")) << 32)
 
-    # The frame's registers (the host's side, once).
-    await w("FRAME_SIZE", width | (height << 16))
-    await w("INSTANCES", len(ins.rows))
-    for j, a in enumerate("xyz"):
-        o = cam.get(0, f"o_{a}")
-        await w(f"CAMERA_O_LO[{j}]", o)
-        await w(f"CAMERA_O_HI[{j}]", o >> 32)
-    miss = cam.get(0, "miss_word")
-    for j in range(3):
-        await w(f"MISS_WORD[{j}]", miss >> (32 * j))
-    await w("DIR_TABLE_BASE_LO", DIR_BASE)
-    await w("DIR_TABLE_BASE_HI", 0)
-    for im in images:
-        i = im["index"]
-        nb, ab = NODE_BASE + 4 * im["node_base"], ATTR_BASE + 8 * im["attr_base"]
-        await w(f"IMAGE[{i}].NODE_BASE_LO", nb)
-        await w(f"IMAGE[{i}].NODE_BASE_HI", nb >> 32)
-        await w(f"IMAGE[{i}].ATTR_BASE_LO", ab)
-        await w(f"IMAGE[{i}].ATTR_BASE_HI", ab >> 32)
-    for k in range(len(ins.rows)):
-        pre = f"INSTANCE[{k}]"
-        for c in range(3):
-            for j, a in enumerate("xyz"):
-                await w(f"{pre}.AXIS[{3 * c + j}]", ins.get(k, f"axis{c}_{a}"))
+    # The frame's registers (the host's side).
+    async def write_frame(it, ct):
+        await w("FRAME_SIZE", width | (height << 16))
+        await w("INSTANCES", len(it.rows))
         for j, a in enumerate("xyz"):
-            await w(f"{pre}.C_LO[{j}]", ins.get(k, f"c_{a}"))
-            await w(f"{pre}.C_HI[{j}]", ins.get(k, f"c_{a}") >> 32)
-            await w(f"{pre}.HALF_LO[{j}]", ins.get(k, f"half_{a}"))
-            await w(f"{pre}.HALF_HI[{j}]", ins.get(k, f"half_{a}") >> 32)
-        for name in ("reach", "threshold", "inside", "delta_t"):
-            v = ins.get(k, name)
-            await w(f"{pre}.{name.upper()}_LO", v)
-            await w(f"{pre}.{name.upper()}_HI", v >> 32)
-        await w(f"{pre}.IMAGE", ins.get(k, "image"))
-
-    expected = [pix.get(p, "word") for p in range(npix)]
-    if corrupt.startswith("pixel:"):
-        expected[int(corrupt.split(":")[1])] ^= 1
+            o = ct.get(0, f"o_{a}")
+            await w(f"CAMERA_O_LO[{j}]", o)
+            await w(f"CAMERA_O_HI[{j}]", o >> 32)
+        miss = ct.get(0, "miss_word")
+        for j in range(3):
+            await w(f"MISS_WORD[{j}]", miss >> (32 * j))
+        await w("DIR_TABLE_BASE_LO", DIR_BASE)
+        await w("DIR_TABLE_BASE_HI", 0)
+        for im in images:
+            i = im["index"]
+            nb, ab = NODE_BASE + 4 * im["node_base"], ATTR_BASE + 8 * im["attr_base"]
+            await w(f"IMAGE[{i}].NODE_BASE_LO", nb)
+            await w(f"IMAGE[{i}].NODE_BASE_HI", nb >> 32)
+            await w(f"IMAGE[{i}].ATTR_BASE_LO", ab)
+            await w(f"IMAGE[{i}].ATTR_BASE_HI", ab >> 32)
+        for k in range(len(it.rows)):
+            pre = f"INSTANCE[{k}]"
+            for c in range(3):
+                for j, a in enumerate("xyz"):
+                    await w(f"{pre}.AXIS[{3 * c + j}]", it.get(k, f"axis{c}_{a}"))
+            for j, a in enumerate("xyz"):
+                await w(f"{pre}.C_LO[{j}]", it.get(k, f"c_{a}"))
+                await w(f"{pre}.C_HI[{j}]", it.get(k, f"c_{a}") >> 32)
+                await w(f"{pre}.HALF_LO[{j}]", it.get(k, f"half_{a}"))
+                await w(f"{pre}.HALF_HI[{j}]", it.get(k, f"half_{a}") >> 32)
+            for name in ("reach", "threshold", "inside", "delta_t"):
+                v = it.get(k, name)
+                await w(f"{pre}.{name.upper()}_LO", v)
+                await w(f"{pre}.{name.upper()}_HI", v >> 32)
+            await w(f"{pre}.IMAGE", it.get(k, "image"))
 
     for f in range(frames):
-        # Frame 0: nothing to reuse; frame 1: the same still frame, the buffer kept.
-        await w("DIRTY", (0x1 if f else 0x2) | ((0 if f else 0xFF) << 8))
+        expected = [pix[f].get(p, "word") for p in range(npix)]
+        if corrupt.startswith("pixel:") and f == 0:
+            expected[int(corrupt.split(":")[1])] ^= 1
+        if f == 0:
+            dirty = 0x2 | (0xFF << 8)               # nothing to reuse: all dirty
+        else:
+            # The host's dirty flags: the camera (its position or any direction) and each
+            # instance whose registers changed since the frame the buffer holds.
+            cam_moved = cam[f].rows[0] != cam[f - 1].rows[0] or any(
+                pix[f].get(p, f"dir_{a}") != pix[f - 1].get(p, f"dir_{a}") for p in range(npix) for a in "xyz")
+            moved = [k for k in range(len(ins[f].rows))
+                     if k >= len(ins[f - 1].rows) or ins[f].rows[k] != ins[f - 1].rows[k]]
+            dirty = 0x1 | (0x2 if cam_moved else 0) | (sum(1 << k for k in moved) << 8)
+            print(f"core: frame {f}: camera {'moved' if cam_moved else 'still'}, instances moved {moved}")
+            if cam_moved:
+                put_directions(pix[f])
+                for ram in rams:
+                    ram.write(DIR_BASE, bytes(mem[DIR_BASE:DIR_BASE + 16 * npix]))
+        if f == 0 or folders[f] != folders[f - 1]:
+            await write_frame(ins[f], cam[f])
+        set_normals(ins[f])
+        await w("DIRTY", dirty)
         await w("STATUS", 0x2)                      # clear DONE
         await w("CTRL", 0x1)
         seen = {}

@@ -181,6 +181,12 @@ module svo_top
     logic [3:0] error;
     logic done_pulse;
 
+    // Signals of the sections below that the frame control reads (declared before use).
+    logic [DC-1:0] dir_count;                 // direction FIFO entries
+    logic [1:0] n_wr;                         // hit-buffer writes this cycle
+    logic [OC-1:0] out_n;                     // output FIFO beats
+    logic rd_err, dir_err;                    // an error response this cycle
+
     // The frame's constants as the core's buses, latched at LOAD.
     logic [3*PW-1:0]       cam_o;
     logic [LANES*120-1:0]  inst_c, inst_half;
@@ -314,11 +320,9 @@ module svo_top
     // ---------------------------------------------------------------- direction stream
     logic [95:0] dir_mem [0:DIR_DEPTH-1];
     logic [$clog2(DIR_DEPTH)-1:0] dir_rd, dir_wr;
-    logic [DC-1:0] dir_count;                 // entries in the FIFO
     logic [DC-1:0] dir_flight;                // entries requested, not yet arrived
     logic [PIXW-1:0] dir_issued;              // entries requested this frame
     logic [PIXW-1:0] dir_taken;               // entries ray generation took this frame
-    logic dir_err;
     wire dir_take;
     wire dir_beat = m_axi_dir_rvalid && m_axi_dir_rready;
     assign m_axi_dir_rready = 1'b1;           // room was reserved when the burst was asked
@@ -367,7 +371,7 @@ module svo_top
     wire dir_valid = dir_count != '0;
 
     // ---------------------------------------------------------------- node memory
-    logic rd_out, rd_attr, rd_hi, rd_err;
+    logic rd_out, rd_attr, rd_hi;
     wire mem_req_valid, mem_req_attr;
     wire [31:0] mem_req_addr;
     wire r_done = m_axi_rvalid && m_axi_rlast;
@@ -449,7 +453,7 @@ module svo_top
 
     // ---------------------------------------------------------------- the pixel stream
     // This cycle's writes, in the order check word, record head, second record; at most two.
-    wire [1:0] n_wr = 2'(wr1_valid) + 2'(wr_valid) + 2'(wr2_valid);
+    assign n_wr = 2'(wr1_valid) + 2'(wr_valid) + 2'(wr2_valid);
     wire [SLOT_BITS-1:0] s_wr1 = {24'd0, wr1_word, wr1_pixel};
     wire [SLOT_BITS-1:0] s_wr  = {24'd0, wr_word, wr_pixel};
     wire [SLOT_BITS-1:0] s_wr2 = {24'd0, wr2_word, wr2_pixel};
@@ -458,7 +462,6 @@ module svo_top
     wire last_beat = run && n_wr != 2'd0 && written + PIXW'(n_wr) >= npix;
     logic [2*SLOT_BITS+2:0] out_mem [0:OUT_DEPTH-1];   // {last, two slots, slot 1 present}
     logic [$clog2(OUT_DEPTH)-1:0] out_rd, out_wr;
-    logic [OC-1:0] out_n;
     logic err_three;                                    // three writes in a cycle: never
     assign wr_hold = out_n == OC'(OUT_DEPTH);
     wire out_push = n_wr != 2'd0;
