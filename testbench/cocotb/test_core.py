@@ -140,25 +140,41 @@ class FixedLatencyRead:
     def sig(self, name):
         return getattr(self.dut, f"{self.p}_{name}")
 
-    async def run(self):
-        while True:
-            await FallingEdge(self.dut.clk)
-            self.cycle += 1
-            if self.beats and self.beats[0][0] <= self.cycle:
-                _, addr, last = self.beats.pop(0)
-                base = addr - addr % self.nbytes
-                self.sig("rdata").value = int.from_bytes(self.mem[base:base + self.nbytes], "little")
-                self.sig("rlast").value = int(last)
-                self.sig("rvalid").value = 1
-            else:
-                self.sig("rvalid").value = 0
+    def drive(self):
+        """The falling edge of a cycle: R for this cycle."""
+        self.cycle += 1
+        if self.beats and self.beats[0][0] <= self.cycle:
+            _, addr, last = self.beats.pop(0)
+            base = addr - addr % self.nbytes
+            self.sig("rdata").value = int.from_bytes(self.mem[base:base + self.nbytes], "little")
+            self.sig("rlast").value = int(last)
+            self.sig("rvalid").value = 1
+        else:
+            self.sig("rvalid").value = 0
+
+    def sample(self):
+        """Once the cycle has settled: an AR handshake at its closing edge."""
+        if self.sig("arvalid").value == 1:
+            addr = int(self.sig("araddr").value)
+            n = int(self.sig("arlen").value) + 1
+            size = 1 << int(self.sig("arsize").value)
+            for k in range(n):
+                self.beats.append((self.cycle + self.lat + k, addr + k * size, k == n - 1))
+
+
+async def every_cycle(dut, slaves, host):
+    """One coroutine for everything the bench does each cycle (fewer simulator callbacks):
+    at the falling edge the slaves' R and the host's combinational answers, then, settled,
+    the slaves' AR handshakes."""
+    while True:
+        await FallingEdge(dut.clk)
+        for s in slaves:
+            s.drive()
+        host()
+        if slaves:
             await ReadOnly()
-            if self.sig("arvalid").value == 1:
-                addr = int(self.sig("araddr").value)
-                n = int(self.sig("arlen").value) + 1
-                size = 1 << int(self.sig("arsize").value)
-                for k in range(n):
-                    self.beats.append((self.cycle + self.lat + k, addr + k * size, k == n - 1))
+            for s in slaves:
+                s.sample()
 
 
 class Bench:
@@ -234,9 +250,10 @@ async def frame_against_the_model(dut):
     dut.rst.value = 1
     stalls = {"node ar": 0, "node r": 0, "dir ar": 0, "dir r": 0, "stream": 0}
     rams = []
+    slaves = []
     if stall == 0:
-        cocotb.start_soon(FixedLatencyRead(dut, "m_axi", mem, latency, 8).run())
-        cocotb.start_soon(FixedLatencyRead(dut, "m_axi_dir", mem, latency, 16).run())
+        slaves = [FixedLatencyRead(dut, "m_axi", mem, latency, 8),
+                  FixedLatencyRead(dut, "m_axi_dir", mem, latency, 16)]
     else:
         node = AxiRamRead(AxiReadBus.from_prefix(dut, "m_axi"), dut.clk, dut.rst, size=MEM_BYTES)
         dirs = AxiRamRead(AxiReadBus.from_prefix(dut, "m_axi_dir"), dut.clk, dut.rst, size=MEM_BYTES)
@@ -266,15 +283,13 @@ async def frame_against_the_model(dut):
             normal_of.append(([[fix(t.get(k, f"axis{c}_{a}", True), 30) for a in "xyz"] for c in range(3)],
                               [fix(t.get(k, f"half_{a}", True), 32) for a in "xyz"]))
 
-    async def normals():
-        while True:
-            await FallingEdge(dut.clk)
-            k = int(dut.nrm_inst.value)
-            o = int(dut.nrm_oct.value)
-            dut.nrm.value = host_normal(*normal_of[k], o) if k < len(normal_of) else 0
+    def normals():
+        k = int(dut.nrm_inst.value)
+        o = int(dut.nrm_oct.value)
+        dut.nrm.value = host_normal(*normal_of[k], o) if k < len(normal_of) else 0
     set_normals(ins[0])
     dut.nrm.value = 0
-    cocotb.start_soon(normals())
+    cocotb.start_soon(every_cycle(dut, slaves, normals))
 
     await ClockCycles(dut.clk, 8)
     dut.rst.value = 0
