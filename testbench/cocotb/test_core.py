@@ -49,6 +49,7 @@ NODE_BASE = 0x0100_0000     # walker_nodes.hex, 4 bytes a word
 ATTR_BASE = 0x0200_0000     # walker_attrs.hex, 8 bytes a record
 MEM_BYTES = 0x0300_0000
 MAX_REPORTS = 10
+IMAGE_SLOTS = 8             # svo_top's IMAGE registers
 
 
 def register_map():
@@ -317,7 +318,11 @@ async def frame_against_the_model(dut):
             await w(f"MISS_WORD[{j}]", miss >> (32 * j))
         await w("DIR_TABLE_BASE_LO", DIR_BASE)
         await w("DIR_TABLE_BASE_HI", 0)
-        for im in images:
+        # The image slots the instances use (walker.json also lists the unit vectors'
+        # synthetic images, which no instance reads).
+        used = sorted({it.get(k, "image") for k in range(len(it.rows))})
+        assert used[-1] < IMAGE_SLOTS, f"an instance reads image {used[-1]}; svo_top has {IMAGE_SLOTS} image slots"
+        for im in (images[i] for i in used):
             i = im["index"]
             nb, ab = NODE_BASE + 4 * im["node_base"], ATTR_BASE + 8 * im["attr_base"]
             await w(f"IMAGE[{i}].NODE_BASE_LO", nb)
