@@ -28,10 +28,10 @@
 //! cycles before any new read: oldest first. Among the reads of one cycle the order is the
 //! order contexts move on in the wake-up: step-latency ends and dispatched walks' root reads
 //! (in the cycle they were scheduled), then completions in the node memory's order (done
-//! cycle, then request age). That is what a barrel walker does with a request FIFO in front
-//! of its port: the step pipeline's output is registered before the memory's responses are
-//! decoded, and nothing is reordered once queued; a queued read waits at most R − 1 cycles,
-//! where a fixed-priority pick by context index could starve a high context. A queued read
+//! cycle, then request age). That is what a request FIFO in front of the port gives a barrel
+//! walker with no reordering logic: a queued read waits at most R − 1 cycles, where a
+//! fixed-priority pick by context index, the cheapest arbiter, could starve a high context.
+//! The RTL must enqueue a cycle's reads in the same order to agree cycle for cycle. A queued read
 //! counts as waiting on memory; its context-cycles in the queue are `read_port_waits`.
 //!
 //! Memory contention is the node memory's: bank ports, cache lookup ports, MSHRs and the
@@ -707,10 +707,17 @@ mod tests {
         v.iter().map(|o| o.pack()).collect()
     }
 
-    /// Runs walks A (dispatched in cycle 0) and B (cycle 8) on one walker of two contexts
-    /// and returns the cycle each retired (the record stage always ready), the reads sent
-    /// per cycle, and the pool's counters.
-    fn two_walks(read_ports: u32) -> (Vec<(u64, u64)>, Vec<(u64, u32)>, PoolCycles) {
+    /// What [`two_walks`] saw: (tag, cycle) of each retirement, (cycle, reads sent) of each
+    /// cycle the walker sent, and the pool's counters.
+    struct Seen {
+        retired: Vec<(u64, u64)>,
+        sent: Vec<(u64, u32)>,
+        cycles: PoolCycles,
+    }
+
+    /// Runs walks A (dispatched in cycle 0) and B (cycle 8) on one walker of two contexts,
+    /// the record stage always ready.
+    fn two_walks(read_ports: u32) -> Seen {
         let cfg = PoolConfig {
             walkers: 1,
             contexts_per_walker: 2,
@@ -744,7 +751,11 @@ mod tests {
             }
             pool.issue();
         }
-        (retired, sent, pool.take_cycles())
+        Seen {
+            retired,
+            sent,
+            cycles: pool.take_cycles(),
+        }
     }
 
     /// Hand-timed, L = 5, step latency 3. A: root read in cycle 1 (the cycle after its
@@ -755,18 +766,18 @@ mod tests {
     /// 10, data in 15, done in 18; one context-cycle of `read_port_waits`.
     #[test]
     fn two_reads_of_one_walker_in_one_cycle() {
-        let (retired, sent, c) = two_walks(0);
-        assert_eq!(retired, vec![(0xA, 14), (0xB, 17)]);
-        assert_eq!(sent, vec![(1, 1), (9, 2)]);
-        assert_eq!((c.reads, c.read_port_waits), (3, 0));
-        let (retired, sent, c) = two_walks(1);
-        assert_eq!(retired, vec![(0xA, 14), (0xB, 18)]);
-        assert_eq!(sent, vec![(1, 1), (9, 1), (10, 1)]);
-        assert_eq!((c.reads, c.read_port_waits), (3, 1));
+        let s = two_walks(0);
+        assert_eq!(s.retired, vec![(0xA, 14), (0xB, 17)]);
+        assert_eq!(s.sent, vec![(1, 1), (9, 2)]);
+        assert_eq!((s.cycles.reads, s.cycles.read_port_waits), (3, 0));
+        let s = two_walks(1);
+        assert_eq!(s.retired, vec![(0xA, 14), (0xB, 18)]);
+        assert_eq!(s.sent, vec![(1, 1), (9, 1), (10, 1)]);
+        assert_eq!((s.cycles.reads, s.cycles.read_port_waits), (3, 1));
         // Two ports on two contexts: nothing waits, as with unlimited ports.
-        let (retired, sent, c) = two_walks(2);
-        assert_eq!(retired, vec![(0xA, 14), (0xB, 17)]);
-        assert_eq!(sent, vec![(1, 1), (9, 2)]);
-        assert_eq!(c.read_port_waits, 0);
+        let s = two_walks(2);
+        assert_eq!(s.retired, vec![(0xA, 14), (0xB, 17)]);
+        assert_eq!(s.sent, vec![(1, 1), (9, 2)]);
+        assert_eq!(s.cycles.read_port_waits, 0);
     }
 }
