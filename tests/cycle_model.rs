@@ -208,6 +208,9 @@ fn random_hw(rng: &mut SplitMix64) -> HwConfig {
     m.dram.latency = 1 + rng.below(120) as u32;
     m.dram.mshrs = 1 + rng.below(8) as u32;
     hw.hit_buffer.read_latency_cycles = 1 + rng.below(6) as u32;
+    // Request ports per walker (issue 29): unlimited, 1 or 2, at most the contexts.
+    let r = u64::from(hw.walker_pool.contexts_per_walker.min(2));
+    hw.walker_pool.read_ports = rng.below(r + 1) as u32;
     hw
 }
 

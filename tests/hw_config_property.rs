@@ -51,7 +51,7 @@ fn field(lo: u32, hi: u32) -> BoxedStrategy<u32> {
 type Beyond = fn(&mut HwConfig);
 
 /// Every field's step beyond its limits.
-const BEYOND: [Beyond; 27] = [
+const BEYOND: [Beyond; 28] = [
     |h| h.part.name.clear(),
     |h| h.part.dsp48e2 = 0,
     |h| h.part.bram36 = 0,
@@ -69,6 +69,7 @@ const BEYOND: [Beyond; 27] = [
     |h| h.walker_pool.contexts_per_walker = 1025,
     |h| h.walker_pool.step_cycles = 100_001,
     |h| h.walker_pool.stack_depth = 65,
+    |h| h.walker_pool.read_ports = h.walker_pool.contexts_per_walker + 1,
     |h| h.fifos.check_to_transform = 65_537,
     |h| h.fifos.root_to_dispatch = 65_536,
     |h| h.node_memory.onchip.levels = 22,
@@ -178,6 +179,8 @@ fn walker_pool() -> impl Strategy<Value = WalkerPool> {
         field(1, 100_000),
         prop_oneof![1u8..=64, Just(64u8)],
         prop_oneof![Just(StackStorage::FullT), Just(StackStorage::ExactPop)],
+        // 0 (unlimited) to a few; above the contexts is refused, which `BEYOND` also reaches.
+        prop_oneof![Just(0u32), Just(1u32), 0u32..=4],
     )
         .prop_map(
             |(
@@ -187,6 +190,7 @@ fn walker_pool() -> impl Strategy<Value = WalkerPool> {
                 step_latency_cycles,
                 stack_depth,
                 stack,
+                read_ports,
             )| {
                 WalkerPool {
                     walkers,
@@ -195,6 +199,7 @@ fn walker_pool() -> impl Strategy<Value = WalkerPool> {
                     step_latency_cycles,
                     stack_depth,
                     stack,
+                    read_ports,
                 }
             },
         )

@@ -218,6 +218,10 @@ fn invalid_configurations_are_rejected_with_the_field_named() {
             c.walker_pool.step_latency_cycles = 0
         }),
         ("walker_pool.stack_depth", |c| c.walker_pool.stack_depth = 0),
+        // More request ports than contexts could never be used (0 is unlimited, 16 the most).
+        ("walker_pool.read_ports = 17", |c| {
+            c.walker_pool.read_ports = 17
+        }),
         ("fifos.root_to_dispatch", |c| c.fifos.root_to_dispatch = 0),
         ("fifos.raygen_to_sphere", |c| {
             c.fifos.raygen_to_sphere = 1 << 20
@@ -262,6 +266,13 @@ fn invalid_configurations_are_rejected_with_the_field_named() {
         // Nothing downstream panics on it either.
         let r = cfg.resources(&dp).expect_err(field);
         assert_eq!(r, e);
+    }
+    // Unlimited and one port per context are valid.
+    for ports in [0, 16] {
+        let mut cfg = HwConfig::default();
+        cfg.walker_pool.read_ports = ports;
+        cfg.validate()
+            .unwrap_or_else(|e| panic!("read_ports {ports}: {e}"));
     }
     // The check stage reads one pixel per cycle wherever the buffer is: a second read port
     // would never be used, so it is refused off chip too.

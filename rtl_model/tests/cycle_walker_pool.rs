@@ -3,6 +3,10 @@
 //! context counts, cycle by cycle, under random walks, memory and record-stage back-pressure;
 //! and the dispatcher's choice (most free contexts, lowest index on ties) against a scan of
 //! all walkers. The pool keeps both incrementally; this test recounts them from scratch.
+//! With random request ports per walker (`read_ports`, issue 29) it also checks, every cycle,
+//! that no walker sends more reads than it has ports, that a walker with reads still queued
+//! used every port (the queue never waits behind an idle port), and that the pool's
+//! `read_port_waits` grows by the reads left queued.
 
 mod common;
 
@@ -64,13 +68,20 @@ fn classification_matches_a_recount_every_cycle() {
     let s = seed(0x5eed_9001);
     println!("seed {s} (SVO_TEST_SEED={s} replays it)");
     let mut rng = Rng::new(s);
+    let mut port_waits = 0u64;
     for case in 0..12 {
         let cfg = PoolConfig {
             walkers: 1 + rng.below(70) as u32,
             contexts_per_walker: 1 + rng.below(8) as u32,
             step_cycles: 1 + rng.below(2) as u32,
             step_latency_cycles: 1 + rng.below(4) as u32,
+            read_ports: rng.below(3) as u32,
             ..PoolConfig::default()
+        };
+        let ports = if cfg.read_ports == 0 {
+            u32::MAX
+        } else {
+            cfg.read_ports
         };
         let walkers = cfg.walkers as usize;
         let layout = MemoryLayout::with_onchip_ranges(4096, 512, vec![(0, 1024)]).expect("layout");
@@ -80,7 +91,22 @@ fn classification_matches_a_recount_every_cycle() {
         let mut retired = 0u32;
         let mut now = 0u64;
         while retired < 400 {
+            let waits_before = pool.cycles().read_port_waits;
             pool.wake(now, &mut mem).expect("wake");
+            let mut queued = 0u64;
+            for w in 0..walkers {
+                let (sent, q) = (pool.walker_sent(w), pool.walker_queued(w));
+                let at = format!("seed {s}, case {case} ({cfg:?}), cycle {now}, walker {w}");
+                assert!(sent <= ports, "{at}: {sent} reads sent");
+                assert!(q == 0 || sent == ports, "{at}: {q} queued, {sent} sent");
+                assert!(q <= pool.walker_waiting(w), "{at}: queued beyond waiting");
+                queued += u64::from(q);
+            }
+            assert_eq!(
+                pool.cycles().read_port_waits - waits_before,
+                queued,
+                "seed {s}, case {case}, cycle {now}: read_port_waits"
+            );
             // The record stage takes a walk in about two cycles of three.
             if rng.below(3) > 0 && pool.retire().is_some() {
                 retired += 1;
@@ -114,5 +140,8 @@ fn classification_matches_a_recount_every_cycle() {
             now += 1;
             assert!(now < 1_000_000, "seed {s}, case {case}: no progress");
         }
+        port_waits += pool.cycles().read_port_waits;
     }
+    // The generator must make reads wait for a port, or the port checks say nothing.
+    assert!(port_waits > 0, "seed {s}: no read ever waited for a port");
 }

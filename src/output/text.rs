@@ -160,7 +160,7 @@ fn stage_tables(mut s: String, c: &CycleFrame, cyc: f64) -> String {
     let wc = walker_cycles(c);
     let _ = writeln!(
         s,
-        "  walkers: {} walks, {} issue slots; walker-cycles {:.1}% issuing, {:.1}% waiting on memory, {:.1}% on the step pipeline, {:.1}% back-pressured, {:.1}% empty; contexts {:.1}% occupied; {} dispatch stalls",
+        "  walkers: {} walks, {} issue slots; walker-cycles {:.1}% issuing, {:.1}% waiting on memory, {:.1}% on the step pipeline, {:.1}% back-pressured, {:.1}% empty; contexts {:.1}% occupied; {} dispatch stalls; {} read-port waits",
         w.walks,
         w.slots,
         100.0 * w.issuing as f64 / wc,
@@ -169,7 +169,8 @@ fn stage_tables(mut s: String, c: &CycleFrame, cyc: f64) -> String {
         100.0 * w.backpressured as f64 / wc,
         100.0 * w.empty as f64 / wc,
         100.0 * c.context_occupancy,
-        w.dispatch_stalls
+        w.dispatch_stalls,
+        w.read_port_waits
     );
     let _ = writeln!(s, "  FIFOs (depth, mean / max occupancy, full cycles):");
     for f in &c.fifos {

@@ -261,11 +261,14 @@ fn cache_control(hw: &HwConfig) -> Option<FabricItem> {
 /// (`NodeMemoryConfig::fabric_items`, `cycle/memory/crossbar.rs`): the walker-to-bank
 /// crossbars, the bank queues (with the on-chip combining CAM) and the miss queue. Its "MSHR
 /// search" item is left out: [`mshr_cam`] counts the same comparators with the ports' copies.
+/// The crossbars' requesters are the walkers' request ports (`walker_pool.read_ports` each;
+/// every context its own for 0, unlimited).
 fn memory_logic(hw: &HwConfig) -> impl Iterator<Item = FabricItem> {
     let pool = &hw.walker_pool;
     let contexts = pool.walkers.saturating_mul(pool.contexts_per_walker);
+    let requesters = pool.walkers.saturating_mul(pool.read_ports_per_walker());
     hw.node_memory
-        .fabric_items(pool.walkers, contexts)
+        .fabric_items(requesters, contexts)
         .into_iter()
         .filter(|i| i.name != "MSHR search")
         .map(|i| FabricItem {

@@ -165,6 +165,28 @@ pub struct WalkerPool {
     /// does; 7 BRAM36 per walker (8 contexts × 21 frames × 440 bits) is 5 % of the part, so the
     /// exact-pop logic is not yet worth it (1 BRAM36 per walker).
     pub stack: StackStorage,
+    /// Node reads a walker may send per cycle: its request ports to the node memory. Default
+    /// 1 (issue 29): a walker interleaves its R contexts in one datapath (a barrel design), so
+    /// the RTL has one request port; when more of its contexts want to read in one cycle (two
+    /// step latencies end together, or a read completes into the next read — far word then
+    /// child descriptor, leaf slot then attribute record — while another context's step ends)
+    /// the rest wait in the walker's send queue, oldest first (`walker_pool.rs`,
+    /// `stalls.walker_read_port`). 0 = unlimited, every context sends the cycle it wants to:
+    /// the model before issue 29 (`configs/explored_default.ron`, `configs/baseline.ron`).
+    /// At most `contexts_per_walker` (more could never be used). The node memory's crossbars
+    /// are priced for `walkers × read_ports` requesters (`walkers × contexts_per_walker` for 0).
+    pub read_ports: u32,
+}
+
+impl WalkerPool {
+    /// Requests one walker can send in one cycle: `read_ports`, or every context for 0.
+    pub fn read_ports_per_walker(&self) -> u32 {
+        if self.read_ports == 0 {
+            self.contexts_per_walker
+        } else {
+            self.read_ports
+        }
+    }
 }
 
 impl Default for WalkerPool {
@@ -176,6 +198,7 @@ impl Default for WalkerPool {
             step_latency_cycles: 3,
             stack_depth: MAX_DEPTH + 1,
             stack: StackStorage::FullT,
+            read_ports: 1,
         }
     }
 }
@@ -503,6 +526,15 @@ impl HwConfig {
             1,
             u32::from(MAX_STACK_DEPTH),
         )?;
+        // 0 is unlimited; above R a port could never be used (a context has one read out).
+        if w.read_ports > w.contexts_per_walker {
+            return Err(format!(
+                "walker_pool.read_ports = {} exceeds walker_pool.contexts_per_walker = {}: a \
+                 walker's contexts have at most one read out each, so the extra ports would never \
+                 be used (0 = unlimited, every context sends in the cycle it wants to)",
+                w.read_ports, w.contexts_per_walker
+            ));
+        }
         for (name, depth) in self.fifos.named() {
             in_range(&format!("fifos.{name}"), depth, 1, FIFO_MAX_DEPTH)?;
         }

@@ -5,9 +5,12 @@
 //! stage (`walker_to_record`). A walk arrives as its ops (`walk_op`): runs of issue slots
 //! (children examined, stack pops) and the reads it waits for. Per cycle:
 //!
-//! 1. **Wake-up.** Contexts whose step latency has passed, and those whose read completed in
-//!    this cycle ([`NodeMemory::tick_into`]), move on to their next op: an issue run makes them
-//!    ready; a read is requested from the node memory in this cycle and the context waits.
+//! 1. **Wake-up.** First each walker sends the reads waiting in its send queue (below). Then
+//!    contexts whose step latency has passed (and walks dispatched in the cycle before), and
+//!    those whose read completed in this cycle ([`NodeMemory::tick_into`]), move on to their
+//!    next op: an issue run makes them ready; a read is requested from the node memory in this
+//!    cycle if the walker has a request port left, else it joins the walker's send queue; the
+//!    context waits either way.
 //! 2. **Dispatch** (at most one walk per cycle): to the walker with the most free contexts
 //!    (the lowest index on ties); the context starts in the next cycle with the walk's first
 //!    op, the root descriptor read.
@@ -18,6 +21,19 @@
 //! 4. **Retire.** Finished walks leave in the order they finished, one per cycle, when the
 //!    record stage's FIFO is ready; the context is free from the next cycle.
 //!
+//! **Request ports** (`walker_pool.read_ports`, issue 29). A walker sends at most `read_ports`
+//! reads per cycle (0: unlimited): the RTL walker interleaves its contexts in one datapath and
+//! has one request port to the node memory. Reads beyond that wait in the walker's send queue
+//! (a FIFO of at most R entries, since a context has one read out) and are sent in later
+//! cycles before any new read: oldest first. Among the reads of one cycle the order is the
+//! order contexts move on in the wake-up: step-latency ends and dispatched walks' root reads
+//! (in the cycle they were scheduled), then completions in the node memory's order (done
+//! cycle, then request age). That is what a request FIFO in front of the port gives a barrel
+//! walker with no reordering logic: a queued read waits at most R − 1 cycles, where a
+//! fixed-priority pick by context index, the cheapest arbiter, could starve a high context.
+//! The RTL must enqueue a cycle's reads in the same order to agree cycle for cycle. A queued read
+//! counts as waiting on memory; its context-cycles in the queue are `read_port_waits`.
+//!
 //! Memory contention is the node memory's: bank ports, cache lookup ports, MSHRs and the
 //! DRAM bus (`memory/`); outstanding misses are limited by its MSHRs. Every walker-cycle is
 //! classified as issuing (busy), waiting on memory, waiting on its own step latency, holding a
@@ -26,7 +42,7 @@
 use std::collections::VecDeque;
 
 use super::hw_config::WalkerPool as PoolConfig;
-use super::memory::{Completion, NodeMemory, RequestError};
+use super::memory::{Completion, FetchKind, NodeMemory, RequestError};
 use super::walk_op::WalkOp;
 use serde::{Deserialize, Serialize};
 
@@ -53,6 +69,9 @@ pub struct PoolCycles {
     pub busy_context_cycles: u64,
     /// Cycles a walk waited in front of the dispatcher with no free context.
     pub dispatch_stalls: u64,
+    /// Context-cycles a read waited in its walker's send queue for a request port
+    /// (`walker_pool.read_ports`): the report's `stalls.walker_read_port`.
+    pub read_port_waits: u64,
 }
 
 impl PoolCycles {
@@ -68,6 +87,7 @@ impl PoolCycles {
         self.reads += o.reads;
         self.busy_context_cycles += o.busy_context_cycles;
         self.dispatch_stalls += o.dispatch_stalls;
+        self.read_port_waits += o.read_port_waits;
     }
 }
 
@@ -92,6 +112,12 @@ struct Walker {
     waiting_mem: u32,
     finished: u32,
     next_issue: u64,
+    /// Reads waiting for a request port, oldest first, with the context that waits for each
+    /// (`read_ports` > 0 only).
+    send: VecDeque<(u32, FetchKind, u32)>,
+    /// Reads sent in cycle `sent_at` (so no per-cycle reset of every walker is needed).
+    sent: u32,
+    sent_at: u64,
 }
 
 /// What a walker that does not issue in a cycle is doing, from its context counts alone.
@@ -204,6 +230,12 @@ pub struct WalkerPoolModel {
     activity: u64,
     /// A walk waited at the dispatcher in the current cycle.
     stalled_now: bool,
+    /// Reads a walker may send per cycle; `u32::MAX` for unlimited (`read_ports` 0).
+    ports: u32,
+    /// Walkers with a read waiting in their send queue.
+    has_send: WalkerSet,
+    /// Reads waiting in all send queues.
+    queued_total: u32,
 }
 
 impl WalkerPoolModel {
@@ -251,6 +283,13 @@ impl WalkerPoolModel {
             cycles: PoolCycles::default(),
             activity: 0,
             stalled_now: false,
+            ports: if cfg.read_ports == 0 {
+                u32::MAX
+            } else {
+                cfg.read_ports
+            },
+            has_send: WalkerSet::new(w),
+            queued_total: 0,
         })
     }
 
@@ -272,6 +311,19 @@ impl WalkerPoolModel {
     /// Contexts of walker `w` holding a finished walk the record stage has not taken.
     pub fn walker_finished(&self, w: usize) -> u32 {
         self.walkers.get(w).map_or(0, |k| k.finished)
+    }
+
+    /// Reads walker `w` sent to the node memory in the current cycle.
+    pub fn walker_sent(&self, w: usize) -> u32 {
+        self.walkers
+            .get(w)
+            .map_or(0, |k| if k.sent_at == self.now { k.sent } else { 0 })
+    }
+
+    /// Contexts of walker `w` whose read waits in its send queue for a request port (they
+    /// count among [`walker_waiting`](Self::walker_waiting)).
+    pub fn walker_queued(&self, w: usize) -> u32 {
+        self.walkers.get(w).map_or(0, |k| k.send.len() as u32)
     }
 
     /// Whether walker `w` issued in the current cycle.
@@ -342,8 +394,22 @@ impl WalkerPoolModel {
                     c.remaining = n;
                 }
                 WalkOp::Read(kind, addr) => {
-                    mem.request(now, addr, kind, ctx)?;
-                    self.cycles.reads += 1;
+                    // One of the walker's request ports this cycle, or its send queue: the
+                    // queue is served first each cycle (`send_queued`), so a port left now
+                    // means the queue is empty and this read is the oldest waiting.
+                    if wk.sent_at != now {
+                        wk.sent_at = now;
+                        wk.sent = 0;
+                    }
+                    if wk.sent < self.ports {
+                        wk.sent += 1;
+                        mem.request(now, addr, kind, ctx)?;
+                        self.cycles.reads += 1;
+                    } else {
+                        wk.send.push_back((ctx, kind, addr));
+                        self.has_send.insert(wi);
+                        self.queued_total += 1;
+                    }
                     c.pc += 1;
                     c.waiting_mem = true;
                     let from = wk.class();
@@ -355,14 +421,47 @@ impl WalkerPoolModel {
         }
     }
 
-    /// Phase 1 of cycle `now`: wakes the contexts whose step latency ended and whose reads
-    /// completed. Call once per cycle, in order, before the other phases.
+    /// Sends the reads waiting in the walkers' send queues, oldest first, up to `ports` per
+    /// walker, in cycle `now` (before any read of the cycle's wake-ups).
+    fn send_queued(&mut self, now: u64, mem: &mut NodeMemory) -> Result<(), PoolError> {
+        for word in 0..self.has_send.0.len() {
+            let mut bits = self.has_send.0[word];
+            while bits != 0 {
+                let w = word * 64 + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let wk = &mut self.walkers[w];
+                wk.sent_at = now;
+                wk.sent = 0;
+                while wk.sent < self.ports {
+                    let Some((ctx, kind, addr)) = wk.send.pop_front() else {
+                        break;
+                    };
+                    wk.sent += 1;
+                    mem.request(now, addr, kind, ctx)?;
+                    self.cycles.reads += 1;
+                    self.queued_total -= 1;
+                    self.activity += 1;
+                }
+                if wk.send.is_empty() {
+                    self.has_send.remove(w);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Phase 1 of cycle `now`: sends the reads that waited for a request port, then wakes the
+    /// contexts whose step latency ended and whose reads completed. Call once per cycle, in
+    /// order, before the other phases.
     pub fn wake(&mut self, now: u64, mem: &mut NodeMemory) -> Result<(), PoolError> {
         self.now = now;
         self.stalled_now = false;
         // Bring the memory to this cycle first, so the reads requested below are this
         // cycle's arrivals (the same arbitration either way; only cheaper).
         mem.catch_up(now);
+        if self.queued_total > 0 {
+            self.send_queued(now, mem)?;
+        }
         let mask = self.wheel.len() - 1;
         let due = std::mem::take(&mut self.wheel[(now as usize) & mask]);
         for &ctx in &due {
@@ -389,6 +488,8 @@ impl WalkerPoolModel {
             }
         }
         self.completions = done;
+        // Reads still queued wait this cycle (counted here, after the cycle's sends).
+        self.cycles.read_port_waits += u64::from(self.queued_total);
         Ok(())
     }
 
@@ -409,6 +510,10 @@ impl WalkerPoolModel {
     /// move by itself — a step latency ends, a walker's initiation interval ends with a
     /// ready context, or a read may complete (`mem`'s bound). `None`: nothing is due.
     pub fn next_event(&self, now: u64, mem: &NodeMemory) -> Option<u64> {
+        if self.queued_total > 0 {
+            // A queued read is sent in the next cycle (not idle; stated for safety).
+            return Some(now + 1);
+        }
         let mut next = mem.next_completion_bound();
         let mut at = |c: u64| next = Some(next.map_or(c, |n: u64| n.min(c)));
         let span = self.wheel.len() as u64;
@@ -441,6 +546,7 @@ impl WalkerPoolModel {
         );
         let c = &mut self.cycles;
         c.busy_context_cycles += u64::from(self.busy_total) * k;
+        c.read_port_waits += u64::from(self.queued_total) * k;
         c.empty += empty;
         c.memory_wait += mem;
         c.backpressured += bp;
@@ -571,5 +677,107 @@ impl WalkerPoolModel {
         self.by_free[f].insert(w);
         self.busy_total -= 1;
         Some(c.tag)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cycle::memory::{MemoryLayout, NodeMemoryConfig, OnChipConfig};
+
+    /// On-chip reads of `latency` cycles through one bank of two ports: the memory itself
+    /// takes two reads a cycle, so only the walker's request ports can delay a read.
+    fn memory(latency: u32) -> NodeMemory {
+        let cfg = NodeMemoryConfig {
+            onchip: OnChipConfig {
+                levels: crate::svo::MAX_DEPTH + 1,
+                max_bytes: u64::MAX,
+                latency,
+                banks: 1,
+                ports_per_bank: 2,
+                combine: false,
+            },
+            ..NodeMemoryConfig::default()
+        };
+        let layout = MemoryLayout::with_onchip_ranges(16, 4, vec![(0, 16)]).expect("layout");
+        NodeMemory::new(cfg, layout).expect("memory")
+    }
+
+    fn ops(v: &[WalkOp]) -> Vec<u64> {
+        v.iter().map(|o| o.pack()).collect()
+    }
+
+    /// What [`two_walks`] saw: (tag, cycle) of each retirement, (cycle, reads sent) of each
+    /// cycle the walker sent, and the pool's counters.
+    struct Seen {
+        retired: Vec<(u64, u64)>,
+        sent: Vec<(u64, u32)>,
+        cycles: PoolCycles,
+    }
+
+    /// Runs walks A (dispatched in cycle 0) and B (cycle 8) on one walker of two contexts,
+    /// the record stage always ready.
+    fn two_walks(read_ports: u32) -> Seen {
+        let cfg = PoolConfig {
+            walkers: 1,
+            contexts_per_walker: 2,
+            step_cycles: 1,
+            step_latency_cycles: 3,
+            read_ports,
+            ..PoolConfig::default()
+        };
+        let mut pool = WalkerPoolModel::new(&cfg).expect("pool");
+        let mut mem = memory(5);
+        // A: root read, one slot, a child read. B: root read, one slot.
+        let a = ops(&[
+            WalkOp::Read(FetchKind::Node, 0),
+            WalkOp::Issue(1),
+            WalkOp::Read(FetchKind::Node, 1),
+        ]);
+        let b = ops(&[WalkOp::Read(FetchKind::Node, 2), WalkOp::Issue(1)]);
+        let (mut retired, mut sent) = (Vec::new(), Vec::new());
+        for now in 0..40 {
+            pool.wake(now, &mut mem).expect("wake");
+            if pool.walker_sent(0) > 0 {
+                sent.push((now, pool.walker_sent(0)));
+            }
+            if let Some(tag) = pool.retire() {
+                retired.push((tag, now));
+            }
+            match now {
+                0 => assert!(pool.dispatch(0xA, &a)),
+                8 => assert!(pool.dispatch(0xB, &b)),
+                _ => {}
+            }
+            pool.issue();
+        }
+        Seen {
+            retired,
+            sent,
+            cycles: pool.take_cycles(),
+        }
+    }
+
+    /// Hand-timed, L = 5, step latency 3. A: root read in cycle 1 (the cycle after its
+    /// dispatch), data in 6, its slot issues in 6, the child read in 9, data and done in 14.
+    /// B, dispatched in 8, sends its root read in 9 too. Unlimited ports: both in 9, B's data
+    /// in 14, its slot in 14, done in 17. One port: A's read was scheduled first (its slot
+    /// issued in 6, B's dispatch came in 8), so A sends in 9 and B waits one cycle: sent in
+    /// 10, data in 15, done in 18; one context-cycle of `read_port_waits`.
+    #[test]
+    fn two_reads_of_one_walker_in_one_cycle() {
+        let s = two_walks(0);
+        assert_eq!(s.retired, vec![(0xA, 14), (0xB, 17)]);
+        assert_eq!(s.sent, vec![(1, 1), (9, 2)]);
+        assert_eq!((s.cycles.reads, s.cycles.read_port_waits), (3, 0));
+        let s = two_walks(1);
+        assert_eq!(s.retired, vec![(0xA, 14), (0xB, 18)]);
+        assert_eq!(s.sent, vec![(1, 1), (9, 1), (10, 1)]);
+        assert_eq!((s.cycles.reads, s.cycles.read_port_waits), (3, 1));
+        // Two ports on two contexts: nothing waits, as with unlimited ports.
+        let s = two_walks(2);
+        assert_eq!(s.retired, vec![(0xA, 14), (0xB, 17)]);
+        assert_eq!(s.sent, vec![(1, 1), (9, 2)]);
+        assert_eq!(s.cycles.read_port_waits, 0);
     }
 }

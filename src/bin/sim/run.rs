@@ -128,9 +128,9 @@ pub struct RunArgs {
     #[arg(long, value_name = "N", default_value_t = 0, requires = "sample")]
     sample_seed: u64,
     /// Cycle model: after the run, run again with LIMIT made ideal (walk_issue, write_port,
-    /// walkers, memory_ports, mshr_full, hit_latency, dram_latency, dram_bandwidth; or
-    /// `bound`: the limit the run's bound line names) and print the frame rate gained. The
-    /// second run writes nothing (docs/cycle-model.md §2.2).
+    /// walkers, walker_read_port, memory_ports, mshr_full, hit_latency, dram_latency,
+    /// dram_bandwidth; or `bound`: the limit the run's bound line names) and print the frame
+    /// rate gained. The second run writes nothing (docs/cycle-model.md §2.2).
     #[arg(long, value_name = "LIMIT", conflicts_with_all = ["vcd", "transaction_log"])]
     lift: Option<String>,
 }

@@ -13,7 +13,7 @@ use rtl_model::datapath::DatapathConfig;
 use rtl_model::units::sorter;
 
 /// The limits `lift` knows, with what it sets for each.
-pub const LIFTS: [(&str, &str); 11] = [
+pub const LIFTS: [(&str, &str); 12] = [
     (
         "record_write",
         "hit_buffer.write_ports and record_writes 2 and fifos.record_to_write 65536 (the most a FIFO may hold): two records a cycle, a packed record never waits for the write FIFO",
@@ -37,6 +37,10 @@ pub const LIFTS: [(&str, &str); 11] = [
     (
         "walkers",
         "4 times the walkers (walker_pool.walkers, at most 4096)",
+    ),
+    (
+        "walker_read_port",
+        "walker_pool.read_ports 0: every context sends its read in the cycle it wants to",
     ),
     (
         "memory_ports",
@@ -93,6 +97,7 @@ pub fn lift(hw: &HwConfig, limit: &str) -> Result<HwConfig, String> {
         }
         "write_port" => h.hit_buffer.write_ports = 2,
         "walkers" => h.walker_pool.walkers = (h.walker_pool.walkers * 4).min(4096),
+        "walker_read_port" => h.walker_pool.read_ports = 0,
         "memory_ports" => {
             nm.cache.ports = nm.cache.ports.max(64);
             nm.onchip.banks = nm.onchip.banks.max(64);

@@ -207,6 +207,10 @@ pub struct StallCounts {
     pub record_write: u64,
     /// Cycles in which a walk waited at the dispatcher with every context busy.
     pub walkers_full: u64,
+    /// Node reads: request-cycles waiting in a walker's send queue for one of its request
+    /// ports (`walker_pool.read_ports`), before the read reaches the node memory (the pool's
+    /// `read_port_waits`).
+    pub walker_read_port: u64,
     /// Node reads: request-cycles waiting for a bank's or the cache's port.
     pub memory_ports: u64,
     /// Node reads: request-cycles waiting behind a miss with no free MSHR.
@@ -252,6 +256,7 @@ impl StallCounts {
         self.sphere += o.sphere;
         self.record_write += o.record_write;
         self.walkers_full += o.walkers_full;
+        self.walker_read_port += o.walker_read_port;
         self.memory_ports += o.memory_ports;
         self.mshr_full += o.mshr_full;
         self.hit_latency += o.hit_latency;
@@ -261,7 +266,7 @@ impl StallCounts {
 }
 
 /// The limits the bound line names and `--lift` can lift (docs/cycle-model.md §2.2).
-pub const LIMITS: [&str; 13] = [
+pub const LIMITS: [&str; 14] = [
     "clock",
     "walk_issue",
     "write_port",
@@ -270,6 +275,7 @@ pub const LIMITS: [&str; 13] = [
     "ray_generation",
     "record_write",
     "walkers",
+    "walker_read_port",
     "memory_ports",
     "mshr_full",
     "hit_latency",
@@ -401,6 +407,7 @@ impl CycleFrame {
             .collect();
         let stalls = StallCounts {
             walkers_full: walkers.dispatch_stalls,
+            walker_read_port: walkers.read_port_waits,
             ..stalls
         }
         .with_memory(hw, &mem);
@@ -534,16 +541,21 @@ pub(crate) fn bound_of(
         pct(st.walkers_full),
         pct(st.record_write)
     );
-    let reads =
-        st.memory_ports + st.mshr_full + st.hit_latency + st.dram_latency + st.dram_bandwidth;
+    let reads = st.walker_read_port
+        + st.memory_ports
+        + st.mshr_full
+        + st.hit_latency
+        + st.dram_latency
+        + st.dram_bandwidth;
     let rp = |n: u64| 100.0 * n as f64 / reads.max(1) as f64;
     let pool = format!(
-        "walker-cycles: {:.0}% issuing, {:.0}% waiting on node reads, {:.0}% on the step pipeline, {:.0}% holding finished walks, {:.0}% empty; read latency: ports {:.0}%, MSHR full {:.0}%, hit latency {:.0}%, DRAM latency {:.0}%, DRAM bus and merges {:.0}%",
+        "walker-cycles: {:.0}% issuing, {:.0}% waiting on node reads, {:.0}% on the step pipeline, {:.0}% holding finished walks, {:.0}% empty; read latency: walker request port {:.0}%, memory ports {:.0}%, MSHR full {:.0}%, hit latency {:.0}%, DRAM latency {:.0}%, DRAM bus and merges {:.0}%",
         100.0 * w.issuing as f64 / wc,
         100.0 * w.memory_wait as f64 / wc,
         100.0 * w.latency_wait as f64 / wc,
         100.0 * w.backpressured as f64 / wc,
         100.0 * w.empty as f64 / wc,
+        rp(st.walker_read_port),
         rp(st.memory_ports),
         rp(st.mshr_full),
         rp(st.hit_latency),
@@ -587,6 +599,7 @@ pub(crate) fn bound_of(
     }
     if w.memory_wait > work {
         let parts = [
+            ("walker_read_port", st.walker_read_port),
             ("memory_ports", st.memory_ports),
             ("mshr_full", st.mshr_full),
             ("hit_latency", st.hit_latency),
@@ -641,6 +654,10 @@ mod tests {
         assert_eq!(limit(&w, &st, 1000, 500), "memory_ports");
         st.dram_latency = 30_000;
         assert_eq!(limit(&w, &st, 1000, 500), "dram_latency");
+        // Reads waiting for their walker's request port the most (issue 29).
+        st.walker_read_port = 40_000;
+        assert_eq!(limit(&w, &st, 1000, 500), "walker_read_port");
+        st.walker_read_port = 0;
         // ...and one that issues names the walkers.
         w.issuing = 900;
         assert_eq!(limit(&w, &st, 1000, 500), "walkers");

@@ -96,7 +96,8 @@ fn queues(
 
 impl NodeMemoryConfig {
     /// The logic this configuration needs around its memory blocks, for a pool of
-    /// `requesters` walkers with `contexts` contexts in all (module doc for the formulas). A
+    /// `requesters` walker request ports (`walker_pool.read_ports` per walker) with `contexts`
+    /// contexts in all (module doc for the formulas). A
     /// bank queue is sized for its share of the contexts (each has at most one read out),
     /// at least 16 entries: `max(16, ⌈contexts / banks⌉)` rounded up to a power of two.
     pub fn fabric_items(&self, requesters: u32, contexts: u32) -> Vec<MemoryFabricItem> {
