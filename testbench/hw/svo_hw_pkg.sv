@@ -76,6 +76,7 @@ package svo_hw_pkg;
     localparam int UNITS_WALKER_ROOT_II = 1;
     localparam int UNITS_WALKER_ROOT_LATENCY_CYCLES = 8;
     localparam int WALKER_POOL_CONTEXTS_PER_WALKER = 16;
+    localparam int WALKER_POOL_READ_PORTS = 1;
     localparam WALKER_POOL_STACK = "FullT";
     localparam bit WALKER_POOL_STACK_IS_FULLT = 1'b1;
     localparam int WALKER_POOL_STACK_DEPTH = 21;

@@ -262,11 +262,11 @@ fn cache_control(hw: &HwConfig) -> Option<FabricItem> {
 /// crossbars, the bank queues (with the on-chip combining CAM) and the miss queue. Its "MSHR
 /// search" item is left out: [`mshr_cam`] counts the same comparators with the ports' copies.
 /// The crossbars' requesters are the walkers' request ports (`walker_pool.read_ports` each;
-/// every context its own for 0, unlimited).
+/// one for 0, as `WalkerPool::priced_read_ports` says why).
 fn memory_logic(hw: &HwConfig) -> impl Iterator<Item = FabricItem> {
     let pool = &hw.walker_pool;
     let contexts = pool.walkers.saturating_mul(pool.contexts_per_walker);
-    let requesters = pool.walkers.saturating_mul(pool.read_ports_per_walker());
+    let requesters = pool.walkers.saturating_mul(pool.priced_read_ports());
     hw.node_memory
         .fabric_items(requesters, contexts)
         .into_iter()

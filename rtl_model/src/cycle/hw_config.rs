@@ -174,18 +174,18 @@ pub struct WalkerPool {
     /// `stalls.walker_read_port`). 0 = unlimited, every context sends the cycle it wants to:
     /// the model before issue 29 (`configs/explored_default.ron`, `configs/baseline.ron`).
     /// At most `contexts_per_walker` (more could never be used). The node memory's crossbars
-    /// are priced for `walkers × read_ports` requesters (`walkers × contexts_per_walker` for 0).
+    /// are priced for `walkers × read_ports` requesters; 0 is priced as one port per walker,
+    /// as the model before issue 29 priced it (an idealisation: its timing let every context
+    /// send, its estimate built one port), so the files that name that model keep both its
+    /// cycles and its estimate.
     pub read_ports: u32,
 }
 
 impl WalkerPool {
-    /// Requests one walker can send in one cycle: `read_ports`, or every context for 0.
-    pub fn read_ports_per_walker(&self) -> u32 {
-        if self.read_ports == 0 {
-            self.contexts_per_walker
-        } else {
-            self.read_ports
-        }
+    /// Request ports one walker is priced for: `read_ports`, and 1 for 0 (unlimited in
+    /// timing, priced as the pre-issue-29 model's one port: see `read_ports`).
+    pub fn priced_read_ports(&self) -> u32 {
+        self.read_ports.max(1)
     }
 }
 
