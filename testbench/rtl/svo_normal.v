@@ -10,12 +10,13 @@
 // scale-invariant, so nothing is normalised and no square root is taken.
 //
 // Stages: (1) unfold the snorm16 code to the octahedron point p (|p|1 = 32767, exact
-// integers), 9 products sQ2.16 x int17 (DSP48E2 27x18 each, registered); (2) the sums w = M·p,
-// the L1 norm l1 = |w|1 and the numerators (|x|, |y| on the upper hemisphere, |x| + |z|,
-// |y| + |z| folded on the lower); (3) the rounded division q = floor((2s·a + l1) / (2·l1)),
-// s = 2^(N_W-1) - 1, quotient bits N_W-2 .. H by restoring steps; (4) bits H-1 .. 0 and the
-// sign (x < 0: negative; 0 counts as positive). l1 = 0 (a zero matrix) gives {0, 0}.
-// II = 1.
+// integers), 9 products sQ2.16 x int17 (DSP48E2 27x18 each, registered); (2) the sums
+// w = M·p; (3) the L1 norm l1 = |w|1 and the numerators (|x|, |y| on the upper hemisphere,
+// |x| + |z|, |y| + |z| folded on the lower); (4) l1 and both numerators shifted right together
+// (truncating) until l1 has at most DB bits (units::normal::DIV_BITS); (5) the rounded
+// division q = floor((2s·a + l1) / (2·l1)), s = 2^(N_W-1) - 1, quotient bits N_W-2 .. H by
+// restoring steps; (6) bits H-1 .. 0 and the sign (x < 0: negative; 0 counts as positive).
+// l1 = 0 (a zero matrix) gives {0, 0}. II = 1.
 `timescale 1ns/1ps
 `default_nettype none
 module svo_normal #(
@@ -29,16 +30,16 @@ module svo_normal #(
     output reg               out_valid,
     output reg  [2*N_W-1:0]  out_code          // {v, u}
 );
-    // The output register is the fourth; the testbench prints it (tb_normal.sv), and
+    // The output register is the sixth; the testbench prints it (tb_normal.sv), and
     // tests/testbench_icarus.rs compares it with rtl_model units::normal::LATENCY_CYCLES.
     /* verilator lint_off UNUSEDPARAM */
-    localparam LATENCY = 4;
+    localparam LATENCY = 6;
     /* verilator lint_on UNUSEDPARAM */
     localparam QB = N_W - 1;                   // quotient bits: q <= s < 2^QB
     localparam H  = QB / 2;                    // bits decided in stage 4
     localparam LW = 35;                        // |w|1 < 3 * 2^16 * 32767 < 2^33; room to spare
-    localparam NB = LW + N_W + 1;              // 2s·a + l1 < 2^N_W * l1
-    localparam [NB-1:0] S2 = (1 << N_W) - 2;   // 2s
+    localparam DB = 18;                        // divisor bits kept (units::normal::DIV_BITS)
+    localparam NB = DB + N_W + 1;              // 2s·a + l1 < 2^N_W * l1
 
     // ---------------------------------------------------------------- stage 1
     wire signed [16:0] u_raw = $signed({in_oct[15], in_oct[15:0]});
@@ -70,30 +71,63 @@ module svo_normal #(
     endfunction
 
     // ---------------------------------------------------------------- stage 2
-    wire signed [36:0] wx = sx37(prod[0]) + sx37(prod[1]) + sx37(prod[2]);
-    wire signed [36:0] wy = sx37(prod[3]) + sx37(prod[4]) + sx37(prod[5]);
-    wire signed [36:0] wz = sx37(prod[6]) + sx37(prod[7]) + sx37(prod[8]);
+    reg signed [36:0] wx, wy, wz;
+    reg v2;
+    always @(posedge clk) begin
+        v2 <= rst ? 1'b0 : v1;
+        wx <= sx37(prod[0]) + sx37(prod[1]) + sx37(prod[2]);
+        wy <= sx37(prod[3]) + sx37(prod[4]) + sx37(prod[5]);
+        wz <= sx37(prod[6]) + sx37(prod[7]) + sx37(prod[8]);
+    end
+
+    // ---------------------------------------------------------------- stage 3
     wire [36:0] ax = wx[36] ? -wx : wx;
     wire [36:0] ay = wy[36] ? -wy : wy;
     wire [36:0] az = wz[36] ? -wz : wz;
     /* verilator lint_off UNUSEDSIGNAL */
     wire [36:0] l1_w = ax + ay + az;            // < 2^33
-    wire [36:0] nu_w = wz[36] ? ax + az : ax;   // <= l1 < 2^LW
+    wire [36:0] nu_w = wz[36] ? ax + az : ax;   // <= l1
     wire [36:0] nv_w = wz[36] ? ay + az : ay;
     /* verilator lint_on UNUSEDSIGNAL */
-
-    reg [LW-1:0] l1_2, nu_2, nv_2;
-    reg sx_2, sy_2, v2;
+    reg [LW-1:0] l1_3, nu_3, nv_3;
+    reg sx_3, sy_3, v3;
     always @(posedge clk) begin
-        v2   <= rst ? 1'b0 : v1;
-        l1_2 <= l1_w[LW-1:0];
-        nu_2 <= nu_w[LW-1:0];
-        nv_2 <= nv_w[LW-1:0];
-        sx_2 <= wx[36];
-        sy_2 <= wy[36];
+        v3   <= rst ? 1'b0 : v2;
+        l1_3 <= l1_w[LW-1:0];
+        nu_3 <= nu_w[LW-1:0];
+        nv_3 <= nv_w[LW-1:0];
+        sx_3 <= wx[36];
+        sy_3 <= wy[36];
     end
 
-    // ---------------------------------------------------------------- stages 3 and 4
+    // ---------------------------------------------------------------- stage 4
+    // The shift: l1's bit length above DB (units::normal::normalise_shift).
+    function automatic [5:0] shift_of(input [LW-1:0] x);
+        integer i;
+        begin
+            shift_of = 6'd0;
+            for (i = DB; i < LW; i = i + 1)
+                if (x[i]) shift_of = i[5:0] - DB[5:0] + 6'd1;
+        end
+    endfunction
+    wire [5:0] sh = shift_of(l1_3);
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [LW-1:0] l1_s = l1_3 >> sh;
+    wire [LW-1:0] nu_s = nu_3 >> sh;
+    wire [LW-1:0] nv_s = nv_3 >> sh;
+    /* verilator lint_on UNUSEDSIGNAL */
+    reg [DB-1:0] l1_4, nu_4, nv_4;
+    reg sx_4, sy_4, v4;
+    always @(posedge clk) begin
+        v4   <= rst ? 1'b0 : v3;
+        l1_4 <= l1_s[DB-1:0];
+        nu_4 <= nu_s[DB-1:0];
+        nv_4 <= nv_s[DB-1:0];
+        sx_4 <= sx_3;
+        sy_4 <= sy_3;
+    end
+
+    // ---------------------------------------------------------------- stages 5 and 6
     // Restoring division steps for quotient bits hi-1 .. lo of r / d: {remainder, bits}.
     function automatic [NB+QB-1:0] divide_steps(input [NB-1:0] r_in, input [NB-1:0] d,
                                                 input integer hi, input integer lo);
@@ -115,38 +149,41 @@ module svo_normal #(
         end
     endfunction
 
-    wire [NB-1:0] d_2 = {{(NB-LW-1){1'b0}}, l1_2, 1'b0};
-    wire [NB-1:0] n_u2 = S2 * {{(NB-LW){1'b0}}, nu_2} + {{(NB-LW){1'b0}}, l1_2};
-    wire [NB-1:0] n_v2 = S2 * {{(NB-LW){1'b0}}, nv_2} + {{(NB-LW){1'b0}}, l1_2};
-    wire [NB+QB-1:0] su3 = divide_steps(n_u2, d_2, QB, H);
-    wire [NB+QB-1:0] sv3 = divide_steps(n_v2, d_2, QB, H);
+    // 2s·a = a·2^N_W − 2a: shifts and one subtractor, no multiplier.
+    function automatic [NB-1:0] numerator(input [DB-1:0] a, input [DB-1:0] l1);
+        numerator = ({{(NB-DB){1'b0}}, a} << N_W) - ({{(NB-DB){1'b0}}, a} << 1)
+                  + {{(NB-DB){1'b0}}, l1};
+    endfunction
+    wire [NB-1:0] d_4 = {{(NB-DB-1){1'b0}}, l1_4, 1'b0};
+    wire [NB+QB-1:0] su5 = divide_steps(numerator(nu_4, l1_4), d_4, QB, H);
+    wire [NB+QB-1:0] sv5 = divide_steps(numerator(nv_4, l1_4), d_4, QB, H);
 
-    reg [NB-1:0] ru_3, rv_3, d_3;
-    reg [QB-1:0] qu_3, qv_3;
-    reg sx_3, sy_3, zero_3, v3;
+    reg [NB-1:0] ru_5, rv_5, d_5;
+    reg [QB-1:0] qu_5, qv_5;
+    reg sx_5, sy_5, zero_5, v5;
     always @(posedge clk) begin
-        v3     <= rst ? 1'b0 : v2;
-        ru_3   <= su3[NB+QB-1:QB];
-        rv_3   <= sv3[NB+QB-1:QB];
-        qu_3   <= su3[QB-1:0];
-        qv_3   <= sv3[QB-1:0];
-        d_3    <= d_2;
-        sx_3   <= sx_2;
-        sy_3   <= sy_2;
-        zero_3 <= l1_2 == {LW{1'b0}};
+        v5     <= rst ? 1'b0 : v4;
+        ru_5   <= su5[NB+QB-1:QB];
+        rv_5   <= sv5[NB+QB-1:QB];
+        qu_5   <= su5[QB-1:0];
+        qv_5   <= sv5[QB-1:0];
+        d_5    <= d_4;
+        sx_5   <= sx_4;
+        sy_5   <= sy_4;
+        zero_5 <= l1_4 == {DB{1'b0}};
     end
 
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [NB+QB-1:0] su4 = divide_steps(ru_3, d_3, H, 0);
-    wire [NB+QB-1:0] sv4 = divide_steps(rv_3, d_3, H, 0);
+    wire [NB+QB-1:0] su6 = divide_steps(ru_5, d_5, H, 0);
+    wire [NB+QB-1:0] sv6 = divide_steps(rv_5, d_5, H, 0);
     /* verilator lint_on UNUSEDSIGNAL */
-    wire [N_W-1:0] qu = {1'b0, qu_3 | su4[QB-1:0]};
-    wire [N_W-1:0] qv = {1'b0, qv_3 | sv4[QB-1:0]};
+    wire [N_W-1:0] qu = {1'b0, qu_5 | su6[QB-1:0]};
+    wire [N_W-1:0] qv = {1'b0, qv_5 | sv6[QB-1:0]};
 
     always @(posedge clk) begin
-        out_valid <= rst ? 1'b0 : v3;
-        out_code  <= zero_3 ? {(2*N_W){1'b0}}
-                   : {sy_3 ? -qv : qv, sx_3 ? -qu : qu};
+        out_valid <= rst ? 1'b0 : v5;
+        out_code  <= zero_5 ? {(2*N_W){1'b0}}
+                   : {sy_5 ? -qv : qv, sx_5 ? -qu : qu};
     end
 endmodule
 `default_nettype wire

@@ -13,9 +13,11 @@
 //! ±1 give w = M·p up to a positive factor, and the projection needs one L1 norm and one
 //! rounded division per component.
 //!
-//! Stages (LATENCY_CYCLES = 4): (1) unfold the attribute code, 9 products sQ2.16 × int16;
-//! (2) the three sums, their L1 norm and the two numerators; (3) quotient bits 6..3 of the
-//! rounded division; (4) bits 2..0, the sign. The RTL is `testbench/rtl/svo_normal.v`.
+//! Stages (LATENCY_CYCLES = 6): (1) unfold the attribute code, 9 products sQ2.16 × int17;
+//! (2) the three sums w; (3) their L1 norm and the two numerators; (4) the normalisation:
+//! l1 and both numerators shifted right together until l1 has at most [`DIV_BITS`] bits;
+//! (5) quotient bits 6..3 of the rounded division; (6) bits 2..0, the sign. The RTL is
+//! `testbench/rtl/svo_normal.v`.
 
 use crate::fixed::Format;
 
@@ -24,8 +26,15 @@ use crate::fixed::Format;
 pub const MAT_FORMAT: Format = Format::sq(2, 16);
 /// Fraction bits of a matrix element.
 pub const MAT_FRAC: u32 = 16;
+/// DSP48E2 per unit: the 9 products of stage 1 (18 × 17 bits each fit one 27 × 18).
+pub const DSP48E2_COUNT: u32 = 9;
 /// Latency in cycles (II = 1).
-pub const LATENCY_CYCLES: u32 = 4;
+pub const LATENCY_CYCLES: u32 = 6;
+/// Bits of the divisor the division keeps: l1 and the numerators are cut to l1's top
+/// `DIV_BITS` bits (truncated) before dividing, so the divider is `DIV_BITS` + `normal_bits`
+/// bits wide whatever the matrix's anisotropy, at an error of the ratio of at most
+/// 2^(2 − DIV_BITS), 127 · 2^−16 ≈ 0.002 code (`docs/units/normal.md`).
+pub const DIV_BITS: u32 = 18;
 /// The snorm16 scale of the attribute code: value = code / 32767.
 const SNORM16_ONE: i64 = 32767;
 
@@ -90,6 +99,11 @@ pub fn product(m: &NormalMatrix, p: [i64; 3]) -> [i64; 3] {
         .map(|row| (0..3).map(|j| i64::from(row[j]) * p[j]).sum())
 }
 
+/// Stage 4: the shift that leaves l1 at most [`DIV_BITS`] bits (0 when it has fewer).
+pub fn normalise_shift(l1: i64) -> u32 {
+    (64 - l1.leading_zeros()).saturating_sub(DIV_BITS)
+}
+
 /// round(s·a / l1) for 0 ≤ a ≤ l1, l1 > 0, ties away from zero: ⌊(2·s·a + l1) / (2·l1)⌋,
 /// the restoring division's quotient (at most s).
 fn rounded_ratio(a: i64, l1: i64, s: i64) -> i64 {
@@ -114,6 +128,9 @@ pub fn normal_code(oct16: u32, m: &NormalMatrix, bits: u8) -> [i32; 2] {
     } else {
         (x.abs(), y.abs())
     };
+    // Truncating both keeps a ≤ l1, and l1 ≥ 2^(DIV_BITS−1) > 0 after a shift.
+    let sh = normalise_shift(l1);
+    let (l1, au, av) = (l1 >> sh, au >> sh, av >> sh);
     let sgn = |c: i64| if c < 0 { -1 } else { 1 };
     [
         (sgn(x) * rounded_ratio(au, l1, s)) as i32,
