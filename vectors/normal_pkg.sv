@@ -4,7 +4,7 @@
 package normal_vectors_pkg;
   localparam int WORD_BITS = 210;  // bits per row
   localparam int DEPTH = 158;  // rows
-  localparam int LATENCY = 6;  // cycles, the model's default configuration
+  localparam int LATENCY = 13;  // cycles, the model's default configuration
   localparam int II = 1;  // initiation interval, cycles
   localparam int ADVERSARIAL_FIRST = 0;
   localparam int ADVERSARIAL_COUNT = 126;

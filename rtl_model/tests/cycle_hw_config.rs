@@ -136,8 +136,8 @@ fn unit_latencies_equal_the_unit_functions() {
             u.hit_pack.latency_cycles,
             u.hit_unpack.latency_cycles
         ),
-        // hit_pack: the normal unit (6) and the word packer (1).
-        (4, 7, 1)
+        // hit_pack: the normal unit (13) and the word packer (1).
+        (4, 14, 1)
     );
     for (name, t) in u.named() {
         assert_eq!(t.ii, 1, "{name} is fully pipelined");

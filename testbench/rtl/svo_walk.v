@@ -24,8 +24,8 @@
 //
 // The record's normal is computed here: a packed ray's best-hit attribute normal and its
 // instance's normal matrix (`inst_nmat`, 9 sQ2.16 elements row-major per lane, programmed by
-// the host with the frame) go through svo_normal (latency 6) while the other fields wait
-// beside it in an svo_delay, then svo_hit_pack (1): the pack pipe is 7 long, the model's
+// the host with the frame) go through svo_normal (latency 13) while the other fields wait
+// beside it in an svo_delay, then svo_hit_pack (1): the pack pipe is 14 long, the model's
 // units.hit_pack (units::hit_record::PACK_LATENCY_CYCLES). `done_*` shows each ray's walk results when its record is decided (for checking).
 // Sticky `err_pipe`: a unit result without its slot, or the loop-back FIFO refusing a walk
 // (never expected: it has one entry per slot). Sticky `err_overflow`: a transform, reciprocal
@@ -158,7 +158,7 @@ module svo_walk #(
 
     // svo_normal then svo_hit_pack in one pipe (capacity NL + 1), the other fields and the
     // pixel beside the normal unit.
-    localparam NL = 6;                            // svo_normal's LATENCY
+    localparam NL = 13;                           // svo_normal's LATENCY
     localparam PKB = 2 + 1 + 8 + 64 + 24 + PIXW;  // the fields that wait for the normal
     wire pk_u_valid, pk_ov, nm_valid;
     wire [15:0] nm_code;                          // {v, u}

@@ -75,7 +75,7 @@ module tb_frame;
     // The hit buffer's read (hit_buffer.read_latency_cycles) and the one register of
     // svo_hit_pack; the units' latencies are their own LATENCY (read from the instances
     // below), checked against the package's at start.
-    localparam int HB_READ = HIT_BUFFER_READ_LATENCY_CYCLES, L_PK = 7;   // svo_normal 6 + svo_hit_pack 1 (svo_walk)
+    localparam int HB_READ = HIT_BUFFER_READ_LATENCY_CYCLES, L_PK = 14;  // svo_normal 13 + svo_hit_pack 1 (svo_walk)
 
     reg clk = 1'b0;
     always #5 clk = ~clk;

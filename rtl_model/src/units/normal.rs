@@ -13,10 +13,11 @@
 //! ±1 give w = M·p up to a positive factor, and the projection needs one L1 norm and one
 //! rounded division per component.
 //!
-//! Stages (LATENCY_CYCLES = 6): (1) unfold the attribute code, 9 products sQ2.16 × int17;
-//! (2) the three sums w; (3) their L1 norm and the two numerators; (4) the normalisation:
-//! l1 and both numerators shifted right together until l1 has at most [`DIV_BITS`] bits;
-//! (5) quotient bits 6..3 of the rounded division; (6) bits 2..0, the sign. The RTL is
+//! Stages (LATENCY_CYCLES = 13, each within the clock rule's 300 MHz): (1a, 1b) unfold the attribute
+//! code; (2) 9 products sQ2.16 × int17; (3) the three sums w; (4) |w|; (5) the L1 norm and the
+//! two numerators; (6)–(7) the normalisation: l1 and both numerators shifted right together
+//! until l1 has at most [`DIV_BITS`] bits; (8) the dividends; (9)–(12) the rounded restoring
+//! division, two quotient bits a stage, the sign in the last. The RTL is
 //! `testbench/rtl/svo_normal.v`.
 
 use crate::fixed::Format;
@@ -29,7 +30,7 @@ pub const MAT_FRAC: u32 = 16;
 /// DSP48E2 per unit: the 9 products of stage 1 (18 × 17 bits each fit one 27 × 18).
 pub const DSP48E2_COUNT: u32 = 9;
 /// Latency in cycles (II = 1).
-pub const LATENCY_CYCLES: u32 = 6;
+pub const LATENCY_CYCLES: u32 = 13;
 /// Bits of the divisor the division keeps: l1 and the numerators are cut to l1's top
 /// `DIV_BITS` bits (truncated) before dividing, so the divider is `DIV_BITS` + `normal_bits`
 /// bits wide whatever the matrix's anisotropy, at an error of the ratio of at most
@@ -240,7 +241,7 @@ mod tests {
     }
 
     /// Against the f64 oracle over random attribute codes and rotation·scale matrices
-    /// (anisotropy up to 100:1): every component within 1 code, except on the lower
+    /// (per-axis scales in [1/a, a], a = 1, 4, 100): every component within 1 code, except on the lower
     /// hemisphere's seam (x or y = 0 with z < 0, where ±u are the same direction, within 0.6°),
     /// and the decoded directions within two code bounds (1.92°) everywhere. Prints the counts docs/units/normal.md quotes.
     #[test]
