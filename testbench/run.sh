@@ -41,6 +41,7 @@ all_units=(
     transform
     reciprocal
     hit_record
+    normal
     walker_root
     walker
     frame

@@ -23,6 +23,7 @@ mod vector_files;
 use common::process::run_sim;
 use rtl_model::cycle::hw_config::UnitTimings;
 use rtl_model::datapath::DatapathConfig;
+use rtl_model::units::normal;
 use rtl_model::vectors::RTL_UNITS;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -151,7 +152,9 @@ fn model_latency(unit: &str) -> u64 {
         "raygen" => t.raygen.latency_cycles,
         // The first row is a ray without candidates: one network pass.
         "sorter" => t.sorter.latency_cycles,
-        "hit_record" => t.hit_pack.latency_cycles,
+        // units.hit_pack is svo_normal then svo_hit_pack (svo_walk's record pipe).
+        "hit_record" => t.hit_pack.latency_cycles - normal::LATENCY_CYCLES,
+        "normal" => normal::LATENCY_CYCLES,
         "walker_root" => t.walker_root.latency_cycles,
         other => panic!("no model latency for unit {other}"),
     })
@@ -173,9 +176,13 @@ fn model_module_latencies(unit: &str) -> Vec<(&'static str, u64)> {
         "raygen" => vec![("svo_raygen", l(t.raygen.latency_cycles))],
         "sorter" => vec![("svo_sorter", l(t.sorter.latency_cycles))],
         "hit_record" => vec![
-            ("svo_hit_pack", l(t.hit_pack.latency_cycles)),
+            (
+                "svo_hit_pack",
+                l(t.hit_pack.latency_cycles - normal::LATENCY_CYCLES),
+            ),
             ("svo_hit_check", l(t.hit_unpack.latency_cycles)),
         ],
+        "normal" => vec![("svo_normal", l(normal::LATENCY_CYCLES))],
         "walker_root" => vec![("svo_walker_root", l(t.walker_root.latency_cycles))],
         other => panic!("no model latency for unit {other}"),
     }
@@ -384,6 +391,8 @@ fn one_corrupted_expected_value_is_exactly_one_failure() {
         ("sorter", "out_id3", 5),
         ("hit_record", "reused_word", 40),
         ("hit_record", "word", 60),
+        ("normal", "u", 20),
+        ("normal", "v", 130),
         ("walker_root", "t1_y", 120),
     ] {
         let t = Tmp::new(&format!("corrupt_{unit}_{out_field}"));
@@ -1303,6 +1312,7 @@ fn rtl_latency_localparams_match_the_model() {
         "raygen",
         "sorter",
         "hit_record",
+        "normal",
     ];
     for unit in units {
         for (module, model) in model_module_latencies(unit) {

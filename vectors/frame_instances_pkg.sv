@@ -2,7 +2,7 @@
 // (manifest: frame_instances.json). Slice a row as row[<FIELD>_LSB +: <FIELD>_WIDTH].
 `timescale 1ns/1ps
 package frame_instances_vectors_pkg;
-  localparam int WORD_BITS = 738;  // bits per row
+  localparam int WORD_BITS = 900;  // bits per row
   localparam int DEPTH = 8;  // rows
   localparam int CAPTURED_FIRST = 0;
   localparam int CAPTURED_COUNT = 8;
@@ -106,4 +106,49 @@ package frame_instances_vectors_pkg;
   localparam int IMAGE_SIGNED = 0;
   localparam int IMAGE_FRAC = 0;
   localparam int IMAGE_IS_OUTPUT = 0;
+  localparam int NMAT_XX_LSB = 738;  // input sQ2.16
+  localparam int NMAT_XX_WIDTH = 18;
+  localparam int NMAT_XX_SIGNED = 1;
+  localparam int NMAT_XX_FRAC = 16;
+  localparam int NMAT_XX_IS_OUTPUT = 0;
+  localparam int NMAT_XY_LSB = 756;  // input sQ2.16
+  localparam int NMAT_XY_WIDTH = 18;
+  localparam int NMAT_XY_SIGNED = 1;
+  localparam int NMAT_XY_FRAC = 16;
+  localparam int NMAT_XY_IS_OUTPUT = 0;
+  localparam int NMAT_XZ_LSB = 774;  // input sQ2.16
+  localparam int NMAT_XZ_WIDTH = 18;
+  localparam int NMAT_XZ_SIGNED = 1;
+  localparam int NMAT_XZ_FRAC = 16;
+  localparam int NMAT_XZ_IS_OUTPUT = 0;
+  localparam int NMAT_YX_LSB = 792;  // input sQ2.16
+  localparam int NMAT_YX_WIDTH = 18;
+  localparam int NMAT_YX_SIGNED = 1;
+  localparam int NMAT_YX_FRAC = 16;
+  localparam int NMAT_YX_IS_OUTPUT = 0;
+  localparam int NMAT_YY_LSB = 810;  // input sQ2.16
+  localparam int NMAT_YY_WIDTH = 18;
+  localparam int NMAT_YY_SIGNED = 1;
+  localparam int NMAT_YY_FRAC = 16;
+  localparam int NMAT_YY_IS_OUTPUT = 0;
+  localparam int NMAT_YZ_LSB = 828;  // input sQ2.16
+  localparam int NMAT_YZ_WIDTH = 18;
+  localparam int NMAT_YZ_SIGNED = 1;
+  localparam int NMAT_YZ_FRAC = 16;
+  localparam int NMAT_YZ_IS_OUTPUT = 0;
+  localparam int NMAT_ZX_LSB = 846;  // input sQ2.16
+  localparam int NMAT_ZX_WIDTH = 18;
+  localparam int NMAT_ZX_SIGNED = 1;
+  localparam int NMAT_ZX_FRAC = 16;
+  localparam int NMAT_ZX_IS_OUTPUT = 0;
+  localparam int NMAT_ZY_LSB = 864;  // input sQ2.16
+  localparam int NMAT_ZY_WIDTH = 18;
+  localparam int NMAT_ZY_SIGNED = 1;
+  localparam int NMAT_ZY_FRAC = 16;
+  localparam int NMAT_ZY_IS_OUTPUT = 0;
+  localparam int NMAT_ZZ_LSB = 882;  // input sQ2.16
+  localparam int NMAT_ZZ_WIDTH = 18;
+  localparam int NMAT_ZZ_SIGNED = 1;
+  localparam int NMAT_ZZ_FRAC = 16;
+  localparam int NMAT_ZZ_IS_OUTPUT = 0;
 endpackage

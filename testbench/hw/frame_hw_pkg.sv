@@ -58,7 +58,7 @@ package svo_hw_pkg;
     localparam bit TRANSFORM_PRODUCTS = 1'b1;
     localparam int TRANSFORM_UNITS = 1;
     localparam int UNITS_HIT_PACK_II = 1;
-    localparam int UNITS_HIT_PACK_LATENCY_CYCLES = 1;
+    localparam int UNITS_HIT_PACK_LATENCY_CYCLES = 14;
     localparam int UNITS_HIT_UNPACK_II = 1;
     localparam int UNITS_HIT_UNPACK_LATENCY_CYCLES = 1;
     localparam int UNITS_RAYGEN_II = 1;

@@ -5,10 +5,10 @@
 // Pipeline position: all of docs/cycle-model.md §2.1, raygen to the hit-buffer write. What it
 // takes from outside (the host's side, as the register block and memories of a board would
 // give it): the direction table (`dir_pixel` → `dir_f64`, read in the cycle, or a stream:
-// `dir_valid` low holds ray generation, `dir_take` pops it), the camera,
-// the instance registers (lane k = instance k), the frame's reuse flags and miss word, the
-// record's normal (`nrm_*`: the model computes it in f64 on the host path), and the node
-// memory behind one read port. What it gives: the hit-buffer writes, one per bank and cycle
+// `dir_valid` low holds ray generation, `dir_take` pops it), the camera, the instance
+// registers (lane k = instance k, with the normal matrix `inst_nmat` the record stage's
+// svo_normal reads), the frame's reuse flags and miss word, and the node memory behind one
+// read port. What it gives: the hit-buffer writes, one per bank and cycle
 // (`wr_*`: the record FIFO's head; `wr1_*`: the check's word; `wr2_*`: a second record), which
 // are the frame's pixel stream; the rays the check stage takes and each ray's walk results
 // (`chk_*`, `done_*`), for checking; sticky errors and overflow flags. `wr_hold` (a full pixel
@@ -85,6 +85,7 @@ module svo_core #(
     input  wire [LANES*120-1:0]    inst_half,
     input  wire [LANES*32-1:0]     inst_node_base,
     input  wire [LANES*32-1:0]     inst_attr_base,
+    input  wire [LANES*9*18-1:0]   inst_nmat,       // normal matrices, sQ2.16 row-major
     input  wire [LANES-1:0]        lane_used,
     // host: the frame's reuse flags and the word of a ray without candidates
     input  wire                    buffer_valid,
@@ -92,10 +93,6 @@ module svo_core #(
     input  wire [LANES-1:0]        instance_dirty,
     input  wire [71:0]             miss_word,
     input  wire                    wr_hold,
-    // the record's normal
-    output wire [7:0]              nrm_inst,
-    output wire [31:0]             nrm_oct,
-    input  wire [15:0]             nrm,
     // node memory
     output wire                    mem_req_valid,
     input  wire                    mem_req_ready,
@@ -196,8 +193,8 @@ module svo_core #(
         .in_count(hb_walk_payload[LANES*40 +: 6]), .in_keys(hb_walk_payload[LANES*40-1:0]),
         .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
         .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
-        .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data), .nrm_inst(nrm_inst),
-        .nrm_oct(nrm_oct), .nrm(nrm), .rec_valid(rec_valid), .rec_ready(rec_ready),
+        .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),
+        .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
         .rec_pixel(rec_pixel), .rec_word(rec_word), .done_valid(done_valid),
         .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
         .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov));

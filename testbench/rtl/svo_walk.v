@@ -22,9 +22,11 @@
 // next candidate's entry). The instance registers (`inst_*`, lane k = instance k) give the
 // transform's axes and centre, the root's half extents and the walker's image bases.
 //
-// The record's normal is the host's (the model computes it in f64, FramePlan::finish): the
-// record stage asks `nrm_inst`/`nrm_oct` and takes `nrm` ({v, u}, 8 bits each) in the same
-// cycle. `done_*` shows each ray's walk results when its record is decided (for checking).
+// The record's normal is computed here: a packed ray's best-hit attribute normal and its
+// instance's normal matrix (`inst_nmat`, 9 sQ2.16 elements row-major per lane, programmed by
+// the host with the frame) go through svo_normal (latency 13) while the other fields wait
+// beside it in an svo_delay, then svo_hit_pack (1): the pack pipe is 14 long, the model's
+// units.hit_pack (units::hit_record::PACK_LATENCY_CYCLES). `done_*` shows each ray's walk results when its record is decided (for checking).
 // Sticky `err_pipe`: a unit result without its slot, or the loop-back FIFO refusing a walk
 // (never expected: it has one entry per slot). Sticky `err_overflow`: a transform, reciprocal
 // or pack overflow flag (the datapath saturated, which the model counts: reported). Reciprocal seed ROMs: recip[k].u_recip.rom,
@@ -64,6 +66,7 @@ module svo_walk #(
     input  wire [LANES*120-1:0]    inst_half,
     input  wire [LANES*32-1:0]     inst_node_base,
     input  wire [LANES*32-1:0]     inst_attr_base,
+    input  wire [LANES*9*18-1:0]   inst_nmat,
     // rays to walk, from the check stage
     input  wire                    in_valid,
     output wire                    in_ready,
@@ -78,10 +81,6 @@ module svo_walk #(
     output wire [31:0]             mem_req_addr,
     input  wire                    mem_resp_valid,
     input  wire [63:0]             mem_resp_data,
-    // the host's normal of a hit
-    output wire [7:0]              nrm_inst,
-    output wire [31:0]             nrm_oct,
-    input  wire [15:0]             nrm,
     // records to the hit buffer
     output wire                    rec_valid,
     input  wire                    rec_ready,
@@ -151,8 +150,6 @@ module svo_walk #(
     wire r_loop = rc_take && r_more;
     wire r_pack = rc_take && !r_more;
     wire [SLOTS-1:0] released = r_pack ? (one << wr_slot) : {SLOTS{1'b0}};
-    assign nrm_inst = s_inst[wr_slot];
-    assign nrm_oct = s_attr[wr_slot][63:32];
     assign done_valid = r_pack;
     assign done_pixel = s_pixel[wr_slot];
     assign done_walks = s_walks[wr_slot] + 16'd1;
@@ -160,27 +157,48 @@ module svo_walk #(
     assign done_t = s_t[wr_slot];
     assign done_voxel = s_voxel[wr_slot];
 
-    // svo_hit_pack in its pipe (capacity 1), the pixel beside it.
-    wire pk_u_valid, pk_ov;
+    // svo_normal then svo_hit_pack in one pipe (capacity NL + 1), the other fields and the
+    // pixel beside the normal unit.
+    localparam NL = 13;                           // svo_normal's LATENCY
+    localparam PKB = 2 + 1 + 8 + 64 + 24 + PIXW;  // the fields that wait for the normal
+    wire pk_u_valid, pk_ov, nm_valid;
+    wire [15:0] nm_code;                          // {v, u}
     wire [71:0] pk_word;
     // sQ31.31 → uQ8.14, truncated (an arithmetic shift); no hit: RecordT::far.
     wire signed [63:0] pk_t_hit = $signed({{(64-TW){s_t[wr_slot][TW-1]}}, s_t[wr_slot]}) >>> 17;
     wire [63:0] pk_t = s_best[wr_slot] ? pk_t_hit : 64'h3fffff;
-    svo_hit_pack u_pack (.clk(clk), .rst(rst), .in_valid(r_pack),
-        .in_kind(s_count[wr_slot] == 6'd1 ? 2'd1 : 2'd2),
-        .in_instance_valid(s_best[wr_slot]),
-        .in_instance(s_best[wr_slot] ? {8'd0, s_inst[wr_slot]} : 16'd0), .in_t(pk_t),
-        .in_normal_u(s_best[wr_slot] ? {{24{nrm[7]}}, nrm[7:0]} : 32'd0),
-        .in_normal_v(s_best[wr_slot] ? {{24{nrm[15]}}, nrm[15:8]} : 32'd0),
-        .in_colour_r(s_best[wr_slot] ? s_attr[wr_slot][7:0] : 8'd0),
-        .in_colour_g(s_best[wr_slot] ? s_attr[wr_slot][15:8] : 8'd0),
-        .in_colour_b(s_best[wr_slot] ? s_attr[wr_slot][23:16] : 8'd0),
+    svo_normal #(.N_W(8)) u_normal (.clk(clk), .rst(rst), .in_valid(r_pack),
+        .in_oct(s_attr[wr_slot][63:32]),
+        .in_mat(inst_nmat[s_inst[wr_slot][IX-1:0]*(9*18) +: 9*18]),
+        .out_valid(nm_valid), .out_code(nm_code));
+    wire [PKB-1:0] pk_d = {s_count[wr_slot] == 6'd1 ? 2'd1 : 2'd2, s_best[wr_slot],
+        s_inst[wr_slot], pk_t, s_attr[wr_slot][7:0], s_attr[wr_slot][15:8],
+        s_attr[wr_slot][23:16], s_pixel[wr_slot]};
+    wire [PKB-1:0] pk_q;
+    svo_delay #(.W(PKB), .D(NL)) pk_side (.clk(clk), .rst(rst), .d(pk_d), .q(pk_q));
+    wire [1:0]  pq_kind  = pk_q[PKB-1 -: 2];
+    wire        pq_best  = pk_q[PKB-3];
+    wire [7:0]  pq_inst  = pk_q[PKB-4 -: 8];
+    wire [63:0] pq_t     = pk_q[PKB-12 -: 64];
+    wire [7:0]  pq_r     = pk_q[PKB-76 -: 8];
+    wire [7:0]  pq_g     = pk_q[PKB-84 -: 8];
+    wire [7:0]  pq_b     = pk_q[PKB-92 -: 8];
+    wire [PIXW-1:0] pq_pixel = pk_q[PIXW-1:0];
+    svo_hit_pack u_pack (.clk(clk), .rst(rst), .in_valid(nm_valid),
+        .in_kind(pq_kind),
+        .in_instance_valid(pq_best),
+        .in_instance(pq_best ? {8'd0, pq_inst} : 16'd0), .in_t(pq_t),
+        .in_normal_u(pq_best ? {{24{nm_code[7]}}, nm_code[7:0]} : 32'd0),
+        .in_normal_v(pq_best ? {{24{nm_code[15]}}, nm_code[15:8]} : 32'd0),
+        .in_colour_r(pq_best ? pq_r : 8'd0),
+        .in_colour_g(pq_best ? pq_g : 8'd0),
+        .in_colour_b(pq_best ? pq_b : 8'd0),
         .out_valid(pk_u_valid), .out_word(pk_word), .out_ov(pk_ov));
-    reg [PIXW-1:0] pk_pixel;                      // the one ray in the pack (latency 1)
-    always @(posedge clk) if (r_pack) pk_pixel <= s_pixel[wr_slot];
+    reg [PIXW-1:0] pk_pixel;                      // the ray leaving the pack (its last register)
+    always @(posedge clk) if (nm_valid) pk_pixel <= pq_pixel;
     // The pipe's gate applies to every decision (a loop-back too), as the model's record
     // stage takes a walk only while its pack lanes can accept.
-    svo_elastic #(.L(1), .W(PIXW + 72)) pk_pipe (.clk(clk), .rst(rst), .in_valid(r_pack),
+    svo_elastic #(.L(NL + 1), .W(PIXW + 72)) pk_pipe (.clk(clk), .rst(rst), .in_valid(r_pack),
         .in_ready(pk_in_ready), .unit_valid(pk_u_valid), .unit_data({pk_pixel, pk_word}),
         .out_valid(rec_valid), .out_ready(rec_ready), .out_data({rec_pixel, rec_word}));
 

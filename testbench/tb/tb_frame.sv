@@ -75,7 +75,7 @@ module tb_frame;
     // The hit buffer's read (hit_buffer.read_latency_cycles) and the one register of
     // svo_hit_pack; the units' latencies are their own LATENCY (read from the instances
     // below), checked against the package's at start.
-    localparam int HB_READ = HIT_BUFFER_READ_LATENCY_CYCLES, L_PK = 1;
+    localparam int HB_READ = HIT_BUFFER_READ_LATENCY_CYCLES, L_PK = 14;  // svo_normal 13 + svo_hit_pack 1 (svo_walk)
 
     reg clk = 1'b0;
     always #5 clk = ~clk;
@@ -178,6 +178,7 @@ module tb_frame;
                                      inst[l][frame_instances_vectors_pkg::HALF_X_LSB +: 40]};
             wk_nb[l*32 +: 32] = nb[inst[l][frame_instances_vectors_pkg::IMAGE_LSB +: 8]];
             wk_ab[l*32 +: 32] = ab[inst[l][frame_instances_vectors_pkg::IMAGE_LSB +: 8]];
+            wk_nmat[l*162 +: 162] = inst[l][frame_instances_vectors_pkg::NMAT_XX_LSB +: 162];
         end
     endtask
     // The hit buffer's host registers. This frame is the first: the buffer holds no earlier
@@ -186,17 +187,15 @@ module tb_frame;
     // reuse across frames.
     reg hb_buffer_valid = 1'b0, hb_camera_dirty = 1'b1;
     reg [LANES-1:0] hb_instance_dirty = '1;
-    // The walk section's registers and memory port, and the record's normal (the host's).
+    // The walk section's registers (with the normal matrices) and memory port.
     reg [LANES*288-1:0] wk_axes;
+    reg [LANES*162-1:0] wk_nmat;
     reg [LANES*120-1:0] wk_half;
     reg [LANES*32-1:0] wk_nb, wk_ab;
     wire mem_req_valid, mem_req_attr, mem_resp_valid;
     wire [31:0] mem_req_addr;
     reg [63:0] mem_resp_data;
     int left = 0;
-    wire [7:0] wk_nrm_inst;
-    wire [31:0] wk_nrm_oct;
-    reg [15:0] wk_nrm;
     // What the core gives: the pixel stream, the rays the check takes, each ray's results.
     wire hb_wr_valid, hb_wr_direct, hb_wr1_valid, hb_wr2_valid;
     wire [PIXW-1:0] hb_wr_pixel, hb_wr1_pixel, hb_wr2_pixel;
@@ -238,7 +237,7 @@ module tb_frame;
         .inst_axes(wk_axes), .inst_half(wk_half), .inst_node_base(wk_nb),
         .inst_attr_base(wk_ab), .lane_used(lane_used), .buffer_valid(hb_buffer_valid),
         .camera_dirty(hb_camera_dirty), .instance_dirty(hb_instance_dirty),
-        .miss_word(miss_word), .wr_hold(1'b0), .nrm_inst(wk_nrm_inst), .nrm_oct(wk_nrm_oct), .nrm(wk_nrm),
+        .miss_word(miss_word), .wr_hold(1'b0), .inst_nmat(wk_nmat),
         .mem_req_valid(mem_req_valid), .mem_req_ready(left <= 1 && !stall_now),
         .mem_req_attr(mem_req_attr),
         .mem_req_addr(mem_req_addr), .mem_resp_valid(mem_resp_valid),
@@ -304,9 +303,6 @@ module tb_frame;
     endtask
 
     `include "tb_frame_host.svh"
-    // The record's normal: the host's f64 path, for the instance and octahedral normal the
-    // record stage shows in this cycle.
-    always @* wk_nrm = host_normal(int'(wk_nrm_inst), wk_nrm_oct);
 
     // One model cycle, observed at its falling edge: the hit buffer's writes, the rays whose
     // record is decided, the rays the check stage takes; then the host's direction of the

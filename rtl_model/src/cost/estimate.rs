@@ -103,6 +103,12 @@ impl HwConfig {
                 wr,
                 format!("{wr} DSP per unit: 6 slab products"),
             ),
+            dsp_item(
+                "normal",
+                1,
+                crate::units::normal::DSP48E2_COUNT,
+                "record normal unit: 9 products of the normal matrix".into(),
+            ),
         ];
         items.push(self.stack_item(dp));
         items.push(self.hit_buffer_item(dp));

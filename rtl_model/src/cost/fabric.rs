@@ -55,6 +55,10 @@ pub mod calibration {
     pub const SORTER_16: (u64, u64) = (31665, 13134);
     /// The network width `SORTER_16` was synthesised at.
     pub const SORTER_16_LANES: u8 = 16;
+    /// `svo_normal` (8-bit codes, an 18-bit divisor: 9 DSP48E2 products, the sums, the
+    /// normalising shift and two 7-step restoring dividers, 13 stages each within 300 MHz by
+    /// the clock rule): 1543 LUT (SRL included), 1508 FF.
+    pub const NORMAL: (u64, u64) = (1543, 1508);
     /// `svo_hit_pack` (72-bit word): 105 LUT, 74 FF.
     pub const HIT_PACK: (u64, u64) = (105, 74);
     /// `svo_hit_check` (72-bit word; the unpacked fields are wires into the output
@@ -149,6 +153,13 @@ fn widths(name: &str, dp: &DatapathConfig) -> Option<(u64, u64)> {
             let b = u64::from(dp.hit_record.word_bits());
             (b, b)
         }
+        "normal" => {
+            // Two dividers of n − 1 steps on DIV_BITS + n + 1 bits, and the 37-bit sums.
+            let n = u64::from(dp.hit_record.normal_bits);
+            let d = u64::from(crate::units::normal::DIV_BITS);
+            let b = 2 * (n - 1) * (d + n + 1) + 6 * 37;
+            (b, b)
+        }
         _ => return None,
     })
 }
@@ -165,6 +176,7 @@ fn formula(name: &str) -> &'static str {
         "raygen" => "W = 3(64+dir) + 3(64+pos)",
         "sorter" => "W = comparators × compare bits (LUT), network register bits (FF), from the synthesis at N = 8 or 16",
         "hit_pack" | "hit_check" => "W = record word bits",
+        "normal" => "W = 2(n−1)(div+n+1) + 6·37; n normal bits, div = 18",
         _ => "",
     }
 }
@@ -195,6 +207,7 @@ pub fn unit_fabric(name: &str, dp: &DatapathConfig) -> Option<Fabric> {
         "sorter" => sorter_calibration(dp.sorter.n).0,
         "hit_pack" => calibration::HIT_PACK,
         "hit_check" => calibration::HIT_CHECK,
+        "normal" => calibration::NORMAL,
         _ => return None,
     };
     let (wl, wf) = widths(name, dp)?;
@@ -266,6 +279,11 @@ impl HwConfig {
                 0,
             ),
             "raygen" | "sorter" | "hit_pack" | "hit_check" => (unit_fabric(name, dp)?, 0, 0),
+            "normal" => (
+                unit_fabric(name, dp)?,
+                u64::from(crate::units::normal::DSP48E2_COUNT),
+                0,
+            ),
             "walker" => {
                 let bits = self.stack_frame_bits(dp);
                 let frames = u64::from(self.walker_pool.stack_depth);
@@ -315,6 +333,7 @@ impl HwConfig {
         push("walker_root", self.walker_root_units);
         push("walker", self.walker_pool.walkers);
         push("hit_check", 1);
+        push("normal", 1);
         push("hit_pack", 1);
         items.extend(super::structures::structure_items(self, dp));
         Ok(items)

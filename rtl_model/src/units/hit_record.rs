@@ -641,9 +641,15 @@ pub fn quantise(
     }
 }
 
-/// Latency in cycles of packing a record into its word: one register (concatenation, t
-/// saturation).
-pub const PACK_LATENCY_CYCLES: u32 = 1;
+/// Latency in cycles of packing a record's fields into its word (`svo_hit_pack`): one
+/// register (concatenation, t saturation).
+pub const PACK_WORD_LATENCY_CYCLES: u32 = 1;
+
+/// Latency in cycles of the record stage's packing (`units.hit_pack` by default): the normal
+/// unit ([`crate::units::normal`], the record's octahedral normal from the hit's attribute)
+/// and then the word packer, in one pipe.
+pub const PACK_LATENCY_CYCLES: u32 =
+    crate::units::normal::LATENCY_CYCLES + PACK_WORD_LATENCY_CYCLES;
 
 /// Latency in cycles of unpacking a word read from the hit buffer: one register (wiring and
 /// the none-code compare).

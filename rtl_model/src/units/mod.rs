@@ -7,6 +7,7 @@
 pub mod cordic;
 pub mod hit_record;
 pub mod keyframe;
+pub mod normal;
 pub mod raygen;
 pub mod reciprocal;
 pub mod rotation;

@@ -11,6 +11,7 @@ use super::layout::{b, s, u, Direction::*, Layout};
 use super::table::{Origin, VectorTable};
 use crate::datapath::DatapathConfig;
 use crate::fixed::Format;
+use crate::units::normal::{NormalMatrix, MAT_FORMAT};
 use crate::units::transform::InstanceRaw;
 use crate::units::walker::{WalkerPos, WalkerT};
 
@@ -31,6 +32,8 @@ pub struct FrameInstance {
     pub half: [WalkerPos; 3],
     /// Memory image index (the walker table's `images`).
     pub image: usize,
+    /// Normal matrix, sQ2.16 row-major (the record stage's normal unit).
+    pub nmat: NormalMatrix,
 }
 
 /// One pixel's ray and result.
@@ -143,6 +146,16 @@ pub fn frame_tables(
         8,
         "memory image index (walker.json parameters.images)",
     );
+    for i in AXES {
+        for j in AXES {
+            il.fixed(
+                &format!("nmat_{i}{j}"),
+                Input,
+                MAT_FORMAT,
+                "normal matrix R·diag(1/scale), row = world axis, scaled to a largest |element| of 1 (normal unit)",
+            );
+        }
+    }
     let mut inst = VectorTable::new(
         "frame_instances",
         "one instance per row, in instance order (the instance id is the row): what the host programs for the frame",
@@ -151,7 +164,7 @@ pub fn frame_tables(
     let rows = instances
         .iter()
         .map(|i| {
-            let mut v: Vec<u128> = Vec::with_capacity(22);
+            let mut v: Vec<u128> = Vec::with_capacity(31);
             for col in i.raw.axes {
                 v.extend(col.map(s));
             }
@@ -159,6 +172,7 @@ pub fn frame_tables(
             v.extend([s(i.threshold), s(i.inside), s(i.delta_t), s(i.reach)]);
             v.extend(i.half.map(|h| s(h.raw)));
             v.push(u(i.image as u64));
+            v.extend(i.nmat.elements().map(|e| s(i64::from(e))));
             il.pack(&v)
         })
         .collect();

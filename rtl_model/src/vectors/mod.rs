@@ -72,6 +72,8 @@ pub struct Captured {
     pub walker: Vec<stage::walker::WalkTxn>,
     /// Hit records packed, each with the reuse check of its own word in a still next frame.
     pub hit_record: Vec<stage::hit_record::HitRecordTxn>,
+    /// Record normals of hits: the attribute's normal word and the instance's matrix.
+    pub normal: Vec<stage::normal::NormalTxn>,
 }
 
 /// Every unit's tables for `dp`: per stage all adversarial rows plus `count` captured and
@@ -137,6 +139,12 @@ pub fn unit_tables(
             count,
             seed,
         ),
+        stage::build(
+            &stage::normal::NormalStage::new(dp),
+            &captured.normal,
+            count,
+            seed,
+        ),
     ];
     v.extend(walker.image_tables());
     Ok(v)
@@ -151,6 +159,7 @@ pub const RTL_UNITS: &[&str] = &[
     "transform",
     "reciprocal",
     "hit_record",
+    "normal",
     "walker",
     "walker_root",
 ];

@@ -25,6 +25,7 @@ use rtl_model::svo::SvoImage;
 use rtl_model::units::hit_record::{
     pack, quantise, reuse as hit_record_reuse, HitRecordF64, HitRecordFields, ReuseInputs,
 };
+use rtl_model::units::normal::{normal_code, NormalMatrix};
 use rtl_model::units::raygen::direction_entry;
 use rtl_model::units::reciprocal::ReciprocalUnit;
 use rtl_model::units::sorter::{Sorter, SorterStats};
@@ -44,13 +45,14 @@ pub struct HostInstance {
     pub sphere: SphereRaw,
     /// Half extents of the octree's box (walker).
     pub half: [WalkerPos; 3],
+    /// Normal matrix R·diag(1/scale), scaled and quantised (normal unit, record stage).
+    pub nmat: NormalMatrix,
 }
 
 struct Inst<'a> {
     host: HostInstance,
     image: &'a SvoImage,
     world_from_local: DMat3,
-    normal_to_world: DMat3,
 }
 
 /// Counters a worker accumulates over its pixels.
@@ -204,10 +206,15 @@ impl<'a> FramePlan<'a> {
                             host_ov,
                             signals::RAYGEN_POS,
                         )),
+                        // Row-major (glam's matrices are column-major: transpose).
+                        nmat: NormalMatrix::quantise(
+                            (r * DMat3::from_diagonal(scale.recip()))
+                                .transpose()
+                                .to_cols_array_2d(),
+                        ),
                     },
                     image,
                     world_from_local: r,
-                    normal_to_world: r * DMat3::from_diagonal(scale.recip()),
                 })
             })
             .collect::<Result<_, _>>()?;
@@ -560,20 +567,26 @@ impl<'a> FramePlan<'a> {
         c.hits += 1;
         let inst = &self.insts[usize::from(k)];
         let attr = inst.image.attrs()[hit.attr as usize];
-        let n = (inst.normal_to_world * DVec3::from_array(attr.normal())).normalize_or_zero();
         let [r, g, b, _] = attr.rgba();
-        let f = quantise(
+        let mut f = quantise(
             &HitRecordF64 {
                 kind: spheres,
                 instance: Some(k),
                 t: to_f64(t.raw, self.t_fmt), // the host's f64 path, as the reference's
-                normal: n.to_array(),
+                normal: [0.0; 3],             // the normal unit's code replaces it below
                 colour: [r, g, b],
                 voxel: hit.voxel,
             },
             &self.cfg.hit_record,
             &mut c.ov,
             signals::HIT_RECORD,
+        );
+        // The record stage's normal unit: fixed point, no host (docs/units/normal.md).
+        obs.on_normal(attr.normal_oct16, &inst.host.nmat);
+        f.normal = normal_code(
+            attr.normal_oct16,
+            &inst.host.nmat,
+            self.cfg.hit_record.normal_bits,
         );
         let mut local = [0.0; 3];
         let axis = usize::from(hit.entry_axis);

@@ -18,6 +18,7 @@
 use super::frame::FixedRecord;
 pub use rtl_model::cycle::walk_op::{OpRecorder, WalkOp};
 use rtl_model::units::hit_record::HitRecordFields;
+use rtl_model::units::normal::NormalMatrix;
 use rtl_model::units::sphere::{SphereHit, SphereRaw};
 use rtl_model::units::transform::InstanceRaw;
 use rtl_model::units::walker::{NoObserver, WalkObserver, WalkOutcome, WalkerInput, WalkerT};
@@ -80,6 +81,11 @@ pub trait PixelObserver {
     /// A traced pixel's record: its fields as quantised before packing, and the packed word.
     #[inline]
     fn on_record(&mut self, _fields: &HitRecordFields, _word: u128) {}
+
+    /// A hit's record normal: the normal unit's inputs, the attribute's normal word and the
+    /// instance's matrix.
+    #[inline]
+    fn on_normal(&mut self, _oct16: u32, _m: &NormalMatrix) {}
 
     /// The pixel is done: `rec` is the buffer entry it ends the frame with.
     #[inline]

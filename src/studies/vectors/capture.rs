@@ -19,6 +19,7 @@ use crate::world::assets::Asset;
 use crate::world::scene::{FrameState, Scene};
 use rtl_model::datapath::{overflow_table, DatapathConfig};
 use rtl_model::units::hit_record::{HitRecordFields, ReuseInputs};
+use rtl_model::units::normal::NormalMatrix;
 use rtl_model::units::sphere::{SphereHit, SphereRaw};
 use rtl_model::units::transform::InstanceRaw;
 use rtl_model::units::walker::{NoObserver, WalkerInput};
@@ -126,6 +127,10 @@ impl PixelObserver for Recorder<'_> {
         });
     }
 
+    fn on_normal(&mut self, oct16: u32, m: &NormalMatrix) {
+        self.cap.normal.push((oct16, *m));
+    }
+
     fn on_pixel_end(&mut self, rec: &FixedRecord) {
         self.pixels.push(FramePixel {
             xy: self.xy,
@@ -206,6 +211,7 @@ pub fn capture_frame(
                 reach: host.sphere.reach,
                 half: host.half,
                 image: scene.instance_asset[k],
+                nmat: host.nmat,
             })
         })
         .collect();

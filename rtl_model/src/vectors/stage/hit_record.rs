@@ -464,9 +464,9 @@ impl Stage for HitRecordStage {
 
     fn timing(&self) -> Option<Timing> {
         Some(Timing {
-            latency_cycles: crate::cycle::hw_config::UnitTimings::default()
-                .hit_pack
-                .latency_cycles,
+            // svo_hit_pack alone: the record stage's normal unit in front of it has its own
+            // table (normal.hex).
+            latency_cycles: crate::units::hit_record::PACK_WORD_LATENCY_CYCLES,
             ii: 1,
         })
     }

@@ -5,6 +5,7 @@
 //! real frame (the root package records those).
 
 pub mod hit_record;
+pub mod normal;
 pub mod raygen;
 pub mod reciprocal;
 pub mod sorter;
@@ -112,6 +113,7 @@ mod tests {
         all_fit(&transform::TransformStage::new(&dp));
         all_fit(&reciprocal::ReciprocalStage::new(&dp));
         all_fit(&hit_record::HitRecordStage::new(&dp));
+        all_fit(&normal::NormalStage::new(&dp));
         all_fit(&tile_list::TileListStage::new());
     }
 }
