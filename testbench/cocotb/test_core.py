@@ -17,9 +17,8 @@ Memory, two modes (SVO_STALL):
   and R, and on the stream's tready (seeded: SVO_SEED, printed): the pixels must still all
   arrive once and right, with no deadlock; the cycles are reported, not compared.
 
-The record's normal is still the host's (svo_core's `nrm` port): host_normal() below is the
-f64 path of FramePlan::finish, as tb_frame_host.svh has it, computed from the instance's
-registers.
+The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
+with each instance (INSTANCE[i].NMAT, frame_instances nmat_*).
 
 Environment: SVO_VECTORS (the `sim vectors` folder), SVO_MODEL_CYCLES (frame 0's model
 cycles), SVO_FRAMES=2 with SVO_MODEL_CYCLES1 (a second frame with the hit buffer kept:
@@ -85,43 +84,6 @@ def hex_words(path):
     return [int(l, 16) for l in path.read_text().split("\n") if l and not l.startswith("//")]
 
 
-def host_normal(axes, half, oct_code):
-    """FramePlan::finish's f64 normal (tb_frame_host.svh host_normal): {v, u}, 8 bits each."""
-    def sgn1(x):
-        return 1.0 if x >= 0.0 else -1.0
-
-    def round_away(x):
-        import math
-        return int(math.floor(x + 0.5)) if x >= 0.0 else -int(math.floor(-x + 0.5))
-
-    def s16(v):
-        return v - (1 << 16) if v >> 15 else v
-    u = s16(oct_code & 0xFFFF) / 32767.0
-    v = s16((oct_code >> 16) & 0xFFFF) / 32767.0
-    z = 1.0 - abs(u) - abs(v)
-    if z < 0.0:
-        x, y = (1.0 - abs(v)) * sgn1(u), (1.0 - abs(u)) * sgn1(v)
-    else:
-        x, y = u, v
-    ln = (x * x + y * y + z * z) ** 0.5
-    n = [(x / ln) / half[0], (y / ln) / half[1], (z / ln) / half[2]]
-    w = [axes[0][j] * n[0] + axes[1][j] * n[1] + axes[2][j] * n[2] for j in range(3)]
-    ln = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) ** 0.5
-    if ln > 0.0:
-        w = [c / ln for c in w]
-    l1 = abs(w[0]) + abs(w[1]) + abs(w[2])
-    if not l1 > 0.0:
-        return 0
-    a, b, nz = w[0] / l1, w[1] / l1, w[2] / l1
-    if nz < 0.0:
-        u, v = (1.0 - abs(b)) * sgn1(a), (1.0 - abs(a)) * sgn1(b)
-    else:
-        u, v = a, b
-    u = min(1.0, max(-1.0, u))
-    v = min(1.0, max(-1.0, v))
-    return ((round_away(v * 127.0) & 0xFF) << 8) | (round_away(u * 127.0) & 0xFF)
-
-
 class FixedLatencyRead:
     """An AXI4 read slave whose every read is there L cycles after its AR handshake (the
     model's fixed-latency node memory), a burst's beats on consecutive cycles, arready
@@ -163,19 +125,18 @@ class FixedLatencyRead:
                 self.beats.append((self.cycle + self.lat + k, addr + k * size, k == n - 1))
 
 
-async def every_cycle(dut, slaves, host):
-    """One coroutine for everything the bench does each cycle (fewer simulator callbacks):
-    at the falling edge the slaves' R and the host's combinational answers, then, settled,
-    the slaves' AR handshakes."""
+async def every_cycle(dut, slaves):
+    """One coroutine for both fixed-latency slaves (fewer simulator callbacks): at the falling
+    edge their R, then, settled, their AR handshakes."""
+    if not slaves:
+        return
     while True:
         await FallingEdge(dut.clk)
         for s in slaves:
             s.drive()
-        host()
-        if slaves:
-            await ReadOnly()
-            for s in slaves:
-                s.sample()
+        await ReadOnly()
+        for s in slaves:
+            s.sample()
 
 
 class Bench:
@@ -273,24 +234,7 @@ async def frame_against_the_model(dut):
     for name in ("s_axil", "m_axi", "m_axi_dir", "m_axis"):
         logging.getLogger(f"cocotb.{dut._name}.{name}").setLevel(logging.WARNING)
 
-    # The record's normal: the host's f64 path from the instance's registers (frame f's).
-    def fix(v, frac):
-        return v / float(1 << frac)
-    normal_of = []                  # per instance: (axes, half), of the frame being rendered
-
-    def set_normals(t):
-        normal_of.clear()
-        for k in range(len(t.rows)):
-            normal_of.append(([[fix(t.get(k, f"axis{c}_{a}", True), 30) for a in "xyz"] for c in range(3)],
-                              [fix(t.get(k, f"half_{a}", True), 32) for a in "xyz"]))
-
-    def normals():
-        k = int(dut.nrm_inst.value)
-        o = int(dut.nrm_oct.value)
-        dut.nrm.value = host_normal(*normal_of[k], o) if k < len(normal_of) else 0
-    set_normals(ins[0])
-    dut.nrm.value = 0
-    cocotb.start_soon(every_cycle(dut, slaves, normals))
+    cocotb.start_soon(every_cycle(dut, slaves))
 
     await ClockCycles(dut.clk, 8)
     dut.rst.value = 0
@@ -344,6 +288,8 @@ async def frame_against_the_model(dut):
                 await w(f"{pre}.{name.upper()}_LO", v)
                 await w(f"{pre}.{name.upper()}_HI", v >> 32)
             await w(f"{pre}.IMAGE", it.get(k, "image"))
+            for j, e in enumerate(("xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz")):
+                await w(f"{pre}.NMAT[{j}]", it.get(k, f"nmat_{e}"))
 
     for f in range(frames):
         expected = [pix[f].get(p, "word") for p in range(npix)]
@@ -366,7 +312,6 @@ async def frame_against_the_model(dut):
                     ram.write(DIR_BASE, bytes(mem[DIR_BASE:DIR_BASE + 16 * npix]))
         if f == 0 or folders[f] != folders[f - 1]:
             await write_frame(ins[f], cam[f])
-        set_normals(ins[f])
         await w("DIRTY", dirty)
         await w("STATUS", 0x2)                      # clear DONE
         await w("CTRL", 0x1)

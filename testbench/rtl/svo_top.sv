@@ -38,8 +38,8 @@
 // 32-bit index range; 4 instance count 0 or over LANES, or an image index over IMAGES − 1;
 // 5 a node read returned an error response; 6 a direction read returned an error response.
 //
-// The record's normal (`nrm`) is, as in tb_frame, the one field the core still takes from
-// outside (see svo_core): this top exposes that port (nrm_inst, nrm_oct → nrm, same cycle).
+// The record's normal is the core's (svo_normal in the record stage) from each instance's
+// normal matrix (INSTANCE[i].NMAT, written by the host with the instance).
 //
 // Parameters: the hardware (FIFO depths, lanes, latencies, write paths) from svo_hw_pkg
 // (`sim hardware --sv-package`), the datapath formats as parameters (defaults: the default
@@ -72,7 +72,7 @@ module svo_top
     // AXI4-Lite slave: the registers
     output logic             s_axil_awready,
     input  wire              s_axil_awvalid,
-    input  wire [10:0]       s_axil_awaddr,
+    input  wire [11:0]       s_axil_awaddr,
     input  wire [2:0]        s_axil_awprot,
     output logic             s_axil_wready,
     input  wire              s_axil_wvalid,
@@ -83,7 +83,7 @@ module svo_top
     output logic [1:0]       s_axil_bresp,
     output logic             s_axil_arready,
     input  wire              s_axil_arvalid,
-    input  wire [10:0]       s_axil_araddr,
+    input  wire [11:0]       s_axil_araddr,
     input  wire [2:0]        s_axil_arprot,
     input  wire              s_axil_rready,
     output logic             s_axil_rvalid,
@@ -127,10 +127,6 @@ module svo_top
     output logic [255:0]     m_axis_tdata,
     output logic [31:0]      m_axis_tkeep,
     output logic             m_axis_tlast,
-    // the record's normal (see above)
-    output wire [7:0]        nrm_inst,
-    output wire [31:0]       nrm_oct,
-    input  wire [15:0]       nrm,
     output logic             irq
 );
     localparam int LANES = SPHERE_UNITS;
@@ -196,6 +192,7 @@ module svo_top
     logic [LANES*80-1:0]   inst_reach2;
     logic [LANES*288-1:0]  inst_axes;
     logic [LANES*32-1:0]   inst_node_base, inst_attr_base;
+    logic [LANES*162-1:0]  inst_nmat;
     logic [LANES-1:0]      lane_used;
     logic                  buffer_valid, camera_dirty;
     logic [LANES-1:0]      instance_dirty;
@@ -286,8 +283,10 @@ module svo_top
                 img = hwif_out.INSTANCE[l].IMAGE.IMAGE.value[2:0];
                 reach = {hwif_out.INSTANCE[l].REACH_HI.VALUE.value,
                          hwif_out.INSTANCE[l].REACH_LO.VALUE.value};
-                for (int j = 0; j < 9; j++)
+                for (int j = 0; j < 9; j++) begin
                     inst_axes[l*288 + j*32 +: 32] <= hwif_out.INSTANCE[l].AXIS[j].VALUE.value;
+                    inst_nmat[l*162 + j*18 +: 18] <= hwif_out.INSTANCE[l].NMAT[j].VALUE.value;
+                end
                 for (int j = 0; j < 3; j++) begin
                     inst_c[l*120 + j*40 +: 40] <= {hwif_out.INSTANCE[l].C_HI[j].VALUE.value,
                                                    hwif_out.INSTANCE[l].C_LO[j].VALUE.value};
@@ -436,7 +435,7 @@ module svo_top
         .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base),
         .lane_used(lane_used), .buffer_valid(buffer_valid), .camera_dirty(camera_dirty),
         .instance_dirty(instance_dirty), .miss_word(miss_word), .wr_hold(wr_hold),
-        .nrm_inst(nrm_inst), .nrm_oct(nrm_oct), .nrm(nrm),
+        .inst_nmat(inst_nmat),
         .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
         .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
         .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),

@@ -7,7 +7,7 @@ module svo_core_regs (
 
         output logic s_axil_awready,
         input wire s_axil_awvalid,
-        input wire [10:0] s_axil_awaddr,
+        input wire [11:0] s_axil_awaddr,
         input wire [2:0] s_axil_awprot,
         output logic s_axil_wready,
         input wire s_axil_wvalid,
@@ -18,7 +18,7 @@ module svo_core_regs (
         output logic [1:0] s_axil_bresp,
         output logic s_axil_arready,
         input wire s_axil_arvalid,
-        input wire [10:0] s_axil_araddr,
+        input wire [11:0] s_axil_araddr,
         input wire [2:0] s_axil_arprot,
         input wire s_axil_rready,
         output logic s_axil_rvalid,
@@ -34,7 +34,7 @@ module svo_core_regs (
     //--------------------------------------------------------------------------
     logic cpuif_req;
     logic cpuif_req_is_wr;
-    logic [10:0] cpuif_addr;
+    logic [11:0] cpuif_addr;
     logic [31:0] cpuif_wr_data;
     logic [31:0] cpuif_wr_biten;
     logic cpuif_req_stall_wr;
@@ -51,10 +51,10 @@ module svo_core_regs (
     logic [1:0] axil_n_in_flight;
     logic axil_prev_was_rd;
     logic axil_arvalid;
-    logic [10:0] axil_araddr;
+    logic [11:0] axil_araddr;
     logic axil_ar_accept;
     logic axil_awvalid;
-    logic [10:0] axil_awaddr;
+    logic [11:0] axil_awaddr;
     logic axil_wvalid;
     logic [31:0] axil_wdata;
     logic [3:0] axil_wstrb;
@@ -132,17 +132,17 @@ module svo_core_regs (
             if(axil_arvalid && !axil_prev_was_rd) begin
                 cpuif_req = '1;
                 cpuif_req_is_wr = '0;
-                cpuif_addr = {axil_araddr[10:2], 2'b0};
+                cpuif_addr = {axil_araddr[11:2], 2'b0};
                 if(!cpuif_req_stall_rd) axil_ar_accept = '1;
             end else if(axil_awvalid && axil_wvalid) begin
                 cpuif_req = '1;
                 cpuif_req_is_wr = '1;
-                cpuif_addr = {axil_awaddr[10:2], 2'b0};
+                cpuif_addr = {axil_awaddr[11:2], 2'b0};
                 if(!cpuif_req_stall_wr) axil_aw_accept = '1;
             end else if(axil_arvalid) begin
                 cpuif_req = '1;
                 cpuif_req_is_wr = '0;
-                cpuif_addr = {axil_araddr[10:2], 2'b0};
+                cpuif_addr = {axil_araddr[11:2], 2'b0};
                 if(!cpuif_req_stall_rd) axil_ar_accept = '1;
             end
         end
@@ -293,11 +293,12 @@ module svo_core_regs (
             logic DELTA_T_LO;
             logic DELTA_T_HI;
             logic IMAGE;
+            logic NMAT[9];
         } INSTANCE[8];
     } decoded_reg_strb_t;
     decoded_reg_strb_t decoded_reg_strb;
     logic decoded_err;
-    logic [10:0] decoded_addr;
+    logic [11:0] decoded_addr;
     logic decoded_req;
     logic decoded_req_is_wr;
     logic [31:0] decoded_wr_data;
@@ -308,72 +309,75 @@ module svo_core_regs (
         automatic logic is_valid_rw;
         is_valid_addr = '1; // No valid address check
         is_valid_rw = '1; // No valid RW check
-        decoded_reg_strb.ID = cpuif_req_masked & (cpuif_addr == 11'h0) & !cpuif_req_is_wr;
-        decoded_reg_strb.CTRL = cpuif_req_masked & (cpuif_addr == 11'h4);
-        decoded_reg_strb.STATUS = cpuif_req_masked & (cpuif_addr == 11'h8);
-        decoded_reg_strb.DIRTY = cpuif_req_masked & (cpuif_addr == 11'hc);
-        decoded_reg_strb.FRAME_SIZE = cpuif_req_masked & (cpuif_addr == 11'h10);
-        decoded_reg_strb.INSTANCES = cpuif_req_masked & (cpuif_addr == 11'h14);
+        decoded_reg_strb.ID = cpuif_req_masked & (cpuif_addr == 12'h0) & !cpuif_req_is_wr;
+        decoded_reg_strb.CTRL = cpuif_req_masked & (cpuif_addr == 12'h4);
+        decoded_reg_strb.STATUS = cpuif_req_masked & (cpuif_addr == 12'h8);
+        decoded_reg_strb.DIRTY = cpuif_req_masked & (cpuif_addr == 12'hc);
+        decoded_reg_strb.FRAME_SIZE = cpuif_req_masked & (cpuif_addr == 12'h10);
+        decoded_reg_strb.INSTANCES = cpuif_req_masked & (cpuif_addr == 12'h14);
         for(int i0=0; i0<3; i0++) begin
-            decoded_reg_strb.CAMERA_O_LO[i0] = cpuif_req_masked & (cpuif_addr == 11'h20 + (11)'(i0) * 11'h4);
+            decoded_reg_strb.CAMERA_O_LO[i0] = cpuif_req_masked & (cpuif_addr == 12'h20 + (12)'(i0) * 12'h4);
         end
         for(int i0=0; i0<3; i0++) begin
-            decoded_reg_strb.CAMERA_O_HI[i0] = cpuif_req_masked & (cpuif_addr == 11'h30 + (11)'(i0) * 11'h4);
+            decoded_reg_strb.CAMERA_O_HI[i0] = cpuif_req_masked & (cpuif_addr == 12'h30 + (12)'(i0) * 12'h4);
         end
         for(int i0=0; i0<3; i0++) begin
-            decoded_reg_strb.MISS_WORD[i0] = cpuif_req_masked & (cpuif_addr == 11'h40 + (11)'(i0) * 11'h4);
+            decoded_reg_strb.MISS_WORD[i0] = cpuif_req_masked & (cpuif_addr == 12'h40 + (12)'(i0) * 12'h4);
         end
-        decoded_reg_strb.DIR_TABLE_BASE_LO = cpuif_req_masked & (cpuif_addr == 11'h50);
-        decoded_reg_strb.DIR_TABLE_BASE_HI = cpuif_req_masked & (cpuif_addr == 11'h54);
-        decoded_reg_strb.CYCLES.LO = cpuif_req_masked & (cpuif_addr == 11'h100) & !cpuif_req_is_wr;
-        decoded_reg_strb.CYCLES.HI = cpuif_req_masked & (cpuif_addr == 11'h104) & !cpuif_req_is_wr;
-        decoded_reg_strb.WALKS.LO = cpuif_req_masked & (cpuif_addr == 11'h108) & !cpuif_req_is_wr;
-        decoded_reg_strb.WALKS.HI = cpuif_req_masked & (cpuif_addr == 11'h10c) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WALK_ISSUE.LO = cpuif_req_masked & (cpuif_addr == 11'h110) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WALK_ISSUE.HI = cpuif_req_masked & (cpuif_addr == 11'h114) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WRITE_PORT.LO = cpuif_req_masked & (cpuif_addr == 11'h118) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WRITE_PORT.HI = cpuif_req_masked & (cpuif_addr == 11'h11c) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_MEMORY.LO = cpuif_req_masked & (cpuif_addr == 11'h120) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_MEMORY.HI = cpuif_req_masked & (cpuif_addr == 11'h124) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_DIRECTIONS.LO = cpuif_req_masked & (cpuif_addr == 11'h128) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_DIRECTIONS.HI = cpuif_req_masked & (cpuif_addr == 11'h12c) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_STREAM.LO = cpuif_req_masked & (cpuif_addr == 11'h130) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_STREAM.HI = cpuif_req_masked & (cpuif_addr == 11'h134) & !cpuif_req_is_wr;
-        decoded_reg_strb.NODE_READS.LO = cpuif_req_masked & (cpuif_addr == 11'h138) & !cpuif_req_is_wr;
-        decoded_reg_strb.NODE_READS.HI = cpuif_req_masked & (cpuif_addr == 11'h13c) & !cpuif_req_is_wr;
-        decoded_reg_strb.REUSED.LO = cpuif_req_masked & (cpuif_addr == 11'h140) & !cpuif_req_is_wr;
-        decoded_reg_strb.REUSED.HI = cpuif_req_masked & (cpuif_addr == 11'h144) & !cpuif_req_is_wr;
+        decoded_reg_strb.DIR_TABLE_BASE_LO = cpuif_req_masked & (cpuif_addr == 12'h50);
+        decoded_reg_strb.DIR_TABLE_BASE_HI = cpuif_req_masked & (cpuif_addr == 12'h54);
+        decoded_reg_strb.CYCLES.LO = cpuif_req_masked & (cpuif_addr == 12'h100) & !cpuif_req_is_wr;
+        decoded_reg_strb.CYCLES.HI = cpuif_req_masked & (cpuif_addr == 12'h104) & !cpuif_req_is_wr;
+        decoded_reg_strb.WALKS.LO = cpuif_req_masked & (cpuif_addr == 12'h108) & !cpuif_req_is_wr;
+        decoded_reg_strb.WALKS.HI = cpuif_req_masked & (cpuif_addr == 12'h10c) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_WALK_ISSUE.LO = cpuif_req_masked & (cpuif_addr == 12'h110) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_WALK_ISSUE.HI = cpuif_req_masked & (cpuif_addr == 12'h114) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_WRITE_PORT.LO = cpuif_req_masked & (cpuif_addr == 12'h118) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_WRITE_PORT.HI = cpuif_req_masked & (cpuif_addr == 12'h11c) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_MEMORY.LO = cpuif_req_masked & (cpuif_addr == 12'h120) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_MEMORY.HI = cpuif_req_masked & (cpuif_addr == 12'h124) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_DIRECTIONS.LO = cpuif_req_masked & (cpuif_addr == 12'h128) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_DIRECTIONS.HI = cpuif_req_masked & (cpuif_addr == 12'h12c) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_STREAM.LO = cpuif_req_masked & (cpuif_addr == 12'h130) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_STREAM.HI = cpuif_req_masked & (cpuif_addr == 12'h134) & !cpuif_req_is_wr;
+        decoded_reg_strb.NODE_READS.LO = cpuif_req_masked & (cpuif_addr == 12'h138) & !cpuif_req_is_wr;
+        decoded_reg_strb.NODE_READS.HI = cpuif_req_masked & (cpuif_addr == 12'h13c) & !cpuif_req_is_wr;
+        decoded_reg_strb.REUSED.LO = cpuif_req_masked & (cpuif_addr == 12'h140) & !cpuif_req_is_wr;
+        decoded_reg_strb.REUSED.HI = cpuif_req_masked & (cpuif_addr == 12'h144) & !cpuif_req_is_wr;
         for(int i0=0; i0<8; i0++) begin
-            decoded_reg_strb.IMAGE[i0].NODE_BASE_LO = cpuif_req_masked & (cpuif_addr == 11'h200 + (11)'(i0) * 11'h10);
-            decoded_reg_strb.IMAGE[i0].NODE_BASE_HI = cpuif_req_masked & (cpuif_addr == 11'h204 + (11)'(i0) * 11'h10);
-            decoded_reg_strb.IMAGE[i0].ATTR_BASE_LO = cpuif_req_masked & (cpuif_addr == 11'h208 + (11)'(i0) * 11'h10);
-            decoded_reg_strb.IMAGE[i0].ATTR_BASE_HI = cpuif_req_masked & (cpuif_addr == 11'h20c + (11)'(i0) * 11'h10);
+            decoded_reg_strb.IMAGE[i0].NODE_BASE_LO = cpuif_req_masked & (cpuif_addr == 12'h200 + (12)'(i0) * 12'h10);
+            decoded_reg_strb.IMAGE[i0].NODE_BASE_HI = cpuif_req_masked & (cpuif_addr == 12'h204 + (12)'(i0) * 12'h10);
+            decoded_reg_strb.IMAGE[i0].ATTR_BASE_LO = cpuif_req_masked & (cpuif_addr == 12'h208 + (12)'(i0) * 12'h10);
+            decoded_reg_strb.IMAGE[i0].ATTR_BASE_HI = cpuif_req_masked & (cpuif_addr == 12'h20c + (12)'(i0) * 12'h10);
         end
         for(int i0=0; i0<8; i0++) begin
             for(int i1=0; i1<9; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].AXIS[i1] = cpuif_req_masked & (cpuif_addr == 11'h400 + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4);
+                decoded_reg_strb.INSTANCE[i0].AXIS[i1] = cpuif_req_masked & (cpuif_addr == 12'h400 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
             end
             for(int i1=0; i1<3; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].C_LO[i1] = cpuif_req_masked & (cpuif_addr == 11'h424 + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4);
+                decoded_reg_strb.INSTANCE[i0].C_LO[i1] = cpuif_req_masked & (cpuif_addr == 12'h424 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
             end
             for(int i1=0; i1<3; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].C_HI[i1] = cpuif_req_masked & (cpuif_addr == 11'h430 + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4);
+                decoded_reg_strb.INSTANCE[i0].C_HI[i1] = cpuif_req_masked & (cpuif_addr == 12'h430 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
             end
             for(int i1=0; i1<3; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].HALF_LO[i1] = cpuif_req_masked & (cpuif_addr == 11'h43c + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4);
+                decoded_reg_strb.INSTANCE[i0].HALF_LO[i1] = cpuif_req_masked & (cpuif_addr == 12'h43c + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
             end
             for(int i1=0; i1<3; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].HALF_HI[i1] = cpuif_req_masked & (cpuif_addr == 11'h448 + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4);
+                decoded_reg_strb.INSTANCE[i0].HALF_HI[i1] = cpuif_req_masked & (cpuif_addr == 12'h448 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
             end
-            decoded_reg_strb.INSTANCE[i0].REACH_LO = cpuif_req_masked & (cpuif_addr == 11'h454 + (11)'(i0) * 11'h80);
-            decoded_reg_strb.INSTANCE[i0].REACH_HI = cpuif_req_masked & (cpuif_addr == 11'h458 + (11)'(i0) * 11'h80);
-            decoded_reg_strb.INSTANCE[i0].THRESHOLD_LO = cpuif_req_masked & (cpuif_addr == 11'h45c + (11)'(i0) * 11'h80);
-            decoded_reg_strb.INSTANCE[i0].THRESHOLD_HI = cpuif_req_masked & (cpuif_addr == 11'h460 + (11)'(i0) * 11'h80);
-            decoded_reg_strb.INSTANCE[i0].INSIDE_LO = cpuif_req_masked & (cpuif_addr == 11'h464 + (11)'(i0) * 11'h80);
-            decoded_reg_strb.INSTANCE[i0].INSIDE_HI = cpuif_req_masked & (cpuif_addr == 11'h468 + (11)'(i0) * 11'h80);
-            decoded_reg_strb.INSTANCE[i0].DELTA_T_LO = cpuif_req_masked & (cpuif_addr == 11'h46c + (11)'(i0) * 11'h80);
-            decoded_reg_strb.INSTANCE[i0].DELTA_T_HI = cpuif_req_masked & (cpuif_addr == 11'h470 + (11)'(i0) * 11'h80);
-            decoded_reg_strb.INSTANCE[i0].IMAGE = cpuif_req_masked & (cpuif_addr == 11'h474 + (11)'(i0) * 11'h80);
+            decoded_reg_strb.INSTANCE[i0].REACH_LO = cpuif_req_masked & (cpuif_addr == 12'h454 + (12)'(i0) * 12'h100);
+            decoded_reg_strb.INSTANCE[i0].REACH_HI = cpuif_req_masked & (cpuif_addr == 12'h458 + (12)'(i0) * 12'h100);
+            decoded_reg_strb.INSTANCE[i0].THRESHOLD_LO = cpuif_req_masked & (cpuif_addr == 12'h45c + (12)'(i0) * 12'h100);
+            decoded_reg_strb.INSTANCE[i0].THRESHOLD_HI = cpuif_req_masked & (cpuif_addr == 12'h460 + (12)'(i0) * 12'h100);
+            decoded_reg_strb.INSTANCE[i0].INSIDE_LO = cpuif_req_masked & (cpuif_addr == 12'h464 + (12)'(i0) * 12'h100);
+            decoded_reg_strb.INSTANCE[i0].INSIDE_HI = cpuif_req_masked & (cpuif_addr == 12'h468 + (12)'(i0) * 12'h100);
+            decoded_reg_strb.INSTANCE[i0].DELTA_T_LO = cpuif_req_masked & (cpuif_addr == 12'h46c + (12)'(i0) * 12'h100);
+            decoded_reg_strb.INSTANCE[i0].DELTA_T_HI = cpuif_req_masked & (cpuif_addr == 12'h470 + (12)'(i0) * 12'h100);
+            decoded_reg_strb.INSTANCE[i0].IMAGE = cpuif_req_masked & (cpuif_addr == 12'h474 + (12)'(i0) * 12'h100);
+            for(int i1=0; i1<9; i1++) begin
+                decoded_reg_strb.INSTANCE[i0].NMAT[i1] = cpuif_req_masked & (cpuif_addr == 12'h478 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
+            end
         end
         decoded_err = '0;
     end
@@ -576,6 +580,12 @@ module svo_core_regs (
                     logic load_next;
                 } IMAGE;
             } IMAGE;
+            struct {
+                struct {
+                    logic [17:0] next;
+                    logic load_next;
+                } VALUE;
+            } NMAT[9];
         } INSTANCE[8];
     } field_combo_t;
     field_combo_t field_combo;
@@ -736,6 +746,11 @@ module svo_core_regs (
                     logic [7:0] value;
                 } IMAGE;
             } IMAGE;
+            struct {
+                struct {
+                    logic [17:0] value;
+                } VALUE;
+            } NMAT[9];
         } INSTANCE[8];
     } field_storage_t;
     field_storage_t field_storage;
@@ -1501,6 +1516,31 @@ module svo_core_regs (
             end
         end
         assign hwif_out.INSTANCE[i0].IMAGE.IMAGE.value = field_storage.INSTANCE[i0].IMAGE.IMAGE.value;
+        for(genvar i1=0; i1<9; i1++) begin
+            // Field: svo_core_regs.INSTANCE[].NMAT[].VALUE
+            always_comb begin
+                automatic logic [17:0] next_c;
+                automatic logic load_next_c;
+                next_c = field_storage.INSTANCE[i0].NMAT[i1].VALUE.value;
+                load_next_c = '0;
+                if(decoded_reg_strb.INSTANCE[i0].NMAT[i1] && decoded_req_is_wr) begin // SW write
+                    next_c = (field_storage.INSTANCE[i0].NMAT[i1].VALUE.value & ~decoded_wr_biten[17:0]) | (decoded_wr_data[17:0] & decoded_wr_biten[17:0]);
+                    load_next_c = '1;
+                end
+                field_combo.INSTANCE[i0].NMAT[i1].VALUE.next = next_c;
+                field_combo.INSTANCE[i0].NMAT[i1].VALUE.load_next = load_next_c;
+            end
+            always_ff @(posedge clk) begin
+                if(rst) begin
+                    field_storage.INSTANCE[i0].NMAT[i1].VALUE.value <= 18'h0;
+                end else begin
+                    if(field_combo.INSTANCE[i0].NMAT[i1].VALUE.load_next) begin
+                        field_storage.INSTANCE[i0].NMAT[i1].VALUE.value <= field_combo.INSTANCE[i0].NMAT[i1].VALUE.next;
+                    end
+                end
+            end
+            assign hwif_out.INSTANCE[i0].NMAT[i1].VALUE.value = field_storage.INSTANCE[i0].NMAT[i1].VALUE.value;
+        end
     end
 
     //--------------------------------------------------------------------------
@@ -1514,7 +1554,7 @@ module svo_core_regs (
     // Readback
     //--------------------------------------------------------------------------
 
-    logic [10:0] rd_mux_addr;
+    logic [11:0] rd_mux_addr;
     assign rd_mux_addr = decoded_addr;
 
     logic readback_err;
@@ -1523,173 +1563,178 @@ module svo_core_regs (
     always_comb begin
         automatic logic [31:0] readback_data_var;
         readback_data_var = '0;
-        if(rd_mux_addr == 11'h0) begin
+        if(rd_mux_addr == 12'h0) begin
             readback_data_var[15:0] = 16'h1;
             readback_data_var[23:16] = 8'h8;
             readback_data_var[31:24] = 8'h8;
         end
-        if(rd_mux_addr == 11'h4) begin
+        if(rd_mux_addr == 12'h4) begin
             readback_data_var[1] = field_storage.CTRL.IRQ_EN.value;
         end
-        if(rd_mux_addr == 11'h8) begin
+        if(rd_mux_addr == 12'h8) begin
             readback_data_var[0] = hwif_in.STATUS.BUSY.next;
             readback_data_var[1] = field_storage.STATUS.DONE.value;
             readback_data_var[11:8] = hwif_in.STATUS.ERROR.next;
             readback_data_var[15:12] = hwif_in.STATUS.FAULT.next;
         end
-        if(rd_mux_addr == 11'hc) begin
+        if(rd_mux_addr == 12'hc) begin
             readback_data_var[0] = field_storage.DIRTY.BUFFER_VALID.value;
             readback_data_var[1] = field_storage.DIRTY.CAMERA.value;
             readback_data_var[15:8] = field_storage.DIRTY.INSTANCE.value;
         end
-        if(rd_mux_addr == 11'h10) begin
+        if(rd_mux_addr == 12'h10) begin
             readback_data_var[15:0] = field_storage.FRAME_SIZE.WIDTH.value;
             readback_data_var[31:16] = field_storage.FRAME_SIZE.HEIGHT.value;
         end
-        if(rd_mux_addr == 11'h14) begin
+        if(rd_mux_addr == 12'h14) begin
             readback_data_var[7:0] = field_storage.INSTANCES.COUNT.value;
         end
         for(int i0=0; i0<3; i0++) begin
-            if(rd_mux_addr == 11'h20 + (11)'(i0) * 11'h4) begin
+            if(rd_mux_addr == 12'h20 + (12)'(i0) * 12'h4) begin
                 readback_data_var[31:0] = field_storage.CAMERA_O_LO[i0].VALUE.value;
             end
         end
         for(int i0=0; i0<3; i0++) begin
-            if(rd_mux_addr == 11'h30 + (11)'(i0) * 11'h4) begin
+            if(rd_mux_addr == 12'h30 + (12)'(i0) * 12'h4) begin
                 readback_data_var[7:0] = field_storage.CAMERA_O_HI[i0].VALUE.value;
             end
         end
         for(int i0=0; i0<3; i0++) begin
-            if(rd_mux_addr == 11'h40 + (11)'(i0) * 11'h4) begin
+            if(rd_mux_addr == 12'h40 + (12)'(i0) * 12'h4) begin
                 readback_data_var[31:0] = field_storage.MISS_WORD[i0].VALUE.value;
             end
         end
-        if(rd_mux_addr == 11'h50) begin
+        if(rd_mux_addr == 12'h50) begin
             readback_data_var[31:0] = field_storage.DIR_TABLE_BASE_LO.VALUE.value;
         end
-        if(rd_mux_addr == 11'h54) begin
+        if(rd_mux_addr == 12'h54) begin
             readback_data_var[31:0] = field_storage.DIR_TABLE_BASE_HI.VALUE.value;
         end
-        if(rd_mux_addr == 11'h100) begin
+        if(rd_mux_addr == 12'h100) begin
             readback_data_var[31:0] = hwif_in.CYCLES.LO.VALUE.next;
         end
-        if(rd_mux_addr == 11'h104) begin
+        if(rd_mux_addr == 12'h104) begin
             readback_data_var[31:0] = hwif_in.CYCLES.HI.VALUE.next;
         end
-        if(rd_mux_addr == 11'h108) begin
+        if(rd_mux_addr == 12'h108) begin
             readback_data_var[31:0] = hwif_in.WALKS.LO.VALUE.next;
         end
-        if(rd_mux_addr == 11'h10c) begin
+        if(rd_mux_addr == 12'h10c) begin
             readback_data_var[31:0] = hwif_in.WALKS.HI.VALUE.next;
         end
-        if(rd_mux_addr == 11'h110) begin
+        if(rd_mux_addr == 12'h110) begin
             readback_data_var[31:0] = hwif_in.STALL_WALK_ISSUE.LO.VALUE.next;
         end
-        if(rd_mux_addr == 11'h114) begin
+        if(rd_mux_addr == 12'h114) begin
             readback_data_var[31:0] = hwif_in.STALL_WALK_ISSUE.HI.VALUE.next;
         end
-        if(rd_mux_addr == 11'h118) begin
+        if(rd_mux_addr == 12'h118) begin
             readback_data_var[31:0] = hwif_in.STALL_WRITE_PORT.LO.VALUE.next;
         end
-        if(rd_mux_addr == 11'h11c) begin
+        if(rd_mux_addr == 12'h11c) begin
             readback_data_var[31:0] = hwif_in.STALL_WRITE_PORT.HI.VALUE.next;
         end
-        if(rd_mux_addr == 11'h120) begin
+        if(rd_mux_addr == 12'h120) begin
             readback_data_var[31:0] = hwif_in.STALL_MEMORY.LO.VALUE.next;
         end
-        if(rd_mux_addr == 11'h124) begin
+        if(rd_mux_addr == 12'h124) begin
             readback_data_var[31:0] = hwif_in.STALL_MEMORY.HI.VALUE.next;
         end
-        if(rd_mux_addr == 11'h128) begin
+        if(rd_mux_addr == 12'h128) begin
             readback_data_var[31:0] = hwif_in.STALL_DIRECTIONS.LO.VALUE.next;
         end
-        if(rd_mux_addr == 11'h12c) begin
+        if(rd_mux_addr == 12'h12c) begin
             readback_data_var[31:0] = hwif_in.STALL_DIRECTIONS.HI.VALUE.next;
         end
-        if(rd_mux_addr == 11'h130) begin
+        if(rd_mux_addr == 12'h130) begin
             readback_data_var[31:0] = hwif_in.STALL_STREAM.LO.VALUE.next;
         end
-        if(rd_mux_addr == 11'h134) begin
+        if(rd_mux_addr == 12'h134) begin
             readback_data_var[31:0] = hwif_in.STALL_STREAM.HI.VALUE.next;
         end
-        if(rd_mux_addr == 11'h138) begin
+        if(rd_mux_addr == 12'h138) begin
             readback_data_var[31:0] = hwif_in.NODE_READS.LO.VALUE.next;
         end
-        if(rd_mux_addr == 11'h13c) begin
+        if(rd_mux_addr == 12'h13c) begin
             readback_data_var[31:0] = hwif_in.NODE_READS.HI.VALUE.next;
         end
-        if(rd_mux_addr == 11'h140) begin
+        if(rd_mux_addr == 12'h140) begin
             readback_data_var[31:0] = hwif_in.REUSED.LO.VALUE.next;
         end
-        if(rd_mux_addr == 11'h144) begin
+        if(rd_mux_addr == 12'h144) begin
             readback_data_var[31:0] = hwif_in.REUSED.HI.VALUE.next;
         end
         for(int i0=0; i0<8; i0++) begin
-            if(rd_mux_addr == 11'h200 + (11)'(i0) * 11'h10) begin
+            if(rd_mux_addr == 12'h200 + (12)'(i0) * 12'h10) begin
                 readback_data_var[31:0] = field_storage.IMAGE[i0].NODE_BASE_LO.VALUE.value;
             end
-            if(rd_mux_addr == 11'h204 + (11)'(i0) * 11'h10) begin
+            if(rd_mux_addr == 12'h204 + (12)'(i0) * 12'h10) begin
                 readback_data_var[31:0] = field_storage.IMAGE[i0].NODE_BASE_HI.VALUE.value;
             end
-            if(rd_mux_addr == 11'h208 + (11)'(i0) * 11'h10) begin
+            if(rd_mux_addr == 12'h208 + (12)'(i0) * 12'h10) begin
                 readback_data_var[31:0] = field_storage.IMAGE[i0].ATTR_BASE_LO.VALUE.value;
             end
-            if(rd_mux_addr == 11'h20c + (11)'(i0) * 11'h10) begin
+            if(rd_mux_addr == 12'h20c + (12)'(i0) * 12'h10) begin
                 readback_data_var[31:0] = field_storage.IMAGE[i0].ATTR_BASE_HI.VALUE.value;
             end
         end
         for(int i0=0; i0<8; i0++) begin
             for(int i1=0; i1<9; i1++) begin
-                if(rd_mux_addr == 11'h400 + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4) begin
+                if(rd_mux_addr == 12'h400 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
                     readback_data_var[31:0] = field_storage.INSTANCE[i0].AXIS[i1].VALUE.value;
                 end
             end
             for(int i1=0; i1<3; i1++) begin
-                if(rd_mux_addr == 11'h424 + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4) begin
+                if(rd_mux_addr == 12'h424 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
                     readback_data_var[31:0] = field_storage.INSTANCE[i0].C_LO[i1].VALUE.value;
                 end
             end
             for(int i1=0; i1<3; i1++) begin
-                if(rd_mux_addr == 11'h430 + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4) begin
+                if(rd_mux_addr == 12'h430 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
                     readback_data_var[7:0] = field_storage.INSTANCE[i0].C_HI[i1].VALUE.value;
                 end
             end
             for(int i1=0; i1<3; i1++) begin
-                if(rd_mux_addr == 11'h43c + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4) begin
+                if(rd_mux_addr == 12'h43c + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
                     readback_data_var[31:0] = field_storage.INSTANCE[i0].HALF_LO[i1].VALUE.value;
                 end
             end
             for(int i1=0; i1<3; i1++) begin
-                if(rd_mux_addr == 11'h448 + (11)'(i0) * 11'h80 + (11)'(i1) * 11'h4) begin
+                if(rd_mux_addr == 12'h448 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
                     readback_data_var[7:0] = field_storage.INSTANCE[i0].HALF_HI[i1].VALUE.value;
                 end
             end
-            if(rd_mux_addr == 11'h454 + (11)'(i0) * 11'h80) begin
+            if(rd_mux_addr == 12'h454 + (12)'(i0) * 12'h100) begin
                 readback_data_var[31:0] = field_storage.INSTANCE[i0].REACH_LO.VALUE.value;
             end
-            if(rd_mux_addr == 11'h458 + (11)'(i0) * 11'h80) begin
+            if(rd_mux_addr == 12'h458 + (12)'(i0) * 12'h100) begin
                 readback_data_var[7:0] = field_storage.INSTANCE[i0].REACH_HI.VALUE.value;
             end
-            if(rd_mux_addr == 11'h45c + (11)'(i0) * 11'h80) begin
+            if(rd_mux_addr == 12'h45c + (12)'(i0) * 12'h100) begin
                 readback_data_var[31:0] = field_storage.INSTANCE[i0].THRESHOLD_LO.VALUE.value;
             end
-            if(rd_mux_addr == 11'h460 + (11)'(i0) * 11'h80) begin
+            if(rd_mux_addr == 12'h460 + (12)'(i0) * 12'h100) begin
                 readback_data_var[31:0] = field_storage.INSTANCE[i0].THRESHOLD_HI.VALUE.value;
             end
-            if(rd_mux_addr == 11'h464 + (11)'(i0) * 11'h80) begin
+            if(rd_mux_addr == 12'h464 + (12)'(i0) * 12'h100) begin
                 readback_data_var[31:0] = field_storage.INSTANCE[i0].INSIDE_LO.VALUE.value;
             end
-            if(rd_mux_addr == 11'h468 + (11)'(i0) * 11'h80) begin
+            if(rd_mux_addr == 12'h468 + (12)'(i0) * 12'h100) begin
                 readback_data_var[31:0] = field_storage.INSTANCE[i0].INSIDE_HI.VALUE.value;
             end
-            if(rd_mux_addr == 11'h46c + (11)'(i0) * 11'h80) begin
+            if(rd_mux_addr == 12'h46c + (12)'(i0) * 12'h100) begin
                 readback_data_var[31:0] = field_storage.INSTANCE[i0].DELTA_T_LO.VALUE.value;
             end
-            if(rd_mux_addr == 11'h470 + (11)'(i0) * 11'h80) begin
+            if(rd_mux_addr == 12'h470 + (12)'(i0) * 12'h100) begin
                 readback_data_var[1:0] = field_storage.INSTANCE[i0].DELTA_T_HI.VALUE.value;
             end
-            if(rd_mux_addr == 11'h474 + (11)'(i0) * 11'h80) begin
+            if(rd_mux_addr == 12'h474 + (12)'(i0) * 12'h100) begin
                 readback_data_var[7:0] = field_storage.INSTANCE[i0].IMAGE.IMAGE.value;
+            end
+            for(int i1=0; i1<9; i1++) begin
+                if(rd_mux_addr == 12'h478 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
+                    readback_data_var[17:0] = field_storage.INSTANCE[i0].NMAT[i1].VALUE.value;
+                end
             end
         end
         readback_data = readback_data_var;

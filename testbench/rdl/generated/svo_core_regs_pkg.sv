@@ -4,8 +4,8 @@
 package svo_core_regs_pkg;
 
     localparam SVO_CORE_REGS_DATA_WIDTH = 32;
-    localparam SVO_CORE_REGS_MIN_ADDR_WIDTH = 11;
-    localparam SVO_CORE_REGS_SIZE = 'h800;
+    localparam SVO_CORE_REGS_MIN_ADDR_WIDTH = 12;
+    localparam SVO_CORE_REGS_SIZE = 'hc00;
 
     typedef struct {
         logic next;
@@ -156,6 +156,14 @@ package svo_core_regs_pkg;
     } instance_rf__IMAGE__out_t;
 
     typedef struct {
+        logic [17:0] value;
+    } instance_rf__NMAT__VALUE__out_t;
+
+    typedef struct {
+        instance_rf__NMAT__VALUE__out_t VALUE;
+    } instance_rf__NMAT__out_t;
+
+    typedef struct {
         sw_word_r__out_t AXIS[9];
         sw_word_r__out_t C_LO[3];
         sw_hi8_r__out_t C_HI[3];
@@ -170,6 +178,7 @@ package svo_core_regs_pkg;
         sw_word_r__out_t DELTA_T_LO;
         instance_rf__DELTA_T_HI__out_t DELTA_T_HI;
         instance_rf__IMAGE__out_t IMAGE;
+        instance_rf__NMAT__out_t NMAT[9];
     } instance_rf__out_t;
 
     typedef struct {
