@@ -147,6 +147,12 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
         |h| h.walker_pool.step_latency_cycles = 9,
         Changes,
     ),
+    // Unlimited request ports (the model before issue 29): no read waits for the port.
+    (
+        "walker_pool.read_ports",
+        |h| h.walker_pool.read_ports = 0,
+        Changes,
+    ),
     (
         "walker_pool.stack_depth",
         |h| h.walker_pool.stack_depth = 40,

@@ -42,6 +42,10 @@ rtl="$(cd "$here/rtl" && ls ./*.v | sed 's|^\./||' | tr '\n' ' ')"
     echo "read_slang -j 1 --top svo_top -G NPIX=$npix -G RECIP_SEED_FILE=\"reciprocal_seed.hex\" frame_hw_pkg.sv svo_core_regs_pkg.sv svo_core_regs.sv $rtl svo_top.sv"
     echo "hierarchy -top svo_top"
     echo "proc"
+    # Cells newer than Yosys 0.23 ($bwmux, $bmux, $demux) into ones it reads.
+    echo "bwmuxmap"
+    echo "bmuxmap"
+    echo "demuxmap"
     echo "write_verilog -noattr svo_top_elab.v"
 } > elab.ys
 start=$(date +%s)

@@ -18,7 +18,7 @@
 //! needs as well (`WALK_LANES`, `RAY_SLOTS`, the check stage's latency), under `// derived`.
 
 use super::hw_config::HwConfig;
-use crate::vectors::stage::sorter::NetworkPairs;
+use crate::units::sorter_network::NetworkPairs;
 use serde_json::Value;
 use std::fmt::Write as _;
 use thiserror::Error;

@@ -12,6 +12,7 @@ pub mod raygen;
 pub mod reciprocal;
 pub mod rotation;
 pub mod sorter;
+pub mod sorter_network;
 pub mod sphere;
 pub mod sqrt;
 pub mod tile_list;
