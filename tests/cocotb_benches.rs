@@ -100,7 +100,7 @@ fn register_block_regenerates_byte_identical() {
     assert!(text.contains("generated/ matches svo_core.rdl"), "{text}");
 }
 
-/// Every register of the description (307) is read after reset, written and read back, and
+/// Every register of the description (379) is read after reset, written and read back, and
 /// read with the core's side driven all-ones, through cocotbext-axi's AxiLiteMaster: all
 /// pass; one flipped expected value is exactly one failure, naming that register.
 #[test]
