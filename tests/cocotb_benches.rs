@@ -326,6 +326,19 @@ fn core_frame_line(text: &str, f: u32) -> (u64, u64, u64, u64) {
     (n[0], n[1], n[2], reused)
 }
 
+/// Every frame of a `core` bench run of `scene`: all 160 pixels equal, the RTL's cycles and
+/// reused words the model's (`model[f]` = (cycles, hit_buffer_reused)).
+fn frames_equal_the_model(scene: &str, text: &str, model: &[(u64, u64)]) {
+    for (f, &(cycles_m, reused_m)) in model.iter().enumerate() {
+        let (equal, n, cycles, reused) = core_frame_line(text, f as u32);
+        println!(
+            "core {scene} frame {f}: {equal}/{n} pixels equal, RTL {cycles} cycles, model {cycles_m}; reused {reused}, model {reused_m}"
+        );
+        assert_eq!((equal, n, cycles), (160, 160, cycles_m), "{scene}:\n{text}");
+        assert_eq!(reused, reused_m, "{scene} frame {f} reuse:\n{text}");
+    }
+}
+
 /// svo_top — svo_core behind the AXI4-Lite registers, the AXI4 node and direction read
 /// masters and the AXI4-Stream of hit records — renders 16 × 10 frames with cocotbext-axi as
 /// the host:
@@ -377,19 +390,7 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
     ];
     let (ok, text, _) = run_core(&st, &st_env);
     assert!(ok, "core bench, static_single:\n{text}");
-    for f in 0..2 {
-        let (equal, n, cycles, reused) = core_frame_line(&text, f);
-        println!(
-            "core static_single frame {f}: {equal}/{n} pixels equal, RTL {cycles} cycles, model {}; reused {reused}, model {}",
-            st_model[f as usize].0, st_model[f as usize].1
-        );
-        assert_eq!(
-            (equal, n, cycles),
-            (160, 160, st_model[f as usize].0),
-            "{text}"
-        );
-        assert_eq!(reused, st_model[f as usize].1, "frame {f} reuse:\n{text}");
-    }
+    frames_equal_the_model("static_single", &text, &st_model);
     assert!(st_model[1].1 > 0, "the model reused nothing in frame 1");
 
     // The car: its wheels and doors move between frames 0 and 1 under a still camera. Frame
@@ -432,19 +433,7 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         moved, car_dirty,
         "instances flagged dirty, the model's instances_dirty:\n{text}"
     );
-    for f in 0..2 {
-        let (equal, n, cycles, reused) = core_frame_line(&text, f);
-        println!(
-            "core car frame {f}: {equal}/{n} pixels equal, RTL {cycles} cycles, model {}; reused {reused}, model {}",
-            car_model[f as usize].0, car_model[f as usize].1
-        );
-        assert_eq!(
-            (equal, n, cycles),
-            (160, 160, car_model[f as usize].0),
-            "{text}"
-        );
-        assert_eq!(reused, car_model[f as usize].1, "frame {f} reuse:\n{text}");
-    }
+    frames_equal_the_model("car", &text, &car_model);
     assert!(
         car_model[1].1 > 0,
         "the model reused nothing in the car's frame 1"
