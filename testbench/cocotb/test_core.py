@@ -292,6 +292,8 @@ async def frame_against_the_model(dut):
                 await w(f"{pre}.NMAT[{j}]", it.get(k, f"nmat_{e}"))
 
     for f in range(frames):
+        for k in stalls:
+            stalls[k] = 0                           # this frame's paused cycles
         expected = [pix[f].get(p, "word") for p in range(npix)]
         if corrupt.startswith("pixel:") and f == 0:
             expected[int(corrupt.split(":")[1])] ^= 1
