@@ -26,7 +26,8 @@ BUFFER_VALID 1; its tables from SVO_VECTORS1, `sim vectors --frame 1` of the sam
 the camera and the instances whose registers changed flagged dirty, or without it the same
 still frame again, nothing dirty), SVO_CORRUPT=pixel:N (flip
 bit 0 of pixel N's expected word) or cycles (one more expected cycle): exactly one failure.
-Prints failures (first 10), then "core: N passed, N failed".
+Before the frames, a START with a frame size of 0 must be refused (STATUS.ERROR 1, no BUSY, no
+DONE). Prints failures (first 10), then "core: N passed, N failed".
 """
 import json
 import logging
@@ -290,6 +291,17 @@ async def frame_against_the_model(dut):
             await w(f"{pre}.IMAGE", it.get(k, "image"))
             for j, e in enumerate(("xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz")):
                 await w(f"{pre}.NMAT[{j}]", it.get(k, f"nmat_{e}"))
+
+    # A refused START: a frame of 0 pixels sets STATUS.ERROR 1 and neither BUSY nor DONE.
+    await w("FRAME_SIZE", 0)
+    await w("CTRL", 0x1)
+    await ClockCycles(dut.clk, 4)
+    status = await r("STATUS")
+    if (status >> 8) & 0xF != 1 or status & 0x3:
+        b.fail(f"a START with frame size 0: STATUS {status:#x}, want ERROR 1, not BUSY, not DONE")
+    else:
+        b.passed += 1
+    await w("FRAME_SIZE", width | (height << 16))
 
     for f in range(frames):
         for k in stalls:
