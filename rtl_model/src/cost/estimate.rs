@@ -114,6 +114,7 @@ impl HwConfig {
         items.push(self.hit_buffer_item(dp));
         items.push(self.direction_table_item(dp));
         items.extend(self.node_memory_items());
+        items.extend(self.fifo_bram_items(dp));
         let used = items
             .iter()
             .fold(Resources::default(), |a, it| a.saturating_add(it.used));
@@ -178,6 +179,24 @@ impl HwConfig {
                 w.contexts_per_walker, w.stack_depth
             ),
         )
+    }
+
+    /// The FIFOs deep enough to be built in block RAM (`cost::structures::fifo_in_bram`);
+    /// their pointers and output registers are in the fabric estimate.
+    fn fifo_bram_items(&self, dp: &DatapathConfig) -> Vec<ResourceItem> {
+        crate::cost::structures::fifo_entries(self, dp)
+            .into_iter()
+            .filter(|&(_, depth, _)| crate::cost::structures::fifo_in_bram(depth))
+            .map(|(name, depth, bits)| {
+                let n = crate::cost::structures::fifo_bram36(depth, bits);
+                ResourceItem::new(
+                    name,
+                    1,
+                    Resources::bram36(n),
+                    format!("{depth} × {bits} bits, {n} BRAM36"),
+                )
+            })
+            .collect()
     }
 
     fn hit_buffer_item(&self, dp: &DatapathConfig) -> ResourceItem {

@@ -170,14 +170,43 @@ pub fn fifo_entries(hw: &HwConfig, dp: &DatapathConfig) -> Vec<(&'static str, u6
     ]
 }
 
-/// One FIFO of `depth` entries of `bits` bits: its storage in LUT-RAM ([`lutram_luts`]),
-/// the output register (`bits` FFs), read and write pointers and a count of ⌈log₂ D⌉ + 1
-/// bits each (3 of them in FFs, their increments and the full/empty compares in as many
-/// LUTs).
+/// The deepest FIFO kept in LUT-RAM. Yosys 0.23 `synth_xilinx -family xcup` maps `svo_fifo`
+/// (testbench/rtl) of 64 entries to RAM64M8 and of 128 entries and more to RAMB36E2, at 72
+/// and 546 bits alike (docs/cycle-model.md §1.5, "Structures"); so does the whole core's
+/// check_to_transform (1,024 × 546 bits: 15 RAMB36E2).
+pub const FIFO_LUTRAM_MAX_DEPTH: u64 = 64;
+
+/// Whether a FIFO of `depth` entries is built in block RAM rather than LUT-RAM.
+pub fn fifo_in_bram(depth: u64) -> bool {
+    depth > FIFO_LUTRAM_MAX_DEPTH
+}
+
+/// BRAM36 blocks of a FIFO of `depth` entries of `bits` bits ([`fifo_in_bram`]), the
+/// cheapest mix of block shapes (`units::hit_record::bram36_count`); 0 in LUT-RAM.
+pub fn fifo_bram36(depth: u64, bits: u64) -> u64 {
+    if fifo_in_bram(depth) {
+        crate::units::hit_record::bram36_count(u32::try_from(bits).unwrap_or(u32::MAX), depth)
+    } else {
+        0
+    }
+}
+
+/// The fabric of one FIFO of `depth` entries of `bits` bits. In LUT-RAM ([`lutram_luts`]):
+/// the storage, the output register (`bits` FFs), read and write pointers and a count of
+/// ⌈log₂ D⌉ + 1 bits each (3 of them in FFs, their increments and the full/empty compares in
+/// as many LUTs). In block RAM ([`fifo_in_bram`]; the blocks are [`fifo_bram36`]): the same
+/// output register and pointers, and a LUT per bit that selects the register's next value
+/// (Yosys's netlists of 128 and 256 entries × 546 bits: 603 and 634 LUTs, 569 and 572 FFs,
+/// against 570 and 573 by this formula).
 pub fn fifo_fabric(depth: u64, bits: u64) -> Fabric {
     let ptr = clog2(depth) + 1;
+    let storage = if fifo_in_bram(depth) {
+        bits
+    } else {
+        lutram_luts(depth, bits)
+    };
     Fabric {
-        lut: lutram_luts(depth, bits) + 3 * ptr,
+        lut: storage + 3 * ptr,
         ff: bits + 3 * ptr,
     }
 }
@@ -190,7 +219,14 @@ fn fifos(hw: &HwConfig, dp: &DatapathConfig) -> Vec<FabricItem> {
             instances: 1,
             per_instance: fifo_fabric(depth, bits),
             calibrated: false,
-            formula: format!("{depth} × {bits} bits in LUT-RAM, output register, pointers"),
+            formula: if fifo_in_bram(depth) {
+                format!(
+                    "{depth} × {bits} bits in {} BRAM36, output register and its select, pointers",
+                    fifo_bram36(depth, bits)
+                )
+            } else {
+                format!("{depth} × {bits} bits in LUT-RAM, output register, pointers")
+            },
         })
         .collect()
 }

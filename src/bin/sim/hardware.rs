@@ -8,8 +8,9 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use rtl_model::cost::timing;
 use rtl_model::cycle::hw_package::hardware_package;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use svo_sim::output::config_text::hardware_text;
 use svo_sim::output::writer::write_whole;
 use svo_sim::run::config_files::{load_datapath, load_hardware};
@@ -47,6 +48,26 @@ pub struct HardwareArgs {
     /// (testbench/README.md, "The hardware package").
     #[arg(long, value_name = "FILE", conflicts_with = "synth")]
     sv_package: Option<PathBuf>,
+    /// Print the logic levels of a mapped Yosys JSON netlist (from `synth_xilinx` or
+    /// `synth_ecp5`) by the clock rule instead: the slowest stages with the clock each
+    /// allows (testbench/synth/pnr_ecp5.sh sets it beside nextpnr's figure).
+    #[arg(long, value_name = "JSON", conflicts_with_all = ["synth", "sv_package"])]
+    levels: Option<PathBuf>,
+    /// With --levels: the netlist's top module.
+    #[arg(long, value_name = "MODULE", requires = "levels")]
+    top: Option<String>,
+    /// With --levels: the clock rule, `xcup-2` (UltraScale+ −2, the model's) or `ecp5-6`
+    /// (Lattice ECP5, speed grade 6).
+    #[arg(
+        long,
+        value_name = "NAME",
+        default_value = "xcup-2",
+        requires = "levels"
+    )]
+    rule: String,
+    /// With --levels: stages shown.
+    #[arg(long, value_name = "N", default_value_t = 8, requires = "levels")]
+    stages: usize,
     /// With --sv-package: the package's name.
     #[arg(
         long,
@@ -59,6 +80,9 @@ pub struct HardwareArgs {
 
 /// Runs `sim hardware`.
 pub fn hardware_command(a: HardwareArgs) -> Result<()> {
+    if let Some(json) = &a.levels {
+        return levels_command(json, a.top.as_deref(), &a.rule, a.stages);
+    }
     let hw = load_hardware(a.hw.as_deref())?;
     let dp = load_datapath(a.datapath.as_deref())?;
     if let Some(out) = &a.sv_package {
@@ -118,5 +142,28 @@ pub fn hardware_command(a: HardwareArgs) -> Result<()> {
             bad.join("; ")
         );
     }
+    Ok(())
+}
+
+/// `sim hardware --levels JSON --top MODULE --rule NAME`: the netlist's slowest stages.
+fn levels_command(json: &Path, top: Option<&str>, rule: &str, shown: usize) -> Result<()> {
+    let Some(top) = top else {
+        bail!("--levels needs --top MODULE (the netlist's top module)");
+    };
+    let Some(r) = timing::rule_named(rule) else {
+        let names: Vec<&str> = timing::RULES.iter().map(|r| r.name).collect();
+        bail!(
+            "--rule {rule}: no such clock rule (known: {})",
+            names.join(", ")
+        );
+    };
+    let text = std::fs::read_to_string(json)
+        .with_context(|| format!("reading the netlist {}", json.display()))?;
+    let stages = synthesis::netlist::stage_paths(&text, top, r)
+        .map_err(|m| anyhow::anyhow!("{}: {m}", json.display()))?;
+    print!(
+        "{}",
+        text::levels_text(&json.display().to_string(), top, &stages, &r, shown)
+    );
     Ok(())
 }

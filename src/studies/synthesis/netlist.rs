@@ -1,6 +1,7 @@
 //! Logic levels of a mapped netlist: the longest combinational path into every register of a
 //! unit, read from the JSON netlist Yosys writes after `synth_xilinx -family xcup`
-//! (`testbench/synth/synth.sh`), timed by the clock rule (`rtl_model::cost::timing`).
+//! (`testbench/synth/synth.sh`) or `synth_ecp5` (`testbench/synth/pnr_ecp5.sh`), timed by
+//! the clock rule of that part (`rtl_model::cost::timing`).
 //!
 //! Pipeline position: `sim hardware --synth` and `tests/synthesis_yosys.rs`, after the
 //! synthesis of a unit. The method: every register-like cell cuts paths — flip-flops, shift
@@ -11,7 +12,11 @@
 //! between them carry delay: a LUT (or inverter, or a LUT-RAM read from its address) one
 //! level with its net, a CARRY4 half an UltraScale+ CARRY8 segment, a MUXF7/8/9 its own. The
 //! path into each register is the slowest by the rule's delays; registers are grouped into
-//! stages by the RTL name of the net they drive.
+//! stages by the RTL name of the net they drive. ECP5's cells map the same way: LUT4 a LUT,
+//! CCU2C a carry cell (entered through its own LUT4 from any input but the carry in, which
+//! costs a LUT level there), PFUMX and L6MUX21 a MUXF, TRELLIS_DPR16X4 a LUT-RAM read from
+//! RAD; TRELLIS_FF, DP16KD and MULT18X18D cut paths (the multiplier as a DSP48E2 does: the
+//! rule's reading, which nextpnr does not share when the product's registers stay outside).
 
 use rtl_model::cost::timing::{ClockRule, PathLevels};
 use serde::Deserialize;
@@ -82,11 +87,15 @@ fn role(kind: &str) -> Role {
     let k = kind.trim_start_matches('\\');
     if k.starts_with("LUT") || k == "INV" {
         Role::Lut
-    } else if k.starts_with("CARRY") {
+    } else if k.starts_with("CARRY") || k.starts_with("CCU2") {
         Role::Carry
-    } else if k.starts_with("MUXF") {
+    } else if k.starts_with("MUXF") || k == "PFUMX" || k == "L6MUX21" {
         Role::Muxf
-    } else if k.starts_with("RAM32") || k.starts_with("RAM64") || k.starts_with("RAM128") {
+    } else if k.starts_with("RAM32")
+        || k.starts_with("RAM64")
+        || k.starts_with("RAM128")
+        || k.starts_with("TRELLIS_DPR16X4")
+    {
         Role::LutRam
     } else if k == "BUFG" {
         Role::Ignore
@@ -97,7 +106,13 @@ fn role(kind: &str) -> Role {
 }
 
 fn is_clock_pin(pin: &str) -> bool {
-    matches!(pin, "C" | "CLK" | "WCLK" | "CLKARDCLK" | "CLKBWRCLK")
+    // CLK, CLKARDCLK, CLKBWRCLK (UltraScale+); CLK, CLKA, CLKB, CLK0–3 (ECP5).
+    pin.starts_with("CLK") || matches!(pin, "C" | "WCLK" | "WCK")
+}
+
+/// A carry cell's pin that continues its chain.
+fn is_carry_in_pin(pin: &str) -> bool {
+    matches!(pin, "CI" | "CIN")
 }
 
 /// Arrival at a net bit: (delay in ps, the levels on the way).
@@ -122,8 +137,8 @@ impl Graph<'_> {
                 self.rule.lut_net_ps
             }
             Role::Carry => {
-                p.carry4 = 1;
-                self.rule.carry4_ps()
+                p.carry = 1;
+                self.rule.carry_cell_ps
             }
             Role::Muxf => {
                 p.muxf = 1;
@@ -152,25 +167,36 @@ impl Graph<'_> {
             let inputs = self.comb_inputs(ci);
             if !expanded {
                 stack.push((bit, true));
-                for i in inputs {
+                for (_, i) in inputs {
                     if !self.memo.contains_key(&i) {
                         stack.push((i, false));
                     }
                 }
                 continue;
             }
+            let (w, p) = self.weight(self.roles[ci]);
+            // A carry cell holding its own LUTs (ECP5's CCU2C) is entered through one of them
+            // from any input but the chain's: a LUT level with its net before the carry.
+            let entry = if self.roles[ci] == Role::Carry && self.rule.carry_holds_luts {
+                self.weight(Role::Lut)
+            } else {
+                (0, PathLevels::default())
+            };
             let mut best: Arrival = (0, PathLevels::default());
-            for i in inputs {
+            for (chain, i) in inputs {
                 // An input still unresolved here is on a combinational loop: it starts none.
-                let a = self.memo.get(&i).copied().unwrap_or_default();
+                let mut a = self.memo.get(&i).copied().unwrap_or_default();
+                if !chain {
+                    a.0 += entry.0;
+                    a.1.luts += entry.1.luts;
+                }
                 if a.0 > best.0 {
                     best = a;
                 }
             }
-            let (w, p) = self.weight(self.roles[ci]);
             let lv = PathLevels {
                 luts: best.1.luts + p.luts,
-                carry4: best.1.carry4 + p.carry4,
+                carry: best.1.carry + p.carry,
                 muxf: best.1.muxf + p.muxf,
             };
             self.memo.insert(bit, (best.0 + w, lv));
@@ -179,10 +205,11 @@ impl Graph<'_> {
     }
 
     /// Input bits of a combinational cell that its outputs depend on (a LUT-RAM's read
-    /// address only).
-    fn comb_inputs(&self, ci: usize) -> Vec<u64> {
+    /// address only), each with whether it is a carry cell's chain input.
+    fn comb_inputs(&self, ci: usize) -> Vec<(bool, u64)> {
         let c = self.cells[ci];
         let ram = self.roles[ci] == Role::LutRam;
+        let carry = self.roles[ci] == Role::Carry;
         let mut v = Vec::new();
         // Pins in name order: among inputs of equal delay the first wins, the same each run.
         let mut pins: Vec<(&String, &Vec<Bit>)> = c.connections.iter().collect();
@@ -191,11 +218,13 @@ impl Graph<'_> {
             if c.port_directions.get(pin).map(String::as_str) != Some("input") {
                 continue;
             }
-            if ram && !pin.starts_with("ADDR") {
+            // ADDRA–H (UltraScale+ RAM32M/RAM64M), RAD0–3 (ECP5 TRELLIS_DPR16X4).
+            if ram && !(pin.starts_with("ADDR") || pin.starts_with("RAD")) {
                 continue;
             }
+            let chain = carry && is_carry_in_pin(pin);
             v.extend(bits.iter().filter_map(|b| match b {
-                Bit::Net(n) => Some(*n),
+                Bit::Net(n) => Some((chain, *n)),
                 Bit::Const(_) => None,
             }));
         }
@@ -357,14 +386,74 @@ mod tests {
             s[0].path,
             PathLevels {
                 luts: 1,
-                carry4: 2,
+                carry: 2,
                 muxf: 0
             }
         );
-        assert_eq!(s[0].path.levels(), 2);
+        assert_eq!(r.levels(&s[0].path), 2);
         assert_eq!(s[0].ps, 150 + 300 + 450 + 2 * 50);
         let copy = s.iter().find(|p| p.stage == "copy_q").unwrap();
         assert_eq!(copy.path, PathLevels::default());
         assert!(stage_paths(NET, "nope", r).is_err());
+    }
+
+    /// ECP5: TRELLIS_FF → LUT4 → CCU2C (through its LUT input) → CCU2C (carry in) →
+    /// TRELLIS_FF; TRELLIS_FF → TRELLIS_DPR16X4 read (RAD0) → TRELLIS_FF; a MULT18X18D cuts.
+    const ECP5_NET: &str = r#"{"modules": {"t": {
+      "cells": {
+        "r0": {"type": "TRELLIS_FF", "port_directions": {"CLK": "input", "DI": "input", "Q": "output"},
+               "connections": {"CLK": [1], "DI": [2], "Q": [3]}},
+        "l":  {"type": "LUT4", "port_directions": {"A": "input", "B": "input", "C": "input", "D": "input", "Z": "output"},
+               "connections": {"A": [3], "B": ["0"], "C": ["0"], "D": ["0"], "Z": [4]}},
+        "c0": {"type": "CCU2C", "port_directions": {"A0": "input", "CIN": "input", "COUT": "output", "S0": "output"},
+               "connections": {"A0": [4], "CIN": ["0"], "COUT": [5], "S0": [9]}},
+        "c1": {"type": "CCU2C", "port_directions": {"A0": "input", "CIN": "input", "S0": "output"},
+               "connections": {"A0": ["0"], "CIN": [5], "S0": [6]}},
+        "r1": {"type": "TRELLIS_FF", "port_directions": {"CLK": "input", "DI": "input", "Q": "output"},
+               "connections": {"CLK": [1], "DI": [6], "Q": [7]}},
+        "m":  {"type": "TRELLIS_DPR16X4", "port_directions": {"RAD": "input", "WAD": "input", "DI": "input", "WRE": "input", "WCK": "input", "DO": "output"},
+               "connections": {"RAD": [3], "WAD": [3], "DI": [3], "WRE": [3], "WCK": [1], "DO": [10]}},
+        "r2": {"type": "TRELLIS_FF", "port_directions": {"CLK": "input", "DI": "input", "Q": "output"},
+               "connections": {"CLK": [1], "DI": [10], "Q": [11]}},
+        "x":  {"type": "MULT18X18D", "port_directions": {"A0": "input", "CLK0": "input", "P0": "output"},
+               "connections": {"A0": [6], "CLK0": [1], "P0": [12]}},
+        "r3": {"type": "TRELLIS_FF", "port_directions": {"CLK": "input", "DI": "input", "Q": "output"},
+               "connections": {"CLK": [1], "DI": [12], "Q": [13]}}
+      },
+      "netnames": {"\\sum_q": {"hide_name": 0, "bits": [7]},
+                   "\\ram_q": {"hide_name": 0, "bits": [11]},
+                   "\\prod": {"hide_name": 0, "bits": [12]},
+                   "\\prod_q": {"hide_name": 0, "bits": [13]}}
+    }}}"#;
+
+    #[test]
+    fn ecp5_cells_time_as_the_part_has_them() {
+        use rtl_model::cost::timing::ECP5_6;
+        let r = ECP5_6;
+        let s = stage_paths(ECP5_NET, "t", r).unwrap();
+        let get = |n: &str| s.iter().find(|p| p.stage == n).unwrap().clone();
+        // The LUT4, then the first CCU2C entered through its own LUT: two LUT levels and two
+        // carry cells; the second cell from the chain adds only its carry.
+        let sum = get("sum_q");
+        assert_eq!(
+            sum.path,
+            PathLevels {
+                luts: 2,
+                carry: 2,
+                muxf: 0
+            }
+        );
+        assert_eq!(sum.ps, 150 + 300 + 2 * 729 + 2 * 43);
+        assert_eq!(s[0].ps, sum.ps);
+        // The LUT-RAM read from its address: one level; its write side ends paths (the
+        // `m` stage), and its write clock is no data input.
+        assert_eq!(get("ram_q").path.luts, 1);
+        // The multiplier cuts: its input is a path end (from the carry chain), its output a
+        // path start (nothing between it and prod_q).
+        assert_eq!(get("prod").path, sum.path);
+        assert_eq!(get("prod_q").path, PathLevels::default());
+        // The same netlist by the UltraScale+ rule: a carry cell holds no LUT there.
+        let u = stage_paths(ECP5_NET, "t", ULTRASCALE_PLUS_2).unwrap();
+        assert_eq!(u[0].path.luts, 1);
     }
 }

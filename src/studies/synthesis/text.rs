@@ -109,7 +109,7 @@ pub fn synthesis_text(
         let worst = u.stages.first();
         let (levels, ns, fmax, ok) = match worst {
             Some(w) => (
-                w.path.levels().to_string(),
+                rule.levels(&w.path).to_string(),
                 format!("{:.2}", f64::from(w.ps) / 1000.0),
                 (1_000_000 / w.ps.max(1)).to_string(),
                 if rule.meets(&w.path, mhz) {
@@ -140,7 +140,9 @@ pub fn synthesis_text(
          register-to-register path; path ns by the clock rule: {} ps per LUT level with its net, \
          {} ps per CARRY8, {} ps per MUXF, {} ps clock-to-out + setup, {} ps margin (assumed; \
          docs/cycle-model.md §1.5)",
-        rule.lut_net_ps, rule.carry8_ps, rule.muxf_ps, rule.clk_to_out_setup_ps, rule.margin_ps
+        rule.lut_net_ps,
+        rule.carry_cell_ps * rule.carry_cells_per_level,
+        rule.muxf_ps, rule.clk_to_out_setup_ps, rule.margin_ps
     );
     let _ = writeln!(
         s,
@@ -156,7 +158,7 @@ pub fn synthesis_text(
                     "{} {}+{}+{} {:.2}",
                     p.stage,
                     p.path.luts,
-                    p.path.carry4.div_ceil(2),
+                    rule.carry_levels(&p.path),
                     p.path.muxf,
                     f64::from(p.ps) / 1000.0
                 )
@@ -204,5 +206,66 @@ pub fn synthesis_text(
         "// {} units, {cached} from the cache, {ran:.1} s of Yosys",
         units.len()
     );
+    s
+}
+
+/// The slowest stages of one netlist by `rule` (`sim hardware --levels`): per stage its
+/// registers' name, LUT / carry / MUXF levels, the path's delay and the clock it allows,
+/// slowest first, `shown` of them.
+pub fn levels_text(
+    netlist: &str,
+    top: &str,
+    stages: &[super::netlist::StagePath],
+    rule: &ClockRule,
+    shown: usize,
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "logic levels of `{top}` in {netlist} by the clock rule {} ({} ps per LUT level with \
+         its net, {} ps per carry cell, {} ps per MUXF, {} ps clock-to-out + setup, {} ps \
+         margin; rtl_model::cost::timing):",
+        rule.name,
+        rule.lut_net_ps,
+        rule.carry_cell_ps,
+        rule.muxf_ps,
+        rule.clk_to_out_setup_ps,
+        rule.margin_ps
+    );
+    let _ = writeln!(
+        s,
+        "  {:<32} {:>5} {:>6} {:>5} {:>7} {:>8} {:>9}",
+        "stage (registers)", "LUT", "carry", "MUXF", "levels", "path ns", "fmax MHz"
+    );
+    for p in stages.iter().take(shown) {
+        let _ = writeln!(
+            s,
+            "  {:<32} {:>5} {:>6} {:>5} {:>7} {:>8.2} {:>9.1}",
+            p.stage,
+            p.path.luts,
+            p.path.carry,
+            p.path.muxf,
+            rule.levels(&p.path),
+            f64::from(p.ps) / 1000.0,
+            1.0e6 / f64::from(p.ps.max(1))
+        );
+    }
+    match stages.first() {
+        Some(w) => {
+            let _ = writeln!(
+                s,
+                "fmax by the rule: {:.1} MHz ({} of {} stages shown)",
+                1.0e6 / f64::from(w.ps.max(1)),
+                stages.len().min(shown),
+                stages.len()
+            );
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "no register-to-register path: no logic between registers"
+            );
+        }
+    }
     s
 }
