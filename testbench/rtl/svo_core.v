@@ -61,7 +61,9 @@ module svo_core #(
     parameter D_WK_RC  = 16,
     parameter D_RC_WR  = 8,
     parameter DIR_FIXED = 0,                      // dir_f64 holds sQ2.30 codes (svo_raygen)
-    parameter RECIP_SEED_FILE = ""                // reciprocal seed ROM file ("": the bench loads it)
+    parameter RECIP_SEED_FILE = "",               // reciprocal seed ROM file ("": the bench loads it)
+    parameter CONTEXTS = 1,                       // walker_pool.contexts_per_walker (one walker)
+    parameter CW       = CONTEXTS > 1 ? $clog2(CONTEXTS) : 1
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -129,7 +131,10 @@ module svo_core #(
     output wire                    ev_bank_conflict,
     output wire                    err_pipe,
     output wire                    err_overflow,
-    output wire                    err_pixel
+    output wire                    err_pixel,
+    // the node memory's context of a read: a response carries its read's (any order)
+    output wire [CW-1:0]           mem_req_ctx,
+    input  wire [CW-1:0]           mem_resp_ctx
 );
     localparam PAYW = 96 + 6 + LANES * 40;
     localparam SO_CW = 6;
@@ -185,7 +190,7 @@ module svo_core #(
         .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
         .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
         .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
-        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE))
+        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .CONTEXTS(CONTEXTS), .CW(CW))
     u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .inst_axes(inst_axes), .inst_c(inst_c),
         .inst_half(inst_half), .inst_node_base(inst_node_base),
         .inst_attr_base(inst_attr_base), .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
@@ -197,7 +202,8 @@ module svo_core #(
         .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
         .rec_pixel(rec_pixel), .rec_word(rec_word), .done_valid(done_valid),
         .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
-        .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov));
+        .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
+        .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx));
 
     assign err_pipe = fr_err_pipe || wk_err_pipe;
     assign err_overflow = fr_err_ov || wk_err_ov;

@@ -139,12 +139,60 @@ module svo_top
     localparam int SLOT_BITS = 128;
 
     // What this top builds by structure; a package it cannot follow does not elaborate.
+    localparam int CONTEXTS = WALKER_POOL_CONTEXTS_PER_WALKER;
+    localparam int CW = CONTEXTS > 1 ? $clog2(CONTEXTS) : 1;
     generate
-        if (WALKER_POOL_WALKERS != 1 || WALKER_POOL_CONTEXTS_PER_WALKER != 1
-            || TRANSFORM_UNITS != 1 || RECIPROCAL_UNITS != 3 || WALKER_ROOT_UNITS != 1
+        if (TRANSFORM_UNITS != 1 || RECIPROCAL_UNITS != 3 || WALKER_ROOT_UNITS != 1
             || HIT_BUFFER_PRESENT == 0 || LANES > 8 || LANES > SORTER_LANES
             || UNITS_SORTER_LATENCY_CYCLES != SORTER_NET_DEPTH) begin : unsupported_hardware
-            svo_top_builds_one_walker_of_one_context_up_to_8_lanes_and_the_models_sorter bad();
+            svo_top_builds_one_walk_lane_up_to_8_lanes_and_the_models_sorter bad();
+        end
+        // The walker pool: one walker of 1..16 contexts (svo_walker_pool), one request port,
+        // one slot a cycle, the package's step latency and stack.
+        if (WALKER_POOL_WALKERS != 1) begin : unsupported_walkers
+            svo_top_builds_walker_pool_walkers_1 bad();
+        end
+        if (CONTEXTS < 1 || CONTEXTS > 16) begin : unsupported_contexts
+            svo_top_builds_walker_pool_contexts_per_walker_1_to_16 bad();
+        end
+        if (WALKER_POOL_READ_PORTS != 1 && !(WALKER_POOL_READ_PORTS == 0 && CONTEXTS == 1))
+        begin : unsupported_read_ports
+            svo_top_builds_walker_pool_read_ports_1 bad();
+        end
+        if (WALKER_POOL_STEP_CYCLES != 1) begin : unsupported_step_cycles
+            svo_top_builds_walker_pool_step_cycles_1 bad();
+        end
+        if (WALKER_POOL_STEP_LATENCY_CYCLES != STEP_LATENCY) begin : unsupported_step_latency
+            svo_top_walker_pool_step_latency_cycles_differs_from_STEP_LATENCY bad();
+        end
+        if (WALKER_POOL_STACK_DEPTH != STACK_DEPTH) begin : unsupported_stack_depth
+            svo_top_walker_pool_stack_depth_differs_from_STACK_DEPTH bad();
+        end
+        // The node memory behind m_axi_* answers every read in one fixed latency, in order;
+        // with several contexts two attribute reads can overlap, and the pool merges them as
+        // the model's MSHRs do only for uncached 8-byte attribute lines (svo_walker_pool.v).
+        // The fixed latency is the bench's (the on-chip store's, and the DRAM's plus its beat).
+        if (CONTEXTS > 1 && NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_attr_cached
+            svo_top_with_several_contexts_needs_node_memory_cache_attr_cached_false bad();
+        end
+        if (CONTEXTS > 1 && NODE_MEMORY_CACHE_LINE_BYTES != 8) begin : unsupported_line_bytes
+            svo_top_with_several_contexts_needs_node_memory_cache_line_bytes_8 bad();
+        end
+        if (CONTEXTS > 1 && !NODE_MEMORY_DRAM_BACKEND_IS_BUILTIN) begin : unsupported_backend
+            svo_top_with_several_contexts_needs_node_memory_dram_backend_BuiltIn bad();
+        end
+        if (NODE_MEMORY_CACHE_ATTR_CACHED
+            && NODE_MEMORY_CACHE_HIT_LATENCY != NODE_MEMORY_ONCHIP_LATENCY)
+        begin : unsupported_hit_latency
+            svo_top_needs_node_memory_cache_hit_latency_equal_to_onchip_latency bad();
+        end
+        if (NODE_MEMORY_CACHE_LINE_BYTES > NODE_MEMORY_DRAM_BYTES_PER_CYCLE)
+        begin : unsupported_line_beats
+            svo_top_needs_node_memory_cache_line_bytes_within_dram_bytes_per_cycle bad();
+        end
+        if (NODE_MEMORY_DRAM_LATENCY + 1 != NODE_MEMORY_ONCHIP_LATENCY)
+        begin : unsupported_dram_latency
+            svo_top_needs_node_memory_dram_latency_plus_1_equal_to_onchip_latency bad();
         end
         if (DIR_BURST < 1 || DIR_BURST > 256 || DIR_DEPTH < DIR_BURST) begin : bad_dir_fifo
             svo_top_DIR_DEPTH_must_hold_a_burst bad();
@@ -370,11 +418,23 @@ module svo_top
     wire dir_valid = dir_count != '0;
 
     // ---------------------------------------------------------------- node memory
-    logic rd_out, rd_attr, rd_hi;
+    // Reads in flight, in order (one AXI ID): each context has at most one read out, so a
+    // FIFO of CONTEXTS entries ({context, attribute, upper word}) names each response's
+    // context.
+    localparam int RQ = CONTEXTS;
+    localparam int RQW = RQ > 1 ? $clog2(RQ) : 1;
+    logic [CW+1:0] rq [RQ];
+    logic [RQW-1:0] rq_wr, rq_rd;
+    logic [$clog2(RQ + 1)-1:0] rq_n;
     wire mem_req_valid, mem_req_attr;
     wire [31:0] mem_req_addr;
+    wire [CW-1:0] mem_req_ctx;
     wire r_done = m_axi_rvalid && m_axi_rlast;
-    wire rd_free = !rd_out || r_done;
+    wire rd_out = rq_n != '0;
+    wire rd_free = rq_n != ($clog2(RQ + 1))'(RQ) || r_done;
+    wire [CW+1:0] rq_head = rq[rq_rd];
+    wire rd_attr = rq_head[1];
+    wire rd_hi = rq_head[0];
     assign m_axi_rready = 1'b1;               // the walker takes its read when it arrives
     assign m_axi_arvalid = mem_req_valid && rd_free;
     assign m_axi_araddr = mem_req_attr ? ADDR_W'({mem_req_addr, 3'b000}) : ADDR_W'({mem_req_addr, 2'b00});
@@ -386,19 +446,22 @@ module svo_top
     assign m_axi_arcache = 4'b0011;
     wire mem_req_ready = m_axi_arready && rd_free;
     wire mem_resp_valid = m_axi_rvalid;
+    wire [CW-1:0] mem_resp_ctx = rq_head[CW+1:2];
     wire [63:0] mem_resp_data = rd_attr ? m_axi_rdata
                                         : {32'd0, rd_hi ? m_axi_rdata[63:32] : m_axi_rdata[31:0]};
+    wire ar_take = m_axi_arvalid && m_axi_arready;
     always_ff @(posedge clk) begin
+        if (ar_take) rq[rq_wr] <= {mem_req_ctx, mem_req_attr, mem_req_addr[0]};
         if (rst || core_rst) begin
-            rd_out <= 1'b0;
+            rq_n <= '0;
+            rq_wr <= '0;
+            rq_rd <= '0;
             rd_err <= 1'b0;
         end else begin
             rd_err <= m_axi_rvalid && m_axi_rresp[1];
-            if (m_axi_arvalid && m_axi_arready) begin
-                rd_out <= 1'b1;
-                rd_attr <= mem_req_attr;
-                rd_hi <= mem_req_addr[0];
-            end else if (r_done) rd_out <= 1'b0;
+            if (ar_take) rq_wr <= rq_wr == RQW'(RQ - 1) ? '0 : rq_wr + 1'b1;
+            if (r_done) rq_rd <= rq_rd == RQW'(RQ - 1) ? '0 : rq_rd + 1'b1;
+            rq_n <= rq_n + ($clog2(RQ + 1))'(ar_take) - ($clog2(RQ + 1))'(r_done);
         end
     end
 
@@ -426,7 +489,8 @@ module svo_top
         .D_SO_CK(FIFOS_SORTER_TO_CHECK), .D_CK_TR(FIFOS_CHECK_TO_TRANSFORM),
         .D_TR_RC(FIFOS_TRANSFORM_TO_RECIPROCAL), .D_RC_RT(FIFOS_RECIPROCAL_TO_ROOT),
         .D_RT_DP(FIFOS_ROOT_TO_DISPATCH), .D_WK_RC(FIFOS_WALKER_TO_RECORD),
-        .D_RC_WR(FIFOS_RECORD_TO_WRITE), .DIR_FIXED(1), .RECIP_SEED_FILE(RECIP_SEED_FILE))
+        .D_RC_WR(FIFOS_RECORD_TO_WRITE), .DIR_FIXED(1), .RECIP_SEED_FILE(RECIP_SEED_FILE),
+        .CONTEXTS(CONTEXTS), .CW(CW))
     u_core (.clk(clk), .rst(rst || core_rst), .run(run), .npix(npix), .dir_pixel(),
         .dir_f64({96'd0, dir_mem[dir_rd]}), .dir_valid(dir_valid), .dir_take(dir_take),
         .origin_f64('0), .cam_o(cam_o), .inst_c(inst_c), .inst_threshold(inst_threshold),
@@ -447,7 +511,7 @@ module svo_top
         .done_hit(done_hit), .done_t(), .done_voxel(),
         .ev_reused(ev_reused), .ev_write_stall(ev_write_stall), .ev_walk_stall(ev_walk_stall),
         .ev_bank_conflict(), .err_pipe(err_pipe), .err_overflow(err_overflow),
-        .err_pixel(err_pixel));
+        .err_pixel(err_pixel), .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx));
     /* verilator lint_on PINCONNECTEMPTY */
 
     // ---------------------------------------------------------------- the pixel stream
