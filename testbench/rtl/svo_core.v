@@ -62,8 +62,9 @@ module svo_core #(
     parameter D_RC_WR  = 8,
     parameter DIR_FIXED = 0,                      // dir_f64 holds sQ2.30 codes (svo_raygen)
     parameter RECIP_SEED_FILE = "",               // reciprocal seed ROM file ("": the bench loads it)
-    parameter CONTEXTS = 1,                       // walker_pool.contexts_per_walker (one walker)
-    parameter CW       = CONTEXTS > 1 ? $clog2(CONTEXTS) : 1
+    parameter CONTEXTS = 1,                       // walker_pool.contexts_per_walker
+    parameter WALKERS  = 1,                       // walker_pool.walkers: a node-memory port each
+    parameter CW       = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -95,13 +96,13 @@ module svo_core #(
     input  wire [LANES-1:0]        instance_dirty,
     input  wire [71:0]             miss_word,
     input  wire                    wr_hold,
-    // node memory
-    output wire                    mem_req_valid,
-    input  wire                    mem_req_ready,
-    output wire                    mem_req_attr,
-    output wire [31:0]             mem_req_addr,
-    input  wire                    mem_resp_valid,
-    input  wire [63:0]             mem_resp_data,
+    // node memory: one read port per walker (svo_walk)
+    output wire [WALKERS-1:0]      mem_req_valid,
+    input  wire [WALKERS-1:0]      mem_req_ready,
+    output wire [WALKERS-1:0]      mem_req_attr,
+    output wire [WALKERS*32-1:0]   mem_req_addr,
+    input  wire [WALKERS-1:0]      mem_resp_valid,
+    input  wire [WALKERS*64-1:0]   mem_resp_data,
     // the pixel stream: the hit buffer's writes
     output wire                    wr_valid,
     output wire [PIXW-1:0]         wr_pixel,
@@ -133,8 +134,8 @@ module svo_core #(
     output wire                    err_overflow,
     output wire                    err_pixel,
     // the node memory's context of a read: a response carries its read's (any order)
-    output wire [CW-1:0]           mem_req_ctx,
-    input  wire [CW-1:0]           mem_resp_ctx
+    output wire [WALKERS*CW-1:0]   mem_req_ctx,
+    input  wire [WALKERS*CW-1:0]   mem_resp_ctx
 );
     localparam PAYW = 96 + 6 + LANES * 40;
     localparam SO_CW = 6;
@@ -190,7 +191,8 @@ module svo_core #(
         .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
         .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
         .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
-        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .CONTEXTS(CONTEXTS), .CW(CW))
+        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS),
+        .CW(CW))
     u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .inst_axes(inst_axes), .inst_c(inst_c),
         .inst_half(inst_half), .inst_node_base(inst_node_base),
         .inst_attr_base(inst_attr_base), .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),

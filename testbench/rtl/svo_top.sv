@@ -90,21 +90,23 @@ module svo_top
     output logic [31:0]      s_axil_rdata,
     output logic [1:0]       s_axil_rresp,
     // AXI4 read master: node memory
-    output logic             m_axi_arvalid,
-    input  wire              m_axi_arready,
-    output logic [ADDR_W-1:0] m_axi_araddr,
-    output logic [0:0]       m_axi_arid,
-    output logic [7:0]       m_axi_arlen,
-    output logic [2:0]       m_axi_arsize,
-    output logic [1:0]       m_axi_arburst,
-    output logic [2:0]       m_axi_arprot,
-    output logic [3:0]       m_axi_arcache,
-    input  wire              m_axi_rvalid,
-    output logic             m_axi_rready,
-    input  wire [63:0]       m_axi_rdata,
-    input  wire [0:0]        m_axi_rid,
-    input  wire [1:0]        m_axi_rresp,
-    input  wire              m_axi_rlast,
+    // AXI4 read masters for the node memory: one per walker (walker w on bits [w]; for one
+    // walker a plain AXI4 read master)
+    output logic [WALKER_POOL_WALKERS-1:0]        m_axi_arvalid,
+    input  wire  [WALKER_POOL_WALKERS-1:0]        m_axi_arready,
+    output logic [WALKER_POOL_WALKERS*ADDR_W-1:0] m_axi_araddr,
+    output logic [WALKER_POOL_WALKERS-1:0]        m_axi_arid,
+    output logic [WALKER_POOL_WALKERS*8-1:0]      m_axi_arlen,
+    output logic [WALKER_POOL_WALKERS*3-1:0]      m_axi_arsize,
+    output logic [WALKER_POOL_WALKERS*2-1:0]      m_axi_arburst,
+    output logic [WALKER_POOL_WALKERS*3-1:0]      m_axi_arprot,
+    output logic [WALKER_POOL_WALKERS*4-1:0]      m_axi_arcache,
+    input  wire  [WALKER_POOL_WALKERS-1:0]        m_axi_rvalid,
+    output logic [WALKER_POOL_WALKERS-1:0]        m_axi_rready,
+    input  wire  [WALKER_POOL_WALKERS*64-1:0]     m_axi_rdata,
+    input  wire  [WALKER_POOL_WALKERS-1:0]        m_axi_rid,
+    input  wire  [WALKER_POOL_WALKERS*2-1:0]      m_axi_rresp,
+    input  wire  [WALKER_POOL_WALKERS-1:0]        m_axi_rlast,
     // AXI4 read master: the direction table
     output logic             m_axi_dir_arvalid,
     input  wire              m_axi_dir_arready,
@@ -140,7 +142,8 @@ module svo_top
 
     // What this top builds by structure; a package it cannot follow does not elaborate.
     localparam int CONTEXTS = WALKER_POOL_CONTEXTS_PER_WALKER;
-    localparam int CW = CONTEXTS > 1 ? $clog2(CONTEXTS) : 1;
+    localparam int WALKERS = WALKER_POOL_WALKERS;
+    localparam int CW = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1;
     generate
         if (TRANSFORM_UNITS != 1 || RECIPROCAL_UNITS != 3 || WALKER_ROOT_UNITS != 1
             || HIT_BUFFER_PRESENT == 0 || LANES > 8 || LANES > SORTER_LANES
@@ -149,11 +152,23 @@ module svo_top
         end
         // The walker pool: one walker of 1..16 contexts (svo_walker_pool), one request port,
         // one slot a cycle, the package's step latency and stack.
-        if (WALKER_POOL_WALKERS != 1) begin : unsupported_walkers
-            svo_top_builds_walker_pool_walkers_1 bad();
+        if (WALKERS < 1 || WALKERS > 16) begin : unsupported_walkers
+            svo_top_builds_walker_pool_walkers_1_to_16 bad();
         end
-        if (CONTEXTS < 1 || CONTEXTS > 16) begin : unsupported_contexts
-            svo_top_builds_walker_pool_contexts_per_walker_1_to_16 bad();
+        if (CONTEXTS < 1 || CONTEXTS > 16 || WALKERS * CONTEXTS > 64) begin : unsupported_contexts
+            svo_top_builds_walker_pool_contexts_per_walker_1_to_16_and_64_in_all bad();
+        end
+        // Several walkers send up to WALKERS reads a cycle: the model must serve every one in
+        // its cycle, as the fixed-latency masters do (no bank, lookup port or DRAM cycle waits).
+        if (WALKERS > 1 && NODE_MEMORY_ONCHIP_PORTS_PER_BANK < WALKERS) begin : unsupported_bank_ports
+            svo_top_with_several_walkers_needs_node_memory_onchip_ports_per_bank_of_walkers bad();
+        end
+        if (WALKERS > 1 && NODE_MEMORY_CACHE_PORTS < WALKERS) begin : unsupported_cache_ports
+            svo_top_with_several_walkers_needs_node_memory_cache_ports_of_walkers bad();
+        end
+        if (NODE_MEMORY_CACHE_LINE_BYTES * WALKERS > NODE_MEMORY_DRAM_BYTES_PER_CYCLE)
+        begin : unsupported_dram_bus
+            svo_top_needs_node_memory_dram_bytes_per_cycle_of_walkers_lines bad();
         end
         if (WALKER_POOL_READ_PORTS != 1 && !(WALKER_POOL_READ_PORTS == 0 && CONTEXTS == 1))
         begin : unsupported_read_ports
@@ -172,23 +187,19 @@ module svo_top
         // with several contexts two attribute reads can overlap, and the pool merges them as
         // the model's MSHRs do only for uncached 8-byte attribute lines (svo_walker_pool.v).
         // The fixed latency is the bench's (the on-chip store's, and the DRAM's plus its beat).
-        if (CONTEXTS > 1 && NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_attr_cached
+        if (WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_attr_cached
             svo_top_with_several_contexts_needs_node_memory_cache_attr_cached_false bad();
         end
-        if (CONTEXTS > 1 && NODE_MEMORY_CACHE_LINE_BYTES != 8) begin : unsupported_line_bytes
+        if (WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_LINE_BYTES != 8) begin : unsupported_line_bytes
             svo_top_with_several_contexts_needs_node_memory_cache_line_bytes_8 bad();
         end
-        if (CONTEXTS > 1 && !NODE_MEMORY_DRAM_BACKEND_IS_BUILTIN) begin : unsupported_backend
+        if (WALKERS * CONTEXTS > 1 && !NODE_MEMORY_DRAM_BACKEND_IS_BUILTIN) begin : unsupported_backend
             svo_top_with_several_contexts_needs_node_memory_dram_backend_BuiltIn bad();
         end
         if (NODE_MEMORY_CACHE_ATTR_CACHED
             && NODE_MEMORY_CACHE_HIT_LATENCY != NODE_MEMORY_ONCHIP_LATENCY)
         begin : unsupported_hit_latency
             svo_top_needs_node_memory_cache_hit_latency_equal_to_onchip_latency bad();
-        end
-        if (NODE_MEMORY_CACHE_LINE_BYTES > NODE_MEMORY_DRAM_BYTES_PER_CYCLE)
-        begin : unsupported_line_beats
-            svo_top_needs_node_memory_cache_line_bytes_within_dram_bytes_per_cycle bad();
         end
         if (NODE_MEMORY_DRAM_LATENCY + 1 != NODE_MEMORY_ONCHIP_LATENCY)
         begin : unsupported_dram_latency
@@ -418,52 +429,63 @@ module svo_top
     wire dir_valid = dir_count != '0;
 
     // ---------------------------------------------------------------- node memory
-    // Reads in flight, in order (one AXI ID): each context has at most one read out, so a
-    // FIFO of CONTEXTS entries ({context, attribute, upper word}) names each response's
-    // context.
+    // One AXI4 read master per walker (its request port). Reads in flight, in order (one AXI
+    // ID): each context has at most one read out, so per master a FIFO of CONTEXTS entries
+    // ({context, attribute, upper word}) names each response's context.
+    localparam int NW = WALKERS;
     localparam int RQ = CONTEXTS;
     localparam int RQW = RQ > 1 ? $clog2(RQ) : 1;
-    logic [CW+1:0] rq [RQ];
-    logic [RQW-1:0] rq_wr, rq_rd;
-    logic [$clog2(RQ + 1)-1:0] rq_n;
-    wire mem_req_valid, mem_req_attr;
-    wire [31:0] mem_req_addr;
-    wire [CW-1:0] mem_req_ctx;
-    wire r_done = m_axi_rvalid && m_axi_rlast;
-    wire rd_out = rq_n != '0;
-    wire rd_free = rq_n != ($clog2(RQ + 1))'(RQ) || r_done;
-    wire [CW+1:0] rq_head = rq[rq_rd];
-    wire rd_attr = rq_head[1];
-    wire rd_hi = rq_head[0];
-    assign m_axi_rready = 1'b1;               // the walker takes its read when it arrives
-    assign m_axi_arvalid = mem_req_valid && rd_free;
-    assign m_axi_araddr = mem_req_attr ? ADDR_W'({mem_req_addr, 3'b000}) : ADDR_W'({mem_req_addr, 2'b00});
-    assign m_axi_arsize = mem_req_attr ? 3'd3 : 3'd2;
-    assign m_axi_arlen = 8'd0;
-    assign m_axi_arid = '0;
-    assign m_axi_arburst = 2'b01;
-    assign m_axi_arprot = 3'b000;
-    assign m_axi_arcache = 4'b0011;
-    wire mem_req_ready = m_axi_arready && rd_free;
-    wire mem_resp_valid = m_axi_rvalid;
-    wire [CW-1:0] mem_resp_ctx = rq_head[CW+1:2];
-    wire [63:0] mem_resp_data = rd_attr ? m_axi_rdata
-                                        : {32'd0, rd_hi ? m_axi_rdata[63:32] : m_axi_rdata[31:0]};
-    wire ar_take = m_axi_arvalid && m_axi_arready;
-    always_ff @(posedge clk) begin
-        if (ar_take) rq[rq_wr] <= {mem_req_ctx, mem_req_attr, mem_req_addr[0]};
-        if (rst || core_rst) begin
-            rq_n <= '0;
-            rq_wr <= '0;
-            rq_rd <= '0;
-            rd_err <= 1'b0;
-        end else begin
-            rd_err <= m_axi_rvalid && m_axi_rresp[1];
-            if (ar_take) rq_wr <= rq_wr == RQW'(RQ - 1) ? '0 : rq_wr + 1'b1;
-            if (r_done) rq_rd <= rq_rd == RQW'(RQ - 1) ? '0 : rq_rd + 1'b1;
-            rq_n <= rq_n + ($clog2(RQ + 1))'(ar_take) - ($clog2(RQ + 1))'(r_done);
+    localparam int RQC = $clog2(RQ + 1);
+    wire [NW-1:0] mem_req_valid, mem_req_attr, mem_req_ready, mem_resp_valid;
+    wire [NW*32-1:0] mem_req_addr;
+    wire [NW*CW-1:0] mem_req_ctx, mem_resp_ctx;
+    wire [NW*64-1:0] mem_resp_data;
+    wire [NW-1:0] rd_out, rd_resp_err;
+    genvar gm;
+    generate
+        for (gm = 0; gm < NW; gm = gm + 1) begin : node_port
+            logic [CW+1:0] rq [RQ];
+            logic [RQW-1:0] rq_wr, rq_rd;
+            logic [RQC-1:0] rq_n;
+            wire r_done = m_axi_rvalid[gm] && m_axi_rlast[gm];
+            wire rd_free = rq_n != RQC'(RQ) || r_done;
+            wire [CW+1:0] rq_head = rq[rq_rd];
+            wire rd_attr = rq_head[1];
+            wire rd_hi = rq_head[0];
+            wire [31:0] a = mem_req_addr[gm*32 +: 32];
+            wire [63:0] d = m_axi_rdata[gm*64 +: 64];
+            assign rd_out[gm] = rq_n != '0;
+            assign rd_resp_err[gm] = m_axi_rvalid[gm] && m_axi_rresp[gm*2 + 1];
+            assign m_axi_rready[gm] = 1'b1;      // the walker takes its read when it arrives
+            assign m_axi_arvalid[gm] = mem_req_valid[gm] && rd_free;
+            assign m_axi_araddr[gm*ADDR_W +: ADDR_W] = mem_req_attr[gm] ? ADDR_W'({a, 3'b000})
+                                                                        : ADDR_W'({a, 2'b00});
+            assign m_axi_arsize[gm*3 +: 3] = mem_req_attr[gm] ? 3'd3 : 3'd2;
+            assign m_axi_arlen[gm*8 +: 8] = 8'd0;
+            assign m_axi_arid[gm] = 1'b0;
+            assign m_axi_arburst[gm*2 +: 2] = 2'b01;
+            assign m_axi_arprot[gm*3 +: 3] = 3'b000;
+            assign m_axi_arcache[gm*4 +: 4] = 4'b0011;
+            assign mem_req_ready[gm] = m_axi_arready[gm] && rd_free;
+            assign mem_resp_valid[gm] = m_axi_rvalid[gm];
+            assign mem_resp_ctx[gm*CW +: CW] = rq_head[CW+1:2];
+            assign mem_resp_data[gm*64 +: 64] = rd_attr ? d : {32'd0, rd_hi ? d[63:32] : d[31:0]};
+            wire ar_take = m_axi_arvalid[gm] && m_axi_arready[gm];
+            always_ff @(posedge clk) begin
+                if (ar_take) rq[rq_wr] <= {mem_req_ctx[gm*CW +: CW], mem_req_attr[gm], a[0]};
+                if (rst || core_rst) begin
+                    rq_n <= '0;
+                    rq_wr <= '0;
+                    rq_rd <= '0;
+                end else begin
+                    if (ar_take) rq_wr <= rq_wr == RQW'(RQ - 1) ? '0 : rq_wr + 1'b1;
+                    if (r_done) rq_rd <= rq_rd == RQW'(RQ - 1) ? '0 : rq_rd + 1'b1;
+                    rq_n <= rq_n + RQC'(ar_take) - RQC'(r_done);
+                end
+            end
         end
-    end
+    endgenerate
+    always_ff @(posedge clk) rd_err <= !(rst || core_rst) && |rd_resp_err;
 
     // ---------------------------------------------------------------- the core
     wire wr_valid, wr_direct, wr1_valid, wr2_valid, done_valid, done_hit;
@@ -490,7 +512,7 @@ module svo_top
         .D_TR_RC(FIFOS_TRANSFORM_TO_RECIPROCAL), .D_RC_RT(FIFOS_RECIPROCAL_TO_ROOT),
         .D_RT_DP(FIFOS_ROOT_TO_DISPATCH), .D_WK_RC(FIFOS_WALKER_TO_RECORD),
         .D_RC_WR(FIFOS_RECORD_TO_WRITE), .DIR_FIXED(1), .RECIP_SEED_FILE(RECIP_SEED_FILE),
-        .CONTEXTS(CONTEXTS), .CW(CW))
+        .CONTEXTS(CONTEXTS), .WALKERS(WALKERS), .CW(CW))
     u_core (.clk(clk), .rst(rst || core_rst), .run(run), .npix(npix), .dir_pixel(),
         .dir_f64({96'd0, dir_mem[dir_rd]}), .dir_valid(dir_valid), .dir_take(dir_take),
         .origin_f64('0), .cam_o(cam_o), .inst_c(inst_c), .inst_threshold(inst_threshold),
@@ -566,10 +588,10 @@ module svo_top
             if (done_valid) c_walks <= c_walks + 64'(done_walks);
             c_walk_stall <= c_walk_stall + 64'(ev_walk_stall);
             c_write_stall <= c_write_stall + 64'(ev_write_stall);
-            c_mem_stall <= c_mem_stall + 64'(rd_out || (mem_req_valid && !mem_req_ready));
+            c_mem_stall <= c_mem_stall + 64'(|rd_out || |(mem_req_valid & ~mem_req_ready));
             c_dir_stall <= c_dir_stall + 64'(!dir_valid && dir_taken < npix);
             c_out_stall <= c_out_stall + 64'(wr_hold);
-            c_reads <= c_reads + 64'(m_axi_arvalid && m_axi_arready);
+            c_reads <= c_reads + 64'($countones(m_axi_arvalid & m_axi_arready));
             c_reused <= c_reused + 64'(ev_reused);
         end
     end
@@ -593,7 +615,7 @@ module svo_top
 
     /* verilator lint_off UNUSEDSIGNAL */
     wire unused = &{1'b0, wr_direct, done_pixel, done_hit, m_axi_rid, m_axi_dir_rid,
-                    m_axi_rresp[0], m_axi_dir_rresp[0], m_axi_dir_rlast, m_axi_dir_rdata[127:96]};
+                    m_axi_rresp, m_axi_dir_rresp[0], m_axi_dir_rlast, m_axi_dir_rdata[127:96]};
     /* verilator lint_on UNUSEDSIGNAL */
 endmodule
 `default_nettype wire

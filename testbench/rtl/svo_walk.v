@@ -31,9 +31,9 @@
 // (never expected: it has one entry per slot), or a node read's response for a context with
 // no read out.
 //
-// The walker is svo_walker_pool: one walker of CONTEXTS contexts (R context engines behind
-// one issue grant and one request port; see its header), the model's walker pool with
-// walkers 1. Sticky `err_overflow`: a transform, reciprocal
+// The walkers are svo_walker_pool: WALKERS walkers of CONTEXTS contexts (context engines
+// behind one issue grant and one request port per walker; see its header), the model's
+// walker pool with its dispatcher. Sticky `err_overflow`: a transform, reciprocal
 // or pack overflow flag (the datapath saturated, which the model counts: reported). Reciprocal seed ROMs: recip[k].u_recip.rom,
 // loaded by the host as for svo_reciprocal.
 `timescale 1ns/1ps
@@ -62,8 +62,9 @@ module svo_walk #(
     parameter D_RT_DP   = 64,
     parameter D_WK_RC   = 16,
     parameter RECIP_SEED_FILE = "",            // the reciprocal seed ROM (reciprocal_seed.hex); "": loaded by the testbench
-    parameter CONTEXTS  = 1,          // walker_pool.contexts_per_walker (one walker)
-    parameter CW        = CONTEXTS > 1 ? $clog2(CONTEXTS) : 1
+    parameter CONTEXTS  = 1,          // walker_pool.contexts_per_walker
+    parameter WALKERS   = 1,          // walker_pool.walkers: one node-memory port each
+    parameter CW        = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -82,12 +83,14 @@ module svo_walk #(
     input  wire [5:0]              in_count,
     input  wire [LANES*40-1:0]     in_keys,
     // the node memory
-    output wire                    mem_req_valid,
-    input  wire                    mem_req_ready,
-    output wire                    mem_req_attr,
-    output wire [31:0]             mem_req_addr,
-    input  wire                    mem_resp_valid,
-    input  wire [63:0]             mem_resp_data,
+    // the node memory: one read port per walker (port w: walker w's reads; one read a cycle
+    // each, their responses in any order, each on any port, with its context)
+    output wire [WALKERS-1:0]      mem_req_valid,
+    input  wire [WALKERS-1:0]      mem_req_ready,
+    output wire [WALKERS-1:0]      mem_req_attr,
+    output wire [WALKERS*32-1:0]   mem_req_addr,
+    input  wire [WALKERS-1:0]      mem_resp_valid,
+    input  wire [WALKERS*64-1:0]   mem_resp_data,
     // records to the hit buffer
     output wire                    rec_valid,
     input  wire                    rec_ready,
@@ -103,8 +106,8 @@ module svo_walk #(
     output reg                     err_pipe,
     output reg                     err_overflow, // a transform, reciprocal or pack flag (sticky)
     // the node memory's context of a read (svo_walker_pool: responses may come in any order)
-    output wire [CW-1:0]           mem_req_ctx,
-    input  wire [CW-1:0]           mem_resp_ctx
+    output wire [WALKERS*CW-1:0]   mem_req_ctx,
+    input  wire [WALKERS*CW-1:0]   mem_resp_ctx
 );
     localparam TI = TW + 1;
     localparam KEYS = LANES * 40;
@@ -227,7 +230,8 @@ module svo_walk #(
     /* verilator lint_on UNUSEDSIGNAL */
     wire wk_err_resp;
     svo_walker_pool #(.POS_W(PW), .T_W(TW), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
-        .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAGW), .CONTEXTS(CONTEXTS), .CW(CW)
+        .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAGW), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS),
+        .CW(CW)
     ) u_walker (.clk(clk), .rst(rst), .in_valid(dp_valid), .in_ready(wk_in_ready),
         .in_enter(dp_data[RTB-1]), .in_t0(dp_data[RTB-2 -: 3*TI]),
         .in_t1(dp_data[RTB-2-3*TI -: 3*TI]),
