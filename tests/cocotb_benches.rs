@@ -188,6 +188,7 @@ fn fusesoc_lint_sim_and_synth_targets_pass() {
         ("lint", None),
         ("lint_core", None),
         ("lint_top", None),
+        ("lint_top_pool", None),
         ("lint_regs", None),
         ("sim", Some(vectors.as_str())),
         ("synth", None),
