@@ -1241,7 +1241,9 @@ fn committed_hardware_packages_are_generated_from_their_files() {
         let regen = match hw {
             Some(h) => format!(
                 "sim hardware --hw testbench/hw/{} --sv-package testbench/hw/{committed}",
-                Path::new(h).file_name().map_or(h.into(), |f| f.to_string_lossy())
+                Path::new(h)
+                    .file_name()
+                    .map_or(h.into(), |f| f.to_string_lossy())
             ),
             None => format!("sim hardware --sv-package testbench/hw/{committed}"),
         };

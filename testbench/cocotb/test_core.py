@@ -17,6 +17,11 @@ Memory, two modes (SVO_STALL):
   and R, and on the stream's tready (seeded: SVO_SEED, printed): the pixels must still all
   arrive once and right, with no deadlock; the cycles are reported, not compared.
 
+With several walkers (run.py SVO_HW=pool_2x4: svo_top built on hw/pool_2x4_pkg.sv) svo_top
+has one node master per walker, as vectors; NodeLanesRead serves them in both modes (fixed
+latency, or with its own random pauses on each lane's AR and R), the direction master as
+above. The other SVO_HW packages (frame_hw, pool_1x4) have one walker and one plain master.
+
 The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
 with each instance (INSTANCE[i].NMAT, frame_instances nmat_*).
 
