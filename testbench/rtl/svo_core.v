@@ -1,5 +1,5 @@
-// svo_core: the accelerator as one piece of RTL, for one walk-issue lane and one walker of one
-// context: svo_front → svo_hit_buffer → svo_walk → back into the hit buffer, every joint
+// svo_core: the accelerator as one piece of RTL, for one walk-issue lane and a walker pool of
+// WALKERS × CONTEXTS (default one walker of one context): svo_front → svo_hit_buffer → svo_walk → back into the hit buffer, every joint
 // valid/ready with back-pressure, the cycle model's FIFOs and pipes between the units.
 //
 // Pipeline position: all of docs/cycle-model.md §2.1, raygen to the hit-buffer write. What it
@@ -16,9 +16,10 @@
 //
 // Cycle-exact with the cycle model on the hardware of testbench/hw/frame_hw.ron (tb_frame.sv,
 // tests/testbench_icarus.rs): the frame's cycles and every pixel's write cycle equal the
-// model's. The walker pool of W walkers × R contexts, the node memory of the default hardware
-// (banks, cache, MSHRs, DRAM) are not here yet (issue 29); svo_top.sv wraps this core in its
-// AXI interfaces.
+// model's, and on testbench/hw/pool_1x4.ron and pool_2x4.ron (the walker pool of WALKERS ×
+// CONTEXTS, svo_walker_pool, through svo_top and the cocotb bench). The node memory of the
+// default hardware (the banks' arbitration, cache, MSHRs, DRAM) is not here yet (issue 29):
+// each walker has a read port; svo_top.sv wraps this core in its AXI interfaces.
 `timescale 1ns/1ps
 `default_nettype none
 module svo_core #(

@@ -1,4 +1,4 @@
-// svo_walk: the walk section for one walk-issue lane and one walker of one context, from
+// svo_walk: the walk section for one walk-issue lane and the walker pool, from
 // check_to_transform to the record stage's word: the ray slots, the transform with the
 // loop-back before new rays, the three reciprocals, the walker root, the walker and its memory
 // port, the record stage's decision (early termination, the best hit) and svo_hit_pack.
@@ -8,7 +8,7 @@
 // walker → walker_to_record → record → loop_back (the next candidate) or the hit buffer's
 // record port. Cycle-exact with the model's stages (src/models/cycle/stages/transform.rs,
 // passthrough.rs, walkers.rs, record.rs) on hardware of one lane (transform_units 1,
-// reciprocal_units 3, walker_root_units 1) and walker_pool (walkers 1, contexts 1): every
+// reciprocal_units 3, walker_root_units 1) and any walker pool svo_walker_pool builds: every
 // joint an svo_fifo of the model's depth, every fixed-latency unit in an svo_elastic pipe of
 // its latency, and within a cycle the consumers decide first (the record frees a slot the
 // transform can take in the same cycle; the loop-back FIFO and every other joint pass an item
