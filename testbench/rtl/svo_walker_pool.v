@@ -132,7 +132,7 @@ module svo_walker_pool #(
     wire [N-1:0] ev = e_ev_lat | e_ev_disp | e_ev_resp;
     reg  [N-1:0] older_eff [0:N-1];               // this cycle's order, events included
     integer i, j, w, p;
-    integer i_o, i_m, w_m, w_g, i_r, p_r, i_q, w_q, i_d, w_d, i_f;
+    integer i_o, w_g, i_r, p_r, i_q, w_q, i_d, w_d, i_f;
     always @* begin
         for (i = 0; i < N; i = i + 1)
             for (j = 0; j < N; j = j + 1) begin
@@ -165,9 +165,15 @@ module svo_walker_pool #(
     reg [N*N-1:0] ord_flat;
     always @* for (i_o = 0; i_o < N; i_o = i_o + 1) ord_flat[i_o * N +: N] = older_eff[i_o];
     // Each walker's issue slot and request port, among its own contexts.
-    reg [N-1:0] wmask [0:W-1];
-    always @* for (w_m = 0; w_m < W; w_m = w_m + 1)
-        for (i_m = 0; i_m < N; i_m = i_m + 1) wmask[w_m][i_m] = walker_of(i_m) == w_m[WI-1:0];
+    // Walker w's contexts (constant: continuous assignments, since an always @* with no input
+    // never runs in an event-driven simulator such as Icarus).
+    wire [N-1:0] wmask [0:W-1];
+    genvar gw;
+    generate
+        for (gw = 0; gw < W; gw = gw + 1) begin : walker_mask
+            assign wmask[gw] = ({N{1'b1}} >> (N - R)) << (gw * R);
+        end
+    endgenerate
     reg [N-1:0] send_pick;
     always @* begin
         e_issue_grant = {N{1'b0}};
