@@ -1,51 +1,54 @@
-// svo_walker_pool: one octree walker of CONTEXTS ray contexts and its scheduler, cycle for
-// cycle as the cycle model's walker pool times it (rtl_model/src/cycle/walker_pool.rs, its
-// module doc) with walker_pool.walkers 1, read_ports 1, step_cycles 1.
+// svo_walker_pool: WALKERS octree walkers of CONTEXTS ray contexts each, their scheduler and
+// the dispatcher, cycle for cycle as the cycle model's walker pool times them
+// (rtl_model/src/cycle/walker_pool.rs, its module doc) with read_ports 1, step_cycles 1.
 //
 // Pipeline position: after root_to_dispatch (svo_walk), before walker_to_record; the node
-// memory behind one request port.
+// memory behind one request port per walker.
 //
-// What it is: CONTEXTS context engines, each a copy of the single-context walker
-// (svo_walker.v, its stack and step registers), behind one issue grant, one request port and
-// one result port. This is the acceptable first step of issue 29's milestone 1, NOT the design
-// the model's cost estimate prices (rtl_model/src/cost: one step datapath per walker with R
-// contexts' state in a small RAM, a true barrel): here the step datapath is replicated R
-// times, so its area is about R times the estimate's walker datapath. The timing is the same:
-// the engines issue only when granted, one slot a cycle.
+// What it is: per walker CONTEXTS context engines, each a copy of the single-context walker
+// (svo_walker.v, its stack and step registers), behind the walker's one issue grant and one
+// request port; one result port for the pool. This is the acceptable first step of issue 29,
+// NOT the design the model's cost estimate prices (rtl_model/src/cost: one step datapath per
+// walker with R contexts' state in a small RAM, a true barrel): here the step datapath is
+// replicated R times per walker, so its area is about R times the estimate's walker datapath.
+// The timing is the same: the engines issue only when granted, one slot a walker and cycle.
 //
 // The scheduler is the model's, per cycle:
-//   wake-up order  a context moves on to its next op in the model's wake-up order: first the
-//                  one whose step latency ended (ev_lat: at most one, one slot issues a
-//                  cycle), then the walk dispatched in the cycle before (ev_disp: its root
-//                  read, or a root miss), then the contexts whose read completed (ev_resp) by
-//                  request age (the node memory's (done, id) order). That order decides where
-//                  the context joins the queue its next op needs:
-//   issue          ready contexts issue round robin in the order they became ready (a FIFO),
-//                  one a cycle (step_cycles 1), a newly ready one in the same cycle if none
-//                  waits before it;
-//   request port   one read a cycle; reads waiting for the port (the send queue) go first,
-//                  oldest first, then this cycle's new ones in wake-up order;
-//   retire         finished walks leave in the order they finished, one a cycle, when the
-//                  record FIFO is ready (out_ready); the context takes a new walk in the same
-//                  cycle (the model retires before it dispatches);
-//   dispatch       a walk goes to the lowest free context (with one walker the model's rule,
-//                  the walker with most free contexts, is this walker; which of its free
-//                  contexts takes the walk does not change any cycle).
-// The three queues are one age order: a context is in at most one queue at a time, so one
-// matrix older[i][j] (i's event came first) serves all three, updated with each cycle's
-// events; within a cycle the events are ranked as above (req_older orders the completions).
+//   wake-up order  a context moves on to its next op in the model's wake-up order: first those
+//                  whose step latency ended (ev_lat: at most one a walker, in walker order,
+//                  the order their slots issued), then the walk dispatched in the cycle before
+//                  (ev_disp: its root read, or a root miss), then the contexts whose read
+//                  completed (ev_resp) by request age (the node memory's (done, id) order).
+//                  That order decides where the context joins the queue its next op needs:
+//   issue          each walker's ready contexts issue round robin in the order they became
+//                  ready (a FIFO), one a cycle (step_cycles 1), a newly ready one in the same
+//                  cycle if none waits before it;
+//   request port   one read a walker and cycle; reads waiting for the port (the send queue)
+//                  go first, oldest first, then this cycle's new ones in wake-up order; the
+//                  sends of one cycle are the node memory's ids in the order: waiting ones by
+//                  walker, then new ones in wake-up order (req_older keeps it);
+//   retire         finished walks leave in the order they finished, one a cycle for the pool,
+//                  when the record FIFO is ready (out_ready); the context takes a new walk in
+//                  the same cycle (the model retires before it dispatches);
+//   dispatch       one walk a cycle, to the walker with the most free contexts (a context
+//                  retiring in this cycle counts), the lowest index on ties, and there to its
+//                  lowest free context (which free context takes it changes no cycle).
+// The queues are one age order: a context is in at most one queue at a time, so one matrix
+// older[i][j] (i's event came first) serves them all, updated with each cycle's events;
+// within a cycle the events are ranked as above.
 //
 // Attribute reads that merge (the model's MSHR rule for uncached attribute reads with
 // cache.line_bytes 8, memory/dram.rs `miss`): a record read while a fill of the same record is
-// in flight (sent, its response not yet back, and not arriving in this cycle) is not sent: it
-// completes with that fill, in the same cycle, after it (request age). With one context per
-// walker no read can merge, so any node memory works; with several, the hardware file must
-// use uncached attributes with 8-byte lines (svo_top refuses other node memories), where this
-// rule is the model's exactly.
+// in flight from any walker (sent, its response not yet back, and not arriving in this cycle)
+// is not sent: it completes with that fill, in the same cycle, after it (request age). Two
+// reads of one record sent in the same cycle both go out (the model merges the second, with
+// the same completion cycle). With one context in all no read can merge, so any node memory
+// works; with several, the hardware file must use uncached attributes with 8-byte lines
+// (svo_top refuses other node memories), where this rule is the model's exactly.
 //
-// The memory: mem_req_* one read a cycle with its context (mem_req_ctx); responses in any
-// order, each with its context (mem_resp_ctx), one a cycle. Sticky err_resp: a response for a
-// context that has no read out.
+// The memory: per walker mem_req_* one read a cycle with its context (mem_req_ctx, the pool's
+// context index n = walker·CONTEXTS + k); responses on any port, in any order, each with its
+// context (mem_resp_ctx). Sticky err_resp: a response for a context that has no read out.
 `timescale 1ns/1ps
 `default_nettype none
 module svo_walker_pool #(
