@@ -188,6 +188,7 @@ fn fusesoc_lint_sim_and_synth_targets_pass() {
         ("lint", None),
         ("lint_core", None),
         ("lint_top", None),
+        ("lint_top_pool", None),
         ("lint_regs", None),
         ("sim", Some(vectors.as_str())),
         ("synth", None),
@@ -248,12 +249,17 @@ fn fresh_dir(name: &str) -> PathBuf {
 /// frame's hardware (testbench/hw/frame_hw.ron): frames[i].{cycles, hit_buffer_reused,
 /// instances_dirty}.
 fn core_frame_case(dir: &Path, scene: &str, frames: u32) -> Vec<(u64, u64, u64)> {
+    core_frame_case_on(dir, scene, frames, "frame_hw")
+}
+
+/// [`core_frame_case`] on the hardware `testbench/hw/<hw>.ron`.
+fn core_frame_case_on(dir: &Path, scene: &str, frames: u32, hw: &str) -> Vec<(u64, u64, u64)> {
     use common::process::run_sim;
     use std::time::Duration;
     let scene = repo().join(scene).display().to_string();
     core_frame_vectors(dir, &scene, 0);
     let hw = repo()
-        .join("testbench/hw/frame_hw.ron")
+        .join(format!("testbench/hw/{hw}.ron"))
         .display()
         .to_string();
     let rep = dir.join("report.json").display().to_string();
@@ -465,6 +471,68 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         assert_eq!(fails.len(), 1, "{env}:\n{text}");
         assert!(fails[0].contains(what), "{env}: {}", fails[0]);
     }
+}
+
+/// svo_top on testbench/hw/pool_2x4.ron — two walkers of four contexts (svo_walker_pool: the
+/// dispatcher, each walker's four context engines behind one issue grant and one request port,
+/// one AXI4 node master per walker with reads in flight) — renders the car's two 16 × 10
+/// frames (the second with moving instances and reuse) with every pixel equal and the model's
+/// cycles; with random stalls (seed 1) every pixel still once and right; one more expected
+/// cycle is exactly one failure. (pool_1x4.ron, one walker of four contexts, is run by hand:
+/// testbench/README.md; one more Verilator build of svo_top here would double the cost.)
+#[test]
+fn core_pool_of_two_walkers_of_four_contexts_renders_frames_equal_to_the_model() {
+    let Some(venv) = venv() else { return };
+    let root = fresh_dir("core_pool_2x4");
+    let car = root.join("car");
+    let car1 = root.join("car1");
+    let model = core_frame_case_on(&car, "scenes/car.ron", 2, "pool_2x4");
+    core_frame_vectors(
+        &car1,
+        &repo().join("scenes/car.ron").display().to_string(),
+        1,
+    );
+    let run_core = |extra: &[String]| {
+        let mut env = vec![
+            format!("SVO_VECTORS={}", car.display()),
+            "SVO_HW=pool_2x4".to_string(),
+            "SVO_NPIX=160".to_string(),
+            format!("SVO_MEM_LATENCY={FRAME_MEM_LATENCY}"),
+        ];
+        env.extend(extra.iter().cloned());
+        let env: Vec<&str> = env.iter().map(String::as_str).collect();
+        bench(&venv, "core", &env)
+    };
+    let c0 = format!("SVO_MODEL_CYCLES={}", model[0].0);
+    let (ok, text, secs) = run_core(&[
+        c0.clone(),
+        format!("SVO_VECTORS1={}", car1.display()),
+        format!("SVO_MODEL_CYCLES1={}", model[1].0),
+        "SVO_FRAMES=2".to_string(),
+    ]);
+    eprintln!("core pool_2x4 car: {secs:.1} s (build included)");
+    assert!(ok, "core bench, pool_2x4, car:\n{text}");
+    frames_equal_the_model("car on pool_2x4", &text, &model);
+
+    let (ok, text, _) = run_core(&[
+        c0.clone(),
+        "SVO_STALL=20".to_string(),
+        "SVO_SEED=1".to_string(),
+    ]);
+    assert!(ok, "core bench, pool_2x4, stalls:\n{text}");
+    let (equal, n, cycles, _) = core_frame_line(&text, 0);
+    println!("core pool_2x4 car, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles");
+    assert_eq!((equal, n), (160, 160), "{text}");
+
+    let (ok, text, _) = run_core(&[c0, "SVO_CORRUPT=cycles".to_string()]);
+    assert!(!ok, "SVO_CORRUPT=cycles must fail the bench:\n{text}");
+    let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("FAIL ")).collect();
+    assert_eq!(fails.len(), 1, "{text}");
+    assert!(
+        fails[0].contains("cycles, the cycle model's"),
+        "{}",
+        fails[0]
+    );
 }
 
 /// The node memory's latency of testbench/hw/frame_hw.ron (every read, cycles).

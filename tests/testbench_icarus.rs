@@ -1219,10 +1219,19 @@ fn frame_survives_random_memory_stalls() {
 fn committed_hardware_packages_are_generated_from_their_files() {
     let t = Tmp::new("hw_packages");
     let dir = repo().join("testbench/hw");
-    let frame_ron = dir.join("frame_hw.ron").display().to_string();
+    let ron = |name: &str| dir.join(name).display().to_string();
+    let (frame_ron, p14, p24, p42) = (
+        ron("frame_hw.ron"),
+        ron("pool_1x4.ron"),
+        ron("pool_2x4.ron"),
+        ron("pool_4x2.ron"),
+    );
     for (committed, hw) in [
         ("svo_hw_pkg.sv", None),
         ("frame_hw_pkg.sv", Some(frame_ron.as_str())),
+        ("pool_1x4_pkg.sv", Some(p14.as_str())),
+        ("pool_2x4_pkg.sv", Some(p24.as_str())),
+        ("pool_4x2_pkg.sv", Some(p42.as_str())),
     ] {
         let out = t.p(committed);
         let mut args = vec!["hardware", "--sv-package", &out];
@@ -1230,8 +1239,11 @@ fn committed_hardware_packages_are_generated_from_their_files() {
             args.extend(["--hw", h]);
         }
         let regen = match hw {
-            Some(_) => format!(
-                "sim hardware --hw testbench/hw/frame_hw.ron --sv-package testbench/hw/{committed}"
+            Some(h) => format!(
+                "sim hardware --hw testbench/hw/{} --sv-package testbench/hw/{committed}",
+                Path::new(h)
+                    .file_name()
+                    .map_or(h.into(), |f| f.to_string_lossy())
             ),
             None => format!("sim hardware --sv-package testbench/hw/{committed}"),
         };

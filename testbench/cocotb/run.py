@@ -117,7 +117,15 @@ def main() -> int:
         # seed ROM is read at run time from a fixed path in the build folder, copied from
         # the vectors (its content depends on the datapath only).
         npix = int(extra_env.get("SVO_NPIX", "768"))
-        build_dir = build_dir.with_name(f"core_{npix}")
+        # The hardware: SVO_HW=NAME builds svo_top on hw/NAME_pkg.sv (default frame_hw; e.g.
+        # pool_1x4, a walker of four contexts), one build per hardware and size.
+        hw = extra_env.get("SVO_HW", "frame_hw")
+        pkg = TB / "hw" / f"{hw}_pkg.sv"
+        if not pkg.exists():
+            print(f"run.py: SVO_HW={hw}: no package {pkg}", file=sys.stderr)
+            return 2
+        sources = [pkg] + sources[1:]
+        build_dir = build_dir.with_name(f"core_{npix}" if hw == "frame_hw" else f"core_{hw}_{npix}")
         build_dir.mkdir(parents=True, exist_ok=True)
         vectors = extra_env.get("SVO_VECTORS")
         if not vectors:

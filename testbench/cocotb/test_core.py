@@ -17,6 +17,11 @@ Memory, two modes (SVO_STALL):
   and R, and on the stream's tready (seeded: SVO_SEED, printed): the pixels must still all
   arrive once and right, with no deadlock; the cycles are reported, not compared.
 
+With several walkers (run.py SVO_HW=pool_2x4: svo_top built on hw/pool_2x4_pkg.sv) svo_top
+has one node master per walker, as vectors; NodeLanesRead serves them in both modes (fixed
+latency, or with its own random pauses on each lane's AR and R), the direction master as
+above. The other SVO_HW packages (frame_hw, pool_1x4) have one walker and one plain master.
+
 The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
 with each instance (INSTANCE[i].NMAT, frame_instances nmat_*).
 
@@ -126,6 +131,64 @@ class FixedLatencyRead:
                 self.beats.append((self.cycle + self.lat + k, addr + k * size, k == n - 1))
 
 
+class NodeLanesRead:
+    """svo_top's node memory with several walkers: one AXI4 read slave per walker's master
+    (lane w = bits [w] of the m_axi_* vectors, its address and data the w-th slices), each as
+    FixedLatencyRead: single beats, in order, a read there L cycles after its AR handshake.
+    With pct > 0 each lane's arready and each due R beat pause in a random pct % of cycles
+    (rng), counted in stalls["node ar"] / ["node r"]; a paused beat and those behind it wait."""
+
+    ADDR_W = 40
+
+    def __init__(self, dut, mem, latency, lanes, rng=None, pct=0, stalls=None):
+        self.dut, self.mem, self.lat, self.lanes = dut, mem, latency, lanes
+        self.rng, self.pct, self.stalls = rng, pct, stalls
+        self.q = [[] for _ in range(lanes)]       # (due cycle, address), in order
+        self.cycle = 0
+        self.ar = (1 << lanes) - 1
+        dut.m_axi_arready.value = self.ar
+        for name in ("rvalid", "rid", "rresp", "rlast", "rdata"):
+            getattr(dut, f"m_axi_{name}").value = 0
+
+    def paused(self, key):
+        if self.pct and self.rng.randrange(100) < self.pct:
+            self.stalls[key] += 1
+            return True
+        return False
+
+    def drive(self):
+        """The falling edge of a cycle: each lane's R and arready for this cycle."""
+        self.cycle += 1
+        rvalid, rdata, ar = 0, 0, 0
+        for w in range(self.lanes):
+            q = self.q[w]
+            if q and q[0][0] <= self.cycle and not self.paused("node r"):
+                _, addr = q.pop(0)
+                base = addr - addr % 8
+                rvalid |= 1 << w
+                rdata |= int.from_bytes(self.mem[base:base + 8], "little") << (64 * w)
+            if not self.paused("node ar"):
+                ar |= 1 << w
+        self.ar = ar
+        self.dut.m_axi_arready.value = ar
+        self.dut.m_axi_rvalid.value = rvalid
+        self.dut.m_axi_rlast.value = rvalid
+        self.dut.m_axi_rdata.value = rdata
+
+    def sample(self):
+        """Once the cycle has settled: each lane's AR handshake at its closing edge."""
+        arvalid = int(self.dut.m_axi_arvalid.value) & self.ar
+        if not arvalid:
+            return
+        araddr = int(self.dut.m_axi_araddr.value)
+        arlen = int(self.dut.m_axi_arlen.value)
+        for w in range(self.lanes):
+            if arvalid >> w & 1:
+                assert (arlen >> (8 * w)) & 0xFF == 0, "node reads are single beats"
+                addr = (araddr >> (self.ADDR_W * w)) & ((1 << self.ADDR_W) - 1)
+                self.q[w].append((self.cycle + self.lat, addr))
+
+
 async def every_cycle(dut, slaves):
     """One coroutine for both fixed-latency slaves (fewer simulator callbacks): at the falling
     edge their R, then, settled, their AR handshakes."""
@@ -214,7 +277,20 @@ async def frame_against_the_model(dut):
     stalls = {"node ar": 0, "node r": 0, "dir ar": 0, "dir r": 0, "stream": 0}
     rams = []
     slaves = []
-    if stall == 0:
+    lanes = len(dut.m_axi_arvalid)                  # walkers: one node master each
+    if lanes > 1:
+        # Several walkers (hw/pool_2x4.ron): the node masters are vectors, which the
+        # cocotbext-axi slaves do not take; NodeLanesRead pauses them itself.
+        slaves = [NodeLanesRead(dut, mem, latency, lanes, rng, stall, stalls)]
+        if stall == 0:
+            slaves.append(FixedLatencyRead(dut, "m_axi_dir", mem, latency, 16))
+        else:
+            dirs = AxiRamRead(AxiReadBus.from_prefix(dut, "m_axi_dir"), dut.clk, dut.rst, size=MEM_BYTES)
+            rams = [dirs]
+            dirs.write(0, bytes(mem))
+            dirs.ar_channel.set_pause_generator(stall_gen(rng, stall, stalls, "dir ar"))
+            dirs.r_channel.set_pause_generator(stall_gen(rng, stall, stalls, "dir r"))
+    elif stall == 0:
         slaves = [FixedLatencyRead(dut, "m_axi", mem, latency, 8),
                   FixedLatencyRead(dut, "m_axi_dir", mem, latency, 16)]
     else:

@@ -1,5 +1,5 @@
-// svo_core: the accelerator as one piece of RTL, for one walk-issue lane and one walker of one
-// context: svo_front → svo_hit_buffer → svo_walk → back into the hit buffer, every joint
+// svo_core: the accelerator as one piece of RTL, for one walk-issue lane and a walker pool of
+// WALKERS × CONTEXTS (default one walker of one context): svo_front → svo_hit_buffer → svo_walk → back into the hit buffer, every joint
 // valid/ready with back-pressure, the cycle model's FIFOs and pipes between the units.
 //
 // Pipeline position: all of docs/cycle-model.md §2.1, raygen to the hit-buffer write. What it
@@ -16,9 +16,10 @@
 //
 // Cycle-exact with the cycle model on the hardware of testbench/hw/frame_hw.ron (tb_frame.sv,
 // tests/testbench_icarus.rs): the frame's cycles and every pixel's write cycle equal the
-// model's. The walker pool of W walkers × R contexts, the node memory of the default hardware
-// (banks, cache, MSHRs, DRAM) are not here yet (issue 29); svo_top.sv wraps this core in its
-// AXI interfaces.
+// model's, and on testbench/hw/pool_1x4.ron and pool_2x4.ron (the walker pool of WALKERS ×
+// CONTEXTS, svo_walker_pool, through svo_top and the cocotb bench). The node memory of the
+// default hardware (the banks' arbitration, cache, MSHRs, DRAM) is not here yet (issue 29):
+// each walker has a read port; svo_top.sv wraps this core in its AXI interfaces.
 `timescale 1ns/1ps
 `default_nettype none
 module svo_core #(
@@ -61,7 +62,10 @@ module svo_core #(
     parameter D_WK_RC  = 16,
     parameter D_RC_WR  = 8,
     parameter DIR_FIXED = 0,                      // dir_f64 holds sQ2.30 codes (svo_raygen)
-    parameter RECIP_SEED_FILE = ""                // reciprocal seed ROM file ("": the bench loads it)
+    parameter RECIP_SEED_FILE = "",               // reciprocal seed ROM file ("": the bench loads it)
+    parameter CONTEXTS = 1,                       // walker_pool.contexts_per_walker
+    parameter WALKERS  = 1,                       // walker_pool.walkers: a node-memory port each
+    parameter CW       = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -93,13 +97,13 @@ module svo_core #(
     input  wire [LANES-1:0]        instance_dirty,
     input  wire [71:0]             miss_word,
     input  wire                    wr_hold,
-    // node memory
-    output wire                    mem_req_valid,
-    input  wire                    mem_req_ready,
-    output wire                    mem_req_attr,
-    output wire [31:0]             mem_req_addr,
-    input  wire                    mem_resp_valid,
-    input  wire [63:0]             mem_resp_data,
+    // node memory: one read port per walker (svo_walk)
+    output wire [WALKERS-1:0]      mem_req_valid,
+    input  wire [WALKERS-1:0]      mem_req_ready,
+    output wire [WALKERS-1:0]      mem_req_attr,
+    output wire [WALKERS*32-1:0]   mem_req_addr,
+    input  wire [WALKERS-1:0]      mem_resp_valid,
+    input  wire [WALKERS*64-1:0]   mem_resp_data,
     // the pixel stream: the hit buffer's writes
     output wire                    wr_valid,
     output wire [PIXW-1:0]         wr_pixel,
@@ -129,7 +133,10 @@ module svo_core #(
     output wire                    ev_bank_conflict,
     output wire                    err_pipe,
     output wire                    err_overflow,
-    output wire                    err_pixel
+    output wire                    err_pixel,
+    // the node memory's context of a read: a response carries its read's (any order)
+    output wire [WALKERS*CW-1:0]   mem_req_ctx,
+    input  wire [WALKERS*CW-1:0]   mem_resp_ctx
 );
     localparam PAYW = 96 + 6 + LANES * 40;
     localparam SO_CW = 6;
@@ -185,7 +192,8 @@ module svo_core #(
         .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
         .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
         .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
-        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE))
+        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS),
+        .CW(CW))
     u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .inst_axes(inst_axes), .inst_c(inst_c),
         .inst_half(inst_half), .inst_node_base(inst_node_base),
         .inst_attr_base(inst_attr_base), .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
@@ -197,7 +205,8 @@ module svo_core #(
         .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
         .rec_pixel(rec_pixel), .rec_word(rec_word), .done_valid(done_valid),
         .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
-        .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov));
+        .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
+        .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx));
 
     assign err_pipe = fr_err_pipe || wk_err_pipe;
     assign err_overflow = fr_err_ov || wk_err_ov;

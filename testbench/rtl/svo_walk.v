@@ -1,4 +1,4 @@
-// svo_walk: the walk section for one walk-issue lane and one walker of one context, from
+// svo_walk: the walk section for one walk-issue lane and the walker pool, from
 // check_to_transform to the record stage's word: the ray slots, the transform with the
 // loop-back before new rays, the three reciprocals, the walker root, the walker and its memory
 // port, the record stage's decision (early termination, the best hit) and svo_hit_pack.
@@ -8,7 +8,7 @@
 // walker → walker_to_record → record → loop_back (the next candidate) or the hit buffer's
 // record port. Cycle-exact with the model's stages (src/models/cycle/stages/transform.rs,
 // passthrough.rs, walkers.rs, record.rs) on hardware of one lane (transform_units 1,
-// reciprocal_units 3, walker_root_units 1) and walker_pool (walkers 1, contexts 1): every
+// reciprocal_units 3, walker_root_units 1) and any walker pool svo_walker_pool builds: every
 // joint an svo_fifo of the model's depth, every fixed-latency unit in an svo_elastic pipe of
 // its latency, and within a cycle the consumers decide first (the record frees a slot the
 // transform can take in the same cycle; the loop-back FIFO and every other joint pass an item
@@ -27,8 +27,13 @@
 // the host with the frame) go through svo_normal (latency 13) while the other fields wait
 // beside it in an svo_delay, then svo_hit_pack (1): the pack pipe is 14 long, the model's
 // units.hit_pack (units::hit_record::PACK_LATENCY_CYCLES). `done_*` shows each ray's walk results when its record is decided (for checking).
-// Sticky `err_pipe`: a unit result without its slot, or the loop-back FIFO refusing a walk
-// (never expected: it has one entry per slot). Sticky `err_overflow`: a transform, reciprocal
+// Sticky `err_pipe`: a unit result without its slot, the loop-back FIFO refusing a walk
+// (never expected: it has one entry per slot), or a node read's response for a context with
+// no read out.
+//
+// The walkers are svo_walker_pool: WALKERS walkers of CONTEXTS contexts (context engines
+// behind one issue grant and one request port per walker; see its header), the model's
+// walker pool with its dispatcher. Sticky `err_overflow`: a transform, reciprocal
 // or pack overflow flag (the datapath saturated, which the model counts: reported). Reciprocal seed ROMs: recip[k].u_recip.rom,
 // loaded by the host as for svo_reciprocal.
 `timescale 1ns/1ps
@@ -56,7 +61,10 @@ module svo_walk #(
     parameter D_RC_RT   = 4,
     parameter D_RT_DP   = 64,
     parameter D_WK_RC   = 16,
-    parameter RECIP_SEED_FILE = ""             // the reciprocal seed ROM (reciprocal_seed.hex); "": loaded by the testbench
+    parameter RECIP_SEED_FILE = "",            // the reciprocal seed ROM (reciprocal_seed.hex); "": loaded by the testbench
+    parameter CONTEXTS  = 1,          // walker_pool.contexts_per_walker
+    parameter WALKERS   = 1,          // walker_pool.walkers: one node-memory port each
+    parameter CW        = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -75,12 +83,14 @@ module svo_walk #(
     input  wire [5:0]              in_count,
     input  wire [LANES*40-1:0]     in_keys,
     // the node memory
-    output wire                    mem_req_valid,
-    input  wire                    mem_req_ready,
-    output wire                    mem_req_attr,
-    output wire [31:0]             mem_req_addr,
-    input  wire                    mem_resp_valid,
-    input  wire [63:0]             mem_resp_data,
+    // the node memory: one read port per walker (port w: walker w's reads; one read a cycle
+    // each, their responses in any order, each on any port, with its context)
+    output wire [WALKERS-1:0]      mem_req_valid,
+    input  wire [WALKERS-1:0]      mem_req_ready,
+    output wire [WALKERS-1:0]      mem_req_attr,
+    output wire [WALKERS*32-1:0]   mem_req_addr,
+    input  wire [WALKERS-1:0]      mem_resp_valid,
+    input  wire [WALKERS*64-1:0]   mem_resp_data,
     // records to the hit buffer
     output wire                    rec_valid,
     input  wire                    rec_ready,
@@ -94,7 +104,10 @@ module svo_walk #(
     output wire [TW-1:0]           done_t,
     output wire [59:0]             done_voxel,
     output reg                     err_pipe,
-    output reg                     err_overflow  // a transform, reciprocal or pack flag (sticky)
+    output reg                     err_overflow, // a transform, reciprocal or pack flag (sticky)
+    // the node memory's context of a read (svo_walker_pool: responses may come in any order)
+    output wire [WALKERS*CW-1:0]   mem_req_ctx,
+    input  wire [WALKERS*CW-1:0]   mem_resp_ctx
 );
     localparam TI = TW + 1;
     localparam KEYS = LANES * 40;
@@ -215,9 +228,10 @@ module svo_walk #(
     /* verilator lint_off UNUSEDSIGNAL */
     wire [7:0] dp_inst = cand_inst(s_keys[dp_slot], s_cand[dp_slot]);
     /* verilator lint_on UNUSEDSIGNAL */
-    /* verilator lint_off PINCONNECTEMPTY */
-    svo_walker #(.POS_W(PW), .T_W(TW), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
-        .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAGW)
+    wire wk_err_resp;
+    svo_walker_pool #(.POS_W(PW), .T_W(TW), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
+        .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAGW), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS),
+        .CW(CW)
     ) u_walker (.clk(clk), .rst(rst), .in_valid(dp_valid), .in_ready(wk_in_ready),
         .in_enter(dp_data[RTB-1]), .in_t0(dp_data[RTB-2 -: 3*TI]),
         .in_t1(dp_data[RTB-2-3*TI -: 3*TI]),
@@ -226,13 +240,10 @@ module svo_walk #(
         .in_neg(dp_data[TAGW+2 -: 3]), .in_node_base(inst_node_base[dp_inst[IX-1:0]*32 +: 32]),
         .in_attr_base(inst_attr_base[dp_inst[IX-1:0]*32 +: 32]), .in_tag(dp_slot),
         .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready), .mem_req_attr(mem_req_attr),
-        .mem_req_addr(mem_req_addr), .mem_resp_valid(mem_resp_valid),
-        .mem_resp_data(mem_resp_data), .out_valid(wk_out_valid), .out_ready(wk_out_ready),
-        .out_outcome(wk_outcome), .out_t(wk_t), .out_voxel(wk_voxel), .out_level(),
-        .out_attr(), .out_entry_axis(), .out_steps(), .out_fetches(),
-        .out_attr_data(wk_attr_data), .out_tag(wk_tag), .visit_valid(), .visit_level(),
-        .visit_coords());
-    /* verilator lint_on PINCONNECTEMPTY */
+        .mem_req_addr(mem_req_addr), .mem_req_ctx(mem_req_ctx), .mem_resp_valid(mem_resp_valid),
+        .mem_resp_ctx(mem_resp_ctx), .mem_resp_data(mem_resp_data), .out_valid(wk_out_valid),
+        .out_ready(wk_out_ready), .out_outcome(wk_outcome), .out_t(wk_t), .out_voxel(wk_voxel),
+        .out_attr_data(wk_attr_data), .out_tag(wk_tag), .err_resp(wk_err_resp));
     wire wk_leave = wk_out_valid && wk_out_ready;
     wire wk_better = wk_outcome == 2'd1
                   && (!s_best[wk_tag] || $signed(wk_t) < $signed(s_t[wk_tag]));
@@ -431,7 +442,7 @@ module svo_walk #(
             free <= (free | released) & ~((tr_accept && take_new) ? (one << lowest)
                                                                   : {SLOTS{1'b0}});
             if ((tr_u_valid && !tr_tag_valid) || (rc_u_valid[0] && !rc_tag_valid)
-                || (r_loop && !lp_in_ready))
+                || (r_loop && !lp_in_ready) || wk_err_resp)
                 err_pipe <= 1'b1;
             if ((tr_u_valid && (tr_ov_o || tr_ov_d)) || (rc_u_valid[0] && |rc_ov)
                 || (pk_u_valid && pk_ov))

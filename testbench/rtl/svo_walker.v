@@ -109,7 +109,17 @@ module svo_walker #(
     // Each node entered (for node-by-node checks).
     output reg                    visit_valid,
     output reg  [4:0]             visit_level,
-    output reg  [59:0]            visit_coords    // {z, y, x}
+    output reg  [59:0]            visit_coords,   // {z, y, x}
+    // The multi-context walker's scheduler (svo_walker_pool): an issue slot is taken only in
+    // a cycle with issue_grant (tie to 1 for a walker of its own); issue_req asks for one.
+    // ev_* mark the cycle the context moves on to its next op, as the model's wake-up:
+    // ev_lat (its step latency ended), ev_disp (the cycle after its walk was accepted),
+    // ev_resp (its read completed).
+    input  wire                   issue_grant,
+    output wire                   issue_req,
+    output reg                    ev_lat,
+    output reg                    ev_disp,
+    output wire                   ev_resp
 );
     localparam TI = T_W + 1;
     localparam signed [TI-1:0] NEG_INF = {1'b1, {(TI-1){1'b0}}};
@@ -278,6 +288,9 @@ module svo_walker #(
     assign out_valid = st == S_OUT || (resp && pend == P_ATTR);
     assign out_attr_data = st == S_OUT ? attr_data : mem_resp_data;
     assign in_ready = st == S_IDLE || (out_valid && out_ready);
+    // An issue slot: a waiting slot, or a descriptor's first slot in the cycle it arrives.
+    assign issue_req = st == S_ISSUE || (resp && pend == P_DESC);
+    assign ev_resp = resp;
 
     wire [23:0] pc_next = prefix_counts(resp && pend == P_DESC ? mem_resp_data[14:8]
                                                                : f_desc[14:8]);
@@ -286,6 +299,8 @@ module svo_walker #(
     integer j;
     always @(posedge clk) begin
         visit_valid <= 1'b0;
+        ev_lat <= !rst && st == S_HOLD && hold_left == 8'd0;
+        ev_disp <= !rst && taking;
         // The child's midpoints and first child, every cycle from the child's registers
         // (a zero axis from the sign of its g; the root's midpoints come from the inputs).
         for (j = 0; j < 3; j = j + 1)
@@ -333,7 +348,7 @@ module svo_walker #(
                     f_desc <= mem_resp_data[31:0];
                     f_next <= c_first;
                     f_level <= c_level;
-                    st <= S_COMP;
+                    st <= issue_grant ? S_COMP : S_ISSUE;
                 end
                 P_FAR: begin
                     pend <= c_leaf ? P_LEAF : P_DESC;
@@ -352,7 +367,7 @@ module svo_walker #(
                 default: ;  // P_ATTR: handled above
                 endcase
             end
-            S_ISSUE: st <= S_COMP;
+            S_ISSUE: if (issue_grant) st <= S_COMP;
             S_COMP: begin
                 // Stage A.
                 st <= S_HOLD;

@@ -117,7 +117,8 @@ module tb_walker;
                 .out_entry_axis(entry_axis), .out_steps(steps), .out_fetches(fetches),
                 .out_attr_data(attr_data), .out_tag(out_tag),
                 .visit_valid(visit_valid), .visit_level(visit_level),
-                .visit_coords(visit_coords));
+                .visit_coords(visit_coords), .issue_grant(1'b1), .issue_req(), .ev_lat(),
+                .ev_disp(), .ev_resp());
 
             // The memory: a read requested in cycle c is valid in cycle c + L.
             `define TB_MEM_WHERE $sformatf("row %0d: ", drive_tag[gi])
