@@ -21,6 +21,7 @@ mod common;
 mod vector_files;
 
 use common::process::run_sim;
+use common::report::ModelReport;
 use rtl_model::cycle::hw_config::UnitTimings;
 use rtl_model::datapath::DatapathConfig;
 use rtl_model::units::normal;
@@ -753,12 +754,7 @@ fn model_frame(
     }
     let r = run_sim(&args, None, Duration::from_secs(300));
     assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
-    let j: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&rep).expect("read the report"))
-            .expect("parse the report");
-    j["frames"][0]["cycles"]
-        .as_u64()
-        .unwrap_or_else(|| panic!("no frames[0].cycles in the report of sim {args:?}"))
+    ModelReport::read(&rep).frame(0, "cycles")
 }
 
 /// Every pixel's hit-buffer write cycle in a model transaction log (`sim --transaction-log`).
@@ -1097,14 +1093,8 @@ fn frame_reuses_the_hit_buffer_in_the_second_frame() {
     ];
     let r = run_sim(&args, None, Duration::from_secs(300));
     assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
-    let j: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&rep).expect("read the report"))
-            .expect("parse the report");
-    let f = |i: usize, k: &str| {
-        j["frames"][i][k]
-            .as_u64()
-            .unwrap_or_else(|| panic!("no frames[{i}].{k} in the report"))
-    };
+    let report = ModelReport::read(&rep);
+    let f = |i: usize, k: &str| report.frame(i, k);
     let (c0, c1, reused, walks) = (
         f(0, "cycles"),
         f(1, "cycles"),

@@ -12,6 +12,7 @@
 pub mod bad_input;
 pub mod oracle;
 pub mod process;
+pub mod report;
 pub mod skip;
 pub mod traversal;
 pub mod vox;
