@@ -48,8 +48,8 @@ fn pins() -> Vec<Pin> {
     // LUTs; FFs 4 ready + ⌈log₂ 4⌉ = 2.
     let contexts = ("walker_contexts", 2, 8 * 151 + 4, 4 + 2);
     // record_to_write: 8 × (72 + 12) = 84 bits: RAM32M16 8 × ⌈84 / 14⌉ = 48 LUTs; pointers
-    // 3 × (⌈log₂ 8⌉ + 1) = 12 LUTs and FFs; the output register 84 FFs.
-    let record = ("fifo.record_to_write", 1, 48 + 12, 84 + 12);
+    // 3 × (⌈log₂ 8⌉ + 1) = 12 LUTs and FFs; no output register (LUT-RAM is read as addressed).
+    let record = ("fifo.record_to_write", 1, 48 + 12, 12);
     // loop_back: 72 entries (the ray slots) of a ray 12 + 3·32 + 3·40 = 228 and 16 lanes of
     // (32 + 8): 868 bits. Deeper than 64 entries, so in block RAM (its blocks are pinned in
     // `deep_fifos_are_block_ram_and_shallow_ones_lut_ram`): the output register with a LUT per

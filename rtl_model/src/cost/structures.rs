@@ -191,23 +191,26 @@ pub fn fifo_bram36(depth: u64, bits: u64) -> u64 {
     }
 }
 
-/// The fabric of one FIFO of `depth` entries of `bits` bits. In LUT-RAM ([`lutram_luts`]):
-/// the storage, the output register (`bits` FFs), read and write pointers and a count of
+/// The fabric of one FIFO of `depth` entries of `bits` bits, as Yosys builds `svo_fifo`
+/// (docs/cycle-model.md §1.5, "Structures"): read and write pointers and a count of
 /// ⌈log₂ D⌉ + 1 bits each (3 of them in FFs, their increments and the full/empty compares in
-/// as many LUTs). In block RAM ([`fifo_in_bram`]; the blocks are [`fifo_bram36`]): the same
-/// output register and pointers, and a LUT per bit that selects the register's next value
-/// (Yosys's netlists of 128 and 256 entries × 546 bits: 603 and 634 LUTs, 569 and 572 FFs,
-/// against 570 and 573 by this formula).
+/// as many LUTs), and
+/// - in LUT-RAM ([`lutram_luts`]): the storage, read as it is addressed (no output
+///   register: 64 × 546 bits gave 78 RAM64M8, 35 LUTs and 25 FFs; 624 + 21 LUTs and 21 FFs by
+///   this formula);
+/// - in block RAM ([`fifo_in_bram`]; the blocks are [`fifo_bram36`]): the output register the
+///   synchronous read needs, with a LUT per bit selecting its next value (128 and 256 × 546
+///   bits: 603 and 634 LUTs, 569 and 572 FFs; 570 and 573 of each by this formula).
 pub fn fifo_fabric(depth: u64, bits: u64) -> Fabric {
     let ptr = clog2(depth) + 1;
-    let storage = if fifo_in_bram(depth) {
-        bits
+    let (storage, output) = if fifo_in_bram(depth) {
+        (bits, bits)
     } else {
-        lutram_luts(depth, bits)
+        (lutram_luts(depth, bits), 0)
     };
     Fabric {
         lut: storage + 3 * ptr,
-        ff: bits + 3 * ptr,
+        ff: output + 3 * ptr,
     }
 }
 
@@ -225,7 +228,7 @@ fn fifos(hw: &HwConfig, dp: &DatapathConfig) -> Vec<FabricItem> {
                     fifo_bram36(depth, bits)
                 )
             } else {
-                format!("{depth} × {bits} bits in LUT-RAM, output register, pointers")
+                format!("{depth} × {bits} bits in LUT-RAM, pointers")
             },
         })
         .collect()
