@@ -124,6 +124,13 @@ def main() -> int:
         # the vectors (its content depends on the datapath only).
         npix = int(extra_env.get("SVO_NPIX", "768"))
         build_dir = build_dir.with_name(f"core_{npix}")
+        # SVO_HW_PKG=FILE: another hardware package (`sim hardware --sv-package`) in place of
+        # hw/frame_hw_pkg.sv, built in its own folder (e.g. an 8-lane sorter, whose merge
+        # passes a crowd's rays take).
+        hw_pkg = extra_env.get("SVO_HW_PKG")
+        if hw_pkg:
+            sources = [Path(hw_pkg).resolve()] + [s for s in sources if s.name != "frame_hw_pkg.sv"]
+            build_dir = build_dir.with_name(f"core_{npix}_{Path(hw_pkg).stem}")
         build_dir.mkdir(parents=True, exist_ok=True)
         vectors = extra_env.get("SVO_VECTORS")
         if not vectors:

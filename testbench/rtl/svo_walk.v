@@ -26,7 +26,7 @@
 // instance registers they replace).
 //
 // The record's normal is computed here: a packed ray's best-hit attribute normal and its
-// instance's normal matrix (`inst_nmat`, 9 sQ2.16 elements row-major per lane, programmed by
+// instance's normal matrix (`inst_nmat` for `ird_nm`, 9 sQ2.16 elements row-major, programmed by
 // the host with the frame) go through svo_normal (latency 13) while the other fields wait
 // beside it in an svo_delay, then svo_hit_pack (1): the pack pipe is 14 long, the model's
 // units.hit_pack (units::hit_record::PACK_LATENCY_CYCLES). `done_*` shows each ray's walk results when its record is decided (for checking).
