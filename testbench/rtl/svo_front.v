@@ -134,8 +134,15 @@ module svo_front #(
     // Passes: P = ⌈n_inst / LANES⌉ (at least 1), a frame constant; `pc` is the pass a held
     // ray is in (0: none held, the input is open), `sp_hold` that ray's direction.
     localparam PCW = 8;
-    wire [8:0] n_up = {1'b0, n_inst} + 9'(LANES - 1);
-    wire [8:0] n_pass = n_up / 9'(LANES);
+    localparam integer LANES_I = LANES;
+    localparam integer LANES_M1 = LANES - 1;
+    localparam integer KEYN_I = KEYN;
+    localparam [8:0] L9 = LANES_I[8:0];
+    localparam [8:0] LM9 = LANES_M1[8:0];
+    localparam [7:0] L8 = LANES_I[7:0];
+    localparam [KC-1:0] KEYN_C = KEYN_I[KC-1:0];
+    wire [8:0] n_up = {1'b0, n_inst} + LM9;
+    wire [8:0] n_pass = n_up / L9;
     wire [PCW-1:0] sp_p_now = n_pass == 9'd0 ? 8'd1 : n_pass[PCW-1:0];
     reg  [PCW-1:0] pc;
     reg  [95:0]    sp_hold;                                  // the held ray's direction
@@ -145,7 +152,7 @@ module svo_front #(
     assign f1_ready = sp_in_ready;
     wire sp_go = sp_accept || pc != {PCW{1'b0}};             // a pass enters the lanes
     wire [95:0] sp_dir = pc != {PCW{1'b0}} ? sp_hold : f1_data[95:0];
-    assign inst_base = 8'(pc * LANES);
+    assign inst_base = pc * L8;
     always @(posedge clk)
         if (rst) pc <= {PCW{1'b0}};
         else if (sp_accept && sp_p_now != 8'd1) pc <= 8'd1;
@@ -187,7 +194,9 @@ module svo_front #(
     wire [LANES-1:0] sp_used;
     generate
         for (gl = 0; gl < LANES; gl = gl + 1) begin : used
-            wire [15:0] id = 16'(oc) * 16'(LANES) + 16'(gl);
+            localparam integer GL_I = gl;
+            localparam [7:0] GL8 = GL_I[7:0];
+            wire [15:0] id = {8'd0, oc} * {8'd0, L8} + {8'd0, GL8};
             assign sp_used[gl] = id < {8'd0, n_inst};
         end
     endgenerate
@@ -202,10 +211,10 @@ module svo_front #(
         sp_keys = oc == {PCW{1'b0}} ? {KEYS{1'b0}} : acc_keys;
         sp_n = oc == {PCW{1'b0}} ? {KC{1'b0}} : acc_n;
         sp_drop = 1'b0;
-        sp_id = 8'(oc * LANES);
+        sp_id = oc * L8;
         for (l = 0; l < LANES; l = l + 1) begin
             if (sp_u_hit[l] && sp_used[l]) begin
-                if (sp_n == KC'(KEYN)) sp_drop = 1'b1;
+                if (sp_n == KEYN_C) sp_drop = 1'b1;
                 else begin
                     sp_keys[sp_n * 40 +: 40] = {sp_id, sp_u_t[l*32 +: 32]};
                     sp_n = sp_n + 1'b1;

@@ -65,6 +65,12 @@ module svo_inst_table #(
     localparam ROW = WORDS * 32;
     localparam IW = IMAGES > 1 ? $clog2(IMAGES) : 1;
     localparam XW = NINST > 1 ? $clog2(NINST) : 1;   // row index bits
+    localparam integer NINST_I = NINST;
+    localparam integer IMAGES_I = IMAGES;
+    localparam integer WORDS_I = WORDS;
+    localparam [7:0] NINST8 = NINST_I[7:0];
+    localparam [8:0] IMAGES9 = IMAGES_I[8:0];
+    localparam [5:0] WORDS6 = WORDS_I[5:0];
     generate
         if (NINST < 1 || NINST > 255 || IMAGES < 1 || IMAGES > 256) begin : bad_params
             svo_inst_table_NINST_must_be_1_to_255 bad();
@@ -82,14 +88,14 @@ module svo_inst_table #(
             keep = 32'h0000_00ff;
         else if (w == 6'd28) keep = 32'h0000_0003;
         else if (w >= 6'd30 && w <= 6'd38) keep = 32'h0003_ffff;
-        else if (w < 6'(WORDS)) keep = 32'hffff_ffff;
+        else if (w < WORDS6) keep = 32'hffff_ffff;
         else keep = 32'd0;
     endfunction
     function automatic [31:0] word_of(input [ROW-1:0] r, input integer w);
         word_of = r[w*32 +: 32];
     endfunction
     function automatic [ROW-1:0] row(input [7:0] k);
-        row = k < 8'(NINST) ? mem[k[XW-1:0]] : {ROW{1'b0}};
+        row = k < NINST8 ? mem[k[XW-1:0]] : {ROW{1'b0}};
     endfunction
     /* verilator lint_off UNUSEDSIGNAL */
     function automatic [39:0] reach_of(input [ROW-1:0] rr);
@@ -98,21 +104,22 @@ module svo_inst_table #(
     /* verilator lint_on UNUSEDSIGNAL */
 
     // ---------------------------------------------------------------- host port
-    wire h_ok = h_inst < 8'(NINST) && h_word < 6'(WORDS);
+    wire h_ok = h_inst < NINST8 && h_word < WORDS6;
     wire [ROW-1:0] h_row = row(h_inst);
-    wire [31:0] h_old = h_word < 6'(WORDS) ? h_row[h_word * 32 +: 32] : 32'd0;
+    wire [31:0] h_old = h_word < WORDS6 ? h_row[h_word * 32 +: 32] : 32'd0;
     wire [31:0] h_new = ((h_old & ~h_biten) | (h_data & h_biten)) & keep(h_word);
     reg       fix;                                // recompute reach² of fix_inst
     reg [XW-1:0] fix_inst;
+    wire [39:0] fix_reach = reach_of(mem[fix_inst]);
     always @(posedge clk) begin
         h_rdata <= h_old;
         fix <= h_req && h_wr && h_ok && (h_word == 6'd21 || h_word == 6'd22);
         fix_inst <= h_inst[XW-1:0];
         if (h_req && h_wr && h_ok) begin
             mem[h_inst[XW-1:0]][h_word * 32 +: 32] <= h_new;
-            if (h_word == 6'd29) img_bad[h_inst[XW-1:0]] <= h_new[7:0] >= 8'(IMAGES);
+            if (h_word == 6'd29) img_bad[h_inst[XW-1:0]] <= {1'b0, h_new[7:0]} >= IMAGES9;
         end
-        if (fix) reach2[fix_inst] <= 80'(reach_of(mem[fix_inst])) * 80'(reach_of(mem[fix_inst]));
+        if (fix) reach2[fix_inst] <= {40'd0, fix_reach} * {40'd0, fix_reach};
     end
     initial img_bad = {NINST{1'b0}};
 
@@ -124,7 +131,7 @@ module svo_inst_table #(
     reg [7:0] k;
     always @* begin
         for (l = 0; l < LANES; l = l + 1) begin
-            k = sp_base + 8'(l);
+            k = sp_base + l[7:0];
             r = row(k);
             for (j = 0; j < 3; j = j + 1)
                 sp_c[l*120 + j*40 +: 40] = {r[(12+j)*32 +: 8], r[(9+j)*32 +: 32]};
@@ -132,7 +139,7 @@ module svo_inst_table #(
             sp_inside[l*64 +: 64] = {word_of(r, 26), word_of(r, 25)};
             sp_delta_t[l*34 +: 34] = {r[28*32 +: 2], word_of(r, 27)};
             sp_reach[l*40 +: 40] = reach_of(r);
-            sp_reach2[l*80 +: 80] = k < 8'(NINST) ? reach2[k[XW-1:0]] : 80'd0;
+            sp_reach2[l*80 +: 80] = k < NINST8 ? reach2[k[XW-1:0]] : 80'd0;
         end
     end
 
