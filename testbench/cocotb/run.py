@@ -85,6 +85,12 @@ def write_regs_hw(path: Path) -> None:
         if rng:
             hi, lo = rng.rstrip("]").split(":")
             width = int(hi) - int(lo) + 1
+        if name.startswith("hwif_in.INSTANCE_TABLE."):
+            # The external instance table (svo_top's svo_inst_table) is not part of the
+            # register walk: its acks and data stay 0 (an ack without a request would
+            # complete the bus's other accesses).
+            lines.append(f"    assign {name} = '0;\n")
+            continue
         lines.append(f"    assign {name} = {{{width}{{hw_pattern}}}};\n")
     text = "".join(lines)
     if not path.exists() or path.read_text() != text:
@@ -117,14 +123,26 @@ def main() -> int:
         # seed ROM is read at run time from a fixed path in the build folder, copied from
         # the vectors (its content depends on the datapath only).
         npix = int(extra_env.get("SVO_NPIX", "768"))
-        # The hardware: SVO_HW=NAME builds svo_top on hw/NAME_pkg.sv (default frame_hw; e.g.
-        # pool_1x4, a walker of four contexts), one build per hardware and size.
-        hw = extra_env.get("SVO_HW", "frame_hw")
-        pkg = TB / "hw" / f"{hw}_pkg.sv"
-        if not pkg.exists():
-            print(f"run.py: SVO_HW={hw}: no package {pkg}", file=sys.stderr)
+        # The hardware: SVO_HW=NAME builds svo_top on the committed hw/NAME_pkg.sv (default
+        # frame_hw; e.g. pool_2x4, two walkers of four contexts), SVO_HW=FILE.sv on another
+        # package from `sim hardware --sv-package` (e.g. an 8-lane sorter, whose merge passes
+        # a crowd's rays take); one build folder per hardware and size.
+        if "SVO_HW_PKG" in extra_env:
+            print("run.py: SVO_HW_PKG is gone: give the package as SVO_HW=FILE.sv", file=sys.stderr)
             return 2
-        sources = [pkg] + sources[1:]
+        hw = extra_env.get("SVO_HW", "frame_hw")
+        if hw.endswith(".sv"):
+            pkg = Path(hw).resolve()
+            hw = pkg.stem.removesuffix("_pkg")
+        else:
+            pkg = TB / "hw" / f"{hw}_pkg.sv"
+        if not pkg.exists():
+            print(f"run.py: SVO_HW={extra_env.get('SVO_HW')}: no package {pkg}", file=sys.stderr)
+            return 2
+        sources = [pkg] + [s for s in sources if s.name != "frame_hw_pkg.sv"]
+        # A package outside hw/ gets its own folder even if its stem is a committed one's.
+        if pkg.parent != TB / "hw":
+            hw = f"file_{hw}"
         build_dir = build_dir.with_name(f"core_{npix}" if hw == "frame_hw" else f"core_{hw}_{npix}")
         build_dir.mkdir(parents=True, exist_ok=True)
         vectors = extra_env.get("SVO_VECTORS")

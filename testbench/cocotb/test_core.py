@@ -23,7 +23,7 @@ latency, or with its own random pauses on each lane's AR and R), the direction m
 above. The other SVO_HW packages (frame_hw, pool_1x4) have one walker and one plain master.
 
 The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
-with each instance (INSTANCE[i].NMAT, frame_instances nmat_*).
+with each instance (its NMAT words in INSTANCE_TABLE, frame_instances nmat_*).
 
 Environment: SVO_VECTORS (the `sim vectors` folder), SVO_MODEL_CYCLES (frame 0's model
 cycles), SVO_FRAMES=2 with SVO_MODEL_CYCLES1 (a second frame with the hit buffer kept:
@@ -46,7 +46,7 @@ from cocotb.triggers import ClockCycles, FallingEdge, ReadOnly, RisingEdge
 from cocotbext.axi import (AxiLiteBus, AxiLiteMaster, AxiReadBus, AxiRamRead,
                            AxiStreamBus, AxiStreamSink)
 from systemrdl import RDLCompiler
-from systemrdl.node import RegNode
+from systemrdl.node import MemNode, RegNode
 
 RDL = Path(__file__).resolve().parent.parent / "rdl" / "svo_core.rdl"
 DIR_BASE = 0x0000_0000      # the direction table (16 bytes a pixel)
@@ -55,18 +55,29 @@ ATTR_BASE = 0x0200_0000     # walker_attrs.hex, 8 bytes a record
 MEM_BYTES = 0x0300_0000
 MAX_REPORTS = 10
 IMAGE_SLOTS = 8             # svo_top's IMAGE registers
+TABLE_INSTANCES = 128       # svo_top's NINST: the instance table's instances
+TABLE_STRIDE = 0x100        # bytes an instance of the table spans
 
 
 def register_map():
-    """path (without the top's name, e.g. 'INSTANCE[0].AXIS[3]') -> byte address."""
+    """path (without the top's name, e.g. 'IMAGE[0].NODE_BASE_LO', or 'INSTANCE_TABLE' for
+    the external instance table) -> byte address; and an instance's word path (e.g.
+    'AXIS[3]', from the description's svo_instance_words) -> its offset in the table."""
     rdlc = RDLCompiler()
     rdlc.compile_file(str(RDL))
-    root = rdlc.elaborate()
+    root = rdlc.elaborate(top_def_name="svo_core_regs")
     out = {}
     for n in root.descendants(unroll=True):
-        if isinstance(n, RegNode):
+        if isinstance(n, (RegNode, MemNode)):
             out[n.get_path().split(".", 1)[1]] = n.absolute_address
-    return out
+    rdlc = RDLCompiler()
+    rdlc.compile_file(str(RDL))
+    words = rdlc.elaborate(top_def_name="svo_instance_words")
+    inst = {}
+    for n in words.descendants(unroll=True):
+        if isinstance(n, RegNode):
+            inst[n.get_path().split(".", 2)[2]] = n.absolute_address
+    return out, inst
 
 
 class Table:
@@ -238,7 +249,7 @@ async def frame_against_the_model(dut):
     rng = random.Random(seed)
     print(f"core: vectors {vec}, seed {seed}, stall {stall} %, memory latency {latency}, {frames} frame(s)"
           + (f", corrupted {corrupt}" if corrupt else ""))
-    regs = register_map()
+    regs, inst_words = register_map()
     b = Bench(dut)
 
     # Frame f's tables: SVO_VECTORS for frame 0, SVO_VECTORS1 (`sim vectors --frame 1` of the
@@ -320,6 +331,15 @@ async def frame_against_the_model(dut):
     async def w(path, value):
         await axil.write_dword(regs[path], value & 0xFFFF_FFFF)
 
+    async def w_inst(k, path, value):
+        addr = regs["INSTANCE_TABLE"] + TABLE_STRIDE * k + inst_words[path]
+        await axil.write_dword(addr, value & 0xFFFF_FFFF)
+
+    async def w_dirty(flags, moved):
+        await w("DIRTY", flags)
+        for j in range(TABLE_INSTANCES // 32):
+            await w(f"DIRTY_INSTANCE[{j}]", moved >> (32 * j))
+
     async def r(path):
         return await axil.read_dword(regs[path])
 
@@ -327,8 +347,9 @@ async def frame_against_the_model(dut):
         return (await r(f"{name}.LO")) | ((await r(f"{name}.HI")) << 32)
 
     # The frame's registers (the host's side).
-    async def write_frame(it, ct):
+    async def write_frame(it, ct, prev_ins):
         await w("FRAME_SIZE", width | (height << 16))
+        assert len(it.rows) <= TABLE_INSTANCES, f"{len(it.rows)} instances; the table holds {TABLE_INSTANCES}"
         await w("INSTANCES", len(it.rows))
         for j, a in enumerate("xyz"):
             o = ct.get(0, f"o_{a}")
@@ -350,23 +371,26 @@ async def frame_against_the_model(dut):
             await w(f"IMAGE[{i}].NODE_BASE_HI", nb >> 32)
             await w(f"IMAGE[{i}].ATTR_BASE_LO", ab)
             await w(f"IMAGE[{i}].ATTR_BASE_HI", ab >> 32)
+        # The instances into the instance table (INSTANCE_TABLE), each word at its offset
+        # from the description's instance layout; only the instances whose row changed.
         for k in range(len(it.rows)):
-            pre = f"INSTANCE[{k}]"
+            if prev_ins is not None and k < len(prev_ins.rows) and prev_ins.rows[k] == it.rows[k]:
+                continue
             for c in range(3):
                 for j, a in enumerate("xyz"):
-                    await w(f"{pre}.AXIS[{3 * c + j}]", it.get(k, f"axis{c}_{a}"))
+                    await w_inst(k, f"AXIS[{3 * c + j}]", it.get(k, f"axis{c}_{a}"))
             for j, a in enumerate("xyz"):
-                await w(f"{pre}.C_LO[{j}]", it.get(k, f"c_{a}"))
-                await w(f"{pre}.C_HI[{j}]", it.get(k, f"c_{a}") >> 32)
-                await w(f"{pre}.HALF_LO[{j}]", it.get(k, f"half_{a}"))
-                await w(f"{pre}.HALF_HI[{j}]", it.get(k, f"half_{a}") >> 32)
+                await w_inst(k, f"C_LO[{j}]", it.get(k, f"c_{a}"))
+                await w_inst(k, f"C_HI[{j}]", it.get(k, f"c_{a}") >> 32)
+                await w_inst(k, f"HALF_LO[{j}]", it.get(k, f"half_{a}"))
+                await w_inst(k, f"HALF_HI[{j}]", it.get(k, f"half_{a}") >> 32)
             for name in ("reach", "threshold", "inside", "delta_t"):
                 v = it.get(k, name)
-                await w(f"{pre}.{name.upper()}_LO", v)
-                await w(f"{pre}.{name.upper()}_HI", v >> 32)
-            await w(f"{pre}.IMAGE", it.get(k, "image"))
+                await w_inst(k, f"{name.upper()}_LO", v)
+                await w_inst(k, f"{name.upper()}_HI", v >> 32)
+            await w_inst(k, "IMAGE", it.get(k, "image"))
             for j, e in enumerate(("xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz")):
-                await w(f"{pre}.NMAT[{j}]", it.get(k, f"nmat_{e}"))
+                await w_inst(k, f"NMAT[{j}]", it.get(k, f"nmat_{e}"))
 
     # A refused START: a frame of 0 pixels sets STATUS.ERROR 1 and neither BUSY nor DONE.
     await w("FRAME_SIZE", 0)
@@ -386,7 +410,7 @@ async def frame_against_the_model(dut):
         if corrupt.startswith("pixel:") and f == 0:
             expected[int(corrupt.split(":")[1])] ^= 1
         if f == 0:
-            dirty = 0x2 | (0xFF << 8)               # nothing to reuse: all dirty
+            dirty, moved_bits = 0x2, (1 << TABLE_INSTANCES) - 1   # nothing to reuse: all dirty
         else:
             # The host's dirty flags: the camera (its position or any direction) and each
             # instance whose registers changed since the frame the buffer holds.
@@ -394,15 +418,15 @@ async def frame_against_the_model(dut):
                 pix[f].get(p, f"dir_{a}") != pix[f - 1].get(p, f"dir_{a}") for p in range(npix) for a in "xyz")
             moved = [k for k in range(len(ins[f].rows))
                      if k >= len(ins[f - 1].rows) or ins[f].rows[k] != ins[f - 1].rows[k]]
-            dirty = 0x1 | (0x2 if cam_moved else 0) | (sum(1 << k for k in moved) << 8)
+            dirty, moved_bits = 0x1 | (0x2 if cam_moved else 0), sum(1 << k for k in moved)
             print(f"core: frame {f}: camera {'moved' if cam_moved else 'still'}, instances moved {moved}")
             if cam_moved:
                 put_directions(pix[f])
                 for ram in rams:
                     ram.write(DIR_BASE, bytes(mem[DIR_BASE:DIR_BASE + 16 * npix]))
         if f == 0 or folders[f] != folders[f - 1]:
-            await write_frame(ins[f], cam[f])
-        await w("DIRTY", dirty)
+            await write_frame(ins[f], cam[f], ins[f - 1] if f else None)
+        await w_dirty(dirty, moved_bits)
         await w("STATUS", 0x2)                      # clear DONE
         await w("CTRL", 0x1)
         seen = {}

@@ -5,10 +5,13 @@
 // Pipeline position: all of docs/cycle-model.md §2.1, raygen to the hit-buffer write. What it
 // takes from outside (the host's side, as the register block and memories of a board would
 // give it): the direction table (`dir_pixel` → `dir_f64`, read in the cycle, or a stream:
-// `dir_valid` low holds ray generation, `dir_take` pops it), the camera, the instance
-// registers (lane k = instance k, with the normal matrix `inst_nmat` the record stage's
-// svo_normal reads), the frame's reuse flags and miss word, and the node memory behind one
-// read port. What it gives: the hit-buffer writes, one per bank and cycle
+// `dir_valid` low holds ray generation, `dir_take` pops it), the camera, the instance table's
+// read ports (the frame's `n_inst` instances of up to NINST, held by the host's side in
+// on-chip RAM, svo_top's svo_inst_table: LANES ports for the sphere lanes, instance
+// `inst_base` + l on lane l, and one each for the transform, the walker root, the walker's
+// image bases and the record stage's svo_normal, `ird_*` → `inst_*`, all answered in the
+// same cycle), the frame's reuse flags (a dirty bit per instance) and miss word, and the
+// node memory behind one read port. What it gives: the hit-buffer writes, one per bank and cycle
 // (`wr_*`: the record FIFO's head; `wr1_*`: the check's word; `wr2_*`: a second record), which
 // are the frame's pixel stream; the rays the check stage takes and each ray's walk results
 // (`chk_*`, `done_*`), for checking; sticky errors and overflow flags. `wr_hold` (a full pixel
@@ -63,6 +66,8 @@ module svo_core #(
     parameter D_RC_WR  = 8,
     parameter DIR_FIXED = 0,                      // dir_f64 holds sQ2.30 codes (svo_raygen)
     parameter RECIP_SEED_FILE = "",               // reciprocal seed ROM file ("": the bench loads it)
+    parameter NINST    = LANES,                   // the instance table's entries (≤ 255)
+    parameter KEYN     = LANES,                   // candidates a ray carries (≤ SO_MAX_KEYS)
     parameter CONTEXTS = 1,                       // walker_pool.contexts_per_walker
     parameter WALKERS  = 1,                       // walker_pool.walkers: a node-memory port each
     parameter CW       = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1
@@ -78,23 +83,30 @@ module svo_core #(
     output wire                    dir_take,
     input  wire [3*64-1:0]         origin_f64,
     input  wire [3*PW-1:0]         cam_o,
-    // host: instance registers
+    // host: the instance table's read ports (sphere lanes: instance inst_base + l on lane l)
+    output wire [7:0]              inst_base,
+    input  wire [7:0]              n_inst,
     input  wire [LANES*120-1:0]    inst_c,
     input  wire [LANES*64-1:0]     inst_threshold,
     input  wire [LANES*64-1:0]     inst_inside,
     input  wire [LANES*34-1:0]     inst_delta_t,
     input  wire [LANES*40-1:0]     inst_reach,
     input  wire [LANES*80-1:0]     inst_reach2,
-    input  wire [LANES*288-1:0]    inst_axes,
-    input  wire [LANES*120-1:0]    inst_half,
-    input  wire [LANES*32-1:0]     inst_node_base,
-    input  wire [LANES*32-1:0]     inst_attr_base,
-    input  wire [LANES*9*18-1:0]   inst_nmat,       // normal matrices, sQ2.16 row-major
-    input  wire [LANES-1:0]        lane_used,
+    // (the walk section: transform, walker root, walker, normal unit)
+    output wire [7:0]              ird_tr,
+    input  wire [287:0]            inst_axes,
+    input  wire [119:0]            inst_c_tr,
+    output wire [7:0]              ird_rt,
+    input  wire [119:0]            inst_half,
+    output wire [7:0]              ird_dp,
+    input  wire [31:0]             inst_node_base,
+    input  wire [31:0]             inst_attr_base,
+    output wire [7:0]              ird_nm,
+    input  wire [9*18-1:0]         inst_nmat,       // the normal matrix, sQ2.16 row-major
     // host: the frame's reuse flags and the word of a ray without candidates
     input  wire                    buffer_valid,
     input  wire                    camera_dirty,
-    input  wire [LANES-1:0]        instance_dirty,
+    input  wire [NINST-1:0]        instance_dirty,
     input  wire [71:0]             miss_word,
     input  wire                    wr_hold,
     // node memory: one read port per walker (svo_walk)
@@ -138,7 +150,7 @@ module svo_core #(
     output wire [WALKERS*CW-1:0]   mem_req_ctx,
     input  wire [WALKERS*CW-1:0]   mem_resp_ctx
 );
-    localparam PAYW = 96 + 6 + LANES * 40;
+    localparam PAYW = 96 + 6 + KEYN * 40;
     localparam SO_CW = 6;
 
     // ---------------------------------------------------------------- front end
@@ -146,16 +158,18 @@ module svo_core #(
     wire [PIXW-1:0] fr_pixel;
     wire [95:0] fr_dir;
     wire [SO_CW-1:0] fr_count;
-    wire [LANES*40-1:0] fr_keys;
+    wire [KEYN*40-1:0] fr_keys;
     svo_front #(.LANES(LANES), .PIXW(PIXW), .RG_L(RG_L), .SP_L(SP_L), .SO_N(SO_N), .SO_D(SO_D),
         .SO_S(SO_S), .SO_PAIRS(SO_PAIRS), .SO_MAX_KEYS(SO_MAX_KEYS), .SO_CW(SO_CW),
-        .D_RG_SP(D_RG_SP), .D_SP_SO(D_SP_SO), .D_SO_CK(D_SO_CK), .DIR_FIXED(DIR_FIXED))
+        .D_RG_SP(D_RG_SP), .D_SP_SO(D_SP_SO), .D_SO_CK(D_SO_CK), .DIR_FIXED(DIR_FIXED),
+        .NINST(NINST), .KEYN(KEYN))
         u_front (.clk(clk), .rst(rst), .run(run), .npix(npix), .dir_pixel(dir_pixel),
         .dir_f64(dir_f64), .dir_valid(dir_valid), .dir_take(dir_take),
-        .origin_f64(origin_f64), .cam_o(cam_o), .inst_c(inst_c),
+        .origin_f64(origin_f64), .cam_o(cam_o), .inst_base(inst_base), .n_inst(n_inst),
+        .inst_c(inst_c),
         .inst_threshold(inst_threshold), .inst_inside(inst_inside),
         .inst_delta_t(inst_delta_t), .inst_reach(inst_reach), .inst_reach2(inst_reach2),
-        .lane_used(lane_used), .out_valid(fr_valid), .out_ready(hb_in_ready),
+        .out_valid(fr_valid), .out_ready(hb_in_ready),
         .out_pixel(fr_pixel), .out_dir(fr_dir), .out_count(fr_count), .out_keys(fr_keys),
         .err_pipe(fr_err_pipe), .err_overflow(fr_err_ov));
     assign chk_valid = fr_valid && hb_in_ready;
@@ -168,7 +182,7 @@ module svo_core #(
     wire [PIXW-1:0] hb_walk_pixel, rec_pixel;
     wire [PAYW-1:0] hb_walk_payload;
     wire [71:0] rec_word;
-    svo_hit_buffer #(.NPIX(NPIX), .AW(AW), .PIXW(PIXW), .INSTANCES(LANES), .HB_READ(HB_READ),
+    svo_hit_buffer #(.NPIX(NPIX), .AW(AW), .PIXW(PIXW), .INSTANCES(NINST), .HB_READ(HB_READ),
         .PAYW(PAYW), .WR_DEPTH(D_RC_WR), .WRITE_PORTS(WRITE_PORTS),
         .RECORD_WRITES(RECORD_WRITES))
     u_hit_buffer (.clk(clk), .rst(rst), .buffer_valid(buffer_valid),
@@ -192,13 +206,14 @@ module svo_core #(
         .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
         .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
         .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
-        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS),
-        .CW(CW))
-    u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .inst_axes(inst_axes), .inst_c(inst_c),
-        .inst_half(inst_half), .inst_node_base(inst_node_base),
-        .inst_attr_base(inst_attr_base), .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
+        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
+        .WALKERS(WALKERS), .CW(CW))
+    u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
+        .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
+        .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),
+        .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
         .in_pixel(hb_walk_pixel), .in_dir(hb_walk_payload[PAYW-1 -: 96]),
-        .in_count(hb_walk_payload[LANES*40 +: 6]), .in_keys(hb_walk_payload[LANES*40-1:0]),
+        .in_count(hb_walk_payload[KEYN*40 +: 6]), .in_keys(hb_walk_payload[KEYN*40-1:0]),
         .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
         .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
         .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),

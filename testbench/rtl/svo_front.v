@@ -15,15 +15,20 @@
 //   low holds ray generation (a table streamed from memory that has not arrived); `dir_take`
 //   is high in the cycle the direction is taken. DIR_FIXED = 1: `dir_f64` carries sQ2.30 codes
 //   {z, y, x} in its low 96 bits (svo_raygen's DIR_FIXED).
-// - sphere: LANES svo_sphere lanes test the ray against the instance registers (`inst_*`,
-//   lane l = instance l; lanes not in `lane_used` never hit). The hits leave compacted in
-//   lane order as sorter keys {lane 8, t_enter uQ10.22 32}, with their count.
-// - sorter: svo_sorter (network SO_N lanes, SO_D layers) sorts them by (t, id). The pipe's
-//   capacity is SO_D, the network's latency: a ray of at most SO_N keys never waits for the
-//   merge passes (LANES <= SO_N is required), so `err_pipe` (sticky) never rises unless that
-//   is broken.
+// - sphere: LANES svo_sphere lanes test the ray against the frame's `n_inst` instances in
+//   P = ⌈n_inst / LANES⌉ passes, one a cycle (the model's flat passes, sphere.rs): in pass p
+//   lane l tests instance LANES·p + l, whose registers the instance table gives on `inst_*`
+//   in the same cycle (`inst_base` = LANES·p: an asynchronous read port per lane); an
+//   instance ≥ n_inst never hits. The input stays closed for the ray's P cycles and the ray
+//   leaves when its last pass does (accept + SP_L + P − 1). The hits leave compacted in
+//   instance order as sorter keys {instance 8, t_enter uQ10.22 32}, at most KEYN of them,
+//   with their count.
+// - sorter: svo_sorter (network SO_N lanes, SO_D layers) sorts them by (t, id); a ray of more
+//   than SO_N keys takes its merge passes, with the sorter's own `in_ready` closing the input
+//   as the model's `units::sorter::pipe_cost` does. The pipe's capacity is SO_D.
 // `err_overflow` (sticky) is set when raygen or a used sphere lane raises an overflow flag
-// (the datapath's saturation, counted by the model; reported, never silent).
+//   (the datapath's saturation, counted by the model), or a ray has more than KEYN candidates
+//   (the rest are dropped): reported, never silent.
 // A side band (pixel and direction) rides beside each unit in a tag FIFO: pushed when a ray
 // enters the unit, popped when its result comes out (in order). It holds L + 1: in the cycle
 // a ray leaves a full unit of latency L the next enters, and the FIFO's registered not-full
@@ -47,7 +52,9 @@ module svo_front #(
     parameter D_RG_SP  = 4,                       // fifos.raygen_to_sphere
     parameter D_SP_SO  = 4,                       // fifos.sphere_to_sorter
     parameter D_SO_CK  = 8,                       // fifos.sorter_to_check
-    parameter DIR_FIXED = 0                       // dir_f64 holds sQ2.30 codes
+    parameter DIR_FIXED = 0,                      // dir_f64 holds sQ2.30 codes
+    parameter NINST    = LANES,                   // the instance table's entries (≤ 255)
+    parameter KEYN     = LANES                    // keys a ray carries (≤ SO_MAX_KEYS, ≤ 63)
 ) (
     input  wire                     clk,
     input  wire                     rst,
@@ -60,31 +67,33 @@ module svo_front #(
     output wire                     dir_take,     // the direction is taken this cycle
     input  wire [3*64-1:0]          origin_f64,   // the camera, binary64
     input  wire [3*40-1:0]          cam_o,        // the camera register, sQ8.32
-    // instance registers, lane l in bits l·W +: W
+    // the instance table's lane read ports: lane l's instance, inst_base + l, this cycle
+    output wire [7:0]               inst_base,
+    input  wire [7:0]               n_inst,       // instances this frame (constant in a frame)
     input  wire [LANES*120-1:0]     inst_c,
     input  wire [LANES*64-1:0]      inst_threshold,
     input  wire [LANES*64-1:0]      inst_inside,
     input  wire [LANES*34-1:0]      inst_delta_t,
     input  wire [LANES*40-1:0]      inst_reach,
     input  wire [LANES*80-1:0]      inst_reach2,
-    input  wire [LANES-1:0]         lane_used,
     // rays to the check stage (sorter_to_check's head)
     output wire                     out_valid,
     input  wire                     out_ready,
     output wire [PIXW-1:0]          out_pixel,
     output wire [3*32-1:0]          out_dir,
     output wire [SO_CW-1:0]         out_count,
-    output wire [LANES*40-1:0]      out_keys,     // sorted, the first out_count valid
+    output wire [KEYN*40-1:0]       out_keys,     // sorted, the first out_count valid
     output reg                      err_pipe,      // a pipe rule broken (sticky)
     output reg                      err_overflow  // raygen or sphere overflow flags (sticky)
 );
     localparam TAG = PIXW + 96;                   // pixel, direction
-    localparam KEYS = LANES * 40;
-    localparam KC = $clog2(LANES + 1);
+    localparam KEYS = KEYN * 40;
+    localparam KC = $clog2(KEYN + 1);
 
     generate
-        if (LANES > SO_N || LANES < 1 || SO_MAX_KEYS < SO_N) begin : bad_lanes
-            svo_front_LANES_must_be_1_to_SO_N bad();
+        if (LANES > SO_N || LANES < 1 || SO_MAX_KEYS < SO_N || KEYN < LANES
+            || KEYN > SO_MAX_KEYS || KEYN > 63 || NINST < LANES || NINST > 255) begin : bad_lanes
+            svo_front_LANES_1_to_SO_N_KEYN_LANES_to_SO_MAX_KEYS_NINST_to_255 bad();
         end
     endgenerate
 
@@ -122,10 +131,35 @@ module svo_front #(
     /* verilator lint_on PINCONNECTEMPTY */
 
     // ---------------------------------------------------------------- sphere lanes
-    wire sp_in_ready;
+    // Passes: P = ⌈n_inst / LANES⌉ (at least 1), a frame constant; `pc` is the pass a held
+    // ray is in (0: none held, the input is open), `sp_hold` that ray's direction.
+    localparam PCW = 8;
+    localparam integer LANES_I = LANES;
+    localparam integer LANES_M1 = LANES - 1;
+    localparam integer KEYN_I = KEYN;
+    localparam [8:0] L9 = LANES_I[8:0];
+    localparam [8:0] LM9 = LANES_M1[8:0];
+    localparam [7:0] L8 = LANES_I[7:0];
+    localparam [KC-1:0] KEYN_C = KEYN_I[KC-1:0];
+    wire [8:0] n_up = {1'b0, n_inst} + LM9;
+    wire [8:0] n_pass = n_up / L9;
+    wire [PCW-1:0] sp_p_now = n_pass == 9'd0 ? 8'd1 : n_pass[PCW-1:0];
+    reg  [PCW-1:0] pc;
+    reg  [95:0]    sp_hold;                                  // the held ray's direction
+    wire sp_in_ready, sp_pipe_ready;
+    assign sp_in_ready = sp_pipe_ready && pc == {PCW{1'b0}};
     wire sp_accept = f1_valid && sp_in_ready;
     assign f1_ready = sp_in_ready;
-    // Every lane's valid is the same bit (they take the same rays): lane 0's is used.
+    wire sp_go = sp_accept || pc != {PCW{1'b0}};             // a pass enters the lanes
+    wire [95:0] sp_dir = pc != {PCW{1'b0}} ? sp_hold : f1_data[95:0];
+    assign inst_base = pc * L8;
+    always @(posedge clk)
+        if (rst) pc <= {PCW{1'b0}};
+        else if (sp_accept && sp_p_now != 8'd1) pc <= 8'd1;
+        else if (pc != {PCW{1'b0}}) pc <= (pc == sp_p_now - 8'd1) ? {PCW{1'b0}} : pc + 1'b1;
+    always @(posedge clk)
+        if (sp_accept) sp_hold <= f1_data[95:0];
+    // Every lane's valid is the same bit (they take the same passes): lane 0's is used.
     /* verilator lint_off UNUSEDSIGNAL */
     wire [LANES-1:0] sp_u_valid;
     /* verilator lint_on UNUSEDSIGNAL */
@@ -134,8 +168,8 @@ module svo_front #(
     genvar gl;
     generate
         for (gl = 0; gl < LANES; gl = gl + 1) begin : lane
-            svo_sphere u_sphere (.clk(clk), .rst(rst), .in_valid(sp_accept), .in_o(cam_o),
-                .in_d(f1_data[95:0]), .in_c(inst_c[gl*120 +: 120]),
+            svo_sphere u_sphere (.clk(clk), .rst(rst), .in_valid(sp_go), .in_o(cam_o),
+                .in_d(sp_dir), .in_c(inst_c[gl*120 +: 120]),
                 .in_threshold(inst_threshold[gl*64 +: 64]),
                 .in_inside(inst_inside[gl*64 +: 64]), .in_delta_t(inst_delta_t[gl*34 +: 34]),
                 .in_reach(inst_reach[gl*40 +: 40]), .in_reach2(inst_reach2[gl*80 +: 80]),
@@ -144,33 +178,66 @@ module svo_front #(
                 .out_ov_t_enter(sp_ov_t[gl]));
         end
     endgenerate
-    // The ray's side band while its spheres are tested.
-    wire [TAG-1:0] sp_tag;
+    // The ray's side band and pass count while its spheres are tested. `oc` counts the
+    // passes of the ray leaving the lanes; they leave on consecutive cycles, as they entered.
+    wire [PCW+TAG-1:0] sp_tag;
     wire sp_tag_valid;
+    reg  [PCW-1:0] oc;
+    wire [PCW-1:0] sp_tag_p = sp_tag[TAG +: PCW];
+    wire sp_last = sp_u_valid[0] && oc == sp_tag_p - 8'd1;
     /* verilator lint_off PINCONNECTEMPTY */
-    svo_fifo #(.DEPTH(SP_L + 1), .W(TAG)) sp_tags (.clk(clk), .rst(rst), .in_valid(sp_accept),
-        .in_ready(), .in_data(f1_data), .out_valid(sp_tag_valid), .out_ready(sp_u_valid[0]),
-        .out_data(sp_tag), .occupancy());
+    svo_fifo #(.DEPTH(SP_L + 1), .W(PCW + TAG)) sp_tags (.clk(clk), .rst(rst),
+        .in_valid(sp_accept), .in_ready(), .in_data({sp_p_now, f1_data}),
+        .out_valid(sp_tag_valid), .out_ready(sp_last), .out_data(sp_tag), .occupancy());
     /* verilator lint_on PINCONNECTEMPTY */
-    // Compaction: the hits in lane order as keys {lane, t}, and their count.
-    reg [KEYS-1:0] sp_keys;
-    reg [KC-1:0]   sp_n;
+    // Instance of lane l in the pass leaving: LANES·oc + l; an instance ≥ n_inst never hits.
+    wire [LANES-1:0] sp_used;
+    generate
+        for (gl = 0; gl < LANES; gl = gl + 1) begin : used
+            localparam integer GL_I = gl;
+            localparam [7:0] GL8 = GL_I[7:0];
+            wire [15:0] id = {8'd0, oc} * {8'd0, L8} + {8'd0, GL8};
+            assign sp_used[gl] = id < {8'd0, n_inst};
+        end
+    endgenerate
+    // Compaction: this pass's hits appended in lane order to the ray's keys so far, as
+    // {instance, t}; more than KEYN are dropped (err_overflow).
+    reg [KEYS-1:0] acc_keys, sp_keys;
+    reg [KC-1:0]   acc_n, sp_n;
+    reg            sp_drop;
+    reg [7:0]      sp_id;
     integer l;
     always @* begin
-        sp_keys = {KEYS{1'b0}};
-        sp_n = {KC{1'b0}};
-        for (l = 0; l < LANES; l = l + 1)
-            if (sp_u_hit[l] && lane_used[l]) begin
-                sp_keys[sp_n * 40 +: 40] = {l[7:0], sp_u_t[l*32 +: 32]};
-                sp_n = sp_n + 1'b1;
+        sp_keys = oc == {PCW{1'b0}} ? {KEYS{1'b0}} : acc_keys;
+        sp_n = oc == {PCW{1'b0}} ? {KC{1'b0}} : acc_n;
+        sp_drop = 1'b0;
+        sp_id = oc * L8;
+        for (l = 0; l < LANES; l = l + 1) begin
+            if (sp_u_hit[l] && sp_used[l]) begin
+                if (sp_n == KEYN_C) sp_drop = 1'b1;
+                else begin
+                    sp_keys[sp_n * 40 +: 40] = {sp_id, sp_u_t[l*32 +: 32]};
+                    sp_n = sp_n + 1'b1;
+                end
             end
+            sp_id = sp_id + 8'd1;
+        end
     end
+    always @(posedge clk)
+        if (rst) begin
+            oc <= {PCW{1'b0}};
+            acc_n <= {KC{1'b0}};
+        end else if (sp_u_valid[0]) begin
+            oc <= sp_last ? {PCW{1'b0}} : oc + 1'b1;
+            acc_keys <= sp_keys;
+            acc_n <= sp_n;
+        end
     wire sp_valid, sp_ready;
     wire [TAG+KC+KEYS-1:0] sp_data;
     svo_elastic #(.L(SP_L), .W(TAG + KC + KEYS)) sp_pipe (.clk(clk), .rst(rst),
-        .in_valid(f1_valid), .in_ready(sp_in_ready), .unit_valid(sp_u_valid[0]),
-        .unit_data({sp_tag, sp_n, sp_keys}), .out_valid(sp_valid), .out_ready(sp_ready),
-        .out_data(sp_data));
+        .in_valid(f1_valid && pc == {PCW{1'b0}}), .in_ready(sp_pipe_ready),
+        .unit_valid(sp_last), .unit_data({sp_tag[TAG-1:0], sp_n, sp_keys}),
+        .out_valid(sp_valid), .out_ready(sp_ready), .out_data(sp_data));
 
     wire f2_valid, f2_ready;
     wire [TAG+KC+KEYS-1:0] f2_data;
@@ -182,10 +249,11 @@ module svo_front #(
 
     // ---------------------------------------------------------------- sorter
     wire so_in_ready, so_pipe_ready, so_u_valid;
-    wire so_accept = f2_valid && so_pipe_ready;
-    assign f2_ready = so_pipe_ready;
+    // The sorter's own ready closes the input while a merged ray's passes run.
+    wire so_accept = f2_valid && so_pipe_ready && so_in_ready;
+    assign f2_ready = so_pipe_ready && so_in_ready;
     wire [SO_CW-1:0] so_u_count;
-    // Keys beyond LANES are the zero padding of the input: a ray has at most LANES keys.
+    // Keys beyond KEYN are the zero padding of the input: a ray has at most KEYN keys.
     /* verilator lint_off UNUSEDSIGNAL */
     wire [SO_MAX_KEYS*40-1:0] so_u_keys;
     /* verilator lint_on UNUSEDSIGNAL */
@@ -215,7 +283,7 @@ module svo_front #(
     wire so_valid, so_ready;
     wire [TAG+SO_CW+KEYS-1:0] so_data;
     svo_elastic #(.L(SO_D), .W(TAG + SO_CW + KEYS)) so_pipe (.clk(clk), .rst(rst),
-        .in_valid(f2_valid), .in_ready(so_pipe_ready), .unit_valid(so_u_valid),
+        .in_valid(f2_valid && so_in_ready), .in_ready(so_pipe_ready), .unit_valid(so_u_valid),
         .unit_data({so_tag, so_u_count, so_u_keys[KEYS-1:0]}), .out_valid(so_valid),
         .out_ready(so_ready), .out_data(so_data));
 
@@ -232,9 +300,8 @@ module svo_front #(
             err_pipe <= 1'b0;
             err_overflow <= 1'b0;
         end else begin
-            if (so_accept && !so_in_ready) err_pipe <= 1'b1;
             if ((rg_u_valid && (rg_ov_d || rg_ov_o))
-                || (sp_u_valid[0] && |((sp_ov_r | sp_ov_t) & lane_used)))
+                || (sp_u_valid[0] && (|((sp_ov_r | sp_ov_t) & sp_used) || sp_drop)))
                 err_overflow <= 1'b1;
             // A result with no side band waiting would be a broken pipe: never expected.
             if ((sp_u_valid[0] && !sp_tag_valid) || (so_u_valid && !so_tag_valid))

@@ -19,11 +19,14 @@
 // contexts + root_to_dispatch); the slot holds it until its record leaves for packing. Each
 // walk of the ray is one candidate, front to back: the record stage sends the next one back
 // through loop_back unless the best hit so far ends the ray (FramePlan::stops: best t <= the
-// next candidate's entry). The instance registers (`inst_*`, lane k = instance k) give the
-// transform's axes and centre, the root's half extents and the walker's image bases.
+// next candidate's entry). The instance table gives the transform's axes and centre, the
+// root's half extents, the walker's image bases and the normal matrix through four read
+// ports (`ird_*`: the instance read, `inst_*` its registers in the same cycle; the table
+// answers asynchronously, one replicated port per reader, so the timing is that of the
+// instance registers they replace).
 //
 // The record's normal is computed here: a packed ray's best-hit attribute normal and its
-// instance's normal matrix (`inst_nmat`, 9 sQ2.16 elements row-major per lane, programmed by
+// instance's normal matrix (`inst_nmat` for `ird_nm`, 9 sQ2.16 elements row-major, programmed by
 // the host with the frame) go through svo_normal (latency 13) while the other fields wait
 // beside it in an svo_delay, then svo_hit_pack (1): the pack pipe is 14 long, the model's
 // units.hit_pack (units::hit_record::PACK_LATENCY_CYCLES). `done_*` shows each ray's walk results when its record is decided (for checking).
@@ -39,7 +42,7 @@
 `timescale 1ns/1ps
 `default_nettype none
 module svo_walk #(
-    parameter LANES     = 8,          // instance registers
+    parameter LANES     = 8,          // sphere lanes (KEYN's default)
     parameter PIXW      = 32,
     parameter SLOTS     = 65,
     parameter TAGW      = 7,          // ray-slot tag bits: 2^TAGW >= SLOTS
@@ -62,6 +65,7 @@ module svo_walk #(
     parameter D_RT_DP   = 64,
     parameter D_WK_RC   = 16,
     parameter RECIP_SEED_FILE = "",            // the reciprocal seed ROM (reciprocal_seed.hex); "": loaded by the testbench
+    parameter KEYN      = LANES,      // keys a ray carries (svo_front's KEYN)
     parameter CONTEXTS  = 1,          // walker_pool.contexts_per_walker
     parameter WALKERS   = 1,          // walker_pool.walkers: one node-memory port each
     parameter CW        = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1
@@ -69,19 +73,24 @@ module svo_walk #(
     input  wire                    clk,
     input  wire                    rst,
     input  wire [3*PW-1:0]         cam_o,
-    input  wire [LANES*288-1:0]    inst_axes,
-    input  wire [LANES*120-1:0]    inst_c,
-    input  wire [LANES*120-1:0]    inst_half,
-    input  wire [LANES*32-1:0]     inst_node_base,
-    input  wire [LANES*32-1:0]     inst_attr_base,
-    input  wire [LANES*9*18-1:0]   inst_nmat,
+    // the instance table's read ports: the instance read (`ird_*`), its registers back
+    output wire [7:0]              ird_tr,       // the transform's
+    input  wire [287:0]            inst_axes,
+    input  wire [119:0]            inst_c,
+    output wire [7:0]              ird_rt,       // the walker root's
+    input  wire [119:0]            inst_half,
+    output wire [7:0]              ird_dp,       // the walker's (dispatch)
+    input  wire [31:0]             inst_node_base,
+    input  wire [31:0]             inst_attr_base,
+    output wire [7:0]              ird_nm,       // the record's normal unit
+    input  wire [9*18-1:0]         inst_nmat,
     // rays to walk, from the check stage
     input  wire                    in_valid,
     output wire                    in_ready,
     input  wire [PIXW-1:0]         in_pixel,
     input  wire [95:0]             in_dir,
     input  wire [5:0]              in_count,
-    input  wire [LANES*40-1:0]     in_keys,
+    input  wire [KEYN*40-1:0]      in_keys,
     // the node memory
     // the node memory: one read port per walker (port w: walker w's reads; one read a cycle
     // each, their responses in any order, each on any port, with its context)
@@ -110,10 +119,9 @@ module svo_walk #(
     input  wire [WALKERS*CW-1:0]   mem_resp_ctx
 );
     localparam TI = TW + 1;
-    localparam KEYS = LANES * 40;
+    localparam KEYS = KEYN * 40;
     localparam RAY = PIXW + 96 + 6 + KEYS;
     localparam RTB = 1 + 2 * 3 * TI + 3 * (PW + 1) + 3 * PW + 3 + 3 + TAGW;   // root bundle
-    localparam IX = LANES > 1 ? $clog2(LANES) : 1;
 
     generate
         if ((1 << TAGW) < SLOTS || SLOTS < 2) begin : bad_slots
@@ -141,8 +149,6 @@ module svo_walk #(
     reg [2:0]       s_neg   [0:SLOTS-1];
     reg [SLOTS-1:0] free;
     // The instance of slot s's current candidate.
-    // Candidates come from the LANES sphere lanes, so an instance id is below LANES: the
-    // registers are indexed by its low IX bits (the upper ones are zero).
     function automatic [7:0] cand_inst(input [KEYS-1:0] keys, input [5:0] c);
         cand_inst = keys[c * 40 + 32 +: 8];
     endfunction
@@ -182,7 +188,7 @@ module svo_walk #(
     wire [63:0] pk_t = s_best[wr_slot] ? pk_t_hit : 64'h3fffff;
     svo_normal #(.N_W(8)) u_normal (.clk(clk), .rst(rst), .in_valid(r_pack),
         .in_oct(s_attr[wr_slot][63:32]),
-        .in_mat(inst_nmat[s_inst[wr_slot][IX-1:0]*(9*18) +: 9*18]),
+        .in_mat(inst_nmat),
         .out_valid(nm_valid), .out_code(nm_code));
     wire [PKB-1:0] pk_d = {s_count[wr_slot] == 6'd1 ? 2'd1 : 2'd2, s_best[wr_slot],
         s_inst[wr_slot], pk_t, s_attr[wr_slot][7:0], s_attr[wr_slot][15:8],
@@ -237,8 +243,8 @@ module svo_walk #(
         .in_t1(dp_data[RTB-2-3*TI -: 3*TI]),
         .in_o(dp_data[3*PW+TAGW+6+3*(PW+1)-1 -: 3*(PW+1)]),
         .in_half(dp_data[3*PW+TAGW+6-1 -: 3*PW]), .in_zero(dp_data[TAGW+5 -: 3]),
-        .in_neg(dp_data[TAGW+2 -: 3]), .in_node_base(inst_node_base[dp_inst[IX-1:0]*32 +: 32]),
-        .in_attr_base(inst_attr_base[dp_inst[IX-1:0]*32 +: 32]), .in_tag(dp_slot),
+        .in_neg(dp_data[TAGW+2 -: 3]), .in_node_base(inst_node_base),
+        .in_attr_base(inst_attr_base), .in_tag(dp_slot),
         .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready), .mem_req_attr(mem_req_attr),
         .mem_req_addr(mem_req_addr), .mem_req_ctx(mem_req_ctx), .mem_resp_valid(mem_resp_valid),
         .mem_resp_ctx(mem_resp_ctx), .mem_resp_data(mem_resp_data), .out_valid(wk_out_valid),
@@ -271,7 +277,7 @@ module svo_walk #(
     svo_walker_root #(.POS_W(PW), .POS_FRAC(POS_FRAC), .INV_W(INV_W), .INV_FRAC(INV_FRAC),
         .T_W(TW), .T_FRAC(T_FRAC), .PROD(ROOT_PROD), .TAG_W(TAGW)
     ) u_root (.clk(clk), .rst(rst), .in_valid(rt_accept), .in_o(s_o[rr_slot]),
-        .in_inv(s_inv[rr_slot]), .in_half(inst_half[rr_inst[IX-1:0]*120 +: 120]),
+        .in_inv(s_inv[rr_slot]), .in_half(inst_half),
         .in_zero(s_zero[rr_slot]), .in_neg(s_neg[rr_slot]), .in_tag(rr_slot),
         .out_valid(rt_u_valid), .out_enter(rt_u_enter), .out_t0(rt_u_t0), .out_t1(rt_u_t1),
         .out_o(rt_u_o), .out_half(rt_u_half), .out_zero(rt_u_zero), .out_neg(rt_u_neg),
@@ -366,8 +372,8 @@ module svo_walk #(
     wire [95:0] tr_u_d;
     wire [2:0] tr_u_sign;
     svo_transform u_transform (.clk(clk), .rst(rst), .in_valid(tr_accept), .in_o(cam_o),
-        .in_d(tr_dir), .in_axes(inst_axes[tr_inst[IX-1:0]*288 +: 288]),
-        .in_c(inst_c[tr_inst[IX-1:0]*120 +: 120]), .out_valid(tr_u_valid), .out_o(tr_u_o),
+        .in_d(tr_dir), .in_axes(inst_axes),
+        .in_c(inst_c), .out_valid(tr_u_valid), .out_o(tr_u_o),
         .out_d(tr_u_d), .out_sign(tr_u_sign), .out_ov_origin(tr_ov_o), .out_ov_dir(tr_ov_d));
     wire [TAGW-1:0] tr_tag;
     wire tr_tag_valid;
@@ -449,5 +455,10 @@ module svo_walk #(
                 err_overflow <= 1'b1;
         end
     end
+    // ---------------------------------------------------------------- instance table reads
+    assign ird_tr = tr_inst;
+    assign ird_rt = rr_inst;
+    assign ird_dp = dp_inst;
+    assign ird_nm = s_inst[wr_slot];
 endmodule
 `default_nettype wire

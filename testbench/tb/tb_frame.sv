@@ -83,7 +83,7 @@ module tb_frame;
 
     reg [PB-1:0] pix [0:NPIX-1];
     // At least one row per lane (the lanes beyond the frame's instances read zeros, and
-    // their hits are masked by lane_used).
+    // their hits are masked by the core's n_inst).
     reg [IB-1:0] inst [0:(NINST > LANES ? NINST : LANES)-1];
     reg [CB-1:0] cam [0:0];
     reg [31:0]   nodes [0:NODE_WORDS-1];
@@ -151,8 +151,12 @@ module tb_frame;
             for (int a = 0; a < 3; a++) dir_f64[a*64 +: 64] = f64_of($signed(td[a*32 +: 32]), 30);
         end
     endfunction
-    // Lanes with an instance: a frame of fewer instances than lanes leaves the rest unused.
-    wire [LANES-1:0] lane_used = LANES'((64'd1 << NINST) - 64'd1);
+    // The instance registers' read ports of the core (svo_top's instance table in a board):
+    // the walk section's reads answered from the registers below in the same cycle. This
+    // top has one instance per sphere lane (NINST <= LANES), so the lanes take one pass and
+    // lane l tests instance l (the lanes beyond the frame's instances are masked by n_inst).
+    localparam int IXW = LANES > 1 ? $clog2(LANES) : 1;
+    wire [7:0] ird_tr, ird_rt, ird_dp, ird_nm;
     // The instance registers as svo_front's buses, set once the frame's rows are read (a
     // continuous assignment from array words does not always update in Icarus 12, as
     // svo_delay.v notes).
@@ -232,12 +236,17 @@ module tb_frame;
         .dir_f64(fr_dir_f64), .dir_valid(1'b1), .dir_take(),
         .origin_f64({f64_of($signed(cam_o[80 +: 40]), 32), f64_of($signed(cam_o[40 +: 40]), 32),
                      f64_of($signed(cam_o[0 +: 40]), 32)}),
-        .cam_o(cam_o), .inst_c(fr_c), .inst_threshold(fr_threshold), .inst_inside(fr_inside),
+        .cam_o(cam_o), .inst_base(), .n_inst(8'(NINST)), .inst_c(fr_c),
+        .inst_threshold(fr_threshold), .inst_inside(fr_inside),
         .inst_delta_t(fr_delta_t), .inst_reach(fr_reach), .inst_reach2(fr_reach2),
-        .inst_axes(wk_axes), .inst_half(wk_half), .inst_node_base(wk_nb),
-        .inst_attr_base(wk_ab), .lane_used(lane_used), .buffer_valid(hb_buffer_valid),
+        .ird_tr(ird_tr), .inst_axes(wk_axes[ird_tr[IXW-1:0]*288 +: 288]),
+        .inst_c_tr(fr_c[ird_tr[IXW-1:0]*120 +: 120]),
+        .ird_rt(ird_rt), .inst_half(wk_half[ird_rt[IXW-1:0]*120 +: 120]),
+        .ird_dp(ird_dp), .inst_node_base(wk_nb[ird_dp[IXW-1:0]*32 +: 32]),
+        .inst_attr_base(wk_ab[ird_dp[IXW-1:0]*32 +: 32]), .buffer_valid(hb_buffer_valid),
         .camera_dirty(hb_camera_dirty), .instance_dirty(hb_instance_dirty),
-        .miss_word(miss_word), .wr_hold(1'b0), .inst_nmat(wk_nmat),
+        .miss_word(miss_word), .wr_hold(1'b0), .ird_nm(ird_nm),
+        .inst_nmat(wk_nmat[ird_nm[IXW-1:0]*162 +: 162]),
         .mem_req_valid(mem_req_valid), .mem_req_ready(left <= 1 && !stall_now),
         .mem_req_attr(mem_req_attr),
         .mem_req_addr(mem_req_addr), .mem_resp_valid(mem_resp_valid),

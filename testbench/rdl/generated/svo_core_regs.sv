@@ -7,7 +7,7 @@ module svo_core_regs (
 
         output logic s_axil_awready,
         input wire s_axil_awvalid,
-        input wire [11:0] s_axil_awaddr,
+        input wire [15:0] s_axil_awaddr,
         input wire [2:0] s_axil_awprot,
         output logic s_axil_wready,
         input wire s_axil_wvalid,
@@ -18,7 +18,7 @@ module svo_core_regs (
         output logic [1:0] s_axil_bresp,
         output logic s_axil_arready,
         input wire s_axil_arvalid,
-        input wire [11:0] s_axil_araddr,
+        input wire [15:0] s_axil_araddr,
         input wire [2:0] s_axil_arprot,
         input wire s_axil_rready,
         output logic s_axil_rvalid,
@@ -34,7 +34,7 @@ module svo_core_regs (
     //--------------------------------------------------------------------------
     logic cpuif_req;
     logic cpuif_req_is_wr;
-    logic [11:0] cpuif_addr;
+    logic [15:0] cpuif_addr;
     logic [31:0] cpuif_wr_data;
     logic [31:0] cpuif_wr_biten;
     logic cpuif_req_stall_wr;
@@ -51,10 +51,10 @@ module svo_core_regs (
     logic [1:0] axil_n_in_flight;
     logic axil_prev_was_rd;
     logic axil_arvalid;
-    logic [11:0] axil_araddr;
+    logic [15:0] axil_araddr;
     logic axil_ar_accept;
     logic axil_awvalid;
-    logic [11:0] axil_awaddr;
+    logic [15:0] axil_awaddr;
     logic axil_wvalid;
     logic [31:0] axil_wdata;
     logic [3:0] axil_wstrb;
@@ -132,17 +132,17 @@ module svo_core_regs (
             if(axil_arvalid && !axil_prev_was_rd) begin
                 cpuif_req = '1;
                 cpuif_req_is_wr = '0;
-                cpuif_addr = {axil_araddr[11:2], 2'b0};
+                cpuif_addr = {axil_araddr[15:2], 2'b0};
                 if(!cpuif_req_stall_rd) axil_ar_accept = '1;
             end else if(axil_awvalid && axil_wvalid) begin
                 cpuif_req = '1;
                 cpuif_req_is_wr = '1;
-                cpuif_addr = {axil_awaddr[11:2], 2'b0};
+                cpuif_addr = {axil_awaddr[15:2], 2'b0};
                 if(!cpuif_req_stall_wr) axil_aw_accept = '1;
             end else if(axil_arvalid) begin
                 cpuif_req = '1;
                 cpuif_req_is_wr = '0;
-                cpuif_addr = {axil_araddr[11:2], 2'b0};
+                cpuif_addr = {axil_araddr[15:2], 2'b0};
                 if(!cpuif_req_stall_rd) axil_ar_accept = '1;
             end
         end
@@ -213,10 +213,12 @@ module svo_core_regs (
     end
 
     logic cpuif_req_masked;
+    logic external_pending;
 
     // Read & write latencies are balanced. Stalls not required
-    assign cpuif_req_stall_rd = '0;
-    assign cpuif_req_stall_wr = '0;
+    // except if external
+    assign cpuif_req_stall_rd = external_pending;
+    assign cpuif_req_stall_wr = external_pending;
     assign cpuif_req_masked = cpuif_req
                             & !(!cpuif_req_is_wr & cpuif_req_stall_rd)
                             & !(cpuif_req_is_wr & cpuif_req_stall_wr);
@@ -236,6 +238,7 @@ module svo_core_regs (
         logic MISS_WORD[3];
         logic DIR_TABLE_BASE_LO;
         logic DIR_TABLE_BASE_HI;
+        logic DIRTY_INSTANCE[4];
         struct {
             logic LO;
             logic HI;
@@ -278,27 +281,13 @@ module svo_core_regs (
             logic ATTR_BASE_LO;
             logic ATTR_BASE_HI;
         } IMAGE[8];
-        struct {
-            logic AXIS[9];
-            logic C_LO[3];
-            logic C_HI[3];
-            logic HALF_LO[3];
-            logic HALF_HI[3];
-            logic REACH_LO;
-            logic REACH_HI;
-            logic THRESHOLD_LO;
-            logic THRESHOLD_HI;
-            logic INSIDE_LO;
-            logic INSIDE_HI;
-            logic DELTA_T_LO;
-            logic DELTA_T_HI;
-            logic IMAGE;
-            logic NMAT[9];
-        } INSTANCE[8];
+        logic INSTANCE_TABLE;
     } decoded_reg_strb_t;
     decoded_reg_strb_t decoded_reg_strb;
     logic decoded_err;
-    logic [11:0] decoded_addr;
+    logic decoded_req_is_external;
+
+    logic [15:0] decoded_addr;
     logic decoded_req;
     logic decoded_req_is_wr;
     logic [31:0] decoded_wr_data;
@@ -307,79 +296,74 @@ module svo_core_regs (
     always_comb begin
         automatic logic is_valid_addr;
         automatic logic is_valid_rw;
+        automatic logic is_external;
+        is_external = '0;
         is_valid_addr = '1; // No valid address check
         is_valid_rw = '1; // No valid RW check
-        decoded_reg_strb.ID = cpuif_req_masked & (cpuif_addr == 12'h0) & !cpuif_req_is_wr;
-        decoded_reg_strb.CTRL = cpuif_req_masked & (cpuif_addr == 12'h4);
-        decoded_reg_strb.STATUS = cpuif_req_masked & (cpuif_addr == 12'h8);
-        decoded_reg_strb.DIRTY = cpuif_req_masked & (cpuif_addr == 12'hc);
-        decoded_reg_strb.FRAME_SIZE = cpuif_req_masked & (cpuif_addr == 12'h10);
-        decoded_reg_strb.INSTANCES = cpuif_req_masked & (cpuif_addr == 12'h14);
+        decoded_reg_strb.ID = cpuif_req_masked & (cpuif_addr == 16'h0) & !cpuif_req_is_wr;
+        decoded_reg_strb.CTRL = cpuif_req_masked & (cpuif_addr == 16'h4);
+        decoded_reg_strb.STATUS = cpuif_req_masked & (cpuif_addr == 16'h8);
+        decoded_reg_strb.DIRTY = cpuif_req_masked & (cpuif_addr == 16'hc);
+        decoded_reg_strb.FRAME_SIZE = cpuif_req_masked & (cpuif_addr == 16'h10);
+        decoded_reg_strb.INSTANCES = cpuif_req_masked & (cpuif_addr == 16'h14);
         for(int i0=0; i0<3; i0++) begin
-            decoded_reg_strb.CAMERA_O_LO[i0] = cpuif_req_masked & (cpuif_addr == 12'h20 + (12)'(i0) * 12'h4);
+            decoded_reg_strb.CAMERA_O_LO[i0] = cpuif_req_masked & (cpuif_addr == 16'h20 + (16)'(i0) * 16'h4);
         end
         for(int i0=0; i0<3; i0++) begin
-            decoded_reg_strb.CAMERA_O_HI[i0] = cpuif_req_masked & (cpuif_addr == 12'h30 + (12)'(i0) * 12'h4);
+            decoded_reg_strb.CAMERA_O_HI[i0] = cpuif_req_masked & (cpuif_addr == 16'h30 + (16)'(i0) * 16'h4);
         end
         for(int i0=0; i0<3; i0++) begin
-            decoded_reg_strb.MISS_WORD[i0] = cpuif_req_masked & (cpuif_addr == 12'h40 + (12)'(i0) * 12'h4);
+            decoded_reg_strb.MISS_WORD[i0] = cpuif_req_masked & (cpuif_addr == 16'h40 + (16)'(i0) * 16'h4);
         end
-        decoded_reg_strb.DIR_TABLE_BASE_LO = cpuif_req_masked & (cpuif_addr == 12'h50);
-        decoded_reg_strb.DIR_TABLE_BASE_HI = cpuif_req_masked & (cpuif_addr == 12'h54);
-        decoded_reg_strb.CYCLES.LO = cpuif_req_masked & (cpuif_addr == 12'h100) & !cpuif_req_is_wr;
-        decoded_reg_strb.CYCLES.HI = cpuif_req_masked & (cpuif_addr == 12'h104) & !cpuif_req_is_wr;
-        decoded_reg_strb.WALKS.LO = cpuif_req_masked & (cpuif_addr == 12'h108) & !cpuif_req_is_wr;
-        decoded_reg_strb.WALKS.HI = cpuif_req_masked & (cpuif_addr == 12'h10c) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WALK_ISSUE.LO = cpuif_req_masked & (cpuif_addr == 12'h110) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WALK_ISSUE.HI = cpuif_req_masked & (cpuif_addr == 12'h114) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WRITE_PORT.LO = cpuif_req_masked & (cpuif_addr == 12'h118) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_WRITE_PORT.HI = cpuif_req_masked & (cpuif_addr == 12'h11c) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_MEMORY.LO = cpuif_req_masked & (cpuif_addr == 12'h120) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_MEMORY.HI = cpuif_req_masked & (cpuif_addr == 12'h124) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_DIRECTIONS.LO = cpuif_req_masked & (cpuif_addr == 12'h128) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_DIRECTIONS.HI = cpuif_req_masked & (cpuif_addr == 12'h12c) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_STREAM.LO = cpuif_req_masked & (cpuif_addr == 12'h130) & !cpuif_req_is_wr;
-        decoded_reg_strb.STALL_STREAM.HI = cpuif_req_masked & (cpuif_addr == 12'h134) & !cpuif_req_is_wr;
-        decoded_reg_strb.NODE_READS.LO = cpuif_req_masked & (cpuif_addr == 12'h138) & !cpuif_req_is_wr;
-        decoded_reg_strb.NODE_READS.HI = cpuif_req_masked & (cpuif_addr == 12'h13c) & !cpuif_req_is_wr;
-        decoded_reg_strb.REUSED.LO = cpuif_req_masked & (cpuif_addr == 12'h140) & !cpuif_req_is_wr;
-        decoded_reg_strb.REUSED.HI = cpuif_req_masked & (cpuif_addr == 12'h144) & !cpuif_req_is_wr;
+        decoded_reg_strb.DIR_TABLE_BASE_LO = cpuif_req_masked & (cpuif_addr == 16'h50);
+        decoded_reg_strb.DIR_TABLE_BASE_HI = cpuif_req_masked & (cpuif_addr == 16'h54);
+        for(int i0=0; i0<4; i0++) begin
+            decoded_reg_strb.DIRTY_INSTANCE[i0] = cpuif_req_masked & (cpuif_addr == 16'h60 + (16)'(i0) * 16'h4);
+        end
+        decoded_reg_strb.CYCLES.LO = cpuif_req_masked & (cpuif_addr == 16'h100) & !cpuif_req_is_wr;
+        decoded_reg_strb.CYCLES.HI = cpuif_req_masked & (cpuif_addr == 16'h104) & !cpuif_req_is_wr;
+        decoded_reg_strb.WALKS.LO = cpuif_req_masked & (cpuif_addr == 16'h108) & !cpuif_req_is_wr;
+        decoded_reg_strb.WALKS.HI = cpuif_req_masked & (cpuif_addr == 16'h10c) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_WALK_ISSUE.LO = cpuif_req_masked & (cpuif_addr == 16'h110) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_WALK_ISSUE.HI = cpuif_req_masked & (cpuif_addr == 16'h114) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_WRITE_PORT.LO = cpuif_req_masked & (cpuif_addr == 16'h118) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_WRITE_PORT.HI = cpuif_req_masked & (cpuif_addr == 16'h11c) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_MEMORY.LO = cpuif_req_masked & (cpuif_addr == 16'h120) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_MEMORY.HI = cpuif_req_masked & (cpuif_addr == 16'h124) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_DIRECTIONS.LO = cpuif_req_masked & (cpuif_addr == 16'h128) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_DIRECTIONS.HI = cpuif_req_masked & (cpuif_addr == 16'h12c) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_STREAM.LO = cpuif_req_masked & (cpuif_addr == 16'h130) & !cpuif_req_is_wr;
+        decoded_reg_strb.STALL_STREAM.HI = cpuif_req_masked & (cpuif_addr == 16'h134) & !cpuif_req_is_wr;
+        decoded_reg_strb.NODE_READS.LO = cpuif_req_masked & (cpuif_addr == 16'h138) & !cpuif_req_is_wr;
+        decoded_reg_strb.NODE_READS.HI = cpuif_req_masked & (cpuif_addr == 16'h13c) & !cpuif_req_is_wr;
+        decoded_reg_strb.REUSED.LO = cpuif_req_masked & (cpuif_addr == 16'h140) & !cpuif_req_is_wr;
+        decoded_reg_strb.REUSED.HI = cpuif_req_masked & (cpuif_addr == 16'h144) & !cpuif_req_is_wr;
         for(int i0=0; i0<8; i0++) begin
-            decoded_reg_strb.IMAGE[i0].NODE_BASE_LO = cpuif_req_masked & (cpuif_addr == 12'h200 + (12)'(i0) * 12'h10);
-            decoded_reg_strb.IMAGE[i0].NODE_BASE_HI = cpuif_req_masked & (cpuif_addr == 12'h204 + (12)'(i0) * 12'h10);
-            decoded_reg_strb.IMAGE[i0].ATTR_BASE_LO = cpuif_req_masked & (cpuif_addr == 12'h208 + (12)'(i0) * 12'h10);
-            decoded_reg_strb.IMAGE[i0].ATTR_BASE_HI = cpuif_req_masked & (cpuif_addr == 12'h20c + (12)'(i0) * 12'h10);
+            decoded_reg_strb.IMAGE[i0].NODE_BASE_LO = cpuif_req_masked & (cpuif_addr == 16'h200 + (16)'(i0) * 16'h10);
+            decoded_reg_strb.IMAGE[i0].NODE_BASE_HI = cpuif_req_masked & (cpuif_addr == 16'h204 + (16)'(i0) * 16'h10);
+            decoded_reg_strb.IMAGE[i0].ATTR_BASE_LO = cpuif_req_masked & (cpuif_addr == 16'h208 + (16)'(i0) * 16'h10);
+            decoded_reg_strb.IMAGE[i0].ATTR_BASE_HI = cpuif_req_masked & (cpuif_addr == 16'h20c + (16)'(i0) * 16'h10);
         end
-        for(int i0=0; i0<8; i0++) begin
-            for(int i1=0; i1<9; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].AXIS[i1] = cpuif_req_masked & (cpuif_addr == 12'h400 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
-            end
-            for(int i1=0; i1<3; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].C_LO[i1] = cpuif_req_masked & (cpuif_addr == 12'h424 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
-            end
-            for(int i1=0; i1<3; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].C_HI[i1] = cpuif_req_masked & (cpuif_addr == 12'h430 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
-            end
-            for(int i1=0; i1<3; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].HALF_LO[i1] = cpuif_req_masked & (cpuif_addr == 12'h43c + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
-            end
-            for(int i1=0; i1<3; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].HALF_HI[i1] = cpuif_req_masked & (cpuif_addr == 12'h448 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
-            end
-            decoded_reg_strb.INSTANCE[i0].REACH_LO = cpuif_req_masked & (cpuif_addr == 12'h454 + (12)'(i0) * 12'h100);
-            decoded_reg_strb.INSTANCE[i0].REACH_HI = cpuif_req_masked & (cpuif_addr == 12'h458 + (12)'(i0) * 12'h100);
-            decoded_reg_strb.INSTANCE[i0].THRESHOLD_LO = cpuif_req_masked & (cpuif_addr == 12'h45c + (12)'(i0) * 12'h100);
-            decoded_reg_strb.INSTANCE[i0].THRESHOLD_HI = cpuif_req_masked & (cpuif_addr == 12'h460 + (12)'(i0) * 12'h100);
-            decoded_reg_strb.INSTANCE[i0].INSIDE_LO = cpuif_req_masked & (cpuif_addr == 12'h464 + (12)'(i0) * 12'h100);
-            decoded_reg_strb.INSTANCE[i0].INSIDE_HI = cpuif_req_masked & (cpuif_addr == 12'h468 + (12)'(i0) * 12'h100);
-            decoded_reg_strb.INSTANCE[i0].DELTA_T_LO = cpuif_req_masked & (cpuif_addr == 12'h46c + (12)'(i0) * 12'h100);
-            decoded_reg_strb.INSTANCE[i0].DELTA_T_HI = cpuif_req_masked & (cpuif_addr == 12'h470 + (12)'(i0) * 12'h100);
-            decoded_reg_strb.INSTANCE[i0].IMAGE = cpuif_req_masked & (cpuif_addr == 12'h474 + (12)'(i0) * 12'h100);
-            for(int i1=0; i1<9; i1++) begin
-                decoded_reg_strb.INSTANCE[i0].NMAT[i1] = cpuif_req_masked & (cpuif_addr == 12'h478 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4);
-            end
-        end
+        decoded_reg_strb.INSTANCE_TABLE = cpuif_req_masked & (cpuif_addr >= 16'h8000) & (cpuif_addr <= 16'h8000 + 16'h7fff);
+        is_external |= cpuif_req_masked & (cpuif_addr >= 16'h8000) & (cpuif_addr <= 16'h8000 + 16'h7fff);
         decoded_err = '0;
+        decoded_req_is_external = is_external;
+    end
+    logic external_wr_ack;
+    logic external_rd_ack;
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            external_pending <= '0;
+        end else begin
+            if(decoded_req_is_external & ~external_wr_ack & ~external_rd_ack) external_pending <= '1;
+            else if(external_wr_ack | external_rd_ack) external_pending <= '0;
+            `ifndef SYNTHESIS
+                assert_bad_ext_wr_ack: assert(!external_wr_ack || (external_pending | decoded_req_is_external))
+                    else $error("An external wr_ack strobe was asserted when no external request was active");
+                assert_bad_ext_rd_ack: assert(!external_rd_ack || (external_pending | decoded_req_is_external))
+                    else $error("An external rd_ack strobe was asserted when no external request was active");
+            `endif
+        end
     end
 
     // Pass down signals to next stage
@@ -418,10 +402,6 @@ module svo_core_regs (
                 logic next;
                 logic load_next;
             } CAMERA;
-            struct {
-                logic [7:0] next;
-                logic load_next;
-            } INSTANCE;
         } DIRTY;
         struct {
             struct {
@@ -471,6 +451,12 @@ module svo_core_regs (
         } DIR_TABLE_BASE_HI;
         struct {
             struct {
+                logic [31:0] next;
+                logic load_next;
+            } VALUE;
+        } DIRTY_INSTANCE[4];
+        struct {
+            struct {
                 struct {
                     logic [31:0] next;
                     logic load_next;
@@ -495,98 +481,6 @@ module svo_core_regs (
                 } VALUE;
             } ATTR_BASE_HI;
         } IMAGE[8];
-        struct {
-            struct {
-                struct {
-                    logic [31:0] next;
-                    logic load_next;
-                } VALUE;
-            } AXIS[9];
-            struct {
-                struct {
-                    logic [31:0] next;
-                    logic load_next;
-                } VALUE;
-            } C_LO[3];
-            struct {
-                struct {
-                    logic [7:0] next;
-                    logic load_next;
-                } VALUE;
-            } C_HI[3];
-            struct {
-                struct {
-                    logic [31:0] next;
-                    logic load_next;
-                } VALUE;
-            } HALF_LO[3];
-            struct {
-                struct {
-                    logic [7:0] next;
-                    logic load_next;
-                } VALUE;
-            } HALF_HI[3];
-            struct {
-                struct {
-                    logic [31:0] next;
-                    logic load_next;
-                } VALUE;
-            } REACH_LO;
-            struct {
-                struct {
-                    logic [7:0] next;
-                    logic load_next;
-                } VALUE;
-            } REACH_HI;
-            struct {
-                struct {
-                    logic [31:0] next;
-                    logic load_next;
-                } VALUE;
-            } THRESHOLD_LO;
-            struct {
-                struct {
-                    logic [31:0] next;
-                    logic load_next;
-                } VALUE;
-            } THRESHOLD_HI;
-            struct {
-                struct {
-                    logic [31:0] next;
-                    logic load_next;
-                } VALUE;
-            } INSIDE_LO;
-            struct {
-                struct {
-                    logic [31:0] next;
-                    logic load_next;
-                } VALUE;
-            } INSIDE_HI;
-            struct {
-                struct {
-                    logic [31:0] next;
-                    logic load_next;
-                } VALUE;
-            } DELTA_T_LO;
-            struct {
-                struct {
-                    logic [1:0] next;
-                    logic load_next;
-                } VALUE;
-            } DELTA_T_HI;
-            struct {
-                struct {
-                    logic [7:0] next;
-                    logic load_next;
-                } IMAGE;
-            } IMAGE;
-            struct {
-                struct {
-                    logic [17:0] next;
-                    logic load_next;
-                } VALUE;
-            } NMAT[9];
-        } INSTANCE[8];
     } field_combo_t;
     field_combo_t field_combo;
 
@@ -611,9 +505,6 @@ module svo_core_regs (
             struct {
                 logic value;
             } CAMERA;
-            struct {
-                logic [7:0] value;
-            } INSTANCE;
         } DIRTY;
         struct {
             struct {
@@ -655,6 +546,11 @@ module svo_core_regs (
         } DIR_TABLE_BASE_HI;
         struct {
             struct {
+                logic [31:0] value;
+            } VALUE;
+        } DIRTY_INSTANCE[4];
+        struct {
+            struct {
                 struct {
                     logic [31:0] value;
                 } VALUE;
@@ -675,83 +571,6 @@ module svo_core_regs (
                 } VALUE;
             } ATTR_BASE_HI;
         } IMAGE[8];
-        struct {
-            struct {
-                struct {
-                    logic [31:0] value;
-                } VALUE;
-            } AXIS[9];
-            struct {
-                struct {
-                    logic [31:0] value;
-                } VALUE;
-            } C_LO[3];
-            struct {
-                struct {
-                    logic [7:0] value;
-                } VALUE;
-            } C_HI[3];
-            struct {
-                struct {
-                    logic [31:0] value;
-                } VALUE;
-            } HALF_LO[3];
-            struct {
-                struct {
-                    logic [7:0] value;
-                } VALUE;
-            } HALF_HI[3];
-            struct {
-                struct {
-                    logic [31:0] value;
-                } VALUE;
-            } REACH_LO;
-            struct {
-                struct {
-                    logic [7:0] value;
-                } VALUE;
-            } REACH_HI;
-            struct {
-                struct {
-                    logic [31:0] value;
-                } VALUE;
-            } THRESHOLD_LO;
-            struct {
-                struct {
-                    logic [31:0] value;
-                } VALUE;
-            } THRESHOLD_HI;
-            struct {
-                struct {
-                    logic [31:0] value;
-                } VALUE;
-            } INSIDE_LO;
-            struct {
-                struct {
-                    logic [31:0] value;
-                } VALUE;
-            } INSIDE_HI;
-            struct {
-                struct {
-                    logic [31:0] value;
-                } VALUE;
-            } DELTA_T_LO;
-            struct {
-                struct {
-                    logic [1:0] value;
-                } VALUE;
-            } DELTA_T_HI;
-            struct {
-                struct {
-                    logic [7:0] value;
-                } IMAGE;
-            } IMAGE;
-            struct {
-                struct {
-                    logic [17:0] value;
-                } VALUE;
-            } NMAT[9];
-        } INSTANCE[8];
     } field_storage_t;
     field_storage_t field_storage;
 
@@ -876,29 +695,6 @@ module svo_core_regs (
         end
     end
     assign hwif_out.DIRTY.CAMERA.value = field_storage.DIRTY.CAMERA.value;
-    // Field: svo_core_regs.DIRTY.INSTANCE
-    always_comb begin
-        automatic logic [7:0] next_c;
-        automatic logic load_next_c;
-        next_c = field_storage.DIRTY.INSTANCE.value;
-        load_next_c = '0;
-        if(decoded_reg_strb.DIRTY && decoded_req_is_wr) begin // SW write
-            next_c = (field_storage.DIRTY.INSTANCE.value & ~decoded_wr_biten[15:8]) | (decoded_wr_data[15:8] & decoded_wr_biten[15:8]);
-            load_next_c = '1;
-        end
-        field_combo.DIRTY.INSTANCE.next = next_c;
-        field_combo.DIRTY.INSTANCE.load_next = load_next_c;
-    end
-    always_ff @(posedge clk) begin
-        if(rst) begin
-            field_storage.DIRTY.INSTANCE.value <= 8'hff;
-        end else begin
-            if(field_combo.DIRTY.INSTANCE.load_next) begin
-                field_storage.DIRTY.INSTANCE.value <= field_combo.DIRTY.INSTANCE.next;
-            end
-        end
-    end
-    assign hwif_out.DIRTY.INSTANCE.value = field_storage.DIRTY.INSTANCE.value;
     // Field: svo_core_regs.FRAME_SIZE.WIDTH
     always_comb begin
         automatic logic [15:0] next_c;
@@ -1089,6 +885,31 @@ module svo_core_regs (
         end
     end
     assign hwif_out.DIR_TABLE_BASE_HI.VALUE.value = field_storage.DIR_TABLE_BASE_HI.VALUE.value;
+    for(genvar i0=0; i0<4; i0++) begin
+        // Field: svo_core_regs.DIRTY_INSTANCE[].VALUE
+        always_comb begin
+            automatic logic [31:0] next_c;
+            automatic logic load_next_c;
+            next_c = field_storage.DIRTY_INSTANCE[i0].VALUE.value;
+            load_next_c = '0;
+            if(decoded_reg_strb.DIRTY_INSTANCE[i0] && decoded_req_is_wr) begin // SW write
+                next_c = (field_storage.DIRTY_INSTANCE[i0].VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
+                load_next_c = '1;
+            end
+            field_combo.DIRTY_INSTANCE[i0].VALUE.next = next_c;
+            field_combo.DIRTY_INSTANCE[i0].VALUE.load_next = load_next_c;
+        end
+        always_ff @(posedge clk) begin
+            if(rst) begin
+                field_storage.DIRTY_INSTANCE[i0].VALUE.value <= 32'hffffffff;
+            end else begin
+                if(field_combo.DIRTY_INSTANCE[i0].VALUE.load_next) begin
+                    field_storage.DIRTY_INSTANCE[i0].VALUE.value <= field_combo.DIRTY_INSTANCE[i0].VALUE.next;
+                end
+            end
+        end
+        assign hwif_out.DIRTY_INSTANCE[i0].VALUE.value = field_storage.DIRTY_INSTANCE[i0].VALUE.value;
+    end
     for(genvar i0=0; i0<8; i0++) begin
         // Field: svo_core_regs.IMAGE[].NODE_BASE_LO.VALUE
         always_comb begin
@@ -1183,379 +1004,52 @@ module svo_core_regs (
         end
         assign hwif_out.IMAGE[i0].ATTR_BASE_HI.VALUE.value = field_storage.IMAGE[i0].ATTR_BASE_HI.VALUE.value;
     end
-    for(genvar i0=0; i0<8; i0++) begin
-        for(genvar i1=0; i1<9; i1++) begin
-            // Field: svo_core_regs.INSTANCE[].AXIS[].VALUE
-            always_comb begin
-                automatic logic [31:0] next_c;
-                automatic logic load_next_c;
-                next_c = field_storage.INSTANCE[i0].AXIS[i1].VALUE.value;
-                load_next_c = '0;
-                if(decoded_reg_strb.INSTANCE[i0].AXIS[i1] && decoded_req_is_wr) begin // SW write
-                    next_c = (field_storage.INSTANCE[i0].AXIS[i1].VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-                    load_next_c = '1;
-                end
-                field_combo.INSTANCE[i0].AXIS[i1].VALUE.next = next_c;
-                field_combo.INSTANCE[i0].AXIS[i1].VALUE.load_next = load_next_c;
-            end
-            always_ff @(posedge clk) begin
-                if(rst) begin
-                    field_storage.INSTANCE[i0].AXIS[i1].VALUE.value <= 32'h0;
-                end else begin
-                    if(field_combo.INSTANCE[i0].AXIS[i1].VALUE.load_next) begin
-                        field_storage.INSTANCE[i0].AXIS[i1].VALUE.value <= field_combo.INSTANCE[i0].AXIS[i1].VALUE.next;
-                    end
-                end
-            end
-            assign hwif_out.INSTANCE[i0].AXIS[i1].VALUE.value = field_storage.INSTANCE[i0].AXIS[i1].VALUE.value;
-        end
-        for(genvar i1=0; i1<3; i1++) begin
-            // Field: svo_core_regs.INSTANCE[].C_LO[].VALUE
-            always_comb begin
-                automatic logic [31:0] next_c;
-                automatic logic load_next_c;
-                next_c = field_storage.INSTANCE[i0].C_LO[i1].VALUE.value;
-                load_next_c = '0;
-                if(decoded_reg_strb.INSTANCE[i0].C_LO[i1] && decoded_req_is_wr) begin // SW write
-                    next_c = (field_storage.INSTANCE[i0].C_LO[i1].VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-                    load_next_c = '1;
-                end
-                field_combo.INSTANCE[i0].C_LO[i1].VALUE.next = next_c;
-                field_combo.INSTANCE[i0].C_LO[i1].VALUE.load_next = load_next_c;
-            end
-            always_ff @(posedge clk) begin
-                if(rst) begin
-                    field_storage.INSTANCE[i0].C_LO[i1].VALUE.value <= 32'h0;
-                end else begin
-                    if(field_combo.INSTANCE[i0].C_LO[i1].VALUE.load_next) begin
-                        field_storage.INSTANCE[i0].C_LO[i1].VALUE.value <= field_combo.INSTANCE[i0].C_LO[i1].VALUE.next;
-                    end
-                end
-            end
-            assign hwif_out.INSTANCE[i0].C_LO[i1].VALUE.value = field_storage.INSTANCE[i0].C_LO[i1].VALUE.value;
-        end
-        for(genvar i1=0; i1<3; i1++) begin
-            // Field: svo_core_regs.INSTANCE[].C_HI[].VALUE
-            always_comb begin
-                automatic logic [7:0] next_c;
-                automatic logic load_next_c;
-                next_c = field_storage.INSTANCE[i0].C_HI[i1].VALUE.value;
-                load_next_c = '0;
-                if(decoded_reg_strb.INSTANCE[i0].C_HI[i1] && decoded_req_is_wr) begin // SW write
-                    next_c = (field_storage.INSTANCE[i0].C_HI[i1].VALUE.value & ~decoded_wr_biten[7:0]) | (decoded_wr_data[7:0] & decoded_wr_biten[7:0]);
-                    load_next_c = '1;
-                end
-                field_combo.INSTANCE[i0].C_HI[i1].VALUE.next = next_c;
-                field_combo.INSTANCE[i0].C_HI[i1].VALUE.load_next = load_next_c;
-            end
-            always_ff @(posedge clk) begin
-                if(rst) begin
-                    field_storage.INSTANCE[i0].C_HI[i1].VALUE.value <= 8'h0;
-                end else begin
-                    if(field_combo.INSTANCE[i0].C_HI[i1].VALUE.load_next) begin
-                        field_storage.INSTANCE[i0].C_HI[i1].VALUE.value <= field_combo.INSTANCE[i0].C_HI[i1].VALUE.next;
-                    end
-                end
-            end
-            assign hwif_out.INSTANCE[i0].C_HI[i1].VALUE.value = field_storage.INSTANCE[i0].C_HI[i1].VALUE.value;
-        end
-        for(genvar i1=0; i1<3; i1++) begin
-            // Field: svo_core_regs.INSTANCE[].HALF_LO[].VALUE
-            always_comb begin
-                automatic logic [31:0] next_c;
-                automatic logic load_next_c;
-                next_c = field_storage.INSTANCE[i0].HALF_LO[i1].VALUE.value;
-                load_next_c = '0;
-                if(decoded_reg_strb.INSTANCE[i0].HALF_LO[i1] && decoded_req_is_wr) begin // SW write
-                    next_c = (field_storage.INSTANCE[i0].HALF_LO[i1].VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-                    load_next_c = '1;
-                end
-                field_combo.INSTANCE[i0].HALF_LO[i1].VALUE.next = next_c;
-                field_combo.INSTANCE[i0].HALF_LO[i1].VALUE.load_next = load_next_c;
-            end
-            always_ff @(posedge clk) begin
-                if(rst) begin
-                    field_storage.INSTANCE[i0].HALF_LO[i1].VALUE.value <= 32'h0;
-                end else begin
-                    if(field_combo.INSTANCE[i0].HALF_LO[i1].VALUE.load_next) begin
-                        field_storage.INSTANCE[i0].HALF_LO[i1].VALUE.value <= field_combo.INSTANCE[i0].HALF_LO[i1].VALUE.next;
-                    end
-                end
-            end
-            assign hwif_out.INSTANCE[i0].HALF_LO[i1].VALUE.value = field_storage.INSTANCE[i0].HALF_LO[i1].VALUE.value;
-        end
-        for(genvar i1=0; i1<3; i1++) begin
-            // Field: svo_core_regs.INSTANCE[].HALF_HI[].VALUE
-            always_comb begin
-                automatic logic [7:0] next_c;
-                automatic logic load_next_c;
-                next_c = field_storage.INSTANCE[i0].HALF_HI[i1].VALUE.value;
-                load_next_c = '0;
-                if(decoded_reg_strb.INSTANCE[i0].HALF_HI[i1] && decoded_req_is_wr) begin // SW write
-                    next_c = (field_storage.INSTANCE[i0].HALF_HI[i1].VALUE.value & ~decoded_wr_biten[7:0]) | (decoded_wr_data[7:0] & decoded_wr_biten[7:0]);
-                    load_next_c = '1;
-                end
-                field_combo.INSTANCE[i0].HALF_HI[i1].VALUE.next = next_c;
-                field_combo.INSTANCE[i0].HALF_HI[i1].VALUE.load_next = load_next_c;
-            end
-            always_ff @(posedge clk) begin
-                if(rst) begin
-                    field_storage.INSTANCE[i0].HALF_HI[i1].VALUE.value <= 8'h0;
-                end else begin
-                    if(field_combo.INSTANCE[i0].HALF_HI[i1].VALUE.load_next) begin
-                        field_storage.INSTANCE[i0].HALF_HI[i1].VALUE.value <= field_combo.INSTANCE[i0].HALF_HI[i1].VALUE.next;
-                    end
-                end
-            end
-            assign hwif_out.INSTANCE[i0].HALF_HI[i1].VALUE.value = field_storage.INSTANCE[i0].HALF_HI[i1].VALUE.value;
-        end
-        // Field: svo_core_regs.INSTANCE[].REACH_LO.VALUE
-        always_comb begin
-            automatic logic [31:0] next_c;
-            automatic logic load_next_c;
-            next_c = field_storage.INSTANCE[i0].REACH_LO.VALUE.value;
-            load_next_c = '0;
-            if(decoded_reg_strb.INSTANCE[i0].REACH_LO && decoded_req_is_wr) begin // SW write
-                next_c = (field_storage.INSTANCE[i0].REACH_LO.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-                load_next_c = '1;
-            end
-            field_combo.INSTANCE[i0].REACH_LO.VALUE.next = next_c;
-            field_combo.INSTANCE[i0].REACH_LO.VALUE.load_next = load_next_c;
-        end
-        always_ff @(posedge clk) begin
-            if(rst) begin
-                field_storage.INSTANCE[i0].REACH_LO.VALUE.value <= 32'h0;
-            end else begin
-                if(field_combo.INSTANCE[i0].REACH_LO.VALUE.load_next) begin
-                    field_storage.INSTANCE[i0].REACH_LO.VALUE.value <= field_combo.INSTANCE[i0].REACH_LO.VALUE.next;
-                end
-            end
-        end
-        assign hwif_out.INSTANCE[i0].REACH_LO.VALUE.value = field_storage.INSTANCE[i0].REACH_LO.VALUE.value;
-        // Field: svo_core_regs.INSTANCE[].REACH_HI.VALUE
-        always_comb begin
-            automatic logic [7:0] next_c;
-            automatic logic load_next_c;
-            next_c = field_storage.INSTANCE[i0].REACH_HI.VALUE.value;
-            load_next_c = '0;
-            if(decoded_reg_strb.INSTANCE[i0].REACH_HI && decoded_req_is_wr) begin // SW write
-                next_c = (field_storage.INSTANCE[i0].REACH_HI.VALUE.value & ~decoded_wr_biten[7:0]) | (decoded_wr_data[7:0] & decoded_wr_biten[7:0]);
-                load_next_c = '1;
-            end
-            field_combo.INSTANCE[i0].REACH_HI.VALUE.next = next_c;
-            field_combo.INSTANCE[i0].REACH_HI.VALUE.load_next = load_next_c;
-        end
-        always_ff @(posedge clk) begin
-            if(rst) begin
-                field_storage.INSTANCE[i0].REACH_HI.VALUE.value <= 8'h0;
-            end else begin
-                if(field_combo.INSTANCE[i0].REACH_HI.VALUE.load_next) begin
-                    field_storage.INSTANCE[i0].REACH_HI.VALUE.value <= field_combo.INSTANCE[i0].REACH_HI.VALUE.next;
-                end
-            end
-        end
-        assign hwif_out.INSTANCE[i0].REACH_HI.VALUE.value = field_storage.INSTANCE[i0].REACH_HI.VALUE.value;
-        // Field: svo_core_regs.INSTANCE[].THRESHOLD_LO.VALUE
-        always_comb begin
-            automatic logic [31:0] next_c;
-            automatic logic load_next_c;
-            next_c = field_storage.INSTANCE[i0].THRESHOLD_LO.VALUE.value;
-            load_next_c = '0;
-            if(decoded_reg_strb.INSTANCE[i0].THRESHOLD_LO && decoded_req_is_wr) begin // SW write
-                next_c = (field_storage.INSTANCE[i0].THRESHOLD_LO.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-                load_next_c = '1;
-            end
-            field_combo.INSTANCE[i0].THRESHOLD_LO.VALUE.next = next_c;
-            field_combo.INSTANCE[i0].THRESHOLD_LO.VALUE.load_next = load_next_c;
-        end
-        always_ff @(posedge clk) begin
-            if(rst) begin
-                field_storage.INSTANCE[i0].THRESHOLD_LO.VALUE.value <= 32'h0;
-            end else begin
-                if(field_combo.INSTANCE[i0].THRESHOLD_LO.VALUE.load_next) begin
-                    field_storage.INSTANCE[i0].THRESHOLD_LO.VALUE.value <= field_combo.INSTANCE[i0].THRESHOLD_LO.VALUE.next;
-                end
-            end
-        end
-        assign hwif_out.INSTANCE[i0].THRESHOLD_LO.VALUE.value = field_storage.INSTANCE[i0].THRESHOLD_LO.VALUE.value;
-        // Field: svo_core_regs.INSTANCE[].THRESHOLD_HI.VALUE
-        always_comb begin
-            automatic logic [31:0] next_c;
-            automatic logic load_next_c;
-            next_c = field_storage.INSTANCE[i0].THRESHOLD_HI.VALUE.value;
-            load_next_c = '0;
-            if(decoded_reg_strb.INSTANCE[i0].THRESHOLD_HI && decoded_req_is_wr) begin // SW write
-                next_c = (field_storage.INSTANCE[i0].THRESHOLD_HI.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-                load_next_c = '1;
-            end
-            field_combo.INSTANCE[i0].THRESHOLD_HI.VALUE.next = next_c;
-            field_combo.INSTANCE[i0].THRESHOLD_HI.VALUE.load_next = load_next_c;
-        end
-        always_ff @(posedge clk) begin
-            if(rst) begin
-                field_storage.INSTANCE[i0].THRESHOLD_HI.VALUE.value <= 32'h0;
-            end else begin
-                if(field_combo.INSTANCE[i0].THRESHOLD_HI.VALUE.load_next) begin
-                    field_storage.INSTANCE[i0].THRESHOLD_HI.VALUE.value <= field_combo.INSTANCE[i0].THRESHOLD_HI.VALUE.next;
-                end
-            end
-        end
-        assign hwif_out.INSTANCE[i0].THRESHOLD_HI.VALUE.value = field_storage.INSTANCE[i0].THRESHOLD_HI.VALUE.value;
-        // Field: svo_core_regs.INSTANCE[].INSIDE_LO.VALUE
-        always_comb begin
-            automatic logic [31:0] next_c;
-            automatic logic load_next_c;
-            next_c = field_storage.INSTANCE[i0].INSIDE_LO.VALUE.value;
-            load_next_c = '0;
-            if(decoded_reg_strb.INSTANCE[i0].INSIDE_LO && decoded_req_is_wr) begin // SW write
-                next_c = (field_storage.INSTANCE[i0].INSIDE_LO.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-                load_next_c = '1;
-            end
-            field_combo.INSTANCE[i0].INSIDE_LO.VALUE.next = next_c;
-            field_combo.INSTANCE[i0].INSIDE_LO.VALUE.load_next = load_next_c;
-        end
-        always_ff @(posedge clk) begin
-            if(rst) begin
-                field_storage.INSTANCE[i0].INSIDE_LO.VALUE.value <= 32'h0;
-            end else begin
-                if(field_combo.INSTANCE[i0].INSIDE_LO.VALUE.load_next) begin
-                    field_storage.INSTANCE[i0].INSIDE_LO.VALUE.value <= field_combo.INSTANCE[i0].INSIDE_LO.VALUE.next;
-                end
-            end
-        end
-        assign hwif_out.INSTANCE[i0].INSIDE_LO.VALUE.value = field_storage.INSTANCE[i0].INSIDE_LO.VALUE.value;
-        // Field: svo_core_regs.INSTANCE[].INSIDE_HI.VALUE
-        always_comb begin
-            automatic logic [31:0] next_c;
-            automatic logic load_next_c;
-            next_c = field_storage.INSTANCE[i0].INSIDE_HI.VALUE.value;
-            load_next_c = '0;
-            if(decoded_reg_strb.INSTANCE[i0].INSIDE_HI && decoded_req_is_wr) begin // SW write
-                next_c = (field_storage.INSTANCE[i0].INSIDE_HI.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-                load_next_c = '1;
-            end
-            field_combo.INSTANCE[i0].INSIDE_HI.VALUE.next = next_c;
-            field_combo.INSTANCE[i0].INSIDE_HI.VALUE.load_next = load_next_c;
-        end
-        always_ff @(posedge clk) begin
-            if(rst) begin
-                field_storage.INSTANCE[i0].INSIDE_HI.VALUE.value <= 32'h0;
-            end else begin
-                if(field_combo.INSTANCE[i0].INSIDE_HI.VALUE.load_next) begin
-                    field_storage.INSTANCE[i0].INSIDE_HI.VALUE.value <= field_combo.INSTANCE[i0].INSIDE_HI.VALUE.next;
-                end
-            end
-        end
-        assign hwif_out.INSTANCE[i0].INSIDE_HI.VALUE.value = field_storage.INSTANCE[i0].INSIDE_HI.VALUE.value;
-        // Field: svo_core_regs.INSTANCE[].DELTA_T_LO.VALUE
-        always_comb begin
-            automatic logic [31:0] next_c;
-            automatic logic load_next_c;
-            next_c = field_storage.INSTANCE[i0].DELTA_T_LO.VALUE.value;
-            load_next_c = '0;
-            if(decoded_reg_strb.INSTANCE[i0].DELTA_T_LO && decoded_req_is_wr) begin // SW write
-                next_c = (field_storage.INSTANCE[i0].DELTA_T_LO.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
-                load_next_c = '1;
-            end
-            field_combo.INSTANCE[i0].DELTA_T_LO.VALUE.next = next_c;
-            field_combo.INSTANCE[i0].DELTA_T_LO.VALUE.load_next = load_next_c;
-        end
-        always_ff @(posedge clk) begin
-            if(rst) begin
-                field_storage.INSTANCE[i0].DELTA_T_LO.VALUE.value <= 32'h0;
-            end else begin
-                if(field_combo.INSTANCE[i0].DELTA_T_LO.VALUE.load_next) begin
-                    field_storage.INSTANCE[i0].DELTA_T_LO.VALUE.value <= field_combo.INSTANCE[i0].DELTA_T_LO.VALUE.next;
-                end
-            end
-        end
-        assign hwif_out.INSTANCE[i0].DELTA_T_LO.VALUE.value = field_storage.INSTANCE[i0].DELTA_T_LO.VALUE.value;
-        // Field: svo_core_regs.INSTANCE[].DELTA_T_HI.VALUE
-        always_comb begin
-            automatic logic [1:0] next_c;
-            automatic logic load_next_c;
-            next_c = field_storage.INSTANCE[i0].DELTA_T_HI.VALUE.value;
-            load_next_c = '0;
-            if(decoded_reg_strb.INSTANCE[i0].DELTA_T_HI && decoded_req_is_wr) begin // SW write
-                next_c = (field_storage.INSTANCE[i0].DELTA_T_HI.VALUE.value & ~decoded_wr_biten[1:0]) | (decoded_wr_data[1:0] & decoded_wr_biten[1:0]);
-                load_next_c = '1;
-            end
-            field_combo.INSTANCE[i0].DELTA_T_HI.VALUE.next = next_c;
-            field_combo.INSTANCE[i0].DELTA_T_HI.VALUE.load_next = load_next_c;
-        end
-        always_ff @(posedge clk) begin
-            if(rst) begin
-                field_storage.INSTANCE[i0].DELTA_T_HI.VALUE.value <= 2'h0;
-            end else begin
-                if(field_combo.INSTANCE[i0].DELTA_T_HI.VALUE.load_next) begin
-                    field_storage.INSTANCE[i0].DELTA_T_HI.VALUE.value <= field_combo.INSTANCE[i0].DELTA_T_HI.VALUE.next;
-                end
-            end
-        end
-        assign hwif_out.INSTANCE[i0].DELTA_T_HI.VALUE.value = field_storage.INSTANCE[i0].DELTA_T_HI.VALUE.value;
-        // Field: svo_core_regs.INSTANCE[].IMAGE.IMAGE
-        always_comb begin
-            automatic logic [7:0] next_c;
-            automatic logic load_next_c;
-            next_c = field_storage.INSTANCE[i0].IMAGE.IMAGE.value;
-            load_next_c = '0;
-            if(decoded_reg_strb.INSTANCE[i0].IMAGE && decoded_req_is_wr) begin // SW write
-                next_c = (field_storage.INSTANCE[i0].IMAGE.IMAGE.value & ~decoded_wr_biten[7:0]) | (decoded_wr_data[7:0] & decoded_wr_biten[7:0]);
-                load_next_c = '1;
-            end
-            field_combo.INSTANCE[i0].IMAGE.IMAGE.next = next_c;
-            field_combo.INSTANCE[i0].IMAGE.IMAGE.load_next = load_next_c;
-        end
-        always_ff @(posedge clk) begin
-            if(rst) begin
-                field_storage.INSTANCE[i0].IMAGE.IMAGE.value <= 8'h0;
-            end else begin
-                if(field_combo.INSTANCE[i0].IMAGE.IMAGE.load_next) begin
-                    field_storage.INSTANCE[i0].IMAGE.IMAGE.value <= field_combo.INSTANCE[i0].IMAGE.IMAGE.next;
-                end
-            end
-        end
-        assign hwif_out.INSTANCE[i0].IMAGE.IMAGE.value = field_storage.INSTANCE[i0].IMAGE.IMAGE.value;
-        for(genvar i1=0; i1<9; i1++) begin
-            // Field: svo_core_regs.INSTANCE[].NMAT[].VALUE
-            always_comb begin
-                automatic logic [17:0] next_c;
-                automatic logic load_next_c;
-                next_c = field_storage.INSTANCE[i0].NMAT[i1].VALUE.value;
-                load_next_c = '0;
-                if(decoded_reg_strb.INSTANCE[i0].NMAT[i1] && decoded_req_is_wr) begin // SW write
-                    next_c = (field_storage.INSTANCE[i0].NMAT[i1].VALUE.value & ~decoded_wr_biten[17:0]) | (decoded_wr_data[17:0] & decoded_wr_biten[17:0]);
-                    load_next_c = '1;
-                end
-                field_combo.INSTANCE[i0].NMAT[i1].VALUE.next = next_c;
-                field_combo.INSTANCE[i0].NMAT[i1].VALUE.load_next = load_next_c;
-            end
-            always_ff @(posedge clk) begin
-                if(rst) begin
-                    field_storage.INSTANCE[i0].NMAT[i1].VALUE.value <= 18'h0;
-                end else begin
-                    if(field_combo.INSTANCE[i0].NMAT[i1].VALUE.load_next) begin
-                        field_storage.INSTANCE[i0].NMAT[i1].VALUE.value <= field_combo.INSTANCE[i0].NMAT[i1].VALUE.next;
-                    end
-                end
-            end
-            assign hwif_out.INSTANCE[i0].NMAT[i1].VALUE.value = field_storage.INSTANCE[i0].NMAT[i1].VALUE.value;
-        end
-    end
+    // External region: svo_core_regs.INSTANCE_TABLE
+    assign hwif_out.INSTANCE_TABLE.req = decoded_reg_strb.INSTANCE_TABLE;
+    assign hwif_out.INSTANCE_TABLE.addr = decoded_addr[14:0];
+    assign hwif_out.INSTANCE_TABLE.req_is_wr = decoded_req_is_wr;
+    assign hwif_out.INSTANCE_TABLE.wr_data = decoded_wr_data;
+    assign hwif_out.INSTANCE_TABLE.wr_biten = decoded_wr_biten;
 
     //--------------------------------------------------------------------------
     // Write response
     //--------------------------------------------------------------------------
-    assign cpuif_wr_ack = decoded_req & decoded_req_is_wr;
+    always_comb begin
+        automatic logic wr_ack;
+        wr_ack = '0;
+        wr_ack |= hwif_in.INSTANCE_TABLE.wr_ack;
+        external_wr_ack = wr_ack;
+    end
+    assign cpuif_wr_ack = external_wr_ack | (decoded_req & decoded_req_is_wr & ~decoded_req_is_external);
     // Writes are always granted with no error response
     assign cpuif_wr_err = '0;
 
     //--------------------------------------------------------------------------
     // Readback
     //--------------------------------------------------------------------------
+    logic readback_external_rd_ack_c;
+    always_comb begin
+        automatic logic rd_ack;
+        rd_ack = '0;
+        rd_ack |= hwif_in.INSTANCE_TABLE.rd_ack;
+        readback_external_rd_ack_c = rd_ack;
+    end
 
-    logic [11:0] rd_mux_addr;
-    assign rd_mux_addr = decoded_addr;
+    logic readback_external_rd_ack;
+
+    assign readback_external_rd_ack = readback_external_rd_ack_c;
+
+    logic [15:0] rd_mux_addr;
+    logic [15:0] pending_rd_addr;
+    // Hold read mux address to guarantee it is stable throughout any external accesses
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            pending_rd_addr <= '0;
+        end else begin
+            if(decoded_req) pending_rd_addr <= decoded_addr;
+        end
+    end
+    assign rd_mux_addr = decoded_req ? decoded_addr : pending_rd_addr;
 
     logic readback_err;
     logic readback_done;
@@ -1563,186 +1057,135 @@ module svo_core_regs (
     always_comb begin
         automatic logic [31:0] readback_data_var;
         readback_data_var = '0;
-        if(rd_mux_addr == 12'h0) begin
+        if(rd_mux_addr == 16'h0) begin
             readback_data_var[15:0] = 16'h1;
             readback_data_var[23:16] = 8'h8;
             readback_data_var[31:24] = 8'h8;
         end
-        if(rd_mux_addr == 12'h4) begin
+        if(rd_mux_addr == 16'h4) begin
             readback_data_var[1] = field_storage.CTRL.IRQ_EN.value;
         end
-        if(rd_mux_addr == 12'h8) begin
+        if(rd_mux_addr == 16'h8) begin
             readback_data_var[0] = hwif_in.STATUS.BUSY.next;
             readback_data_var[1] = field_storage.STATUS.DONE.value;
             readback_data_var[11:8] = hwif_in.STATUS.ERROR.next;
             readback_data_var[15:12] = hwif_in.STATUS.FAULT.next;
         end
-        if(rd_mux_addr == 12'hc) begin
+        if(rd_mux_addr == 16'hc) begin
             readback_data_var[0] = field_storage.DIRTY.BUFFER_VALID.value;
             readback_data_var[1] = field_storage.DIRTY.CAMERA.value;
-            readback_data_var[15:8] = field_storage.DIRTY.INSTANCE.value;
         end
-        if(rd_mux_addr == 12'h10) begin
+        if(rd_mux_addr == 16'h10) begin
             readback_data_var[15:0] = field_storage.FRAME_SIZE.WIDTH.value;
             readback_data_var[31:16] = field_storage.FRAME_SIZE.HEIGHT.value;
         end
-        if(rd_mux_addr == 12'h14) begin
+        if(rd_mux_addr == 16'h14) begin
             readback_data_var[7:0] = field_storage.INSTANCES.COUNT.value;
         end
         for(int i0=0; i0<3; i0++) begin
-            if(rd_mux_addr == 12'h20 + (12)'(i0) * 12'h4) begin
+            if(rd_mux_addr == 16'h20 + (16)'(i0) * 16'h4) begin
                 readback_data_var[31:0] = field_storage.CAMERA_O_LO[i0].VALUE.value;
             end
         end
         for(int i0=0; i0<3; i0++) begin
-            if(rd_mux_addr == 12'h30 + (12)'(i0) * 12'h4) begin
+            if(rd_mux_addr == 16'h30 + (16)'(i0) * 16'h4) begin
                 readback_data_var[7:0] = field_storage.CAMERA_O_HI[i0].VALUE.value;
             end
         end
         for(int i0=0; i0<3; i0++) begin
-            if(rd_mux_addr == 12'h40 + (12)'(i0) * 12'h4) begin
+            if(rd_mux_addr == 16'h40 + (16)'(i0) * 16'h4) begin
                 readback_data_var[31:0] = field_storage.MISS_WORD[i0].VALUE.value;
             end
         end
-        if(rd_mux_addr == 12'h50) begin
+        if(rd_mux_addr == 16'h50) begin
             readback_data_var[31:0] = field_storage.DIR_TABLE_BASE_LO.VALUE.value;
         end
-        if(rd_mux_addr == 12'h54) begin
+        if(rd_mux_addr == 16'h54) begin
             readback_data_var[31:0] = field_storage.DIR_TABLE_BASE_HI.VALUE.value;
         end
-        if(rd_mux_addr == 12'h100) begin
+        for(int i0=0; i0<4; i0++) begin
+            if(rd_mux_addr == 16'h60 + (16)'(i0) * 16'h4) begin
+                readback_data_var[31:0] = field_storage.DIRTY_INSTANCE[i0].VALUE.value;
+            end
+        end
+        if(rd_mux_addr == 16'h100) begin
             readback_data_var[31:0] = hwif_in.CYCLES.LO.VALUE.next;
         end
-        if(rd_mux_addr == 12'h104) begin
+        if(rd_mux_addr == 16'h104) begin
             readback_data_var[31:0] = hwif_in.CYCLES.HI.VALUE.next;
         end
-        if(rd_mux_addr == 12'h108) begin
+        if(rd_mux_addr == 16'h108) begin
             readback_data_var[31:0] = hwif_in.WALKS.LO.VALUE.next;
         end
-        if(rd_mux_addr == 12'h10c) begin
+        if(rd_mux_addr == 16'h10c) begin
             readback_data_var[31:0] = hwif_in.WALKS.HI.VALUE.next;
         end
-        if(rd_mux_addr == 12'h110) begin
+        if(rd_mux_addr == 16'h110) begin
             readback_data_var[31:0] = hwif_in.STALL_WALK_ISSUE.LO.VALUE.next;
         end
-        if(rd_mux_addr == 12'h114) begin
+        if(rd_mux_addr == 16'h114) begin
             readback_data_var[31:0] = hwif_in.STALL_WALK_ISSUE.HI.VALUE.next;
         end
-        if(rd_mux_addr == 12'h118) begin
+        if(rd_mux_addr == 16'h118) begin
             readback_data_var[31:0] = hwif_in.STALL_WRITE_PORT.LO.VALUE.next;
         end
-        if(rd_mux_addr == 12'h11c) begin
+        if(rd_mux_addr == 16'h11c) begin
             readback_data_var[31:0] = hwif_in.STALL_WRITE_PORT.HI.VALUE.next;
         end
-        if(rd_mux_addr == 12'h120) begin
+        if(rd_mux_addr == 16'h120) begin
             readback_data_var[31:0] = hwif_in.STALL_MEMORY.LO.VALUE.next;
         end
-        if(rd_mux_addr == 12'h124) begin
+        if(rd_mux_addr == 16'h124) begin
             readback_data_var[31:0] = hwif_in.STALL_MEMORY.HI.VALUE.next;
         end
-        if(rd_mux_addr == 12'h128) begin
+        if(rd_mux_addr == 16'h128) begin
             readback_data_var[31:0] = hwif_in.STALL_DIRECTIONS.LO.VALUE.next;
         end
-        if(rd_mux_addr == 12'h12c) begin
+        if(rd_mux_addr == 16'h12c) begin
             readback_data_var[31:0] = hwif_in.STALL_DIRECTIONS.HI.VALUE.next;
         end
-        if(rd_mux_addr == 12'h130) begin
+        if(rd_mux_addr == 16'h130) begin
             readback_data_var[31:0] = hwif_in.STALL_STREAM.LO.VALUE.next;
         end
-        if(rd_mux_addr == 12'h134) begin
+        if(rd_mux_addr == 16'h134) begin
             readback_data_var[31:0] = hwif_in.STALL_STREAM.HI.VALUE.next;
         end
-        if(rd_mux_addr == 12'h138) begin
+        if(rd_mux_addr == 16'h138) begin
             readback_data_var[31:0] = hwif_in.NODE_READS.LO.VALUE.next;
         end
-        if(rd_mux_addr == 12'h13c) begin
+        if(rd_mux_addr == 16'h13c) begin
             readback_data_var[31:0] = hwif_in.NODE_READS.HI.VALUE.next;
         end
-        if(rd_mux_addr == 12'h140) begin
+        if(rd_mux_addr == 16'h140) begin
             readback_data_var[31:0] = hwif_in.REUSED.LO.VALUE.next;
         end
-        if(rd_mux_addr == 12'h144) begin
+        if(rd_mux_addr == 16'h144) begin
             readback_data_var[31:0] = hwif_in.REUSED.HI.VALUE.next;
         end
         for(int i0=0; i0<8; i0++) begin
-            if(rd_mux_addr == 12'h200 + (12)'(i0) * 12'h10) begin
+            if(rd_mux_addr == 16'h200 + (16)'(i0) * 16'h10) begin
                 readback_data_var[31:0] = field_storage.IMAGE[i0].NODE_BASE_LO.VALUE.value;
             end
-            if(rd_mux_addr == 12'h204 + (12)'(i0) * 12'h10) begin
+            if(rd_mux_addr == 16'h204 + (16)'(i0) * 16'h10) begin
                 readback_data_var[31:0] = field_storage.IMAGE[i0].NODE_BASE_HI.VALUE.value;
             end
-            if(rd_mux_addr == 12'h208 + (12)'(i0) * 12'h10) begin
+            if(rd_mux_addr == 16'h208 + (16)'(i0) * 16'h10) begin
                 readback_data_var[31:0] = field_storage.IMAGE[i0].ATTR_BASE_LO.VALUE.value;
             end
-            if(rd_mux_addr == 12'h20c + (12)'(i0) * 12'h10) begin
+            if(rd_mux_addr == 16'h20c + (16)'(i0) * 16'h10) begin
                 readback_data_var[31:0] = field_storage.IMAGE[i0].ATTR_BASE_HI.VALUE.value;
             end
         end
-        for(int i0=0; i0<8; i0++) begin
-            for(int i1=0; i1<9; i1++) begin
-                if(rd_mux_addr == 12'h400 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
-                    readback_data_var[31:0] = field_storage.INSTANCE[i0].AXIS[i1].VALUE.value;
-                end
-            end
-            for(int i1=0; i1<3; i1++) begin
-                if(rd_mux_addr == 12'h424 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
-                    readback_data_var[31:0] = field_storage.INSTANCE[i0].C_LO[i1].VALUE.value;
-                end
-            end
-            for(int i1=0; i1<3; i1++) begin
-                if(rd_mux_addr == 12'h430 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
-                    readback_data_var[7:0] = field_storage.INSTANCE[i0].C_HI[i1].VALUE.value;
-                end
-            end
-            for(int i1=0; i1<3; i1++) begin
-                if(rd_mux_addr == 12'h43c + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
-                    readback_data_var[31:0] = field_storage.INSTANCE[i0].HALF_LO[i1].VALUE.value;
-                end
-            end
-            for(int i1=0; i1<3; i1++) begin
-                if(rd_mux_addr == 12'h448 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
-                    readback_data_var[7:0] = field_storage.INSTANCE[i0].HALF_HI[i1].VALUE.value;
-                end
-            end
-            if(rd_mux_addr == 12'h454 + (12)'(i0) * 12'h100) begin
-                readback_data_var[31:0] = field_storage.INSTANCE[i0].REACH_LO.VALUE.value;
-            end
-            if(rd_mux_addr == 12'h458 + (12)'(i0) * 12'h100) begin
-                readback_data_var[7:0] = field_storage.INSTANCE[i0].REACH_HI.VALUE.value;
-            end
-            if(rd_mux_addr == 12'h45c + (12)'(i0) * 12'h100) begin
-                readback_data_var[31:0] = field_storage.INSTANCE[i0].THRESHOLD_LO.VALUE.value;
-            end
-            if(rd_mux_addr == 12'h460 + (12)'(i0) * 12'h100) begin
-                readback_data_var[31:0] = field_storage.INSTANCE[i0].THRESHOLD_HI.VALUE.value;
-            end
-            if(rd_mux_addr == 12'h464 + (12)'(i0) * 12'h100) begin
-                readback_data_var[31:0] = field_storage.INSTANCE[i0].INSIDE_LO.VALUE.value;
-            end
-            if(rd_mux_addr == 12'h468 + (12)'(i0) * 12'h100) begin
-                readback_data_var[31:0] = field_storage.INSTANCE[i0].INSIDE_HI.VALUE.value;
-            end
-            if(rd_mux_addr == 12'h46c + (12)'(i0) * 12'h100) begin
-                readback_data_var[31:0] = field_storage.INSTANCE[i0].DELTA_T_LO.VALUE.value;
-            end
-            if(rd_mux_addr == 12'h470 + (12)'(i0) * 12'h100) begin
-                readback_data_var[1:0] = field_storage.INSTANCE[i0].DELTA_T_HI.VALUE.value;
-            end
-            if(rd_mux_addr == 12'h474 + (12)'(i0) * 12'h100) begin
-                readback_data_var[7:0] = field_storage.INSTANCE[i0].IMAGE.IMAGE.value;
-            end
-            for(int i1=0; i1<9; i1++) begin
-                if(rd_mux_addr == 12'h478 + (12)'(i0) * 12'h100 + (12)'(i1) * 12'h4) begin
-                    readback_data_var[17:0] = field_storage.INSTANCE[i0].NMAT[i1].VALUE.value;
-                end
-            end
+        if((rd_mux_addr >= 16'h8000) && (rd_mux_addr <= 16'h8000 + 16'h7fff)) begin
+            readback_data_var = hwif_in.INSTANCE_TABLE.rd_data;
         end
         readback_data = readback_data_var;
-        readback_done = decoded_req & ~decoded_req_is_wr;
+        readback_done = decoded_req & ~decoded_req_is_wr & ~decoded_req_is_external;
         readback_err = '0;
     end
 
-    assign cpuif_rd_ack = readback_done;
+    assign external_rd_ack = readback_external_rd_ack;
+    assign cpuif_rd_ack = readback_done | readback_external_rd_ack;
     assign cpuif_rd_data = readback_data;
     assign cpuif_rd_err = readback_err;
 endmodule

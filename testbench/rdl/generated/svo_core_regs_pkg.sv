@@ -4,8 +4,8 @@
 package svo_core_regs_pkg;
 
     localparam SVO_CORE_REGS_DATA_WIDTH = 32;
-    localparam SVO_CORE_REGS_MIN_ADDR_WIDTH = 12;
-    localparam SVO_CORE_REGS_SIZE = 'hc00;
+    localparam SVO_CORE_REGS_MIN_ADDR_WIDTH = 16;
+    localparam SVO_CORE_REGS_SIZE = 'h10000;
 
     typedef struct {
         logic next;
@@ -44,6 +44,12 @@ package svo_core_regs_pkg;
     } counter_rf__in_t;
 
     typedef struct {
+        logic rd_ack;
+        logic [31:0] rd_data;
+        logic wr_ack;
+    } svo_core_regs__INSTANCE_TABLE__external__in_t;
+
+    typedef struct {
         svo_core_regs__STATUS__in_t STATUS;
         counter_rf__in_t CYCLES;
         counter_rf__in_t WALKS;
@@ -54,6 +60,7 @@ package svo_core_regs_pkg;
         counter_rf__in_t STALL_STREAM;
         counter_rf__in_t NODE_READS;
         counter_rf__in_t REUSED;
+        svo_core_regs__INSTANCE_TABLE__external__in_t INSTANCE_TABLE;
     } svo_core_regs__in_t;
 
     typedef struct {
@@ -86,13 +93,8 @@ package svo_core_regs_pkg;
     } svo_core_regs__DIRTY__CAMERA__out_t;
 
     typedef struct {
-        logic [7:0] value;
-    } svo_core_regs__DIRTY__INSTANCE__out_t;
-
-    typedef struct {
         svo_core_regs__DIRTY__BUFFER_VALID__out_t BUFFER_VALID;
         svo_core_regs__DIRTY__CAMERA__out_t CAMERA;
-        svo_core_regs__DIRTY__INSTANCE__out_t INSTANCE;
     } svo_core_regs__DIRTY__out_t;
 
     typedef struct {
@@ -133,6 +135,14 @@ package svo_core_regs_pkg;
     } sw_hi8_r__out_t;
 
     typedef struct {
+        logic [31:0] value;
+    } svo_core_regs__DIRTY_INSTANCE__VALUE__out_t;
+
+    typedef struct {
+        svo_core_regs__DIRTY_INSTANCE__VALUE__out_t VALUE;
+    } svo_core_regs__DIRTY_INSTANCE__out_t;
+
+    typedef struct {
         sw_word_r__out_t NODE_BASE_LO;
         sw_word_r__out_t NODE_BASE_HI;
         sw_word_r__out_t ATTR_BASE_LO;
@@ -140,46 +150,12 @@ package svo_core_regs_pkg;
     } image_rf__out_t;
 
     typedef struct {
-        logic [1:0] value;
-    } instance_rf__DELTA_T_HI__VALUE__out_t;
-
-    typedef struct {
-        instance_rf__DELTA_T_HI__VALUE__out_t VALUE;
-    } instance_rf__DELTA_T_HI__out_t;
-
-    typedef struct {
-        logic [7:0] value;
-    } instance_rf__IMAGE__IMAGE__out_t;
-
-    typedef struct {
-        instance_rf__IMAGE__IMAGE__out_t IMAGE;
-    } instance_rf__IMAGE__out_t;
-
-    typedef struct {
-        logic [17:0] value;
-    } instance_rf__NMAT__VALUE__out_t;
-
-    typedef struct {
-        instance_rf__NMAT__VALUE__out_t VALUE;
-    } instance_rf__NMAT__out_t;
-
-    typedef struct {
-        sw_word_r__out_t AXIS[9];
-        sw_word_r__out_t C_LO[3];
-        sw_hi8_r__out_t C_HI[3];
-        sw_word_r__out_t HALF_LO[3];
-        sw_hi8_r__out_t HALF_HI[3];
-        sw_word_r__out_t REACH_LO;
-        sw_hi8_r__out_t REACH_HI;
-        sw_word_r__out_t THRESHOLD_LO;
-        sw_word_r__out_t THRESHOLD_HI;
-        sw_word_r__out_t INSIDE_LO;
-        sw_word_r__out_t INSIDE_HI;
-        sw_word_r__out_t DELTA_T_LO;
-        instance_rf__DELTA_T_HI__out_t DELTA_T_HI;
-        instance_rf__IMAGE__out_t IMAGE;
-        instance_rf__NMAT__out_t NMAT[9];
-    } instance_rf__out_t;
+        logic req;
+        logic [14:0] addr;
+        logic req_is_wr;
+        logic [31:0] wr_data;
+        logic [31:0] wr_biten;
+    } svo_core_regs__INSTANCE_TABLE__external__out_t;
 
     typedef struct {
         svo_core_regs__CTRL__out_t CTRL;
@@ -192,7 +168,8 @@ package svo_core_regs_pkg;
         sw_word_r__out_t MISS_WORD[3];
         sw_word_r__out_t DIR_TABLE_BASE_LO;
         sw_word_r__out_t DIR_TABLE_BASE_HI;
+        svo_core_regs__DIRTY_INSTANCE__out_t DIRTY_INSTANCE[4];
         image_rf__out_t IMAGE[8];
-        instance_rf__out_t INSTANCE[8];
+        svo_core_regs__INSTANCE_TABLE__external__out_t INSTANCE_TABLE;
     } svo_core_regs__out_t;
 endpackage

@@ -1,5 +1,6 @@
 //! The sphere lanes: every instance's bounding-sphere test of a ray, `sphere_units` lanes each
-//! with its square root, so a ray takes ⌈instances / lanes⌉ passes.
+//! with its square root, so a ray takes ⌈instances / lanes⌉ passes, one a cycle, and leaves
+//! when its last pass does (the sphere's latency after it).
 //!
 //! Pipeline position: `raygen_to_sphere` → `sphere_to_sorter` (docs/cycle-model.md §2.1). The
 //! candidates themselves come from the functional model's trace; under cross-check the sorter
@@ -81,7 +82,11 @@ impl Sphere {
                     Some(t) => (t.passes(ray.payload.pixel), t.latency),
                     None => (self.passes, 0),
                 };
-                self.pipe.accept(now, ray, passes, extra);
+                // The ray's last pass enters the lanes `passes − 1` cycles after its first
+                // and its candidates are complete only when that pass leaves the square
+                // roots: the RTL (svo_front.v) cannot have them sooner (issue 29).
+                self.pipe
+                    .accept(now, ray, passes, extra + passes.saturating_sub(1));
             }
         }
         Ok(self.pipe.state(now, !pushed, upstream_more))
