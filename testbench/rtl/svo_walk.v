@@ -149,8 +149,24 @@ module svo_walk #(
     reg [2:0]       s_neg   [0:SLOTS-1];
     reg [SLOTS-1:0] free;
     // The instance of slot s's current candidate.
+    // A multiplexer over the KEYS/40 keys, not keys[c * 40 ...]: Yosys maps a part-select
+    // at a variable times a constant to DSP48E2 multipliers (5 of them in the whole core).
     function automatic [7:0] cand_inst(input [KEYS-1:0] keys, input [5:0] c);
-        cand_inst = keys[c * 40 + 32 +: 8];
+        integer k;
+        begin
+            cand_inst = 8'd0;
+            for (k = 0; k < KEYS / 40; k = k + 1)
+                if ({26'd0, c} == k) cand_inst = keys[k * 40 + 32 +: 8];
+        end
+    endfunction
+    // The key (t_enter) of candidate c, by the same multiplexer.
+    function automatic [31:0] cand_key(input [KEYS-1:0] keys, input [5:0] c);
+        integer k;
+        begin
+            cand_key = 32'd0;
+            for (k = 0; k < KEYS / 40; k = k + 1)
+                if ({26'd0, c} == k) cand_key = keys[k * 40 +: 32];
+        end
     endfunction
 
     // ---------------------------------------------------------------- record (first)
@@ -161,7 +177,7 @@ module svo_walk #(
     wire [SLOTS-1:0] one = {{(SLOTS-1){1'b0}}, 1'b1};
     wire [5:0] r_cand = s_cand[wr_slot];
     wire [5:0] r_next = r_cand + 6'd1;
-    wire [31:0] r_next_key = s_keys[wr_slot][r_next * 40 +: 32];
+    wire [31:0] r_next_key = cand_key(s_keys[wr_slot], r_next);
     // FramePlan::stops: best t (sQ31.31) <= the next key (uQ10.22 → 9 more fraction bits).
     wire signed [TW+1:0] r_a = $signed({{2{s_t[wr_slot][TW-1]}}, s_t[wr_slot]});
     wire signed [TW+1:0] r_b = $signed({{(TW+2-32-9){1'b0}}, r_next_key, 9'd0});
