@@ -375,7 +375,10 @@ fn frames_equal_the_model(scene: &str, text: &str, model: &[(u64, u64, u64)]) {
 /// - moving_camera with AxiRamRead and 20 % random pauses on both read masters' AR and R and
 ///   on the stream's tready, seeds 1–3: every pixel still once and right, no deadlock.
 ///
-/// A flipped expected pixel and one more expected cycle are each exactly one failure.
+/// Before the first frame, five STARTs with one bad register each are refused with svo_top's
+/// STATUS.ERROR code (1 frame size, 2 direction-table alignment, 3 node-base alignment, 4 an
+/// instance count of 0 or over 128). A flipped expected pixel, one more expected cycle and a
+/// wrong expected error code are each exactly one failure.
 #[test]
 fn core_behind_axi_renders_frames_equal_to_the_model() {
     let Some(venv) = venv() else { return };
@@ -403,8 +406,8 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         mc_model[0].0
     );
     assert_eq!((equal, n, cycles), (160, 160, mc_model[0].0), "{text}");
-    // 160 pixels, the cycles, and the refused START of a 0-pixel frame.
-    assert_eq!(tally(&text, "core: "), (162, 0), "{text}");
+    // 160 pixels, the cycles, and five refused STARTs (STATUS.ERROR 1, 2, 3, 4, 4).
+    assert_eq!(tally(&text, "core: "), (166, 0), "{text}");
 
     let st_env = [
         format!("SVO_MODEL_CYCLES={}", st_model[0].0),
@@ -489,7 +492,7 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         let c0 = format!("SVO_MODEL_CYCLES={}", crowd_model[0].0);
         let (ok, text, _) = run_core(&crowd, &[c0, "SVO_CORRUPT=cycles".to_string()]);
         assert!(!ok, "a corrupted crowd cycle count passed:\n{text}");
-        assert_eq!(tally(&text, "core: "), (161, 1), "{text}");
+        assert_eq!(tally(&text, "core: "), (165, 1), "{text}");
         assert!(text.contains("cycles, the cycle model's"), "{text}");
     }
 
@@ -515,6 +518,10 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         (
             "SVO_CORRUPT=cycles".to_string(),
             "cycles, the cycle model's",
+        ),
+        (
+            "SVO_CORRUPT=error".to_string(),
+            "a START with a frame size of 0: STATUS 0x100, want ERROR 3",
         ),
     ] {
         let (ok, text, _) = run_core(&mc, &[c0.clone(), env.clone()]);

@@ -31,8 +31,10 @@ BUFFER_VALID 1; its tables from SVO_VECTORS1, `sim vectors --frame 1` of the sam
 the camera and the instances whose registers changed flagged dirty, or without it the same
 still frame again, nothing dirty), SVO_CORRUPT=pixel:N (flip
 bit 0 of pixel N's expected word) or cycles (one more expected cycle): exactly one failure.
-Before the frames, a START with a frame size of 0 must be refused (STATUS.ERROR 1, no BUSY, no
-DONE). Prints failures (first 10), then "core: N passed, N failed".
+Before the first frame starts, five STARTs with one bad register each must be refused with
+svo_top's STATUS.ERROR code and neither BUSY nor DONE: a frame size of 0 (1), a direction table
+base off its burst alignment (2), a node base off 4 bytes (3), an instance count of 0 and one
+over the table's 128 (4); SVO_CORRUPT=error expects 3 for the first: exactly one failure. Prints failures (first 10), then "core: N passed, N failed".
 """
 import json
 import logging
@@ -392,16 +394,18 @@ async def frame_against_the_model(dut):
             for j, e in enumerate(("xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz")):
                 await w_inst(k, f"NMAT[{j}]", it.get(k, f"nmat_{e}"))
 
-    # A refused START: a frame of 0 pixels sets STATUS.ERROR 1 and neither BUSY nor DONE.
-    await w("FRAME_SIZE", 0)
-    await w("CTRL", 0x1)
-    await ClockCycles(dut.clk, 4)
-    status = await r("STATUS")
-    if (status >> 8) & 0xF != 1 or status & 0x3:
-        b.fail(f"a START with frame size 0: STATUS {status:#x}, want ERROR 1, not BUSY, not DONE")
-    else:
-        b.passed += 1
-    await w("FRAME_SIZE", width | (height << 16))
+    # A refused START: one register made bad, START, then STATUS must read ERROR `code` with
+    # neither BUSY nor DONE; the register is put back.
+    async def refused(code, what, path, bad, good):
+        await w(path, bad)
+        await w("CTRL", 0x1)
+        await ClockCycles(dut.clk, 4)
+        status = await r("STATUS")
+        await w(path, good)
+        if (status >> 8) & 0xF != code or status & 0x3:
+            b.fail(f"a START with {what}: STATUS {status:#x}, want ERROR {code}, not BUSY, not DONE")
+        else:
+            b.passed += 1
 
     for f in range(frames):
         for k in stalls:
@@ -427,6 +431,21 @@ async def frame_against_the_model(dut):
         if f == 0 or folders[f] != folders[f - 1]:
             await write_frame(ins[f], cam[f], ins[f - 1] if f else None)
         await w_dirty(dirty, moved_bits)
+        if f == 0:
+            # svo_top's STATUS.ERROR codes 1-4, each provoked alone on frame 0's registers
+            # (SVO_CORRUPT=error: expect code 3 for the frame size, exactly one failure).
+            n0 = len(ins[0].rows)
+            im0 = images[sorted({ins[0].get(k, "image") for k in range(n0)})[0]]
+            i0, nb0 = im0["index"], NODE_BASE + 4 * im0["node_base"]
+            await refused(3 if corrupt == "error" else 1, "a frame size of 0", "FRAME_SIZE",
+                          0, width | (height << 16))
+            await refused(2, "a direction table base off its burst alignment",
+                          "DIR_TABLE_BASE_LO", DIR_BASE + 16, DIR_BASE)
+            await refused(3, f"image slot {i0}'s node base off 4 bytes",
+                          f"IMAGE[{i0}].NODE_BASE_LO", nb0 + 2, nb0)
+            await refused(4, "an instance count of 0", "INSTANCES", 0, n0)
+            await refused(4, f"an instance count over the table's {TABLE_INSTANCES}",
+                          "INSTANCES", TABLE_INSTANCES + 1, n0)
         await w("STATUS", 0x2)                      # clear DONE
         await w("CTRL", 0x1)
         seen = {}
