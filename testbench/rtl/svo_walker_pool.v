@@ -99,6 +99,7 @@ module svo_walker_pool #(
     localparam W = WALKERS;
     localparam N = W * R;                         // contexts in all; context n is walker n / R's
     localparam WI = W > 1 ? $clog2(W) : 1;
+    localparam RI = R > 1 ? $clog2(R) : 1;        // a context's index within its walker
 
     generate
         if (R < 1 || R > 16 || W < 1 || W > 16 || N > 64) begin : bad_contexts
@@ -113,12 +114,14 @@ module svo_walker_pool #(
     wire [N-1:0] e_take, e_out_ready;
     reg  [N-1:0] e_issue_grant, e_req_ready;
     wire [31:0]    e_req_addr  [0:N-1];
-    wire [1:0]     e_outcome   [0:N-1];
-    wire [T_W-1:0] e_t         [0:N-1];
-    wire [59:0]    e_voxel     [0:N-1];
-    wire [63:0]    e_attr_data [0:N-1];
-    wire [TAG_W-1:0] e_tag     [0:N-1];
     reg  [63:0]    e_resp_data [0:N-1];
+    // Per walker: the result of the context being retired.
+    wire [1:0]     w_outcome   [0:W-1];
+    wire [T_W-1:0] w_t         [0:W-1];
+    wire [59:0]    w_voxel     [0:W-1];
+    wire [63:0]    w_attr_data [0:W-1];
+    wire [TAG_W-1:0] w_tag     [0:W-1];
+    wire [W-1:0]   w_err;
     function automatic [WI-1:0] walker_of(input integer n);
         /* verilator lint_off UNUSEDSIGNAL */
         integer q;                                // below W: only its low WI bits matter
@@ -126,6 +129,16 @@ module svo_walker_pool #(
         begin
             q = n / R;
             walker_of = q[WI-1:0];
+        end
+    endfunction
+
+    function automatic [RI-1:0] local_of(input integer n);
+        /* verilator lint_off UNUSEDSIGNAL */
+        integer q;                                // below R: only its low RI bits matter
+        /* verilator lint_on UNUSEDSIGNAL */
+        begin
+            q = n % R;
+            local_of = q[RI-1:0];
         end
     endfunction
 
@@ -239,7 +252,7 @@ module svo_walker_pool #(
         end
         e_req_ready = sent;
     end
-    genvar g;
+    genvar g, gr;
     generate
         for (g = 0; g < W; g = g + 1) begin : port
             assign mem_req_valid[g] = want[g] && !merge[g];
@@ -286,11 +299,19 @@ module svo_walker_pool #(
         fin = {CW{1'b0}};
         for (i_f = N - 1; i_f >= 0; i_f = i_f - 1) if (fin_pick[i_f]) fin = i_f[CW-1:0];
     end
-    assign out_outcome = e_outcome[fin];
-    assign out_t = e_t[fin];
-    assign out_voxel = e_voxel[fin];
-    assign out_attr_data = e_attr_data[fin];
-    assign out_tag = e_tag[fin];
+    // The result of context fin: its walker's result port (each walker reads its context's
+    // state at fin's index within the walker).
+    /* verilator lint_off WIDTHEXPAND */
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [WI-1:0] fin_w = walker_of(fin);
+    wire [RI-1:0] fin_local = local_of(fin);     // (unused at R = 1)
+    /* verilator lint_on UNUSEDSIGNAL */
+    /* verilator lint_on WIDTHEXPAND */
+    assign out_outcome = w_outcome[fin_w];
+    assign out_t = w_t[fin_w];
+    assign out_voxel = w_voxel[fin_w];
+    assign out_attr_data = w_attr_data[fin_w];
+    assign out_tag = w_tag[fin_w];
 
     always @(posedge clk) begin
         for (i = 0; i < N; i = i + 1) begin
@@ -317,30 +338,63 @@ module svo_walker_pool #(
             err_resp <= 1'b0;
         end else
             for (p = 0; p < W; p = p + 1)
-                if (mem_resp_valid[p] && !(|e_resp_valid)) err_resp <= 1'b1;
+                if ((mem_resp_valid[p] && !(|e_resp_valid)) || |w_err) err_resp <= 1'b1;
     end
 
-    // ---------------------------------------------------------------- the engines
+    // ---------------------------------------------------------------- the walkers
+    // R = 1: svo_walker, whose registers are the walker's one context (the estimate's
+    // calibrated walker, rtl_model/src/cost/structures.rs `walker_contexts`: nothing added at
+    // R = 1). R > 1: svo_walker_barrel, one step datapath and the R contexts' state in RAMs.
     generate
-        for (g = 0; g < N; g = g + 1) begin : ctx
-            /* verilator lint_off PINCONNECTEMPTY */
-            svo_walker #(.POS_W(POS_W), .T_W(T_W), .STACK_DEPTH(STACK_DEPTH),
-                .MAX_STEPS(MAX_STEPS), .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAG_W)
-            ) u_walker (.clk(clk), .rst(rst), .in_valid(e_take[g]), .in_ready(e_in_ready[g]),
-                .in_enter(in_enter), .in_t0(in_t0), .in_t1(in_t1), .in_o(in_o),
-                .in_half(in_half), .in_zero(in_zero), .in_neg(in_neg),
-                .in_node_base(in_node_base), .in_attr_base(in_attr_base), .in_tag(in_tag),
-                .mem_req_valid(e_req_valid[g]), .mem_req_ready(e_req_ready[g]),
-                .mem_req_attr(e_req_attr[g]), .mem_req_addr(e_req_addr[g]),
-                .mem_resp_valid(e_resp_valid[g]), .mem_resp_data(e_resp_data[g]),
-                .out_valid(e_out_valid[g]), .out_ready(e_out_ready[g]),
-                .out_outcome(e_outcome[g]), .out_t(e_t[g]), .out_voxel(e_voxel[g]),
-                .out_level(), .out_attr(), .out_entry_axis(), .out_steps(), .out_fetches(),
-                .out_attr_data(e_attr_data[g]), .out_tag(e_tag[g]), .visit_valid(),
-                .visit_level(), .visit_coords(), .issue_grant(e_issue_grant[g]),
-                .issue_req(e_issue_req[g]), .ev_lat(e_ev_lat[g]), .ev_disp(e_ev_disp[g]),
-                .ev_resp(e_ev_resp[g]));
-            /* verilator lint_on PINCONNECTEMPTY */
+        if (R == 1) begin : single
+            for (g = 0; g < N; g = g + 1) begin : ctx
+                /* verilator lint_off PINCONNECTEMPTY */
+                svo_walker #(.POS_W(POS_W), .T_W(T_W), .STACK_DEPTH(STACK_DEPTH),
+                    .MAX_STEPS(MAX_STEPS), .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAG_W)
+                ) u_walker (.clk(clk), .rst(rst), .in_valid(e_take[g]), .in_ready(e_in_ready[g]),
+                    .in_enter(in_enter), .in_t0(in_t0), .in_t1(in_t1), .in_o(in_o),
+                    .in_half(in_half), .in_zero(in_zero), .in_neg(in_neg),
+                    .in_node_base(in_node_base), .in_attr_base(in_attr_base), .in_tag(in_tag),
+                    .mem_req_valid(e_req_valid[g]), .mem_req_ready(e_req_ready[g]),
+                    .mem_req_attr(e_req_attr[g]), .mem_req_addr(e_req_addr[g]),
+                    .mem_resp_valid(e_resp_valid[g]), .mem_resp_data(e_resp_data[g]),
+                    .out_valid(e_out_valid[g]), .out_ready(e_out_ready[g]),
+                    .out_outcome(w_outcome[g]), .out_t(w_t[g]), .out_voxel(w_voxel[g]),
+                    .out_level(), .out_attr(), .out_entry_axis(), .out_steps(), .out_fetches(),
+                    .out_attr_data(w_attr_data[g]), .out_tag(w_tag[g]), .visit_valid(),
+                    .visit_level(), .visit_coords(), .issue_grant(e_issue_grant[g]),
+                    .issue_req(e_issue_req[g]), .ev_lat(e_ev_lat[g]), .ev_disp(e_ev_disp[g]),
+                    .ev_resp(e_ev_resp[g]));
+                /* verilator lint_on PINCONNECTEMPTY */
+                assign w_err[g] = 1'b0;
+            end
+        end else begin : barrel
+            for (g = 0; g < W; g = g + 1) begin : walker
+                wire [R*32-1:0] req_addr;
+                reg  [R*64-1:0] w_resp_data;
+                integer q;
+                always @* for (q = 0; q < R; q = q + 1) w_resp_data[q*64 +: 64] = e_resp_data[g*R + q];
+                for (gr = 0; gr < R; gr = gr + 1) begin : ctx
+                    assign e_req_addr[g*R + gr] = req_addr[gr*32 +: 32];
+                end
+                svo_walker_barrel #(.POS_W(POS_W), .T_W(T_W), .STACK_DEPTH(STACK_DEPTH),
+                    .MAX_STEPS(MAX_STEPS), .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAG_W),
+                    .CONTEXTS(R), .RI(RI)
+                ) u_walker (.clk(clk), .rst(rst), .in_take(e_take[g*R +: R]),
+                    .in_ready(e_in_ready[g*R +: R]), .in_enter(in_enter), .in_t0(in_t0),
+                    .in_t1(in_t1), .in_o(in_o), .in_half(in_half), .in_zero(in_zero),
+                    .in_neg(in_neg), .in_node_base(in_node_base), .in_attr_base(in_attr_base),
+                    .in_tag(in_tag), .mem_req_valid(e_req_valid[g*R +: R]),
+                    .mem_req_ready(e_req_ready[g*R +: R]), .mem_req_attr(e_req_attr[g*R +: R]),
+                    .mem_req_addr(req_addr), .mem_resp_valid(e_resp_valid[g*R +: R]),
+                    .mem_resp_data(w_resp_data), .out_valid(e_out_valid[g*R +: R]),
+                    .out_ready(e_out_ready[g*R +: R]), .issue_grant(e_issue_grant[g*R +: R]),
+                    .issue_req(e_issue_req[g*R +: R]), .ev_lat(e_ev_lat[g*R +: R]),
+                    .ev_disp(e_ev_disp[g*R +: R]), .ev_resp(e_ev_resp[g*R +: R]),
+                    .fin(fin_local), .out_outcome(w_outcome[g]), .out_t(w_t[g]),
+                    .out_voxel(w_voxel[g]), .out_attr_data(w_attr_data[g]), .out_tag(w_tag[g]),
+                    .err_resp(w_err[g]));
+            end
         end
     endgenerate
 endmodule

@@ -1,0 +1,567 @@
+// svo_walker_barrel: one octree walker of CONTEXTS ray contexts (a barrel walker): ONE step
+// datapath, the contexts' state in RAMs indexed by context, each context's walk the
+// single-context walker's (svo_walker.v) cycle for cycle, as the cycle model's walker pool times
+// a walker of R contexts (rtl_model/src/cycle/walker_pool.rs, §2.3 of docs/cycle-model.md).
+//
+// Pipeline position: inside svo_walker_pool, one per walker when contexts_per_walker > 1
+// (at R = 1 the pool keeps svo_walker, whose registers are the one context: the estimate's
+// calibration, rtl_model/src/cost/structures.rs `walker_contexts`, adds nothing at R = 1). The
+// pool's scheduler grants the issue slot (one context a cycle), the request port and the retire;
+// this module is what each context does with them.
+//
+// What is where (per walker; W walkers = W copies of this module):
+//   context RAMs (LUT-RAM: each array written at one point, read asynchronously):
+//     wram  the walk's constants and root, written when a walk is taken: zero axes, mirror mask,
+//           attribute base, tag, the root's t0/t1, origin and half extent;
+//     fram  the top frame, written at the end of stage A (issue + 1): t0, t1, midpoints, zero-axis
+//           g and d, address, descriptor, level, coordinates;
+//     cram  the child in flight, written at the end of stage A of a step (not a pop): its t0, t1,
+//           g, coordinates, level;
+//     nram  written at the end of stage B (issue + 2): next child, step count, the hit's t and
+//           voxel, the far-escape address;
+//   stack RAM (block RAM: one synchronous port, depth CONTEXTS x (STACK_DEPTH - 1)): frames
+//     below each context's top, written by a descriptor's push at the issue, read for a pop at
+//     the issue (its data in stage A);
+//   per context registers (the sequencer, a few bits of each context beside the RAMs): state,
+//     pending read, hold count, stack pointer, the request address, the outcome, and one 64-bit
+//     word for the arrived descriptor (until its first issue) or the attribute record (until the
+//     walk retires; several records can arrive in one cycle when reads merge).
+// The step: the issue cycle X reads the issuing context's RAM words (a descriptor that arrived
+// is applied here: the child becomes the top frame, its midpoints and first child computed
+// from the child's RAM word, the parent pushed) into the stage-A registers; X + 1 is stage A
+// (svo_walker.v's S_COMP) and X + 2 stage B (its first S_HOLD cycle), as in svo_walker.v, their
+// results written back. At most one context is in each stage (one issue a cycle), so one
+// datapath serves all contexts; a context's next issue is at X + STEP_LATENCY >= X + 3, after
+// its write-back.
+//
+// Responses: a context's node and leaf words (which chain a request in the cycle they arrive)
+// come one a cycle for the walker (svo_top: walker w's reads return on its own master);
+// err_resp flags two in one cycle. Attribute records may arrive several a cycle (merged reads).
+`timescale 1ns/1ps
+`default_nettype none
+module svo_walker_barrel #(
+    parameter POS_W        = 40,
+    parameter T_W          = 62,
+    parameter STACK_DEPTH  = 21,
+    parameter MAX_STEPS    = 100000,
+    parameter STEP_LATENCY = 3,
+    parameter TAG_W        = 1,
+    parameter CONTEXTS     = 2,
+    parameter RI           = CONTEXTS > 1 ? $clog2(CONTEXTS) : 1   // context index bits
+) (
+    input  wire                    clk,
+    input  wire                    rst,
+    // A walk: taken by the context whose in_take bit is set (the pool's dispatcher).
+    input  wire [CONTEXTS-1:0]     in_take,
+    output wire [CONTEXTS-1:0]     in_ready,
+    input  wire                    in_enter,
+    input  wire [3*(T_W+1)-1:0]    in_t0,
+    input  wire [3*(T_W+1)-1:0]    in_t1,
+    input  wire [3*(POS_W+1)-1:0]  in_o,
+    input  wire [3*POS_W-1:0]      in_half,
+    input  wire [2:0]              in_zero,
+    input  wire [2:0]              in_neg,
+    input  wire [31:0]             in_node_base,
+    input  wire [31:0]             in_attr_base,
+    input  wire [TAG_W-1:0]        in_tag,
+    // Per context, as svo_walker's ports of the same names.
+    output wire [CONTEXTS-1:0]     mem_req_valid,
+    input  wire [CONTEXTS-1:0]     mem_req_ready,
+    output wire [CONTEXTS-1:0]     mem_req_attr,
+    output wire [CONTEXTS*32-1:0]  mem_req_addr,
+    input  wire [CONTEXTS-1:0]     mem_resp_valid,
+    input  wire [CONTEXTS*64-1:0]  mem_resp_data,
+    output wire [CONTEXTS-1:0]     out_valid,
+    input  wire [CONTEXTS-1:0]     out_ready,
+    input  wire [CONTEXTS-1:0]     issue_grant,
+    output wire [CONTEXTS-1:0]     issue_req,
+    output reg  [CONTEXTS-1:0]     ev_lat,
+    output reg  [CONTEXTS-1:0]     ev_disp,
+    output wire [CONTEXTS-1:0]     ev_resp,
+    // The result of context fin (the pool's retire pick).
+    input  wire [RI-1:0]           fin,
+    output wire [1:0]              out_outcome,
+    output wire [T_W-1:0]          out_t,
+    output wire [59:0]             out_voxel,
+    output wire [63:0]             out_attr_data,
+    output wire [TAG_W-1:0]        out_tag,
+    output reg                     err_resp    // sticky: two chaining responses in one cycle
+);
+    localparam R = CONTEXTS;
+    localparam TI = T_W + 1;
+    localparam signed [TI-1:0] NEG_INF = {1'b1, {(TI-1){1'b0}}};
+    localparam signed [TI-1:0] POS_INF = {1'b0, {(TI-1){1'b1}}};
+    localparam signed [TI-1:0] T_ZERO = {TI{1'b0}};
+    localparam F = STACK_DEPTH;
+    localparam GW = POS_W + 2 + F;
+    localparam FW = 9*TI + 32 + 32 + 4 + 5 + 60;   // a stack frame
+    localparam [31:0] HOLD1 = STEP_LATENCY - 3;    // hold cycles after stage B
+    localparam SPW = $clog2(STACK_DEPTH) + 1;
+    localparam SD = R * (STACK_DEPTH - 1);         // stack RAM depth
+    localparam SAW = $clog2(SD) > 0 ? $clog2(SD) : 1;
+    // RAM word widths.
+    localparam WRW = 3 + 3 + 32 + TAG_W + 6*TI + 3*(POS_W+1) + 3*POS_W;
+    localparam FRW = 9*TI + 6*GW + 32 + 32 + 5 + 60;
+    localparam CRW = 6*TI + 3*GW + 60 + 5;
+    localparam NRW = 4 + 32 + T_W + 60 + 32;
+
+    localparam [2:0] S_IDLE = 3'd0, S_REQ = 3'd1, S_MEMW = 3'd2, S_ISSUE = 3'd3,
+                     S_COMP = 3'd4, S_HOLD = 3'd5, S_OUT = 3'd6;
+    localparam [1:0] P_DESC = 2'd0, P_FAR = 2'd1, P_LEAF = 2'd2, P_ATTR = 2'd3;
+    localparam [1:0] A_ISSUE = 2'd0, A_REQ = 2'd1, A_OUT = 2'd2;
+
+    generate
+        if (STEP_LATENCY < 3 || STEP_LATENCY > 200 || STACK_DEPTH < 2 || STACK_DEPTH > 64
+            || CONTEXTS < 2 || CONTEXTS > 16)
+        begin : bad_parameters
+            svo_walker_barrel_unsupported_parameters fail ();
+        end
+    endgenerate
+
+    function automatic signed [TI-1:0] mid_t(input signed [TI-1:0] a, input signed [TI-1:0] b);
+        mid_t = (a >>> 1) + (b >>> 1) + $signed({{(TI-1){1'b0}}, a[0] & b[0]});
+    endfunction
+    function automatic [2:0] popcount7(input [6:0] v);
+        reg s1, c1, s2, c2, c3;
+        begin
+            s1 = v[0] ^ v[1] ^ v[2];
+            c1 = (v[0] & v[1]) | (v[0] & v[2]) | (v[1] & v[2]);
+            s2 = v[3] ^ v[4] ^ v[5];
+            c2 = (v[3] & v[4]) | (v[3] & v[5]) | (v[4] & v[5]);
+            popcount7[0] = s1 ^ s2 ^ v[6];
+            c3 = (s1 & s2) | (s1 & v[6]) | (s2 & v[6]);
+            popcount7[1] = c1 ^ c2 ^ c3;
+            popcount7[2] = (c1 & c2) | (c1 & c3) | (c2 & c3);
+        end
+    endfunction
+    function automatic [23:0] prefix_counts(input [6:0] valid);
+        integer r;
+        begin
+            for (r = 0; r < 8; r = r + 1)
+                prefix_counts[3*r +: 3] = popcount7(valid & ~(7'h7f << r));
+        end
+    endfunction
+
+    // ---------------------------------------------------------------- the RAMs
+    reg [WRW-1:0] wram [0:R-1];
+    reg [FRW-1:0] fram [0:R-1];
+    reg [CRW-1:0] cram [0:R-1];
+    reg [NRW-1:0] nram [0:R-1];
+    reg [FW-1:0]  stk  [0:SD-1];
+    reg [FW-1:0]  stk_q;                           // the stack's read, in stage A
+
+    // ---------------------------------------------------------------- per context registers
+    reg [2:0]     st        [0:R-1];
+    reg [1:0]     pend      [0:R-1];
+    reg [1:0]     act       [0:R-1];
+    reg [7:0]     hold_left [0:R-1];
+    reg [SPW-1:0] sp        [0:R-1];
+    reg [31:0]    req_addr  [0:R-1];
+    reg [1:0]     outcome   [0:R-1];
+    reg [63:0]    r_data    [0:R-1];               // the descriptor, then the attribute record
+    reg [R-1:0]   b_dec, c_root, c_leaf, apf, req_attr;
+
+    wire [63:0] rdata [0:R-1];                     // the responses, per context
+    wire [R-1:0] resp, chain;
+    // ---------------------------------------------------------------- the chaining response
+    // The one context whose node or leaf word arrives (a far word's child slot, a leaf's
+    // attribute record are requested in the cycle the word arrives).
+    reg [RI-1:0] rc;
+    reg [1:0]    n_chain;
+    integer ir;
+    always @* begin
+        rc = {RI{1'b0}};
+        n_chain = 2'd0;
+        for (ir = R - 1; ir >= 0; ir = ir - 1)
+            if (chain[ir]) begin
+                rc = ir[RI-1:0];
+                n_chain = n_chain == 2'd0 ? 2'd1 : 2'd2;
+            end
+    end
+    // (each read port takes the whole word; some ports use some fields)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [NRW-1:0] rc_n = nram[rc];
+    wire [WRW-1:0] rc_w = wram[rc];
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [31:0] rc_word = rdata[rc][31:0];
+    wire [31:0] far_slot = rc_n[31:0] + rc_word;                        // c_fa + far pointer
+    wire [31:0] leaf_addr = rc_w[WRW-7 -: 32] + rc_word;                // attribute base + index
+    wire [31:0] chain_addr = pend[rc] == P_FAR ? far_slot : leaf_addr;
+
+    genvar gc;
+    generate
+        for (gc = 0; gc < R; gc = gc + 1) begin : port
+            assign rdata[gc] = mem_resp_data[gc*64 +: 64];
+            assign resp[gc] = st[gc] == S_MEMW && mem_resp_valid[gc];
+            assign chain[gc] = resp[gc] && (pend[gc] == P_FAR || pend[gc] == P_LEAF);
+            assign in_ready[gc] = st[gc] == S_IDLE || (out_valid[gc] && out_ready[gc]);
+            assign out_valid[gc] = st[gc] == S_OUT || (resp[gc] && pend[gc] == P_ATTR);
+            assign issue_req[gc] = st[gc] == S_ISSUE || (resp[gc] && pend[gc] == P_DESC);
+            assign ev_resp[gc] = resp[gc];
+            assign mem_req_valid[gc] = st[gc] == S_REQ || chain[gc];
+            assign mem_req_attr[gc] = chain[gc] ? pend[gc] == P_LEAF : req_attr[gc];
+            assign mem_req_addr[gc*32 +: 32] = chain[gc] ? chain_addr : req_addr[gc];
+        end
+    endgenerate
+
+    // ---------------------------------------------------------------- stage 0: the issue
+    reg [RI-1:0] k0;
+    integer ig;
+    always @* begin
+        k0 = {RI{1'b0}};
+        for (ig = R - 1; ig >= 0; ig = ig - 1) if (issue_grant[ig] && issue_req[ig]) k0 = ig[RI-1:0];
+    end
+    wire s0 = |(issue_grant & issue_req);
+    wire s0_arrive = resp[k0] && pend[k0] == P_DESC;
+    wire s0_apply = s0_arrive || apf[k0];          // the descriptor arrived: apply it
+    wire s0_root = c_root[k0];
+    wire [31:0] s0_desc = s0_arrive ? rdata[k0][31:0] : r_data[k0][31:0];
+    // (each read port takes the whole word; some ports use some fields)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [WRW-1:0] w0 = wram[k0];
+    wire [FRW-1:0] f0 = fram[k0];
+    wire [CRW-1:0] c0 = cram[k0];
+    wire [NRW-1:0] n0 = nram[k0];
+    /* verilator lint_on UNUSEDSIGNAL */
+    // wram's fields.
+    wire [2:0] w0_zero = w0[WRW-1 -: 3];
+    wire [2:0] w0_a = w0[WRW-4 -: 3];
+    wire [3*TI-1:0] w0_t0 = w0[WRW-39-TAG_W -: 3*TI];
+    wire [3*TI-1:0] w0_t1 = w0[WRW-39-TAG_W-3*TI -: 3*TI];
+    wire [3*(POS_W+1)-1:0] w0_o = w0[3*POS_W +: 3*(POS_W+1)];
+    wire [3*POS_W-1:0] w0_half = w0[0 +: 3*POS_W];
+    // The applied frame (a descriptor's child) or the stored one.
+    reg signed [TI-1:0] a0_t0 [0:2];
+    reg signed [TI-1:0] a0_t1 [0:2];
+    reg signed [TI-1:0] a0_tm [0:2];
+    reg signed [GW-1:0] a0_g [0:2];
+    reg signed [GW-1:0] a0_d [0:2];
+    reg [3:0]  a0_first;
+    reg [19:0] a0_c [0:2];
+    reg [4:0]  a0_level;
+    integer j0;
+    always @* begin
+        for (j0 = 0; j0 < 3; j0 = j0 + 1) begin
+            if (s0_root) begin
+                a0_t0[j0] = w0_t0[j0*TI +: TI];
+                a0_t1[j0] = w0_t1[j0*TI +: TI];
+                a0_g[j0] = {~{{(GW-F-POS_W-1){w0_o[j0*(POS_W+1) + POS_W]}},
+                              w0_o[j0*(POS_W+1) +: POS_W+1]}, {F{1'b0}}};
+                a0_d[j0] = {{(GW-F-POS_W){w0_half[j0*POS_W + POS_W-1]}},
+                            w0_half[j0*POS_W +: POS_W], {F{1'b0}}} >>> 1;
+                a0_c[j0] = 20'd0;
+            end else begin
+                a0_t0[j0] = c0[CRW-1-j0*TI -: TI];
+                a0_t1[j0] = c0[CRW-1-(3+j0)*TI -: TI];
+                a0_g[j0] = c0[CRW-1-6*TI-j0*GW -: GW];
+                a0_d[j0] = $signed(f0[FRW-1-9*TI-(3+j0)*GW -: GW]) >>> 1;
+                a0_c[j0] = c0[5 + (2-j0)*20 +: 20];
+            end
+            a0_tm[j0] = !w0_zero[j0] ? mid_t(a0_t0[j0], a0_t1[j0])
+                      : a0_g[j0][GW-1] ? NEG_INF : POS_INF;
+        end
+        for (j0 = 0; j0 < 3; j0 = j0 + 1)
+            a0_first[2-j0] = a0_tm[j0] < a0_t0[0] || a0_tm[j0] < a0_t0[1] || a0_tm[j0] < a0_t0[2];
+        a0_first[3] = 1'b0;
+        a0_level = s0_root ? 5'd0 : c0[4:0];
+    end
+    // The frame into stage A.
+    wire [FRW-1:0] s0_frame = s0_apply
+        ? {a0_t0[0], a0_t0[1], a0_t0[2], a0_t1[0], a0_t1[1], a0_t1[2], a0_tm[0], a0_tm[1],
+           a0_tm[2], a0_g[0], a0_g[1], a0_g[2], a0_d[0], a0_d[1], a0_d[2], req_addr[k0],
+           s0_desc, a0_level, a0_c[0], a0_c[1], a0_c[2]}
+        : f0;
+    wire [3:0]  s0_next = s0_apply ? a0_first : n0[NRW-1 -: 4];
+    wire [31:0] s0_steps = s0_apply && s0_root ? 32'd0 : n0[NRW-5 -: 32];
+    // The stack: a descriptor (not the root's) pushes the parent; otherwise read the frame a
+    // pop would take.
+    wire s0_push = s0 && s0_apply && !s0_root;
+    wire [SPW-1:0] sp0 = sp[k0];
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [31:0] s0_base = k0 * (STACK_DEPTH - 1);
+    wire [31:0] s0_slot = s0_base + (s0_push || sp0 == {SPW{1'b0}} ? {{(32-SPW){1'b0}}, sp0}
+                                                                    : {{(32-SPW){1'b0}}, sp0} - 32'd1);
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [FW-1:0] s0_push_frame = {f0[FRW-1 -: 9*TI], f0[FRW-1-9*TI-6*GW -: 64], n0[NRW-1 -: 4],
+                                   f0[64:0]};
+    always @(posedge clk) begin
+        if (s0_push) stk[s0_slot[SAW-1:0]] <= s0_push_frame;
+        stk_q <= stk[s0_slot[SAW-1:0]];
+    end
+
+    // ---------------------------------------------------------------- stage A (issue + 1)
+    reg           p1_valid;
+    reg [RI-1:0]  p1_k;
+    reg [FRW-1:0] p1_f;
+    reg [3:0]     f_next;
+    reg [31:0]    p1_steps;
+    reg [2:0]     w_a;
+    reg [2:0]     f_pc [0:7];
+    // (each read port takes the whole word; some ports use some fields)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [31:0] s0_fdesc = s0_frame[FRW-1-9*TI-6*GW-32 -: 32];
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [23:0] pc0 = prefix_counts(s0_fdesc[14:8]);
+    integer jp;
+    always @(posedge clk) begin
+        p1_valid <= !rst && s0;
+        p1_k <= k0;
+        p1_f <= s0_frame;
+        f_next <= s0_next;
+        p1_steps <= s0_steps;
+        w_a <= w0_a;
+        for (jp = 0; jp < 8; jp = jp + 1) f_pc[jp] <= pc0[3*jp +: 3];
+    end
+    // The top frame's fields.
+    reg signed [TI-1:0] f_t0 [0:2];
+    reg signed [TI-1:0] f_t1 [0:2];
+    reg signed [TI-1:0] f_tm [0:2];
+    reg signed [GW-1:0] f_g [0:2];
+    reg signed [GW-1:0] f_d [0:2];
+    reg [19:0] f_c [0:2];
+    wire [31:0] f_addr = p1_f[FRW-1-9*TI-6*GW -: 32];
+    wire [31:0] f_desc = p1_f[FRW-1-9*TI-6*GW-32 -: 32];
+    wire [4:0]  f_level = p1_f[60 +: 5];
+    integer jf;
+    always @* for (jf = 0; jf < 3; jf = jf + 1) begin
+        f_t0[jf] = p1_f[FRW-1-jf*TI -: TI];
+        f_t1[jf] = p1_f[FRW-1-(3+jf)*TI -: TI];
+        f_tm[jf] = p1_f[FRW-1-(6+jf)*TI -: TI];
+        f_g[jf] = p1_f[FRW-1-9*TI-jf*GW -: GW];
+        f_d[jf] = p1_f[FRW-1-9*TI-(3+jf)*GW -: GW];
+        f_c[jf] = p1_f[(2-jf)*20 +: 20];
+    end
+    wire [SPW-1:0] sp1 = sp[p1_k];
+    wire [2:0]  cc = f_next[2:0];
+    wire        popping = f_next[3];
+    reg signed [TI-1:0] s_t0 [0:2];
+    reg signed [TI-1:0] s_t1 [0:2];
+    reg signed [GW-1:0] s_g [0:2];
+    reg signed [GW-1:0] s_y;
+    reg        s_neg;
+    reg [2:0]  s_real;
+    reg [19:0] s_c [0:2];
+    reg [8:0]  s_lt;
+    integer k, b;
+    always @* begin
+        for (k = 0; k < 3; k = k + 1) begin
+            s_t0[k] = cc[2-k] ? f_tm[k] : f_t0[k];
+            s_t1[k] = cc[2-k] ? f_t1[k] : f_tm[k];
+        end
+        for (k = 0; k < 3; k = k + 1)
+            for (b = 0; b < 3; b = b + 1)
+                s_lt[3*k + b] = s_t0[k] < s_t1[b];
+        s_real = cc ^ w_a;
+        for (k = 0; k < 3; k = k + 1) s_c[k] = {f_c[k][18:0], s_real[2-k]};
+        for (k = 0; k < 3; k = k + 1) begin
+            s_y = popping ? f_d[k] <<< 1 : f_d[k];
+            s_neg = popping ? f_c[k][0] ^ w_a[2-k] : !cc[2-k];
+            s_g[k] = f_g[k] + (s_y ^ {GW{s_neg}}) + {{(GW-1){1'b0}}, s_neg};
+        end
+    end
+    // Write-back of stage A: the top frame (a pop's parent from the stack, its g and d), and a
+    // step's child.
+    wire [FW-1:0] sq = stk_q;
+    wire [FRW-1:0] pop_frame = {sq[FW-1 -: 9*TI], s_g[0], s_g[1], s_g[2], f_d[0] <<< 1,
+                                f_d[1] <<< 1, f_d[2] <<< 1, sq[FW-1-9*TI -: 64], sq[64:0]};
+    always @(posedge clk) begin
+        if (p1_valid) fram[p1_k] <= popping ? pop_frame : p1_f;
+        if (p1_valid && !popping)
+            cram[p1_k] <= {s_t0[0], s_t0[1], s_t0[2], s_t1[0], s_t1[1], s_t1[2], s_g[0], s_g[1],
+                           s_g[2], s_c[0], s_c[1], s_c[2], f_level + 5'd1};
+    end
+    // Stage A's registers (svo_walker's a_* and the child's fields stage B reads).
+    reg           p2_valid, p2_pop;
+    reg [RI-1:0]  p2_k;
+    reg [3:0]     p2_next;
+    reg [31:0]    p2_steps, p2_addr;
+    reg signed [TI-1:0] c_t0 [0:2];
+    reg [19:0] c_c [0:2];
+    reg [8:0]  a_lt;
+    reg [2:0]  a_pos, a_t0pos;
+    reg        a_n01, a_n02, a_n12, a_e01, a_e02, a_e12;
+    reg        a_valid, a_leaf, a_far, a_lim, a_ovf;
+    reg [3:0]  a_slot;
+    reg [31:0] a_base;
+    integer j;
+    always @(posedge clk) begin
+        p2_valid <= !rst && p1_valid;
+        p2_k <= p1_k;
+        p2_pop <= popping;
+        p2_next <= popping ? sq[FW-1-9*TI-64 -: 4] : f_next;
+        p2_steps <= p1_steps;
+        p2_addr <= f_addr;
+        for (j = 0; j < 3; j = j + 1) begin
+            c_t0[j] <= s_t0[j];
+            c_c[j] <= s_c[j];
+            a_pos[j] <= s_t1[j] > T_ZERO;
+            a_t0pos[j] <= s_t0[j] > T_ZERO;
+        end
+        a_lt <= s_lt;
+        a_n01 <= s_t1[0] <= s_t1[1];
+        a_n02 <= s_t1[0] <= s_t1[2];
+        a_n12 <= s_t1[1] <= s_t1[2];
+        a_e01 <= s_t0[0] >= s_t0[1];
+        a_e02 <= s_t0[0] >= s_t0[2];
+        a_e12 <= s_t0[1] >= s_t0[2];
+        a_valid <= f_desc[8 + s_real];
+        a_leaf <= f_desc[{2'b00, s_real}];
+        a_far <= f_desc[16];
+        a_slot <= {1'b0, f_pc[s_real]};
+        a_base <= f_addr + {17'd0, f_desc[31:17]};
+        a_lim <= p1_steps + 32'd1 > MAX_STEPS;
+        a_ovf <= {{(32-SPW){1'b0}}, sp1} + 32'd1 >= STACK_DEPTH;
+    end
+
+    // ---------------------------------------------------------------- stage B (issue + 2)
+    wire        b_in = &a_lt && &a_pos;
+    wire        b_enter = b_in && a_valid;
+    wire [2:0]  b_cc = p2_next[2:0];
+    wire [2:0]  b_bit = a_n01 && a_n02 ? 3'b100 : a_n12 ? 3'b010 : 3'b001;
+    wire [3:0]  b_next = (b_cc & b_bit) != 3'b000 ? 4'd8 : {1'b0, b_cc | b_bit};
+    wire [1:0]  b_axis = a_e01 && a_e02 ? 2'd0 : a_e12 ? 2'd1 : 2'd2;
+    wire [1:0]  b_act = a_lim ? A_OUT : !b_enter ? A_ISSUE
+                      : (!a_leaf && a_ovf) ? A_OUT : A_REQ;
+    wire [31:0] b_slot_addr = a_base + {28'd0, a_slot};
+    wire [T_W-1:0] b_t = a_t0pos[b_axis] ? c_t0[b_axis][T_W-1:0] : {T_W{1'b0}};
+    always @(posedge clk)
+        if (p2_valid)
+            nram[p2_k] <= {p2_pop || a_lim ? p2_next : b_next,
+                           p2_pop ? p2_steps : p2_steps + 32'd1,
+                           b_t, c_c[2], c_c[1], c_c[0], p2_addr + {28'd0, a_slot}};
+
+    // ---------------------------------------------------------------- the sequencers
+    reg [RI-1:0] kt;
+    integer it;
+    always @* begin
+        kt = {RI{1'b0}};
+        for (it = R - 1; it >= 0; it = it - 1) if (in_take[it]) kt = it[RI-1:0];
+    end
+    always @(posedge clk)
+        if (|in_take)
+            wram[kt] <= {in_zero, in_neg[0], in_neg[1], in_neg[2], in_attr_base, in_tag, in_t0,
+                         in_t1, in_o, in_half};
+
+    integer n;
+    always @(posedge clk) begin
+        for (n = 0; n < R; n = n + 1) begin
+            ev_lat[n] <= !rst && st[n] == S_HOLD && hold_left[n] == 8'd0;
+            ev_disp[n] <= !rst && in_take[n];
+            if (rst) begin
+                st[n] <= S_IDLE;
+                b_dec[n] <= 1'b0;
+                apf[n] <= 1'b0;
+            end else begin
+                if (out_valid[n] && out_ready[n]) begin
+                    st[n] <= S_IDLE;
+                end else if (resp[n] && pend[n] == P_ATTR) begin
+                    r_data[n] <= rdata[n];
+                    st[n] <= S_OUT;
+                end
+                case (st[n])
+                S_REQ: if (mem_req_ready[n]) st[n] <= S_MEMW;
+                S_MEMW: if (mem_resp_valid[n]) begin
+                    case (pend[n])
+                    P_DESC: begin
+                        r_data[n] <= rdata[n];
+                        apf[n] <= 1'b1;
+                        st[n] <= issue_grant[n] ? S_COMP : S_ISSUE;
+                    end
+                    P_FAR: begin
+                        pend[n] <= c_leaf[n] ? P_LEAF : P_DESC;
+                        req_addr[n] <= far_slot;
+                        req_attr[n] <= 1'b0;
+                        st[n] <= mem_req_ready[n] ? S_MEMW : S_REQ;
+                    end
+                    P_LEAF: begin
+                        pend[n] <= P_ATTR;
+                        req_addr[n] <= leaf_addr;
+                        req_attr[n] <= 1'b1;
+                        st[n] <= mem_req_ready[n] ? S_MEMW : S_REQ;
+                    end
+                    default: ;
+                    endcase
+                end
+                S_ISSUE: if (issue_grant[n]) st[n] <= S_COMP;
+                S_COMP: begin
+                    st[n] <= S_HOLD;
+                    hold_left[n] <= HOLD1[7:0];
+                    if (popping) begin
+                        b_dec[n] <= 1'b0;
+                        if (sp[n] == {SPW{1'b0}}) begin
+                            outcome[n] <= 2'd0;
+                            act[n] <= A_OUT;
+                        end else begin
+                            act[n] <= A_ISSUE;
+                            sp[n] <= sp[n] - 1'b1;
+                        end
+                    end else begin
+                        b_dec[n] <= 1'b1;
+                        c_leaf[n] <= f_desc[{2'b00, s_real}];
+                        c_root[n] <= 1'b0;
+                    end
+                end
+                S_HOLD: begin
+                    if (b_dec[n]) begin
+                        b_dec[n] <= 1'b0;
+                        if (a_lim) begin
+                            outcome[n] <= 2'd2;
+                        end else if (b_enter) begin
+                            req_attr[n] <= 1'b0;
+                            if (a_leaf) outcome[n] <= 2'd1;
+                            if (!a_leaf && a_ovf) begin
+                                outcome[n] <= 2'd3;
+                            end else if (a_far) begin
+                                pend[n] <= P_FAR;
+                                req_addr[n] <= a_base;
+                            end else begin
+                                pend[n] <= a_leaf ? P_LEAF : P_DESC;
+                                req_addr[n] <= b_slot_addr;
+                            end
+                        end
+                    end
+                    act[n] <= b_dec[n] ? b_act : act[n];
+                    if (hold_left[n] == 8'd0)
+                        st[n] <= (b_dec[n] ? b_act : act[n]) == A_ISSUE ? S_ISSUE
+                               : (b_dec[n] ? b_act : act[n]) == A_REQ ? S_REQ : S_OUT;
+                    else
+                        hold_left[n] <= hold_left[n] - 8'd1;
+                end
+                default: ;
+                endcase
+                // The issue: the descriptor is applied (the parent pushed).
+                if (s0 && k0 == n[RI-1:0]) begin
+                    apf[n] <= 1'b0;
+                    if (s0_push) sp[n] <= sp[n] + 1'b1;
+                end
+                // A new walk (possibly in the cycle the previous result leaves).
+                if (in_take[n]) begin
+                    c_root[n] <= 1'b1;
+                    c_leaf[n] <= 1'b0;
+                    req_addr[n] <= in_node_base;
+                    req_attr[n] <= 1'b0;
+                    pend[n] <= P_DESC;
+                    sp[n] <= {SPW{1'b0}};
+                    outcome[n] <= 2'd0;
+                    apf[n] <= 1'b0;
+                    st[n] <= in_enter ? S_REQ : S_OUT;
+                end
+            end
+        end
+        if (rst) err_resp <= 1'b0;
+        else if (n_chain == 2'd2) err_resp <= 1'b1;
+    end
+
+    // ---------------------------------------------------------------- the result
+    // (each read port takes the whole word; some ports use some fields)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [NRW-1:0] fin_n = nram[fin];
+    wire [WRW-1:0] fin_w = wram[fin];
+    /* verilator lint_on UNUSEDSIGNAL */
+    assign out_outcome = outcome[fin];
+    assign out_t = fin_n[NRW-37 -: T_W];
+    assign out_voxel = fin_n[32 +: 60];
+    assign out_attr_data = st[fin] == S_OUT ? r_data[fin] : rdata[fin];
+    assign out_tag = fin_w[WRW-39 -: TAG_W];
+endmodule
+`default_nettype wire
