@@ -534,7 +534,8 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
 }
 
 /// svo_top on testbench/hw/pool_2x4.ron — two walkers of four contexts (svo_walker_pool: the
-/// dispatcher, each walker's four context engines behind one issue grant and one request port,
+/// dispatcher, per walker a barrel walker (svo_walker_barrel: one step datapath, the four
+/// contexts' state in RAMs) behind one issue grant and one request port,
 /// one AXI4 node master per walker with reads in flight) — renders the car's two 16 × 10
 /// frames (the second with moving instances and reuse) with every pixel equal and the model's
 /// cycles; with random stalls (seed 1) every pixel still once and right; one more expected

@@ -34,8 +34,9 @@
 // (never expected: it has one entry per slot), or a node read's response for a context with
 // no read out.
 //
-// The walkers are svo_walker_pool: WALKERS walkers of CONTEXTS contexts (context engines
-// behind one issue grant and one request port per walker; see its header), the model's
+// The walkers are svo_walker_pool: WALKERS walkers of CONTEXTS contexts (per walker one step
+// datapath, its contexts' state in RAMs, behind one issue grant and one request port; see its
+// header), the model's
 // walker pool with its dispatcher. Sticky `err_overflow`: a transform, reciprocal
 // or pack overflow flag (the datapath saturated, which the model counts: reported). Reciprocal seed ROMs: recip[k].u_recip.rom,
 // loaded by the host as for svo_reciprocal.

@@ -110,8 +110,10 @@ module svo_walker #(
     output reg                    visit_valid,
     output reg  [4:0]             visit_level,
     output reg  [59:0]            visit_coords,   // {z, y, x}
-    // The multi-context walker's scheduler (svo_walker_pool): an issue slot is taken only in
-    // a cycle with issue_grant (tie to 1 for a walker of its own); issue_req asks for one.
+    // The pool's scheduler (svo_walker_pool, whose walker this is at one context a walker;
+    // svo_walker_barrel is the walker of several, the same step with its contexts' state in
+    // RAMs): an issue slot is taken only in a cycle with issue_grant (tie to 1 for a walker of
+    // its own); issue_req asks for one.
     // ev_* mark the cycle the context moves on to its next op, as the model's wake-up:
     // ev_lat (its step latency ended), ev_disp (the cycle after its walk was accepted),
     // ev_resp (its read completed).

@@ -5,13 +5,14 @@
 // Pipeline position: after root_to_dispatch (svo_walk), before walker_to_record; the node
 // memory behind one request port per walker.
 //
-// What it is: per walker CONTEXTS context engines, each a copy of the single-context walker
-// (svo_walker.v, its stack and step registers), behind the walker's one issue grant and one
-// request port; one result port for the pool. This is the acceptable first step of issue 29,
-// NOT the design the model's cost estimate prices (rtl_model/src/cost: one step datapath per
-// walker with R contexts' state in a small RAM, a true barrel): here the step datapath is
-// replicated R times per walker, so its area is about R times the estimate's walker datapath.
-// The timing is the same: the engines issue only when granted, one slot a walker and cycle.
+// What it is: per walker ONE step datapath, a barrel walker (svo_walker_barrel.v): the R
+// contexts' state in RAMs indexed by context (LUT-RAM context words read at the issue and written
+// back by the step; the stacks in one block-RAM array of R x (STACK_DEPTH - 1) frames), the
+// design the model's cost estimate prices (rtl_model/src/cost: `walker_contexts`,
+// `walker_stacks`). At R = 1 each walker is svo_walker, whose registers are its one context (the
+// estimate's calibrated walker; it adds no context file at R = 1). One issue grant and one
+// request port per walker; one result port for the pool. The contexts issue only when granted,
+// one slot a walker and cycle.
 //
 // The scheduler is the model's, per cycle:
 //   wake-up order  a context moves on to its next op in the model's wake-up order: first those
@@ -47,8 +48,11 @@
 // (svo_top refuses other node memories), where this rule is the model's exactly.
 //
 // The memory: per walker mem_req_* one read a cycle with its context (mem_req_ctx, the pool's
-// context index n = walker·CONTEXTS + k); responses on any port, in any order, each with its
-// context (mem_resp_ctx). Sticky err_resp: a response for a context that has no read out.
+// context index n = walker·CONTEXTS + k); responses in any order, each with its context
+// (mem_resp_ctx), on any port, but at most one node or leaf word (the words that chain a read in
+// the cycle they arrive) for one walker in a cycle — svo_top returns walker w's reads on its own
+// master; records of merged reads may complete several a cycle. Sticky err_resp: a response for
+// a context that has no read out, or two chaining words for one walker in a cycle.
 `timescale 1ns/1ps
 `default_nettype none
 module svo_walker_pool #(
@@ -107,7 +111,7 @@ module svo_walker_pool #(
         end
     endgenerate
 
-    // Per engine.
+    // Per context.
     wire [N-1:0] e_in_ready, e_issue_req, e_ev_lat, e_ev_disp, e_ev_resp, e_req_valid,
                  e_req_attr, e_out_valid;
     reg  [N-1:0] e_resp_valid;
@@ -301,12 +305,11 @@ module svo_walker_pool #(
     end
     // The result of context fin: its walker's result port (each walker reads its context's
     // state at fin's index within the walker).
-    /* verilator lint_off WIDTHEXPAND */
+    wire [31:0] fin32 = {{(32-CW){1'b0}}, fin};
+    wire [WI-1:0] fin_w = walker_of(fin32);
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [WI-1:0] fin_w = walker_of(fin);
-    wire [RI-1:0] fin_local = local_of(fin);     // (unused at R = 1)
+    wire [RI-1:0] fin_local = local_of(fin32);   // (unused at R = 1)
     /* verilator lint_on UNUSEDSIGNAL */
-    /* verilator lint_on WIDTHEXPAND */
     assign out_outcome = w_outcome[fin_w];
     assign out_t = w_t[fin_w];
     assign out_voxel = w_voxel[fin_w];
