@@ -10,6 +10,7 @@
 #![allow(dead_code)]
 
 pub mod bad_input;
+pub mod mem_bench;
 pub mod oracle;
 pub mod process;
 pub mod report;
