@@ -98,73 +98,107 @@ module svo_onchip_store #(
     reg [REQUESTERS*32-1:0]  r_word;
 
     // ---- This cycle's arrivals, in port order (the model's step 2 for on-chip reads) -------
-    reg [BANKS-1:0]           n_slot_past;
-    reg [BANKS*DW-1:0]        n_slot_del;
-    reg [BANKS*2-1:0]         n_slot_used;
-    reg [BANKS*QDEPTH-1:0]    n_q_valid;
-    reg [BANKS*QDEPTH*DW-1:0] n_q_del;
-    reg [BANKS*QDEPTH*32-1:0] n_q_word;
-    reg [REQ_PORTS*DW-1:0]    a_del;        // each arrival's delay to its service
-    reg [REQ_PORTS-1:0]       a_comb;       // served with a scheduled read of its word
-    reg                       a_err;
-    integer p, e, b;
-    reg [BW-1:0] ab;
-    reg [31:0] aw;
-    reg found, placed;
-    reg [DW-1:0] d;
+    // Each bank's arbiter sees the ports in order and takes those of its bank: its slot and
+    // schedule after them, and per port the delay to its service and whether it combined.
+    wire [BANKS-1:0]           n_slot_past;
+    wire [BANKS*DW-1:0]        n_slot_del;
+    wire [BANKS*2-1:0]         n_slot_used;
+    wire [BANKS*QDEPTH-1:0]    n_q_valid;
+    wire [BANKS*QDEPTH*DW-1:0] n_q_del;
+    wire [BANKS*QDEPTH*32-1:0] n_q_word;
+    wire [BANKS*REQ_PORTS*DW-1:0] b_del;   // per bank, per port (0 for other banks' ports)
+    wire [BANKS*REQ_PORTS-1:0]    b_comb;
+    wire [BANKS-1:0]              b_err;
+    genvar ga;
+    generate
+        for (ga = 0; ga < BANKS; ga = ga + 1) begin : arb
+            reg             sp;
+            reg [DW-1:0]    sd;
+            reg [1:0]       su;
+            reg [QDEPTH-1:0]    qv;
+            reg [QDEPTH*DW-1:0] qd;
+            reg [QDEPTH*32-1:0] qw;
+            reg [REQ_PORTS*DW-1:0] pd;
+            reg [REQ_PORTS-1:0]    pc;
+            reg er, found, placed;
+            reg [DW-1:0] d;
+            reg [31:0] aw;
+            integer p, e;
+            always @(*) begin
+                sp = slot_past[ga];
+                sd = slot_del[ga*DW +: DW];
+                su = slot_used[ga*2 +: 2];
+                qv = q_valid[ga*QDEPTH +: QDEPTH];
+                qd = q_del[ga*QDEPTH*DW +: QDEPTH*DW];
+                qw = q_word[ga*QDEPTH*32 +: QDEPTH*32];
+                pd = {REQ_PORTS*DW{1'b0}};
+                pc = {REQ_PORTS{1'b0}};
+                er = 1'b0;
+                found = 1'b0;
+                placed = 1'b0;
+                d = {DW{1'b0}};
+                aw = 32'd0;
+                for (p = 0; p < REQ_PORTS; p = p + 1) begin
+                    aw = req_addr[32*p +: 32];
+                    if (req_valid[p] && (BANKS == 1 || aw[BW-1:0] == ga)) begin
+                        found = 1'b0;
+                        d = {DW{1'b0}};
+                        if (COMBINE != 0)
+                            for (e = 0; e < QDEPTH; e = e + 1)
+                                if (!found && qv[e] && qw[32*e +: 32] == aw) begin
+                                    found = 1'b1;
+                                    d = qd[DW*e +: DW];
+                                end
+                        if (!found) begin
+                            if (sp) begin
+                                sp = 1'b0;
+                                sd = {DW{1'b0}};
+                                su = 2'd0;
+                            end
+                            d = sd;
+                            if (su + 2'd1 == PORTS[1:0]) begin
+                                sd = d + 1'b1;
+                                su = 2'd0;
+                            end else begin
+                                su = su + 2'd1;
+                            end
+                            placed = 1'b0;
+                            for (e = 0; e < QDEPTH; e = e + 1)
+                                if (!placed && !qv[e]) begin
+                                    placed = 1'b1;
+                                    qv[e] = 1'b1;
+                                    qd[DW*e +: DW] = d;
+                                    qw[32*e +: 32] = aw;
+                                end
+                            if (!placed) er = 1'b1;
+                        end
+                        pd[DW*p +: DW] = d;
+                        pc[p] = found;
+                    end
+                end
+            end
+            assign n_slot_past[ga] = sp;
+            assign n_slot_del[ga*DW +: DW] = sd;
+            assign n_slot_used[ga*2 +: 2] = su;
+            assign n_q_valid[ga*QDEPTH +: QDEPTH] = qv;
+            assign n_q_del[ga*QDEPTH*DW +: QDEPTH*DW] = qd;
+            assign n_q_word[ga*QDEPTH*32 +: QDEPTH*32] = qw;
+            assign b_del[ga*REQ_PORTS*DW +: REQ_PORTS*DW] = pd;
+            assign b_comb[ga*REQ_PORTS +: REQ_PORTS] = pc;
+            assign b_err[ga] = er;
+        end
+    endgenerate
+    // Every port's delay and combining, from the bank it went to.
+    reg [REQ_PORTS*DW-1:0] a_del;
+    reg [REQ_PORTS-1:0]    a_comb;
+    wire                   a_err = |b_err;
+    integer b, e, p;
     always @(*) begin
-        n_slot_past = slot_past;
-        n_slot_del = slot_del;
-        n_slot_used = slot_used;
-        n_q_valid = q_valid;
-        n_q_del = q_del;
-        n_q_word = q_word;
         a_del = {REQ_PORTS*DW{1'b0}};
         a_comb = {REQ_PORTS{1'b0}};
-        a_err = 1'b0;
-        aw = 32'd0;
-        ab = {BW{1'b0}};
-        found = 1'b0;
-        placed = 1'b0;
-        d = {DW{1'b0}};
-        for (p = 0; p < REQ_PORTS; p = p + 1) begin
-            if (req_valid[p]) begin
-                aw = req_addr[32*p +: 32];
-                ab = BANKS > 1 ? aw[BW-1:0] : {BW{1'b0}};
-                found = 1'b0;
-                d = {DW{1'b0}};
-                if (COMBINE != 0)
-                    for (e = 0; e < QDEPTH; e = e + 1)
-                        if (!found && n_q_valid[ab*QDEPTH + e] && n_q_word[(ab*QDEPTH + e)*32 +: 32] == aw) begin
-                            found = 1'b1;
-                            d = n_q_del[(ab*QDEPTH + e)*DW +: DW];
-                        end
-                if (!found) begin
-                    if (n_slot_past[ab]) begin
-                        n_slot_past[ab] = 1'b0;
-                        n_slot_del[ab*DW +: DW] = {DW{1'b0}};
-                        n_slot_used[ab*2 +: 2] = 2'd0;
-                    end
-                    d = n_slot_del[ab*DW +: DW];
-                    if (n_slot_used[ab*2 +: 2] + 2'd1 == PORTS[1:0]) begin
-                        n_slot_del[ab*DW +: DW] = d + 1'b1;
-                        n_slot_used[ab*2 +: 2] = 2'd0;
-                    end else begin
-                        n_slot_used[ab*2 +: 2] = n_slot_used[ab*2 +: 2] + 2'd1;
-                    end
-                    placed = 1'b0;
-                    for (e = 0; e < QDEPTH; e = e + 1)
-                        if (!placed && !n_q_valid[ab*QDEPTH + e]) begin
-                            placed = 1'b1;
-                            n_q_valid[ab*QDEPTH + e] = 1'b1;
-                            n_q_del[(ab*QDEPTH + e)*DW +: DW] = d;
-                            n_q_word[(ab*QDEPTH + e)*32 +: 32] = aw;
-                        end
-                    if (!placed) a_err = 1'b1;
-                end
-                a_del[p*DW +: DW] = d;
-                a_comb[p] = found;
-            end
+        for (b = 0; b < BANKS; b = b + 1) begin
+            a_del = a_del | b_del[b*REQ_PORTS*DW +: REQ_PORTS*DW];
+            a_comb = a_comb | b_comb[b*REQ_PORTS +: REQ_PORTS];
         end
     end
 
