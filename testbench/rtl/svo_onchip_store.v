@@ -203,21 +203,31 @@ module svo_onchip_store #(
     end
 
     // ---- The reads made this cycle: per bank, the scheduled words of delay 0 ---------------
+    // Lane j of a bank takes the j-th due entry (a priority pick over the schedule; every index
+    // constant after unrolling, so each lane is a QDEPTH:1 multiplexer).
     reg [BANKS*PORTS-1:0]    rd_valid;
     reg [BANKS*PORTS*32-1:0] rd_word;
+    reg [QDEPTH-1:0] due;
+    reg taken;
     integer k;
     always @(*) begin
         rd_valid = {BANKS*PORTS{1'b0}};
         rd_word = {BANKS*PORTS*32{1'b0}};
+        due = {QDEPTH{1'b0}};
+        taken = 1'b0;
         for (b = 0; b < BANKS; b = b + 1) begin
-            k = 0;
             for (e = 0; e < QDEPTH; e = e + 1)
-                if (n_q_valid[b*QDEPTH + e] && n_q_del[(b*QDEPTH + e)*DW +: DW] == {DW{1'b0}}
-                    && k < PORTS) begin
-                    rd_valid[b*PORTS + k] = 1'b1;
-                    rd_word[(b*PORTS + k)*32 +: 32] = n_q_word[(b*QDEPTH + e)*32 +: 32];
-                    k = k + 1;
-                end
+                due[e] = n_q_valid[b*QDEPTH + e] && n_q_del[(b*QDEPTH + e)*DW +: DW] == {DW{1'b0}};
+            for (k = 0; k < PORTS; k = k + 1) begin
+                taken = 1'b0;
+                for (e = 0; e < QDEPTH; e = e + 1)
+                    if (!taken && due[e]) begin
+                        taken = 1'b1;
+                        due[e] = 1'b0;
+                        rd_valid[b*PORTS + k] = 1'b1;
+                        rd_word[(b*PORTS + k)*32 +: 32] = n_q_word[(b*QDEPTH + e)*32 +: 32];
+                    end
+            end
         end
     end
 
@@ -286,16 +296,15 @@ module svo_onchip_store #(
     localparam [CW-1:0] TO_DONE = LM1[CW-1:0];
     reg [REQUESTERS*32-1:0] r_data;
     integer r, j;
-    reg [BW-1:0] rb;
     always @(*) begin
         r_data = {REQUESTERS*32{1'b0}};
-        for (r = 0; r < REQUESTERS; r = r + 1) begin
-            rb = BANKS > 1 ? r_word[32*r +: BW] : {BW{1'b0}};
-            for (j = 0; j < PORTS; j = j + 1)
-                if (st_valid[LAST + rb*PORTS + j]
-                    && st_word[(LAST + rb*PORTS + j)*32 +: 32] == r_word[32*r +: 32])
-                    r_data[32*r +: 32] = st_data[(LAST + rb*PORTS + j)*32 +: 32];
-        end
+        for (r = 0; r < REQUESTERS; r = r + 1)
+            for (b = 0; b < BANKS; b = b + 1)
+                if (BANKS == 1 || r_word[32*r +: BW] == b[BW-1:0])
+                    for (j = 0; j < PORTS; j = j + 1)
+                        if (st_valid[LAST + b*PORTS + j]
+                            && st_word[(LAST + b*PORTS + j)*32 +: 32] == r_word[32*r +: 32])
+                            r_data[32*r +: 32] = st_data[(LAST + b*PORTS + j)*32 +: 32];
     end
 
     // ---- The edge: schedules count down, arrivals are recorded, completions pulse ----------
@@ -354,12 +363,12 @@ module svo_onchip_store #(
                 if (r_rem[r*CW +: CW] != {CW{1'b0}}) r_rem[r*CW +: CW] <= r_rem[r*CW +: CW] - 1'b1;
             end
             // Arrivals: done = served + LATENCY, i.e. LATENCY + delay cycles from now.
-            for (p = 0; p < REQ_PORTS; p = p + 1)
-                if (req_valid[p]) begin
-                    r_rem[req_requester[p*RQW +: RQW]*CW +: CW]
-                        <= {{(CW-DW){1'b0}}, a_del[p*DW +: DW]} + TO_DONE;
-                    r_word[req_requester[p*RQW +: RQW]*32 +: 32] <= req_addr[32*p +: 32];
-                end
+            for (r = 0; r < REQUESTERS; r = r + 1)
+                for (p = 0; p < REQ_PORTS; p = p + 1)
+                    if (req_valid[p] && req_requester[p*RQW +: RQW] == r[RQW-1:0]) begin
+                        r_rem[r*CW +: CW] <= {{(CW-DW){1'b0}}, a_del[p*DW +: DW]} + TO_DONE;
+                        r_word[32*r +: 32] <= req_addr[32*p +: 32];
+                    end
             cnt_reads <= cnt_reads + n[31:0];
             cnt_combined <= cnt_combined + c[31:0];
             cnt_port_wait <= cnt_port_wait + waited;
