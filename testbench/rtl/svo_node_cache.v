@@ -111,6 +111,8 @@ module svo_node_cache #(
     localparam integer SLOTS = MISS_QUEUE + BANKS * PORTS;
     localparam integer NEED_ISSUE = MSHRS < SLOTS ? MSHRS : SLOTS;
     localparam [1:0] KIND_ATTR = 2'd2;
+    localparam integer MQ_I = MISS_QUEUE;
+    localparam [MQW-1:0] MQ_SIZE = MQ_I[MQW-1:0];
     localparam integer LRU_I = WAYS - 1;
     localparam [AGW-1:0] LRU_AGE = LRU_I[AGW-1:0];
     localparam integer HCW = HIT_LATENCY > 1 ? $clog2(HIT_LATENCY) : 1;  // hit countdown
@@ -370,7 +372,7 @@ module svo_node_cache #(
                         else bpos[32*j +: 32] = bpos[32*j +: 32] + 1;
                     end else if (is_mq) begin
                         mstop = 1'b1;
-                    end else if ({{(32 - MQW){1'b0}}, n_mn} < MISS_QUEUE) begin
+                    end else if (n_mn != MQ_SIZE) begin  // (never above MISS_QUEUE)
                         // Hit under miss: the miss leaves its bank's pipeline.
                         n_mq[EW*n_mn +: EW] = e;
                         n_mn = n_mn + 1'b1;

@@ -17,7 +17,12 @@ mkdir -p "$logs"
 ys="$logs/node_cache.ys"
 {
     echo "read_verilog -defer $here/../rtl/svo_node_cache.v"
-    for p in "$@"; do echo "chparam -set ${p%%=*} ${p#*=} svo_node_cache"; done
+    # One chparam for all (each chparam elaborates the module again).
+    if [ $# -gt 0 ]; then
+        printf 'chparam'
+        for p in "$@"; do printf ' -set %s %s' "${p%%=*}" "${p#*=}"; done
+        printf ' svo_node_cache\n'
+    fi
     echo "synth_xilinx -family xcup -flatten -top svo_node_cache"
     echo "tee -o $logs/node_cache.stat stat"
 } >"$ys"
