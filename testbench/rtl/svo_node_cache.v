@@ -255,6 +255,9 @@ module svo_node_cache #(
         j = 0;
         p = 0;
         b = 0;
+        s = 0;  // (loop variables, assigned on every path: no latch)
+        w = 0;
+        m = 0;
 
         // The crossbar: this cycle's requests join their bank's queue in port order.
         for (i = 0; i < REQ_PORTS; i = i + 1) begin
@@ -439,6 +442,8 @@ module svo_node_cache #(
     reg [REQUESTERS*MW-1:0] rs_m;
     reg [REQUESTERS*WB-1:0] rs_word;
     always @* begin
+        r = 0;  // (loop variables, assigned on every path: no latch)
+        l = 0;
         rs_done = {REQUESTERS{1'b0}};
         rs_load = {REQUESTERS{1'b0}};
         rs_data = {REQUESTERS*64{1'b0}};
