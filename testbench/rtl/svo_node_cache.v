@@ -46,7 +46,8 @@
 //   fill_valid is raised with RLAST's data registered, i.e. one cycle before the model's
 //   completion cycle, as above.
 // Counters: the model's NodeMemoryStats cache_hits (replayed hits included), cache_misses,
-//   cache_merged, dram_fills, uncached_reads.
+//   cache_merged, dram_fills, uncached_reads; and cnt_replay_hits, the part of cnt_hits made by
+//   the miss queue's head on its tag re-check (the model counts those among its hits only).
 //
 // Structure: the tag, LRU-age, MSHR and queue state are registers and one combinational block
 // runs the model's cycle in its order (miss queue head first, then the banks in the rotating
@@ -90,7 +91,8 @@ module svo_node_cache #(
     output reg  [31:0]                                  cnt_misses,
     output reg  [31:0]                                  cnt_merged,
     output reg  [31:0]                                  cnt_fills,
-    output reg  [31:0]                                  cnt_uncached
+    output reg  [31:0]                                  cnt_uncached,
+    output reg  [31:0]                                  cnt_replay_hits
 );
     localparam integer RQW = $clog2(REQUESTERS);
     localparam integer MW = $clog2(MSHRS);
@@ -179,7 +181,7 @@ module svo_node_cache #(
     reg [REQUESTERS*WB-1:0] ev_word;
     reg [FILL_LANES-1:0] inst_v;
     reg [FILL_LANES*SLW-1:0] inst_slot;
-    reg [31:0]          inc_hit, inc_miss, inc_merge, inc_fill, inc_unc;
+    reg [31:0]          inc_hit, inc_miss, inc_merge, inc_fill, inc_unc, inc_replay;
     reg [BANKS*32-1:0]  rp;                        // per bank: lookup ports the replays took
     reg [BANKS*32-1:0]  bpos;                      // per j (rotation order): entries popped
     reg [BANKS-1:0]     bstop;                     // per j: stalled (miss queue full)
@@ -229,6 +231,7 @@ module svo_node_cache #(
         inc_merge = 0;
         inc_fill = 0;
         inc_unc = 0;
+        inc_replay = 0;
         inst_v = {FILL_LANES{1'b0}};
         inst_slot = {FILL_LANES*SLW{1'b0}};
         mstop = 1'b0;
@@ -336,6 +339,7 @@ module svo_node_cache #(
                     if (is_mq) begin
                         rp[32*b +: 32] = rp[32*b +: 32] + 1;
                         mpops = mpops + 1;
+                        inc_replay = inc_replay + 1;
                     end else begin
                         bpos[32*j +: 32] = bpos[32*j +: 32] + 1;
                     end
@@ -506,6 +510,7 @@ module svo_node_cache #(
             cnt_merged <= 32'd0;
             cnt_fills <= 32'd0;
             cnt_uncached <= 32'd0;
+            cnt_replay_hits <= 32'd0;
         end else begin
             tag_q <= n_tag;
             age_q <= n_age;
@@ -523,6 +528,7 @@ module svo_node_cache #(
             cnt_merged <= cnt_merged + inc_merge;
             cnt_fills <= cnt_fills + inc_fill;
             cnt_uncached <= cnt_uncached + inc_unc;
+            cnt_replay_hits <= cnt_replay_hits + inc_replay;
             rsp_done <= rs_done;
             wait_q <= rs_wait;
             attr_q <= rs_attr;

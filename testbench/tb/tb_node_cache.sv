@@ -8,7 +8,7 @@
 // "E ...") a request of a requester whose read is still outstanding, two requests on one port
 // in a cycle and a completion of a requester with nothing outstanding.
 // +log=FILE: one line "D cycle_requested cycle_done requester data(hex, 64 bits)" per
-// completion, then "C hits misses merged fills uncached" and "END cycle errors".
+// completion, then "C hits misses merged fills uncached replay_hits" and "END cycle errors".
 `timescale 1ns/1ps
 module tb_node_cache;
     parameter REQ_PORTS = 2;
@@ -50,7 +50,7 @@ module tb_node_cache;
     wire [FILL_LANES-1:0]    fill_valid;
     wire [FILL_LANES*MW-1:0] fill_mshr;
     wire [FILL_LANES*LINE_BYTES*8-1:0] fill_data;
-    wire [31:0] c_hits, c_misses, c_merged, c_fills, c_unc, dram_errors;
+    wire [31:0] c_hits, c_misses, c_merged, c_fills, c_unc, c_replay, dram_errors;
     wire dram_idle;
 
     svo_node_cache #(
@@ -64,7 +64,7 @@ module tb_node_cache;
         .fill_req_valid(iss_valid), .fill_req_line(iss_line), .fill_req_mshr(iss_mshr),
         .fill_valid(fill_valid), .fill_mshr(fill_mshr), .fill_data(fill_data),
         .cnt_hits(c_hits), .cnt_misses(c_misses), .cnt_merged(c_merged), .cnt_fills(c_fills),
-        .cnt_uncached(c_unc)
+        .cnt_uncached(c_unc), .cnt_replay_hits(c_replay)
     );
 
     tb_dram_model #(
@@ -151,7 +151,7 @@ module tb_node_cache;
                 cyc = cyc + 1;
             end
         end
-        $fdisplay(fo, "C %0d %0d %0d %0d %0d", c_hits, c_misses, c_merged, c_fills, c_unc);
+        $fdisplay(fo, "C %0d %0d %0d %0d %0d %0d", c_hits, c_misses, c_merged, c_fills, c_unc, c_replay);
         $fdisplay(fo, "END %0d %0d", cyc, errors + dram_errors);
         $fclose(fo);
         $finish;
