@@ -377,8 +377,11 @@ fn frames_equal_the_model(scene: &str, text: &str, model: &[(u64, u64, u64)]) {
 ///
 /// Before the first frame, five STARTs with one bad register each are refused with svo_top's
 /// STATUS.ERROR code (1 frame size, 2 direction-table alignment, 3 node-base alignment, 4 an
-/// instance count of 0 or over 128). A flipped expected pixel, one more expected cycle and a
-/// wrong expected error code are each exactly one failure.
+/// instance count of 0 or over 128). After the frames (without stalls), two more frames in each
+/// of which one read answers SLVERR end DONE with STATUS.ERROR 5 (a node read) and 6 (a
+/// direction-table read). A flipped expected pixel, one more expected cycle and a wrong
+/// expected error code (of a refused START, or of the node read's SLVERR) are each exactly one
+/// failure.
 #[test]
 fn core_behind_axi_renders_frames_equal_to_the_model() {
     let Some(venv) = venv() else { return };
@@ -406,8 +409,17 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         mc_model[0].0
     );
     assert_eq!((equal, n, cycles), (160, 160, mc_model[0].0), "{text}");
-    // 160 pixels, the cycles, and five refused STARTs (STATUS.ERROR 1, 2, 3, 4, 4).
-    assert_eq!(tally(&text, "core: "), (166, 0), "{text}");
+    // 160 pixels, the cycles, five refused STARTs (STATUS.ERROR 1, 2, 3, 4, 4) and the two
+    // SLVERR frames (5, 6).
+    assert_eq!(tally(&text, "core: "), (168, 0), "{text}");
+    for code in [5, 6] {
+        assert!(
+            text.contains(&format!(
+                "answering SLVERR: STATUS 0x{code}02 (ERROR {code})"
+            )),
+            "no SLVERR frame ended DONE with ERROR {code}:\n{text}"
+        );
+    }
 
     let st_env = [
         format!("SVO_MODEL_CYCLES={}", st_model[0].0),
@@ -492,7 +504,7 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         let c0 = format!("SVO_MODEL_CYCLES={}", crowd_model[0].0);
         let (ok, text, _) = run_core(&crowd, &[c0, "SVO_CORRUPT=cycles".to_string()]);
         assert!(!ok, "a corrupted crowd cycle count passed:\n{text}");
-        assert_eq!(tally(&text, "core: "), (165, 1), "{text}");
+        assert_eq!(tally(&text, "core: "), (167, 1), "{text}");
         assert!(text.contains("cycles, the cycle model's"), "{text}");
     }
 
@@ -522,6 +534,10 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         (
             "SVO_CORRUPT=error".to_string(),
             "a START with a frame size of 0: STATUS 0x100, want ERROR 3",
+        ),
+        (
+            "SVO_CORRUPT=resp".to_string(),
+            "a node read answering SLVERR: STATUS 0x502, want DONE and ERROR 6",
         ),
     ] {
         let (ok, text, _) = run_core(&mc, &[c0.clone(), env.clone()]);

@@ -4,7 +4,8 @@
 //! Per case and seed: random walker contexts read (random kind; addresses from a small hot set
 //! and a wide range, so hits, merges, misses, evictions, full MSHRs and full miss queues all
 //! happen) from the model, closed loop — a context asks only when it has no read outstanding
-//! and a walker makes at most one request a cycle. The requests (cycle, requester, kind,
+//! and a walker makes at most one request a cycle (tests/common/mem_bench.rs, shared with the
+//! on-chip store's bench). The requests (cycle, requester, kind,
 //! address) are written as a trace; Icarus runs `testbench/tb/tb_node_cache.sv` on it open loop
 //! (requests at the recorded cycles, fills timed by `tb_dram_model.sv`, the built-in DRAM
 //! model), and its log must equal the model exactly: every completion's (requester,
@@ -17,12 +18,11 @@
 
 mod common;
 
+use common::mem_bench::{self, ModelRun, Pool};
 use rtl_model::cycle::memory::{
-    Completion, FetchKind, MemoryLayout, NodeMemory, NodeMemoryConfig, NodeMemoryStats,
+    FetchKind, MemoryLayout, NodeMemory, NodeMemoryConfig, NodeMemoryStats,
 };
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// One hardware case: the model's configuration and the pool in front of it.
 struct Case {
@@ -124,91 +124,39 @@ fn cases() -> Vec<Case> {
 const NODE_WORDS: u64 = 1 << 22;
 const ATTR_RECORDS: u64 = 1 << 20;
 
-/// One request of the trace.
-#[derive(Clone, Copy, Debug)]
-struct Req {
-    cycle: u64,
-    requester: u32,
-    kind: FetchKind,
-    addr: u32,
-}
-
-/// What the model did for one case and seed.
-struct ModelRun {
-    trace: Vec<Req>,
-    done: Vec<Completion>,
-    stats: NodeMemoryStats,
-}
-
-/// Drives the model closed loop.
-fn run_model(case: &Case, seed: u64) -> ModelRun {
+/// What the model did for one case and seed: the trace and its completions, and the
+/// model's statistics.
+fn run_model(case: &Case, seed: u64) -> (ModelRun, NodeMemoryStats) {
     let mut rng = common::SplitMix64::derive(seed, case.name);
     let layout = MemoryLayout::flat(NODE_WORDS, ATTR_RECORDS).expect("layout");
     let mut mem = NodeMemory::new(case.cfg.clone(), layout).expect("valid configuration");
-    let n = (case.walkers * case.contexts) as usize;
-    let mut busy = vec![false; n];
     // Hot set: about twice the cache's node lines, and a few lines of records.
     let hot_words = (2 * case.cfg.cache.size_bytes / 4).max(64);
-    let (mut trace, mut done, mut out) = (Vec::new(), Vec::new(), Vec::new());
-    let mut cycle = 0u64;
-    loop {
-        out.clear();
-        mem.tick_into(cycle, &mut out);
-        for c in &out {
-            busy[c.requester as usize] = false;
-        }
-        done.extend_from_slice(&out);
-        if trace.len() < case.requests {
-            for w in 0..case.walkers {
-                if !rng.chance(case.ask) {
-                    continue;
-                }
-                let first = rng.below(u64::from(case.contexts)) as u32;
-                let free = (0..case.contexts)
-                    .map(|i| w * case.contexts + (first + i) % case.contexts)
-                    .find(|&r| !busy[r as usize]);
-                let Some(requester) = free else { continue };
-                let roll = rng.unit();
-                let kind = if roll < 0.6 {
-                    FetchKind::Node
-                } else if roll < 0.7 {
-                    FetchKind::Far
-                } else {
-                    FetchKind::Attr
-                };
-                let hot = rng.chance(0.75);
-                let addr = match (kind, hot) {
-                    (FetchKind::Attr, true) => rng.below(256),
-                    (FetchKind::Attr, false) => rng.below(ATTR_RECORDS),
-                    (_, true) => rng.below(hot_words),
-                    (_, false) => rng.below(NODE_WORDS),
-                } as u32;
-                mem.request(cycle, addr, kind, requester)
-                    .expect("request in range and in the present");
-                busy[requester as usize] = true;
-                trace.push(Req {
-                    cycle,
-                    requester,
-                    kind,
-                    addr,
-                });
-            }
-        }
-        if trace.len() >= case.requests && mem.outstanding() == 0 {
-            break;
-        }
-        cycle += 1;
-        assert!(
-            cycle < 10_000_000,
-            "{}: the model did not finish",
-            case.name
-        );
-    }
-    ModelRun {
-        trace,
-        done,
-        stats: mem.stats(),
-    }
+    let pool = Pool {
+        walkers: case.walkers,
+        contexts: case.contexts,
+        requests: case.requests,
+        ask: case.ask,
+    };
+    let run = mem_bench::run_closed_loop(&mut mem, pool, &mut rng, |rng| {
+        let roll = rng.unit();
+        let kind = if roll < 0.6 {
+            FetchKind::Node
+        } else if roll < 0.7 {
+            FetchKind::Far
+        } else {
+            FetchKind::Attr
+        };
+        let hot = rng.chance(0.75);
+        let addr = match (kind, hot) {
+            (FetchKind::Attr, true) => rng.below(256),
+            (FetchKind::Attr, false) => rng.below(ATTR_RECORDS),
+            (_, true) => rng.below(hot_words),
+            (_, false) => rng.below(NODE_WORDS),
+        } as u32;
+        (kind, addr)
+    });
+    (run, mem.stats())
 }
 
 /// The DRAM's word at byte address `a` (tb_dram_model.sv's function, written again here).
@@ -227,33 +175,12 @@ fn data_of(kind: FetchKind, addr: u32) -> u64 {
     }
 }
 
-/// One completion as both sides log it: (cycle_done, requester, cycle_requested, data).
-type Line = (u64, u32, u64, u64);
-
 fn kind_code(k: FetchKind) -> u32 {
     match k {
         FetchKind::Node => 0,
         FetchKind::Far => 1,
         FetchKind::Attr => 2,
     }
-}
-
-/// The model's completions in the bench's order (done cycle, then requester).
-fn expected(run: &ModelRun) -> Vec<Line> {
-    let mut v: Vec<Line> = run
-        .done
-        .iter()
-        .map(|c| {
-            (
-                c.cycle_done,
-                c.requester,
-                c.cycle_requested,
-                data_of(c.kind, c.addr),
-            )
-        })
-        .collect();
-    v.sort_unstable();
-    v
 }
 
 fn counters(s: &NodeMemoryStats) -> [u64; 5] {
@@ -266,222 +193,79 @@ fn counters(s: &NodeMemoryStats) -> [u64; 5] {
     ]
 }
 
-/// What the bench logged.
-struct BenchLog {
-    done: Vec<Line>,
-    counters: [u64; 5],
-    /// The part of the hits made by the miss queue's head on its tag re-check (the model
-    /// has no counter of its own for them: a coverage figure, not compared).
-    replay_hits: u64,
-    errors: Vec<String>,
-}
-
-fn parse_log(text: &str) -> Result<BenchLog, String> {
-    let mut done = Vec::new();
-    let mut ctr = None;
-    let mut errors = Vec::new();
-    let mut end = false;
-    let mut replay = 0;
-    for line in text.lines() {
-        let f: Vec<&str> = line.split_whitespace().collect();
-        let num = |i: usize| -> Result<u64, String> {
-            f.get(i)
-                .and_then(|s| s.parse().ok())
-                .ok_or_else(|| format!("bench log line {line:?}: field {i} is not a number"))
-        };
-        match f.first().copied() {
-            Some("D") => {
-                let data = f
-                    .get(4)
-                    .and_then(|s| u64::from_str_radix(s, 16).ok())
-                    .ok_or_else(|| format!("bench log line {line:?}: bad data"))?;
-                done.push((num(2)?, num(3)? as u32, num(1)?, data));
-            }
-            Some("C") => {
-                ctr = Some([num(1)?, num(2)?, num(3)?, num(4)?, num(5)?]);
-                replay = num(6)?;
-            }
-            Some("E") => errors.push(line.to_string()),
-            Some("END") => {
-                end = true;
-                if num(2)? != 0 && errors.is_empty() {
-                    errors.push(format!("bench reported {} errors", num(2)?));
-                }
-            }
-            _ => return Err(format!("bench log: unexpected line {line:?}")),
-        }
-    }
-    if !end {
-        return Err("bench log has no END line (the simulation did not finish)".into());
-    }
-    done.sort_unstable();
-    Ok(BenchLog {
-        done,
-        counters: ctr.ok_or("bench log has no counter line")?,
-        replay_hits: replay,
-        errors,
-    })
-}
-
-/// Compares the bench with the model: `Err` names the first difference.
-fn compare(want: &[Line], want_ctr: [u64; 5], got: &BenchLog) -> Result<(), String> {
-    let show = |l: &Line| {
-        format!(
-            "requester {} requested in cycle {} done in cycle {} data {:#018x}",
-            l.1, l.2, l.0, l.3
-        )
-    };
-    for (i, (w, g)) in want.iter().zip(&got.done).enumerate() {
-        if w != g {
-            return Err(format!(
-                "completion {i} differs: model {}, RTL {}",
-                show(w),
-                show(g)
-            ));
-        }
-    }
-    // (A late RTL completion also makes the open-loop trace ask a busy requester: the first
-    // differing completion above says more, so the bench's own errors come after it.)
-    if let Some(e) = got.errors.first() {
-        return Err(format!("the bench flagged an error: {e}"));
-    }
-    if want.len() != got.done.len() {
-        return Err(format!(
-            "{} completions in the model, {} in the RTL",
-            want.len(),
-            got.done.len()
-        ));
-    }
-    if want_ctr != got.counters {
-        return Err(format!(
-            "counters [hits, misses, merged, fills, uncached] differ: model {want_ctr:?}, RTL {:?}",
-            got.counters
-        ));
-    }
-    Ok(())
-}
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("node_cache_rtl_{name}_{}", std::process::id()));
-    std::fs::create_dir_all(&d).expect("scratch folder");
-    d
-}
-
 /// Compiles the bench for `case` into `dir`.
 fn compile(case: &Case, dir: &Path) -> PathBuf {
     let c = &case.cfg;
-    let params = [
-        ("REQ_PORTS", u64::from(case.walkers)),
-        ("CTX", u64::from(case.contexts)),
-        ("BANKS", u64::from(c.cache.banks)),
-        ("PORTS", u64::from(c.cache.ports)),
-        ("SETS", c.cache_sets()),
-        ("WAYS", u64::from(c.cache.ways)),
-        ("LINE_BYTES", u64::from(c.cache.line_bytes)),
-        ("HIT_LATENCY", u64::from(c.cache.hit_latency)),
-        ("MSHRS", u64::from(c.dram.mshrs)),
-        ("MISS_QUEUE", u64::from(c.cache.miss_queue)),
-        ("ATTR_CACHED", u64::from(c.cache.attr_cached)),
-        ("DRAM_LATENCY", u64::from(c.dram.latency)),
-        ("BYTES_PER_CYCLE", u64::from(c.dram.bytes_per_cycle)),
-    ];
-    let tb = repo().join("testbench");
-    let out = dir.join("tb_node_cache.vvp");
-    let mut cmd = Command::new("iverilog");
-    cmd.args([
-        "-g2012",
-        "-Wall",
-        "-Wno-sensitivity-entire-array",
-        "-s",
+    mem_bench::compile(
         "tb_node_cache",
-        "-o",
-    ])
-    .arg(&out);
-    for (k, v) in params {
-        cmd.arg(format!("-Ptb_node_cache.{k}={v}"));
-    }
-    cmd.arg(tb.join("tb/tb_node_cache.sv"))
-        .arg(tb.join("tb/tb_dram_model.sv"))
-        .arg(tb.join("rtl/svo_node_cache.v"));
-    let o = cmd.output().expect("run iverilog");
-    assert!(
-        o.status.success(),
-        "{}: iverilog failed:\n{}",
-        case.name,
-        String::from_utf8_lossy(&o.stderr)
-    );
-    out
+        &[
+            "tb/tb_node_cache.sv",
+            "tb/tb_dram_model.sv",
+            "rtl/svo_node_cache.v",
+        ],
+        &[
+            ("REQ_PORTS", u64::from(case.walkers)),
+            ("CTX", u64::from(case.contexts)),
+            ("BANKS", u64::from(c.cache.banks)),
+            ("PORTS", u64::from(c.cache.ports)),
+            ("SETS", c.cache_sets()),
+            ("WAYS", u64::from(c.cache.ways)),
+            ("LINE_BYTES", u64::from(c.cache.line_bytes)),
+            ("HIT_LATENCY", u64::from(c.cache.hit_latency)),
+            ("MSHRS", u64::from(c.dram.mshrs)),
+            ("MISS_QUEUE", u64::from(c.cache.miss_queue)),
+            ("ATTR_CACHED", u64::from(c.cache.attr_cached)),
+            ("DRAM_LATENCY", u64::from(c.dram.latency)),
+            ("BYTES_PER_CYCLE", u64::from(c.dram.bytes_per_cycle)),
+        ],
+        dir,
+    )
 }
 
 /// Runs the compiled bench on `run`'s trace and returns its log.
-fn simulate(vvp: &Path, dir: &Path, run: &ModelRun) -> Result<BenchLog, String> {
-    let mut text = String::new();
-    for r in &run.trace {
-        let _ = writeln!(
-            text,
+fn simulate(vvp: &Path, dir: &Path, run: &ModelRun) -> Result<mem_bench::BenchLog, String> {
+    mem_bench::simulate(vvp, dir, run, |r| {
+        format!(
             "{} {} {} {}",
             r.cycle,
             r.requester,
             kind_code(r.kind),
             r.addr
-        );
-    }
-    let trace = dir.join("trace.txt");
-    let log = dir.join("log.txt");
-    std::fs::write(&trace, text).expect("write the trace");
-    let _ = std::fs::remove_file(&log);
-    let o = Command::new("vvp")
-        .arg("-n")
-        .arg(vvp)
-        .arg(format!("+trace={}", trace.display()))
-        .arg(format!("+log={}", log.display()))
-        .output()
-        .expect("run vvp");
-    if !o.status.success() {
-        return Err(format!(
-            "vvp failed:\n{}",
-            String::from_utf8_lossy(&o.stderr)
-        ));
-    }
-    let text = std::fs::read_to_string(&log).map_err(|e| format!("no bench log: {e}"))?;
-    parse_log(&text)
+        )
+    })
 }
 
-fn icarus() -> bool {
-    common::skip::tools(&["iverilog", "vvp"], "iverilog")
+/// The model's completions with their data, in the bench's order.
+fn expected(run: &ModelRun) -> Vec<mem_bench::Line> {
+    mem_bench::expected(run, data_of)
 }
 
-fn seeds() -> Vec<u64> {
-    let mut v = Vec::new();
-    if std::env::var("SVO_TEST_SEED").is_ok() {
-        v.push(common::test_seed());
-    }
-    v.extend(SEEDS);
-    v
+/// The counters compared, in the order of the bench's C line (its sixth, the hits made on
+/// the miss queue's re-check, is coverage only: the model has no counter of its own).
+const COUNTERS: &str = "hits, misses, merged, fills, uncached";
+
+/// The miss queue's re-check hits the bench logged (the C line's sixth counter).
+fn replay_hits(got: &mem_bench::BenchLog) -> u64 {
+    got.counters.get(5).copied().unwrap_or(0)
 }
 
 #[test]
 fn node_cache_rtl_equals_the_model() {
-    if !icarus() {
+    if !mem_bench::icarus() {
         return;
     }
     let mut failures = Vec::new();
     for case in cases() {
-        let dir = scratch("cases");
+        let dir = mem_bench::scratch("node_cache_rtl_cases");
         let vvp = compile(&case, &dir);
         let mut total = NodeMemoryStats::default();
         let mut completions = 0;
         let mut replays = 0;
-        for seed in seeds() {
-            let run = run_model(&case, seed);
+        for seed in mem_bench::seeds(&SEEDS) {
+            let (run, stats) = run_model(&case, seed);
             let want = expected(&run);
             completions += want.len();
-            let s = &run.stats;
+            let s = &stats;
             total.cache_hits += s.cache_hits;
             total.cache_merged += s.cache_merged;
             total.dram_fills += s.dram_fills;
@@ -490,8 +274,8 @@ fn node_cache_rtl_equals_the_model() {
             total.mshr_full_cycles += s.mshr_full_cycles;
             total.mshr_max_in_use = total.mshr_max_in_use.max(s.mshr_max_in_use);
             let verdict = simulate(&vvp, &dir, &run).and_then(|got| {
-                replays += got.replay_hits;
-                compare(&want, counters(&run.stats), &got)
+                replays += replay_hits(&got);
+                mem_bench::compare(&want, &counters(&stats), COUNTERS, &got)
             });
             match verdict {
                 Ok(()) => println!(
@@ -555,21 +339,23 @@ fn node_cache_rtl_equals_the_model() {
 /// reported as exactly that completion.
 #[test]
 fn a_corrupted_completion_is_caught() {
-    if !icarus() {
+    if !mem_bench::icarus() {
         return;
     }
     let case = cases().swap_remove(0);
-    let dir = scratch("corrupt");
+    let dir = mem_bench::scratch("node_cache_rtl_corrupt");
     let vvp = compile(&case, &dir);
     let seed = SEEDS[0];
     println!("seed {seed:#x}");
-    let run = run_model(&case, seed);
+    let (run, stats) = run_model(&case, seed);
     let got = simulate(&vvp, &dir, &run).expect("the bench runs");
     let mut want = expected(&run);
-    compare(&want, counters(&run.stats), &got).expect("uncorrupted, the RTL equals the model");
+    mem_bench::compare(&want, &counters(&stats), COUNTERS, &got)
+        .expect("uncorrupted, the RTL equals the model");
     let i = want.len() / 2;
     want[i].0 += 1;
-    let err = compare(&want, counters(&run.stats), &got).expect_err("a corrupted cycle is caught");
+    let err = mem_bench::compare(&want, &counters(&stats), COUNTERS, &got)
+        .expect_err("a corrupted cycle is caught");
     println!("{err}");
     assert!(
         err.starts_with(&format!(

@@ -34,7 +34,11 @@ bit 0 of pixel N's expected word) or cycles (one more expected cycle): exactly o
 Before the first frame starts, five STARTs with one bad register each must be refused with
 svo_top's STATUS.ERROR code and neither BUSY nor DONE: a frame size of 0 (1), a direction table
 base off its burst alignment (2), a node base off 4 bytes (3), an instance count of 0 and one
-over the table's 128 (4); SVO_CORRUPT=error expects 3 for the first: exactly one failure. Prints failures (first 10), then "core: N passed, N failed".
+over the table's 128 (4); SVO_CORRUPT=error expects 3 for the first: exactly one failure.
+After the frames (without SVO_STALL), two more frames in each of which one read answers
+SLVERR must end DONE with STATUS.ERROR 5 (a node read) and 6 (a direction-table read);
+SVO_CORRUPT=resp expects 6 for the node read: exactly one failure. Prints failures (first
+10), then "core: N passed, N failed".
 """
 import json
 import logging
@@ -112,6 +116,7 @@ class FixedLatencyRead:
         self.dut, self.p, self.mem, self.lat, self.nbytes = dut, prefix, mem, latency, nbytes
         self.beats = []             # (due cycle, address, last), in order
         self.cycle = 0
+        self.fail_next = False      # the next beat answers SLVERR (STATUS.ERROR 5 / 6)
         self.sig("arready").value = 1
         self.sig("rvalid").value = 0
         self.sig("rid").value = 0
@@ -131,8 +136,11 @@ class FixedLatencyRead:
             self.sig("rdata").value = int.from_bytes(self.mem[base:base + self.nbytes], "little")
             self.sig("rlast").value = int(last)
             self.sig("rvalid").value = 1
+            self.sig("rresp").value = 2 if self.fail_next else 0
+            self.fail_next = False
         else:
             self.sig("rvalid").value = 0
+            self.sig("rresp").value = 0
 
     def sample(self):
         """Once the cycle has settled: an AR handshake at its closing edge."""
@@ -158,6 +166,7 @@ class NodeLanesRead:
         self.rng, self.pct, self.stalls = rng, pct, stalls
         self.q = [[] for _ in range(lanes)]       # (due cycle, address), in order
         self.cycle = 0
+        self.fail_next = False                    # the next beat answers SLVERR (STATUS.ERROR 5)
         self.ar = (1 << lanes) - 1
         dut.m_axi_arready.value = self.ar
         for name in ("rvalid", "rid", "rresp", "rlast", "rdata"):
@@ -172,19 +181,23 @@ class NodeLanesRead:
     def drive(self):
         """The falling edge of a cycle: each lane's R and arready for this cycle."""
         self.cycle += 1
-        rvalid, rdata, ar = 0, 0, 0
+        rvalid, rdata, ar, rresp = 0, 0, 0, 0
         for w in range(self.lanes):
             q = self.q[w]
             if q and q[0][0] <= self.cycle and not self.paused("node r"):
                 _, addr = q.pop(0)
                 base = addr - addr % 8
                 rvalid |= 1 << w
+                if self.fail_next:
+                    rresp |= 2 << (2 * w)
+                    self.fail_next = False
                 rdata |= int.from_bytes(self.mem[base:base + 8], "little") << (64 * w)
             if not self.paused("node ar"):
                 ar |= 1 << w
         self.ar = ar
         self.dut.m_axi_arready.value = ar
         self.dut.m_axi_rvalid.value = rvalid
+        self.dut.m_axi_rresp.value = rresp
         self.dut.m_axi_rlast.value = rvalid
         self.dut.m_axi_rdata.value = rdata
 
@@ -498,5 +511,35 @@ async def frame_against_the_model(dut):
             b.fail(f"frame {f}: {cycles} cycles, the cycle model's {want}")
         else:
             b.passed += 1
+    # STATUS.ERROR 5 and 6: after the frames, two more frames with every pixel traced (the
+    # buffer valid, the camera dirty), in each of which one read answers SLVERR: a node read
+    # (5), then a direction-table read (6). The frame still runs to its end (the data is
+    # right, only the response says otherwise), so the stream is drained; STATUS must read
+    # DONE with that ERROR code. The fixed-latency slaves inject it (not run with SVO_STALL,
+    # whose slaves are cocotbext-axi's). SVO_CORRUPT=resp expects 6 for the node read.
+    if stall == 0:
+        node_slave, dir_slave = slaves[0], slaves[1]
+        for code, slave, what in ((5, node_slave, "node"), (6, dir_slave, "direction")):
+            await w_dirty(0x3, (1 << TABLE_INSTANCES) - 1)
+            await w("STATUS", 0x2)
+            slave.fail_next = True                  # the frame's first read of that master
+            await w("CTRL", 0x1)
+            got = 0
+            while got < npix:
+                frame = await sink.recv()
+                got += len(bytes(frame.tdata)) // 16
+            for _ in range(10000):
+                if (await r("STATUS")) & 0x2:
+                    break
+                await ClockCycles(dut.clk, 10)
+            status = await r("STATUS")
+            want = 6 if corrupt == "resp" and code == 5 else code
+            if (status >> 8) & 0xF != want or not status & 0x2 or slave.fail_next:
+                b.fail(f"a {what} read answering SLVERR: STATUS {status:#x}, want DONE and ERROR {want}"
+                       + (" (no read came after the injection)" if slave.fail_next else ""))
+            else:
+                print(f"core: a {what} read answering SLVERR: STATUS {status:#x} (ERROR {code})")
+                b.passed += 1
+            slave.fail_next = False
     print(f"core: {b.passed} passed, {b.failed} failed")
     assert b.failed == 0, f"{b.failed} checks failed"
