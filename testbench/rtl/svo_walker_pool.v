@@ -60,8 +60,8 @@
 //                  read id (24 + clog2(W) bits) and a finish key (clog2(N) + 3 bits); W² rank
 //                  compares of the ids; W - 1 key compares at retire. At 48 x 16: 24,576 age
 //                  bits, 768 x (30 + 13) key bits, 2,256 id compares — against 589,824 bits of
-//                  the N x N matrix it replaces. Verilator --lint-only of 48 x 16 takes about a
-//                  minute (testbench/README.md).
+//                  the N x N matrix it replaces. Verilator 5.006 --lint-only of 48 x 16 takes
+//                  about a minute (testbench/README.md).
 //   not scaled     the attribute-merge rule (below): each walker's read address against every
 //                  context's fill address (W x N 32-bit compares) and every context matching
 //                  each response port against its own and its fill's context (N x W compares);
