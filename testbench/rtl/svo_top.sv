@@ -159,13 +159,14 @@ module svo_top
             || UNITS_SORTER_LATENCY_CYCLES != SORTER_NET_DEPTH) begin : unsupported_hardware
             svo_top_builds_one_walk_lane_and_the_models_sorter bad();
         end
-        // The walker pool: one walker of 1..16 contexts (svo_walker_pool), one request port,
-        // one slot a cycle, the package's step latency and stack.
-        if (WALKERS < 1 || WALKERS > 16) begin : unsupported_walkers
-            svo_top_builds_walker_pool_walkers_1_to_16 bad();
+        // The walker pool (svo_walker_pool): 1..64 walkers of 1..16 contexts, one request port
+        // and one slot a cycle each, the package's step latency and stack. No bound on the
+        // contexts in all: the pool's scheduler is per walker (R x R) plus pool-wide keys.
+        if (WALKERS < 1 || WALKERS > 64) begin : unsupported_walkers
+            svo_top_builds_walker_pool_walkers_1_to_64 bad();
         end
-        if (CONTEXTS < 1 || CONTEXTS > 16 || WALKERS * CONTEXTS > 64) begin : unsupported_contexts
-            svo_top_builds_walker_pool_contexts_per_walker_1_to_16_and_64_in_all bad();
+        if (CONTEXTS < 1 || CONTEXTS > 16) begin : unsupported_contexts
+            svo_top_builds_walker_pool_contexts_per_walker_1_to_16 bad();
         end
         // Several walkers send up to WALKERS reads a cycle: the model must serve every one in
         // its cycle, as the fixed-latency masters do (no bank, lookup port or DRAM cycle waits).

@@ -34,9 +34,38 @@
 //   dispatch       one walk a cycle, to the walker with the most free contexts (a context
 //                  retiring in this cycle counts), the lowest index on ties, and there to its
 //                  lowest free context (which free context takes it changes no cycle).
-// The queues are one age order: a context is in at most one queue at a time, so one matrix
-// older[i][j] (i's event came first) serves them all, updated with each cycle's events;
-// within a cycle the events are ranked as above.
+// How it is built, so that it grows as W·R² plus O(N) for N = W·R contexts (never N²):
+//   per walker     a context is in at most one queue at a time, and a walker's issue and send
+//                  queues hold only its own contexts, so one R x R age order per walker
+//                  (older[n][k]: n joined its queue before k, updated with each cycle's events
+//                  ranked as above; req_older[n][k]: n's read went out before k's, which
+//                  within a walker is the send order, one send a cycle) serves its issue
+//                  queue, its send queue and its part of the retire queue.
+//   pool-wide      contexts of different walkers are ordered by the model in one place only:
+//                  the retire queue (finish order, one a cycle for the pool), where walks that
+//                  finish in one cycle leave in that cycle's wake-up order — step latencies by
+//                  walker, the dispatched walk, completions by request age (the node memory's
+//                  id order). So each read gets an id {send stamp, rank}: the stamp counts the
+//                  cycles that sent, the rank is its place among that cycle's sends (at most
+//                  one a walker; waiting ones by walker, then new ones in wake-up order, a new
+//                  one after a completion by its previous read's id): W x W rank compares.
+//                  Each finished walk keeps a finish key {finish stamp (counts the cycles in
+//                  which a walk finished), wake-up class, its read's id}; the pool retires the
+//                  oldest of the W walkers' oldest finished walks (a chain of W key compares).
+//                  Stamps and ids compare modulo their width: the finish stamps of waiting
+//                  walks span fewer than N values (FS_W = clog2(N) + 1 bits); read ids are
+//                  exact while no read stays out across 2^23 sending cycles (SEND_STAMP_W 24;
+//                  svo_top's node memory answers in a fixed latency).
+//   cost           per walker R² age bits (older, req_older) and R² compares; per context a
+//                  read id (24 + clog2(W) bits) and a finish key (clog2(N) + 3 bits); W² rank
+//                  compares of the ids; W - 1 key compares at retire. At 48 x 16: 24,576 age
+//                  bits, 768 x (30 + 13) key bits, 2,256 id compares — against 589,824 bits of
+//                  the N x N matrix it replaces. Verilator 5.006 --lint-only of 48 x 16 takes
+//                  about a minute (testbench/README.md).
+//   not scaled     the attribute-merge rule (below): each walker's read address against every
+//                  context's fill address (W x N 32-bit compares) and every context matching
+//                  each response port against its own and its fill's context (N x W compares);
+//                  it moves into the node cache later.
 //
 // Attribute reads that merge (the model's MSHR rule for uncached attribute reads with
 // cache.line_bytes 8, memory/dram.rs `miss`): a record read while a fill of the same record is
@@ -106,8 +135,8 @@ module svo_walker_pool #(
     localparam RI = R > 1 ? $clog2(R) : 1;        // a context's index within its walker
 
     generate
-        if (R < 1 || R > 16 || W < 1 || W > 16 || N > 64) begin : bad_contexts
-            svo_walker_pool_needs_1_to_16_walkers_of_1_to_16_contexts bad();
+        if (R < 1 || R > 16 || W < 1 || W > 64) begin : bad_contexts
+            svo_walker_pool_needs_1_to_64_walkers_of_1_to_16_contexts bad();
         end
     endgenerate
 
@@ -126,84 +155,56 @@ module svo_walker_pool #(
     wire [63:0]    w_attr_data [0:W-1];
     wire [TAG_W-1:0] w_tag     [0:W-1];
     wire [W-1:0]   w_err;
-    function automatic [WI-1:0] walker_of(input integer n);
-        /* verilator lint_off UNUSEDSIGNAL */
-        integer q;                                // below W: only its low WI bits matter
-        /* verilator lint_on UNUSEDSIGNAL */
-        begin
-            q = n / R;
-            walker_of = q[WI-1:0];
-        end
-    endfunction
 
-    function automatic [RI-1:0] local_of(input integer n);
-        /* verilator lint_off UNUSEDSIGNAL */
-        integer q;                                // below R: only its low RI bits matter
-        /* verilator lint_on UNUSEDSIGNAL */
-        begin
-            q = n % R;
-            local_of = q[RI-1:0];
-        end
-    endfunction
-
-    // ---------------------------------------------------------------- the age orders
-    reg  [N-1:0] older     [0:N-1];               // older[i][j]: i joined its queue before j
-    reg  [N-1:0] req_older [0:N-1];               // i's read out was sent before j's
+    // ---------------------------------------------------------------- per walker: the age order
+    // A context is in at most one queue at a time (issue, send, retire) and a walker's issue and
+    // send queues hold only its own contexts, so one R x R order per walker serves them:
+    // older[n][k] (context n joined its queue before context k of n's walker), updated with
+    // each cycle's events ranked as the model wakes them (step latencies ended, then the
+    // dispatched walk, then completions by request age: req_older[n][k], n's read out was sent
+    // before k's; one send a walker and cycle, so within a walker that is the send order).
     wire [N-1:0] ev = e_ev_lat | e_ev_disp | e_ev_resp;
-    reg  [N-1:0] older_eff [0:N-1];               // this cycle's order, events included
-    integer i, j, w, p;
-    integer i_o, w_g, i_r, p_r, i_q, w_q, i_d, w_d, i_f;
+    reg  [R-1:0] older     [0:N-1];
+    reg  [R-1:0] req_older [0:N-1];
+    reg  [R-1:0] older_eff [0:N-1];               // this cycle's order, events included
+    integer w, i_e, k_e, w_o, k_o, i_r, p_r, w_q, k_q, i_q, w_s, v_s, k_s, w_h, k_h,
+            w_d, k_d;
     always @* begin
-        for (i = 0; i < N; i = i + 1)
-            for (j = 0; j < N; j = j + 1) begin
-                if (i == j) older_eff[i][j] = 1'b0;
-                else if (ev[i] && ev[j])
-                    // Both moved on in this cycle: the wake-up order (step latencies ended
-                    // in the order the slots issued, walkers ascending; then the dispatched
-                    // walk; then completions by request age).
-                    older_eff[i][j] = (e_ev_lat[i] && (!e_ev_lat[j] || walker_of(i) < walker_of(j)))
-                                   || (e_ev_disp[i] && e_ev_resp[j])
-                                   || (e_ev_resp[i] && e_ev_resp[j] && req_older[i][j]);
-                else if (ev[j]) older_eff[i][j] = 1'b1;   // j joins behind everyone
-                else if (ev[i]) older_eff[i][j] = 1'b0;
-                else older_eff[i][j] = older[i][j];
+        for (i_e = 0; i_e < N; i_e = i_e + 1)
+            for (k_e = 0; k_e < R; k_e = k_e + 1) begin
+                if ((i_e / R) * R + k_e == i_e) older_eff[i_e][k_e] = 1'b0;
+                else if (ev[i_e] && ev[(i_e / R) * R + k_e])
+                    older_eff[i_e][k_e] = (e_ev_lat[i_e] && !e_ev_lat[(i_e / R) * R + k_e])
+                        || (e_ev_disp[i_e] && e_ev_resp[(i_e / R) * R + k_e])
+                        || (e_ev_resp[i_e] && e_ev_resp[(i_e / R) * R + k_e] && req_older[i_e][k_e]);
+                else if (ev[(i_e / R) * R + k_e]) older_eff[i_e][k_e] = 1'b1;  // joins behind
+                else if (ev[i_e]) older_eff[i_e][k_e] = 1'b0;
+                else older_eff[i_e][k_e] = older[i_e][k_e];
             end
     end
-    // The oldest member of each queue.
-    function automatic [N-1:0] oldest(input [N-1:0] member, input [N*N-1:0] ord);
+    // The oldest member of a walker's queue.
+    function automatic [R-1:0] oldest(input [R-1:0] member, input [R*R-1:0] ord);
         integer a, b;
         reg beaten;
         begin
-            for (a = 0; a < N; a = a + 1) begin
+            for (a = 0; a < R; a = a + 1) begin
                 beaten = 1'b0;
-                for (b = 0; b < N; b = b + 1)
-                    if (member[b] && ord[b * N + a]) beaten = 1'b1;
+                for (b = 0; b < R; b = b + 1)
+                    if (member[b] && ord[b * R + a]) beaten = 1'b1;
                 oldest[a] = member[a] && !beaten;
             end
         end
     endfunction
-    reg [N*N-1:0] ord_flat;
-    always @* for (i_o = 0; i_o < N; i_o = i_o + 1) ord_flat[i_o * N +: N] = older_eff[i_o];
-    // Each walker's issue slot and request port, among its own contexts.
-    // Walker w's contexts (constant: continuous assignments, since an always @* with no input
-    // never runs in an event-driven simulator such as Icarus).
-    wire [N-1:0] wmask [0:W-1];
-    genvar gw;
-    generate
-        for (gw = 0; gw < W; gw = gw + 1) begin : walker_mask
-            assign wmask[gw] = ({N{1'b1}} >> (N - R)) << (gw * R);
-        end
-    endgenerate
-    reg [N-1:0] send_pick;
+    reg [R*R-1:0] ord_w [0:W-1];
+    reg [N-1:0] send_pick, fin_head;
     always @* begin
-        e_issue_grant = {N{1'b0}};
-        send_pick = {N{1'b0}};
-        for (w_g = 0; w_g < W; w_g = w_g + 1) begin
-            e_issue_grant = e_issue_grant | oldest(e_issue_req & wmask[w_g], ord_flat);
-            send_pick = send_pick | oldest(e_req_valid & wmask[w_g], ord_flat);
+        for (w_o = 0; w_o < W; w_o = w_o + 1) begin
+            for (k_o = 0; k_o < R; k_o = k_o + 1) ord_w[w_o][k_o * R +: R] = older_eff[w_o * R + k_o];
+            e_issue_grant[w_o * R +: R] = oldest(e_issue_req[w_o * R +: R], ord_w[w_o]);
+            send_pick[w_o * R +: R] = oldest(e_req_valid[w_o * R +: R], ord_w[w_o]);
+            fin_head[w_o * R +: R] = oldest(e_out_valid[w_o * R +: R], ord_w[w_o]);
         end
     end
-    wire [N-1:0] fin_pick = oldest(e_out_valid, ord_flat);
 
     // ---------------------------------------------------------------- request ports
     reg  [N-1:0]  fill;                           // the read out is an attribute fill
@@ -211,48 +212,60 @@ module svo_walker_pool #(
     reg  [N-1:0]  merged;                         // the read out rides on another's fill
     reg  [CW-1:0] merged_on [0:N-1];
     reg  [N-1:0]  responding;                     // a response for context n on some port
-    reg  [63:0]   resp_data [0:N-1];
-    reg  [CW-1:0] pick      [0:W-1];              // walker w's port's context
-    reg  [W-1:0]  want, merge;
-    reg  [CW-1:0] merge_to  [0:W-1];
-    reg  [N-1:0]  sent;
     always @* begin
-        for (i_r = 0; i_r < N; i_r = i_r + 1) begin
-            responding[i_r] = 1'b0;
-            resp_data[i_r] = mem_resp_data[63:0];
-            for (p_r = 0; p_r < W; p_r = p_r + 1)
-                if (mem_resp_valid[p_r] && mem_resp_ctx[p_r*CW +: CW] == i_r[CW-1:0]) begin
-                    responding[i_r] = 1'b1;
-                    resp_data[i_r] = mem_resp_data[p_r*64 +: 64];
-                end
-        end
         // Responses: the addressed context, and every read merged onto its fill.
         for (i_r = 0; i_r < N; i_r = i_r + 1) begin
-            e_resp_valid[i_r] = responding[i_r];
-            e_resp_data[i_r] = resp_data[i_r];
-            if (merged[i_r] && responding[merged_on[i_r]]) begin
-                e_resp_valid[i_r] = 1'b1;
-                e_resp_data[i_r] = resp_data[merged_on[i_r]];
+            responding[i_r] = 1'b0;
+            e_resp_valid[i_r] = 1'b0;
+            e_resp_data[i_r] = mem_resp_data[63:0];
+            for (p_r = 0; p_r < W; p_r = p_r + 1) begin
+                if (mem_resp_valid[p_r] && mem_resp_ctx[p_r*CW +: CW] == i_r[CW-1:0])
+                    responding[i_r] = 1'b1;
+                if (mem_resp_valid[p_r] && (mem_resp_ctx[p_r*CW +: CW] == i_r[CW-1:0]
+                        || (merged[i_r] && mem_resp_ctx[p_r*CW +: CW] == merged_on[i_r]))) begin
+                    e_resp_valid[i_r] = 1'b1;
+                    e_resp_data[i_r] = mem_resp_data[p_r*64 +: 64];
+                end
             end
         end
     end
+    // Walker w's port: its oldest waiting read (one-hot among its contexts), read by a mux of
+    // its R contexts.
+    reg  [CW-1:0] pick      [0:W-1];              // walker w's port's context
+    reg  [31:0]   p_addr    [0:W-1];
+    reg  [W-1:0]  p_attr, want, merge, snd;
+    reg  [CW-1:0] merge_to  [0:W-1];
+    reg  [N-1:0]  sent;
+    /* verilator lint_off UNUSEDSIGNAL */
+    integer n_q;                                  // a context index: its low CW bits matter
+    /* verilator lint_on UNUSEDSIGNAL */
     always @* begin
         sent = {N{1'b0}};
         for (w_q = 0; w_q < W; w_q = w_q + 1) begin
             pick[w_q] = {CW{1'b0}};
-            for (i_q = N - 1; i_q >= 0; i_q = i_q - 1)
-                if (send_pick[i_q] && wmask[w_q][i_q]) pick[w_q] = i_q[CW-1:0];
-            want[w_q] = |(send_pick & wmask[w_q]);
-            // A read of a record whose fill is in flight (and not done in this cycle) merges.
+            p_addr[w_q] = 32'd0;
+            p_attr[w_q] = 1'b0;
+            for (k_q = 0; k_q < R; k_q = k_q + 1) begin
+                n_q = w_q * R + k_q;
+                if (send_pick[n_q]) begin
+                    pick[w_q] = n_q[CW-1:0];
+                    p_addr[w_q] = e_req_addr[w_q * R + k_q];
+                    p_attr[w_q] = e_req_attr[w_q * R + k_q];
+                end
+            end
+            want[w_q] = |send_pick[w_q * R +: R];
+            // A read of a record whose fill is in flight (and not done in this cycle) merges:
+            // its address against every context's fill (W x N compares, cross-walker).
             merge[w_q] = 1'b0;
             merge_to[w_q] = {CW{1'b0}};
             for (i_q = N - 1; i_q >= 0; i_q = i_q - 1)
-                if (want[w_q] && fill[i_q] && e_req_attr[pick[w_q]] && fill_addr[i_q] == e_req_addr[pick[w_q]]
+                if (want[w_q] && fill[i_q] && p_attr[w_q] && fill_addr[i_q] == p_addr[w_q]
                     && !responding[i_q]) begin
                     merge[w_q] = 1'b1;
                     merge_to[w_q] = i_q[CW-1:0];
                 end
-            if (want[w_q] && (merge[w_q] || mem_req_ready[w_q])) sent = sent | (send_pick & wmask[w_q]);
+            snd[w_q] = want[w_q] && (merge[w_q] || mem_req_ready[w_q]);
+            if (snd[w_q]) sent[w_q * R +: R] = send_pick[w_q * R +: R];
         end
         e_req_ready = sent;
     end
@@ -260,17 +273,66 @@ module svo_walker_pool #(
     generate
         for (g = 0; g < W; g = g + 1) begin : port
             assign mem_req_valid[g] = want[g] && !merge[g];
-            assign mem_req_attr[g] = e_req_attr[pick[g]];
-            assign mem_req_addr[g*32 +: 32] = e_req_addr[pick[g]];
+            assign mem_req_attr[g] = p_attr[g];
+            assign mem_req_addr[g*32 +: 32] = p_addr[g];
             assign mem_req_ctx[g*CW +: CW] = pick[g];
         end
     endgenerate
-    // The order of this cycle's sends (the node memory's request ids): the reads that
-    // waited for their port first, walkers ascending, then new ones in wake-up order.
-    function automatic sent_before(input integer a, input integer b);
-        sent_before = (!ev[a] && ev[b]) || (!ev[a] && !ev[b] && walker_of(a) < walker_of(b))
-                   || (ev[a] && ev[b] && older_eff[a][b]);
+
+    // ---------------------------------------------------------------- request ages, pool-wide
+    // Where the model orders contexts of different walkers: completions in one cycle by request
+    // age (the node memory's id order) — observable only in the retire order (below). A read's
+    // id is {send stamp, rank}: the stamp counts the cycles in which something was sent, the
+    // rank is the read's place among that cycle's sends (at most one a walker): the reads that
+    // waited for their port first, walkers ascending, then new ones in wake-up order (step
+    // latencies by walker, the dispatched walk, completions by their previous read's id). W x W
+    // rank compares, not N x N. Ids compare modulo 2^ID_W: exact while no read stays out across
+    // 2^(SEND_STAMP_W-1) sending cycles (svo_top's node memory answers in a fixed latency).
+    localparam SEND_STAMP_W = 24;
+    localparam RK_W = W > 1 ? $clog2(W) : 1;
+    localparam ID_W = SEND_STAMP_W + RK_W;
+    function automatic id_before(input [ID_W-1:0] a, input [ID_W-1:0] b);
+        reg [ID_W-1:0] d;
+        begin
+            d = a - b;
+            id_before = d[ID_W-1];
+        end
     endfunction
+    reg [ID_W-1:0]         req_id [0:N-1];
+    reg [SEND_STAMP_W-1:0] sstamp;
+    reg [W-1:0]            s_new, s_lat, s_disp, s_resp;
+    reg [ID_W-1:0]         s_oid  [0:W-1];          // the sender's previous read's id
+    reg [RK_W-1:0]         s_rank [0:W-1];
+    reg                    s_before;
+    always @* begin
+        for (w_s = 0; w_s < W; w_s = w_s + 1) begin
+            s_new[w_s] = 1'b0;
+            s_lat[w_s] = 1'b0;
+            s_disp[w_s] = 1'b0;
+            s_resp[w_s] = 1'b0;
+            s_oid[w_s] = {ID_W{1'b0}};
+            for (k_s = 0; k_s < R; k_s = k_s + 1)
+                if (send_pick[w_s * R + k_s]) begin
+                    s_new[w_s] = ev[w_s * R + k_s];
+                    s_lat[w_s] = e_ev_lat[w_s * R + k_s];
+                    s_disp[w_s] = e_ev_disp[w_s * R + k_s];
+                    s_resp[w_s] = e_ev_resp[w_s * R + k_s];
+                    s_oid[w_s] = req_id[w_s * R + k_s];
+                end
+        end
+        for (w_s = 0; w_s < W; w_s = w_s + 1) begin
+            s_rank[w_s] = {RK_W{1'b0}};
+            for (v_s = 0; v_s < W; v_s = v_s + 1) begin
+                s_before = (!s_new[v_s] && s_new[w_s])
+                    || (!s_new[v_s] && !s_new[w_s] && v_s < w_s)
+                    || (s_new[v_s] && s_new[w_s]
+                        && ((s_lat[v_s] && (!s_lat[w_s] || v_s < w_s))
+                            || (s_disp[v_s] && s_resp[w_s])
+                            || (s_resp[v_s] && s_resp[w_s] && id_before(s_oid[v_s], s_oid[w_s]))));
+                if (v_s != w_s && snd[v_s] && s_before) s_rank[w_s] = s_rank[w_s] + 1'b1;
+            end
+        end
+    end
 
     // ---------------------------------------------------------------- dispatch and retire
     // The walker with the most free contexts (a context retiring now counts), the lowest
@@ -283,32 +345,90 @@ module svo_walker_pool #(
         best_n = 6'd0;
         for (w_d = 0; w_d < W; w_d = w_d + 1) begin
             nfree = 6'd0;
-            for (i_d = 0; i_d < N; i_d = i_d + 1)
-                if (wmask[w_d][i_d] && e_in_ready[i_d]) nfree = nfree + 6'd1;
+            for (k_d = 0; k_d < R; k_d = k_d + 1)
+                if (e_in_ready[w_d * R + k_d]) nfree = nfree + 6'd1;
             if (nfree > best_n) begin
                 best_n = nfree;
                 best = w_d[WI-1:0];
             end
         end
         take_pick = {N{1'b0}};
-        for (i_d = N - 1; i_d >= 0; i_d = i_d - 1)
-            if (e_in_ready[i_d] && walker_of(i_d) == best) take_pick = {{(N-1){1'b0}}, 1'b1} << i_d;
+        for (w_d = 0; w_d < W; w_d = w_d + 1)
+            for (k_d = R - 1; k_d >= 0; k_d = k_d - 1)
+                if (e_in_ready[w_d * R + k_d] && w_d[WI-1:0] == best)
+                    take_pick = {{(N-1){1'b0}}, 1'b1} << (w_d * R + k_d);
     end
     assign in_ready = |e_in_ready;
     assign e_take = in_valid ? take_pick : {N{1'b0}};
+
+    // Retire: finished walks leave in the order they finished. Each walker's oldest finished
+    // context (fin_head, its R x R order) carries its finish key: the finish stamp (counts the
+    // cycles in which some walk finished; the queue holds at most N walks, so their stamps
+    // span fewer than N values and compare modulo 2^FS_W), then the wake-up order of that
+    // cycle (step latency, by walker; the dispatched walk; completions by request id). The
+    // pool's pick is the oldest of the W heads (a chain of W key compares).
+    localparam FS_W = (N > 1 ? $clog2(N) : 1) + 1;
+    wire [N-1:0] fin_ev = ev & e_out_valid;      // finished in this cycle (out_valid rises with an event)
+    reg [FS_W-1:0] fcount;
+    reg [FS_W-1:0] fstamp [0:N-1];
+    reg [1:0]      fcls   [0:N-1];
+    function automatic [1:0] ev_class(input lat, input disp);
+        ev_class = lat ? 2'd0 : disp ? 2'd1 : 2'd2;
+    endfunction
+    reg [W-1:0]    h_valid;
+    reg [FS_W-1:0] h_stamp [0:W-1];
+    reg [1:0]      h_cls   [0:W-1];
+    reg [ID_W-1:0] h_id    [0:W-1];
+    reg [RI-1:0]   h_local [0:W-1];
+    reg [FS_W-1:0] h_d;
+    reg [WI-1:0]   fin_w;
+    reg            h_have;
+    reg [N-1:0]    fin_pick;
+    /* verilator lint_off UNUSEDSIGNAL */
+    integer n_h;                                  // a context index: its low CW bits matter
+    /* verilator lint_on UNUSEDSIGNAL */
+    always @* begin
+        for (w_h = 0; w_h < W; w_h = w_h + 1) begin
+            h_valid[w_h] = |fin_head[w_h * R +: R];
+            h_stamp[w_h] = {FS_W{1'b0}};
+            h_cls[w_h] = 2'd0;
+            h_id[w_h] = {ID_W{1'b0}};
+            h_local[w_h] = {RI{1'b0}};
+            for (k_h = 0; k_h < R; k_h = k_h + 1) begin
+                n_h = w_h * R + k_h;
+                if (fin_head[n_h]) begin
+                    h_stamp[w_h] = fin_ev[n_h] ? fcount : fstamp[n_h];
+                    h_cls[w_h] = fin_ev[n_h] ? ev_class(e_ev_lat[n_h], e_ev_disp[n_h]) : fcls[n_h];
+                    h_id[w_h] = req_id[n_h];
+                    h_local[w_h] = k_h[RI-1:0];
+                end
+            end
+        end
+        fin_w = {WI{1'b0}};
+        h_have = 1'b0;
+        for (w_h = 0; w_h < W; w_h = w_h + 1) begin
+            h_d = h_stamp[w_h] - h_stamp[fin_w];
+            // Walker w_h's head before the best so far (a lower walker): an earlier finish,
+            // or the same cycle and earlier in its wake-up order (two step latencies: the
+            // lower walker first).
+            if (h_valid[w_h] && (!h_have || h_d[FS_W-1]
+                    || (h_d == {FS_W{1'b0}} && (h_cls[w_h] < h_cls[fin_w]
+                        || (h_cls[w_h] == 2'd2 && h_cls[fin_w] == 2'd2
+                            && id_before(h_id[w_h], h_id[fin_w])))))) begin
+                fin_w = w_h[WI-1:0];
+                h_have = 1'b1;
+            end
+        end
+        for (w_h = 0; w_h < W; w_h = w_h + 1)
+            fin_pick[w_h * R +: R] = h_have && fin_w == w_h[WI-1:0] ? fin_head[w_h * R +: R]
+                                                                      : {R{1'b0}};
+    end
     assign e_out_ready = out_ready ? fin_pick : {N{1'b0}};
     assign out_valid = |e_out_valid;
-    reg [CW-1:0] fin;
-    always @* begin
-        fin = {CW{1'b0}};
-        for (i_f = N - 1; i_f >= 0; i_f = i_f - 1) if (fin_pick[i_f]) fin = i_f[CW-1:0];
-    end
-    // The result of context fin: its walker's result port (each walker reads its context's
-    // state at fin's index within the walker).
-    wire [31:0] fin32 = {{(32-CW){1'b0}}, fin};
-    wire [WI-1:0] fin_w = walker_of(fin32);
+    // The result of the retiring context: its walker's result port (each walker reads its
+    // context's state at the index within the walker).
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [RI-1:0] fin_local = local_of(fin32);   // (unused at R = 1)
+    wire [RI-1:0] fin_local = h_local[fin_w];   // (unused at R = 1)
     /* verilator lint_on UNUSEDSIGNAL */
     assign out_outcome = w_outcome[fin_w];
     assign out_t = w_t[fin_w];
@@ -316,32 +436,55 @@ module svo_walker_pool #(
     assign out_attr_data = w_attr_data[fin_w];
     assign out_tag = w_tag[fin_w];
 
-    always @(posedge clk) begin
-        for (i = 0; i < N; i = i + 1) begin
-            older[i] <= older_eff[i];
-            for (j = 0; j < N; j = j + 1)
-                if (sent[i] || sent[j])
-                    req_older[i][j] <= sent[i] && sent[j] ? i != j && sent_before(i, j)
-                                                          : sent[j];
-            if (e_resp_valid[i]) begin
-                fill[i] <= 1'b0;
-                merged[i] <= 1'b0;
+    // Per context state (a generate loop: Verilator does not unroll large loops of delayed
+    // assignments to arrays).
+    genvar gn;
+    generate
+        for (gn = 0; gn < N; gn = gn + 1) begin : ctx_state
+            localparam GW = gn / R;               // its walker
+            reg [R-1:0] req_older_nx;
+            integer kk;
+            always @* begin
+                req_older_nx = req_older[gn];
+                for (kk = 0; kk < R; kk = kk + 1)
+                    if (sent[gn] || sent[GW * R + kk]) req_older_nx[kk] = GW * R + kk != gn && sent[GW * R + kk];
+            end
+            always @(posedge clk) begin
+                older[gn] <= older_eff[gn];
+                req_older[gn] <= req_older_nx;
+                if (fin_ev[gn]) begin
+                    fstamp[gn] <= fcount;
+                    fcls[gn] <= ev_class(e_ev_lat[gn], e_ev_disp[gn]);
+                end
+                if (snd[GW] && send_pick[gn]) begin
+                    req_id[gn] <= {sstamp, s_rank[GW]};
+                    fill_addr[gn] <= p_addr[GW];
+                    merged_on[gn] <= merge_to[GW];
+                end
+                if (rst) begin
+                    fill[gn] <= 1'b0;
+                    merged[gn] <= 1'b0;
+                end else if (snd[GW] && send_pick[gn]) begin
+                    fill[gn] <= !merge[GW] && p_attr[GW];
+                    merged[gn] <= merge[GW];
+                end else if (e_resp_valid[gn]) begin
+                    fill[gn] <= 1'b0;
+                    merged[gn] <= 1'b0;
+                end
             end
         end
-        for (w = 0; w < W; w = w + 1)
-            if (want[w] && (merge[w] || mem_req_ready[w])) begin
-                fill[pick[w]] <= !merge[w] && e_req_attr[pick[w]];
-                fill_addr[pick[w]] <= e_req_addr[pick[w]];
-                merged[pick[w]] <= merge[w];
-                merged_on[pick[w]] <= merge_to[w];
-            end
+    endgenerate
+    always @(posedge clk) begin
         if (rst) begin
-            fill <= {N{1'b0}};
-            merged <= {N{1'b0}};
             err_resp <= 1'b0;
-        end else
-            for (p = 0; p < W; p = p + 1)
-                if ((mem_resp_valid[p] && !(|e_resp_valid)) || |w_err) err_resp <= 1'b1;
+            fcount <= {FS_W{1'b0}};
+            sstamp <= {SEND_STAMP_W{1'b0}};
+        end else begin
+            if (|fin_ev) fcount <= fcount + 1'b1;
+            if (|snd) sstamp <= sstamp + 1'b1;
+            for (w = 0; w < W; w = w + 1)
+                if ((mem_resp_valid[w] && !(|e_resp_valid)) || |w_err) err_resp <= 1'b1;
+        end
     end
 
     // ---------------------------------------------------------------- the walkers
