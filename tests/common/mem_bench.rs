@@ -210,6 +210,31 @@ pub fn compare(
     Ok(())
 }
 
+/// Shows the comparison failing: the model's completion `i` (the middle one) moved a cycle
+/// later must be reported as exactly that completion. `want` and `counters` must equal the
+/// bench's `got` uncorrupted. Returns `i`.
+pub fn assert_late_completion_caught(
+    want: &[Line],
+    counters: &[u64],
+    names: &str,
+    got: &BenchLog,
+) -> usize {
+    compare(want, counters, names, got).expect("uncorrupted, the RTL equals the model");
+    let i = want.len() / 2;
+    let mut late = want.to_vec();
+    late[i].0 += 1;
+    let err = compare(&late, counters, names, got).expect_err("a corrupted cycle is caught");
+    println!("{err}");
+    assert!(
+        err.starts_with(&format!(
+            "completion {i} differs: model requester {} requested in cycle {} done in cycle {}",
+            late[i].1, late[i].2, late[i].0
+        )),
+        "{err}"
+    );
+    i
+}
+
 /// The repository.
 pub fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
