@@ -368,18 +368,16 @@ fn stalls_keep_the_data_and_an_error_response_is_flagged() {
         let got = simulate(&vvp, &dir, &run, &args).expect("the bench runs");
         let x = extra(&got);
         let n = compare_in_order(&want, &got).unwrap_or_else(|e| panic!("seed {seed:#x}: {e}"));
-        let late = want
-            .iter()
-            .zip(&got.done)
-            .filter(|(w, g)| w.0 != g.0)
-            .count();
+        let last = |v: &[Line]| v.iter().map(|l| l.0).max().unwrap_or(0);
         println!(
             "stall run, seed {seed:#x}, slave seed {slave_seed}: {n}/{} completions with the \
-             model's data in order; {} AR stall and {} R stall port-cycles; {late} completions \
-             not in the model's cycle; {} fills (model {})",
+             model's data in order; {} AR stall and {} R stall port-cycles; last completion in \
+             cycle {} (model {}); {} fills (model {})",
             want.len(),
             x.ar_stalls,
             x.r_stalls,
+            last(&got.done),
+            last(&want),
             got.counters.get(3).copied().unwrap_or(0),
             stats.dram_fills
         );

@@ -148,18 +148,39 @@ module svo_node_cache_axi #(
     );
 
     // ---- AR: per-port queues, fill n on port n mod F ---------------------------------------
+    localparam integer AW = $clog2(F * QD);        // queue storage address
+    localparam integer QD_LAST_I = QD - 1;
+    localparam [QW-1:0] QD_LAST = QD_LAST_I[QW-1:0];
+    localparam integer F_LAST_I = F - 1;
+    localparam [PW-1:0] F_LAST = F_LAST_I[PW-1:0];
     reg [LINEW-1:0] q_line [0:F*QD-1];
     reg [MW-1:0]    q_mshr [0:F*QD-1];
     reg [F*QW-1:0]  q_rd, q_wr, q_n;               // per port: read/write index, entries
     reg [PW-1:0]    ip_q;                          // port of the next fill issued
 
+    // The port after port x (mod F).
+    function [PW-1:0] next_port(input [PW-1:0] x);
+        next_port = F == 1 || x == F_LAST ? {PW{1'b0}} : x + 1'b1;
+    endfunction
+    // Storage address of entry i of port x's queue.
+    function [AW-1:0] q_addr(input [PW-1:0] x, input [QW-1:0] i);
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg [31:0] t;
+        /* verilator lint_on UNUSEDSIGNAL */
+        begin
+            t = {{(32 - PW){1'b0}}, x} * QD + {{(32 - QW){1'b0}}, i};
+            q_addr = t[AW-1:0];
+        end
+    endfunction
+
     genvar g;
     generate
         for (g = 0; g < F; g = g + 1) begin : ar_port
-            wire [QW-1:0] rd = q_rd[QW*g +: QW];
+            localparam [PW-1:0] GP = g;
+            wire [AW-1:0] head = q_addr(GP, q_rd[QW*g +: QW]);
             assign m_arvalid[g] = q_n[QW*g +: QW] != {QW{1'b0}};
-            assign m_arid[MW*g +: MW] = q_mshr[g*QD + rd];
-            assign m_araddr[41*g +: 41] = {q_line[g*QD + rd], {LB{1'b0}}};
+            assign m_arid[MW*g +: MW] = q_mshr[head];
+            assign m_araddr[41*g +: 41] = {q_line[head], {LB{1'b0}}};
             assign m_arlen[8*g +: 8] = 8'd0;
             assign m_arsize[3*g +: 3] = SIZE;
             assign m_arburst[2*g +: 2] = 2'b01;  // INCR
@@ -167,75 +188,96 @@ module svo_node_cache_axi #(
         end
     endgenerate
 
-    // The port after port x (mod F).
-    function [PW-1:0] next_port(input [PW-1:0] x);
-        next_port = F == 1 || x == F - 1 ? {PW{1'b0}} : x + 1'b1;
-    endfunction
+    // Next queue state: the ARs taken leave, the fills issued now enter, lane by lane.
+    reg [F*QW-1:0]  n_rd, n_wr, n_n;
+    reg [PW-1:0]    n_ip;
+    reg [ISSUE_LANES*AW-1:0] w_addr;
+    reg [QW-1:0]    wi;
+    integer l, p;
+    always @* begin
+        n_rd = q_rd;
+        n_wr = q_wr;
+        n_n = q_n;
+        n_ip = ip_q;
+        w_addr = {ISSUE_LANES*AW{1'b0}};
+        wi = {QW{1'b0}};
+        for (p = 0; p < F; p = p + 1)
+            if (m_arvalid[p] && m_arready[p]) begin
+                n_rd[QW*p +: QW] = q_rd[QW*p +: QW] == QD_LAST ? {QW{1'b0}}
+                                                              : q_rd[QW*p +: QW] + 1'b1;
+                n_n[QW*p +: QW] = q_n[QW*p +: QW] - 1'b1;
+            end
+        for (l = 0; l < ISSUE_LANES; l = l + 1)
+            if (iss_valid[l]) begin
+                wi = n_wr[QW*n_ip +: QW];
+                w_addr[AW*l +: AW] = q_addr(n_ip, wi);
+                n_wr[QW*n_ip +: QW] = wi == QD_LAST ? {QW{1'b0}} : wi + 1'b1;
+                n_n[QW*n_ip +: QW] = n_n[QW*n_ip +: QW] + 1'b1;
+                n_ip = next_port(n_ip);
+            end
+    end
 
-    integer l, p, n;
-    reg [PW-1:0]    ip;
-    reg [QW-1:0]    wr, rdp, cnt;
+    integer wl;
     always @(posedge clk) begin
+        for (wl = 0; wl < ISSUE_LANES; wl = wl + 1)
+            if (iss_valid[wl]) begin
+                q_line[w_addr[AW*wl +: AW]] <= iss_line[LINEW*wl +: LINEW];
+                q_mshr[w_addr[AW*wl +: AW]] <= iss_mshr[MW*wl +: MW];
+            end
         if (rst) begin
             q_rd <= {F*QW{1'b0}};
             q_wr <= {F*QW{1'b0}};
             q_n <= {F*QW{1'b0}};
             ip_q <= {PW{1'b0}};
         end else begin
-            for (p = 0; p < F; p = p + 1) begin
-                rdp = q_rd[QW*p +: QW];
-                wr = q_wr[QW*p +: QW];
-                cnt = q_n[QW*p +: QW];
-                if (m_arvalid[p] && m_arready[p]) begin
-                    rdp = rdp == QD - 1 ? {QW{1'b0}} : rdp + 1'b1;
-                    cnt = cnt - 1'b1;
-                end
-                // This port's share of the fills issued now: lanes l with (ip_q + l) mod F == p.
-                ip = ip_q;
-                for (l = 0; l < ISSUE_LANES; l = l + 1) begin
-                    if (iss_valid[l] && ip == p[PW-1:0]) begin
-                        q_line[p*QD + wr] <= iss_line[LINEW*l +: LINEW];
-                        q_mshr[p*QD + wr] <= iss_mshr[MW*l +: MW];
-                        wr = wr == QD - 1 ? {QW{1'b0}} : wr + 1'b1;
-                        cnt = cnt + 1'b1;
-                    end
-                    if (iss_valid[l]) ip = next_port(ip);
-                end
-                q_rd[QW*p +: QW] <= rdp;
-                q_wr[QW*p +: QW] <= wr;
-                q_n[QW*p +: QW] <= cnt;
-            end
-            ip = ip_q;
-            for (l = 0; l < ISSUE_LANES; l = l + 1)
-                if (iss_valid[l]) ip = next_port(ip);
-            ip_q <= ip;
+            q_rd <= n_rd;
+            q_wr <= n_wr;
+            q_n <= n_n;
+            ip_q <= n_ip;
         end
     end
 
     // ---- R: the beats of this cycle, registered onto the fill lanes in issue order ----------
-    reg [PW-1:0] cp_q;                             // port of the next fill to complete
-    reg [PW-1:0] cp;
+    reg [PW-1:0]     cp_q;                         // port of the next fill to complete
+    reg [PW-1:0]     n_cp, rp;
+    reg [F-1:0]      n_fv;
+    reg [F*MW-1:0]   n_fm;
+    reg [F*LBITS-1:0] n_fd;
+    reg              n_err;
+    reg [PW-1:0]     nl;                           // lanes used (wraps after the last)
+    integer k;
+    always @* begin
+        n_fv = {F{1'b0}};
+        n_fm = fm_q;
+        n_fd = fd_q;
+        n_err = 1'b0;
+        n_cp = cp_q;
+        rp = cp_q;
+        nl = {PW{1'b0}};
+        for (k = 0; k < F; k = k + 1) begin
+            if (m_rvalid[rp]) begin
+                n_fv[nl] = 1'b1;
+                n_fm[MW*nl +: MW] = m_rid[MW*rp +: MW];
+                n_fd[LBITS*nl +: LBITS] = m_rdata[LBITS*rp +: LBITS];
+                if (m_rresp[2*rp +: 2] != 2'b00 || !m_rlast[rp]) n_err = 1'b1;
+                nl = nl + 1'b1;
+                n_cp = next_port(n_cp);
+            end
+            rp = next_port(rp);
+        end
+    end
+
     always @(posedge clk) begin
+        fm_q <= n_fm;
+        fd_q <= n_fd;
         if (rst) begin
             fv_q <= {F{1'b0}};
             cp_q <= {PW{1'b0}};
             axi_error <= 1'b0;
         end else begin
-            fv_q <= {F{1'b0}};
-            n = 0;
-            cp = cp_q;
-            for (l = 0; l < F; l = l + 1) begin
-                p = (cp_q + l) % F;
-                if (m_rvalid[p]) begin
-                    fv_q[n] <= 1'b1;
-                    fm_q[MW*n +: MW] <= m_rid[MW*p +: MW];
-                    fd_q[LBITS*n +: LBITS] <= m_rdata[LBITS*p +: LBITS];
-                    if (m_rresp[2*p +: 2] != 2'b00 || !m_rlast[p]) axi_error <= 1'b1;
-                    n = n + 1;
-                    cp = next_port(cp);
-                end
-            end
-            cp_q <= cp;
+            fv_q <= n_fv;
+            cp_q <= n_cp;
+            if (n_err) axi_error <= 1'b1;
         end
     end
 endmodule
