@@ -311,6 +311,13 @@ fn node_cache_axi_rtl_equals_the_model() {
                 if x.axi_error != 0 {
                     return Err("AXI_ERROR raised without an error response".into());
                 }
+                // The contract's premise: no AR ever waited on ARREADY, no beat was held.
+                if x.ar_stalls + x.r_stalls != 0 {
+                    return Err(format!(
+                        "the slave stalled without pauses: {} AR, {} R port-cycles",
+                        x.ar_stalls, x.r_stalls
+                    ));
+                }
                 Ok(())
             });
             match verdict {
