@@ -39,12 +39,12 @@
 //   in the tags (a lookup hits), its MSHR is free and its reads' rsp_done pulse. Several fills
 //   complete in one cycle when bytes_per_cycle > LINE_BYTES: FILL_LANES = ceil(bytes_per_cycle
 //   / LINE_BYTES) covers the built-in bus (ends of consecutive fills are LINE_BYTES apart).
-//   The memory times the fills; testbench/tb/tb_dram_model.svh is the built-in bus of dram.rs.
-//   Mapping onto AXI4 (integration, not done here): a fill is one INCR burst of LINE_BYTES on
-//   AR with ARID = MSHR index (registered, so the memory sees it one cycle later and its
-//   latency counts from there); the R beats of an ID are assembled into the line and
-//   fill_valid is raised with RLAST's data registered, i.e. one cycle before the model's
-//   completion cycle, as above.
+//   The memory times the fills; testbench/tb/tb_dram_model.sv is the built-in bus of dram.rs.
+//   Mapping onto AXI4: svo_node_cache_axi.v (this cache with its fills as one-beat INCR bursts
+//   of LINE_BYTES on FILL_LANES read ports, ARID = MSHR index; the AR registered, so the
+//   memory sees a fill one cycle after its issue; RLAST's line registered onto the fill lanes,
+//   i.e. presented one cycle before the model's completion cycle, as above), exact against
+//   testbench/tb/tb_axi_dram.sv (tests/node_cache_axi_rtl.rs).
 // Counters: the model's NodeMemoryStats cache_hits (replayed hits included), cache_misses,
 //   cache_merged, dram_fills, uncached_reads; and cnt_replay_hits, the part of cnt_hits made by
 //   the miss queue's head on its tag re-check (the model counts those among its hits only).

@@ -285,6 +285,17 @@ pub fn simulate(
     run: &ModelRun,
     line: impl Fn(&Req) -> String,
 ) -> Result<BenchLog, String> {
+    simulate_with(vvp, dir, run, &[], line)
+}
+
+/// [`simulate`] with extra plusargs (`+name=value`) for the bench.
+pub fn simulate_with(
+    vvp: &Path,
+    dir: &Path,
+    run: &ModelRun,
+    args: &[String],
+    line: impl Fn(&Req) -> String,
+) -> Result<BenchLog, String> {
     let mut text = String::new();
     for r in &run.trace {
         let _ = writeln!(text, "{}", line(r));
@@ -298,6 +309,7 @@ pub fn simulate(
         .arg(vvp)
         .arg(format!("+trace={}", trace.display()))
         .arg(format!("+log={}", log.display()))
+        .args(args)
         .output()
         .expect("run vvp");
     if !o.status.success() {
