@@ -18,10 +18,9 @@
 
 mod common;
 
+use common::cache_bench::{self, cfg, counters, COUNTERS};
 use common::mem_bench::{self, ModelRun, Pool};
-use rtl_model::cycle::memory::{
-    FetchKind, MemoryLayout, NodeMemory, NodeMemoryConfig, NodeMemoryStats,
-};
+use rtl_model::cycle::memory::{NodeMemoryConfig, NodeMemoryStats};
 use std::path::{Path, PathBuf};
 
 /// One hardware case: the model's configuration and the pool in front of it.
@@ -38,29 +37,6 @@ struct Case {
 
 /// Seeds run per case (fixed, printed; `SVO_TEST_SEED` adds its own first).
 const SEEDS: [u64; 2] = [0x29_0001, 0x29_0002];
-
-/// The default configuration with a cache of `size` bytes, `ways` ways, 64-byte lines, `banks`
-/// × `ports` lookups, the miss queue and the MSHRs given, DRAM `(latency, bytes_per_cycle)`.
-fn cfg(
-    size: u64,
-    ways: u32,
-    (banks, ports): (u32, u32),
-    miss_queue: u32,
-    mshrs: u32,
-    (latency, bytes_per_cycle): (u32, u32),
-) -> NodeMemoryConfig {
-    let mut c = NodeMemoryConfig::default();
-    c.cache.size_bytes = size;
-    c.cache.ways = ways;
-    c.cache.line_bytes = 64;
-    c.cache.banks = banks;
-    c.cache.ports = ports;
-    c.cache.miss_queue = miss_queue;
-    c.dram.mshrs = mshrs;
-    c.dram.latency = latency;
-    c.dram.bytes_per_cycle = bytes_per_cycle;
-    c
-}
 
 fn cases() -> Vec<Case> {
     let default_small = cfg(4096, 4, (4, 2), 32, 8, (60, 128));
@@ -120,82 +96,20 @@ fn cases() -> Vec<Case> {
     ]
 }
 
-/// Node words and attribute records of the address space the reads fall in.
-const NODE_WORDS: u64 = 1 << 22;
-const ATTR_RECORDS: u64 = 1 << 20;
-
 /// What the model did for one case and seed: the trace and its completions, and the
-/// model's statistics.
+/// model's statistics (traffic: `cache_bench::run_model`).
 fn run_model(case: &Case, seed: u64) -> (ModelRun, NodeMemoryStats) {
-    let mut rng = common::SplitMix64::derive(seed, case.name);
-    let layout = MemoryLayout::flat(NODE_WORDS, ATTR_RECORDS).expect("layout");
-    let mut mem = NodeMemory::new(case.cfg.clone(), layout).expect("valid configuration");
-    // Hot set: about twice the cache's node lines, and a few lines of records.
-    let hot_words = (2 * case.cfg.cache.size_bytes / 4).max(64);
     let pool = Pool {
         walkers: case.walkers,
         contexts: case.contexts,
         requests: case.requests,
         ask: case.ask,
     };
-    let run = mem_bench::run_closed_loop(&mut mem, pool, &mut rng, |rng| {
-        let roll = rng.unit();
-        let kind = if roll < 0.6 {
-            FetchKind::Node
-        } else if roll < 0.7 {
-            FetchKind::Far
-        } else {
-            FetchKind::Attr
-        };
-        let hot = rng.chance(0.75);
-        let addr = match (kind, hot) {
-            (FetchKind::Attr, true) => rng.below(256),
-            (FetchKind::Attr, false) => rng.below(ATTR_RECORDS),
-            (_, true) => rng.below(hot_words),
-            (_, false) => rng.below(NODE_WORDS),
-        } as u32;
-        (kind, addr)
-    });
-    (run, mem.stats())
-}
-
-/// The DRAM's word at byte address `a` (tb_dram_model.sv's function, written again here).
-fn word_at(a: u64) -> u32 {
-    (a as u32).wrapping_mul(0x9E37_79B1) ^ ((a >> 32) as u32).wrapping_mul(0x85EB_CA77)
-}
-
-/// The 64 bits a read returns: the node word, or the 8-byte record (lower word first).
-fn data_of(kind: FetchKind, addr: u32) -> u64 {
-    match kind {
-        FetchKind::Node | FetchKind::Far => u64::from(word_at(4 * u64::from(addr))),
-        FetchKind::Attr => {
-            let b = (1u64 << 40) + 8 * u64::from(addr);
-            u64::from(word_at(b)) | u64::from(word_at(b + 4)) << 32
-        }
-    }
-}
-
-fn kind_code(k: FetchKind) -> u32 {
-    match k {
-        FetchKind::Node => 0,
-        FetchKind::Far => 1,
-        FetchKind::Attr => 2,
-    }
-}
-
-fn counters(s: &NodeMemoryStats) -> [u64; 5] {
-    [
-        s.cache_hits,
-        s.cache_misses,
-        s.cache_merged,
-        s.dram_fills,
-        s.uncached_reads,
-    ]
+    cache_bench::run_model(&case.cfg, pool, seed, case.name)
 }
 
 /// Compiles the bench for `case` into `dir`.
 fn compile(case: &Case, dir: &Path) -> PathBuf {
-    let c = &case.cfg;
     mem_bench::compile(
         "tb_node_cache",
         &[
@@ -203,46 +117,23 @@ fn compile(case: &Case, dir: &Path) -> PathBuf {
             "tb/tb_dram_model.sv",
             "rtl/svo_node_cache.v",
         ],
-        &[
-            ("REQ_PORTS", u64::from(case.walkers)),
-            ("CTX", u64::from(case.contexts)),
-            ("BANKS", u64::from(c.cache.banks)),
-            ("PORTS", u64::from(c.cache.ports)),
-            ("SETS", c.cache_sets()),
-            ("WAYS", u64::from(c.cache.ways)),
-            ("LINE_BYTES", u64::from(c.cache.line_bytes)),
-            ("HIT_LATENCY", u64::from(c.cache.hit_latency)),
-            ("MSHRS", u64::from(c.dram.mshrs)),
-            ("MISS_QUEUE", u64::from(c.cache.miss_queue)),
-            ("ATTR_CACHED", u64::from(c.cache.attr_cached)),
-            ("DRAM_LATENCY", u64::from(c.dram.latency)),
-            ("BYTES_PER_CYCLE", u64::from(c.dram.bytes_per_cycle)),
-        ],
+        &cache_bench::params(case.walkers, case.contexts, &case.cfg),
         dir,
     )
 }
 
 /// Runs the compiled bench on `run`'s trace and returns its log.
 fn simulate(vvp: &Path, dir: &Path, run: &ModelRun) -> Result<mem_bench::BenchLog, String> {
-    mem_bench::simulate(vvp, dir, run, |r| {
-        format!(
-            "{} {} {} {}",
-            r.cycle,
-            r.requester,
-            kind_code(r.kind),
-            r.addr
-        )
-    })
+    mem_bench::simulate(vvp, dir, run, cache_bench::trace_line)
 }
 
 /// The model's completions with their data, in the bench's order.
 fn expected(run: &ModelRun) -> Vec<mem_bench::Line> {
-    mem_bench::expected(run, data_of)
+    mem_bench::expected(run, cache_bench::data_of)
 }
 
-/// The counters compared, in the order of the bench's C line (its sixth, the hits made on
-/// the miss queue's re-check, is coverage only: the model has no counter of its own).
-const COUNTERS: &str = "hits, misses, merged, fills, uncached";
+// The bench's C line has a sixth counter after `COUNTERS`, the hits made on the miss queue's
+// re-check: coverage only (the model has no counter of its own).
 
 /// The miss queue's re-check hits the bench logged (the C line's sixth counter).
 fn replay_hits(got: &mem_bench::BenchLog) -> u64 {

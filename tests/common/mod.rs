@@ -10,6 +10,7 @@
 #![allow(dead_code)]
 
 pub mod bad_input;
+pub mod cache_bench;
 pub mod mem_bench;
 pub mod oracle;
 pub mod process;
