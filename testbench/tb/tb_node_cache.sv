@@ -3,12 +3,9 @@
 // from the model's NodeMemory (closed loop) and compares this bench's log with the model's
 // completions and counters.
 //
-// +trace=FILE: lines "cycle requester kind addr" (decimal; kind 0 node, 1 far, 2 attribute),
-// ordered by cycle then requester. Requester r drives port r / CTX. The bench flags (line
-// "E ...") a request of a requester whose read is still outstanding, two requests on one port
-// in a cycle and a completion of a requester with nothing outstanding.
-// +log=FILE: one line "D cycle_requested cycle_done requester data(hex, 64 bits)" per
-// completion, then "C hits misses merged fills uncached replay_hits" and "END cycle errors".
+// +trace=FILE, +log=FILE: the trace, its exact (open-loop) run and the log's "D" and "E" lines
+// are tb_cache_trace.svh's (shared with tb_node_cache_axi.sv); after them the log has
+// "C hits misses merged fills uncached replay_hits" and "END cycle errors".
 `timescale 1ns/1ps
 module tb_node_cache;
     parameter REQ_PORTS = 2;
@@ -76,81 +73,11 @@ module tb_node_cache;
         .fill_data(fill_data), .idle(dram_idle), .errors(dram_errors)
     );
 
-    reg [1023:0] trace_name, log_name;
-    integer fd, fo, rc, port, r, errors;
-    reg have, finished;
-    reg [63:0] t_cyc;
-    integer t_rq, t_kind;
-    reg [31:0] t_addr;
-    reg [REQUESTERS-1:0] outstanding;
-    reg [63:0] req_cycle [0:REQUESTERS-1];
-
-    task next_line;
-        begin
-            rc = $fscanf(fd, "%d %d %d %d\n", t_cyc, t_rq, t_kind, t_addr);
-            have = rc == 4;
-        end
-    endtask
+    `include "tb_cache_trace.svh"
 
     initial begin
-        if (!$value$plusargs("trace=%s", trace_name) || !$value$plusargs("log=%s", log_name)) begin
-            $display("E usage: +trace=FILE +log=FILE");
-            $finish;
-        end
-        fd = $fopen(trace_name, "r");
-        fo = $fopen(log_name, "w");
-        if (fd == 0 || fo == 0) begin
-            $display("E cannot open the trace or the log");
-            $finish;
-        end
-        errors = 0;
-        outstanding = 0;
-        finished = 1'b0;
-        next_line;
-        repeat (3) @(posedge clk);
-        @(negedge clk);
-        rst = 1'b0;
-        while (!finished) begin
-            // Cycle cyc, between its edges: the completions of this cycle, then its requests.
-            for (r = 0; r < REQUESTERS; r = r + 1)
-                if (rsp_done != 0 && rsp_done[r]) begin
-                    if (!outstanding[r]) begin
-                        $fdisplay(fo, "E cycle %0d: completion for requester %0d with no read outstanding", cyc, r);
-                        errors = errors + 1;
-                    end
-                    $fdisplay(fo, "D %0d %0d %0d %h", req_cycle[r], cyc, r, rsp_data[64*r +: 64]);
-                    outstanding[r] = 1'b0;
-                end
-            req_valid = 0;
-            while (have && t_cyc == cyc) begin
-                port = t_rq / CTX;
-                if (req_valid[port]) begin
-                    $fdisplay(fo, "E cycle %0d: two requests on port %0d", cyc, port);
-                    errors = errors + 1;
-                end
-                if (outstanding[t_rq]) begin
-                    $fdisplay(fo, "E cycle %0d: request of requester %0d, whose read of cycle %0d is outstanding", cyc, t_rq, req_cycle[t_rq]);
-                    errors = errors + 1;
-                end
-                req_valid[port] = 1'b1;
-                req_requester[RQW*port +: RQW] = t_rq[RQW-1:0];
-                req_kind[2*port +: 2] = t_kind[1:0];
-                req_addr[32*port +: 32] = t_addr;
-                outstanding[t_rq] = 1'b1;
-                req_cycle[t_rq] = cyc;
-                next_line;
-            end
-            if (have && t_cyc < cyc) begin
-                $fdisplay(fo, "E trace out of order at cycle %0d", t_cyc);
-                errors = errors + 1;
-                next_line;
-            end
-            if ((!have && outstanding == 0 && dram_idle) || cyc >= MAX_CYCLES) finished = 1'b1;
-            else begin
-                @(negedge clk);
-                cyc = cyc + 1;
-            end
-        end
+        open_files;
+        run_trace(1'b0);
         $fdisplay(fo, "C %0d %0d %0d %0d %0d %0d", c_hits, c_misses, c_merged, c_fills, c_unc, c_replay);
         $fdisplay(fo, "END %0d %0d", cyc, errors + dram_errors);
         $fclose(fo);

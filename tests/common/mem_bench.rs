@@ -261,7 +261,9 @@ pub fn compile(top: &str, files: &[&str], params: &[(&str, u64)], dir: &Path) ->
         top,
         "-o",
     ])
-    .arg(&out);
+    .arg(&out)
+    // The benches' shared parts (`include "tb_*.svh") live beside them.
+    .arg(format!("-I{}", tb.join("tb").display()));
     for (k, v) in params {
         cmd.arg(format!("-P{top}.{k}={v}"));
     }
