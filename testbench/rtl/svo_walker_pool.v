@@ -79,8 +79,10 @@
 // The memory: per walker mem_req_* one read a cycle with its context (mem_req_ctx, the pool's
 // context index n = walker·CONTEXTS + k); responses in any order, each with its context
 // (mem_resp_ctx), on any port, but at most one node or leaf word (the words that chain a read in
-// the cycle they arrive) for one walker in a cycle — svo_top returns walker w's reads on its own
-// master; records of merged reads may complete several a cycle. Sticky err_resp: a response for
+// the cycle they arrive) for one walker in a cycle; records of merged reads may complete several
+// a cycle. (svo_top: its on-chip store can complete two chaining words of one walker in one
+// cycle when a bank port made the earlier read wait; err_resp, a FAULT, flags it: not seen in
+// the pool_4x2 runs of testbench/README.md, where reads waited for a port a few times a frame.) Sticky err_resp: a response for
 // a context that has no read out, or two chaining words for one walker in a cycle.
 // With CTX_RESP 1 each context also has a port of its own (ctx_resp_valid[n], its node word in
 // ctx_resp_data[32n +: 32]): svo_top's on-chip store answers there, several contexts a cycle,
