@@ -164,7 +164,8 @@ fn hit_buffer_reuses_across_frames_as_the_model_rows_say() {
 /// `fusesoc run` of the core's targets (testbench/svo_core.core): `lint` (svo_hit_buffer under
 /// `verilator --lint-only -Wall`), `lint_core` (svo_core, the whole accelerator, the same),
 /// `lint_top` (svo_top, the core behind its AXI interfaces, the same, with the generated files'
-/// waivers of testbench/lint_waivers.vlt) and `lint_regs` (the generated register block, without -Wall:
+/// waivers of testbench/lint_waivers.vlt; `lint_top_pool` and `lint_top_pool4` on the 2 x 4
+/// and 4 x 2 walker pools) and `lint_regs` (the generated register block, without -Wall:
 /// PeakRDL's code), both with the venv's Verilator 5.048 (Debian's 5.006 fails inside on the
 /// register block); `sim` (tb_hit_record in Icarus on the golden vectors: every row passes);
 /// `synth` (Yosys `synth_xilinx -family xcup` of svo_hit_buffer: accepted, the buffer in block
@@ -191,6 +192,7 @@ fn fusesoc_lint_sim_and_synth_targets_pass() {
         ("lint_core", None),
         ("lint_top", None),
         ("lint_top_pool", None),
+        ("lint_top_pool4", None),
         ("lint_regs", None),
         ("sim", Some(vectors.as_str())),
         ("synth", None),
@@ -409,9 +411,10 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         mc_model[0].0
     );
     assert_eq!((equal, n, cycles), (160, 160, mc_model[0].0), "{text}");
-    // 160 pixels, the cycles, five refused STARTs (STATUS.ERROR 1, 2, 3, 4, 4) and the two
-    // SLVERR frames (5, 6).
-    assert_eq!(tally(&text, "core: "), (168, 0), "{text}");
+    // 160 pixels, the cycles, a START before the store's load (STATUS.ERROR 7) and one
+    // during it (8), five refused STARTs (1, 2, 3, 4, 4), the two SLVERR frames (5, 6), the
+    // failed load (9) and the START after it (7).
+    assert_eq!(tally(&text, "core: "), (172, 0), "{text}");
     for code in [5, 6] {
         assert!(
             text.contains(&format!(
@@ -420,6 +423,15 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
             "no SLVERR frame ended DONE with ERROR {code}:\n{text}"
         );
     }
+    assert!(
+        text.contains("a load read answering SLVERR: STATUS 0x900 (ERROR 9)"),
+        "no failed load ended with ERROR 9:\n{text}"
+    );
+    let load = text
+        .lines()
+        .find(|l| l.starts_with("core: load: "))
+        .unwrap_or_else(|| panic!("no load line:\n{text}"));
+    println!("{load}");
 
     let st_env = [
         format!("SVO_MODEL_CYCLES={}", st_model[0].0),
@@ -504,7 +516,7 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         let c0 = format!("SVO_MODEL_CYCLES={}", crowd_model[0].0);
         let (ok, text, _) = run_core(&crowd, &[c0, "SVO_CORRUPT=cycles".to_string()]);
         assert!(!ok, "a corrupted crowd cycle count passed:\n{text}");
-        assert_eq!(tally(&text, "core: "), (167, 1), "{text}");
+        assert_eq!(tally(&text, "core: "), (171, 1), "{text}");
         assert!(text.contains("cycles, the cycle model's"), "{text}");
     }
 
@@ -537,7 +549,11 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         ),
         (
             "SVO_CORRUPT=resp".to_string(),
-            "a node read answering SLVERR: STATUS 0x502, want DONE and ERROR 6",
+            "an attribute read answering SLVERR: STATUS 0x502, want DONE and ERROR 6",
+        ),
+        (
+            "SVO_CORRUPT=load".to_string(),
+            "a load read answering SLVERR: STATUS 0x900, want ERROR 8",
         ),
     ] {
         let (ok, text, _) = run_core(&mc, &[c0.clone(), env.clone()]);
@@ -551,8 +567,9 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
 
 /// svo_top on testbench/hw/pool_2x4.ron — two walkers of four contexts (svo_walker_pool: the
 /// dispatcher, per walker a barrel walker (svo_walker_barrel: one step datapath, the four
-/// contexts' state in RAMs) behind one issue grant and one request port,
-/// one AXI4 node master per walker with reads in flight) — renders the car's two 16 × 10
+/// contexts' state in RAMs) behind one issue grant and one request port, node words from the
+/// on-chip store (svo_onchip_store), one AXI4 attribute master per walker with reads in
+/// flight) — renders the car's two 16 × 10
 /// frames (the second with moving instances and reuse) with every pixel equal and the model's
 /// cycles; with random stalls (seed 1) every pixel still once and right; one more expected
 /// cycle is exactly one failure. (pool_1x4.ron, one walker of four contexts, is run by hand:
@@ -610,6 +627,54 @@ fn core_pool_of_two_walkers_of_four_contexts_renders_frames_equal_to_the_model()
         "{}",
         fails[0]
     );
+}
+
+/// svo_top on testbench/hw/pool_4x2.ron — four walkers of two contexts sharing the on-chip
+/// node store's banks (svo_onchip_store: 16 banks of 2 ports, so a third read of one bank in a
+/// cycle waits, and reads of one word combine), loaded by the DMA (CTRL.LOAD over m_axi_load)
+/// before the first frame — renders the car's two 16 × 10 frames (the second with moving
+/// instances and reuse) with every pixel equal and the model's cycles and reuse; with random
+/// stalls (seed 1, on the attribute, direction and load masters and the stream) every pixel
+/// still once and right. Its corruption checks are the other cases' (same bench).
+#[test]
+fn core_pool_of_four_walkers_of_two_contexts_shares_the_onchip_store_as_the_model() {
+    let Some(venv) = venv() else { return };
+    let root = fresh_dir("core_pool_4x2");
+    let car = root.join("car");
+    let car1 = root.join("car1");
+    let model = core_frame_case_on(&car, "scenes/car.ron", 2, "pool_4x2", 4);
+    core_frame_vectors(
+        &car1,
+        &repo().join("scenes/car.ron").display().to_string(),
+        1,
+    );
+    let run_core = |extra: &[String]| {
+        let mut env = vec![
+            format!("SVO_VECTORS={}", car.display()),
+            "SVO_HW=pool_4x2".to_string(),
+            "SVO_NPIX=160".to_string(),
+            format!("SVO_MEM_LATENCY={FRAME_MEM_LATENCY}"),
+        ];
+        env.extend(extra.iter().cloned());
+        let env: Vec<&str> = env.iter().map(String::as_str).collect();
+        bench(&venv, "core", &env)
+    };
+    let c0 = format!("SVO_MODEL_CYCLES={}", model[0].0);
+    let (ok, text, secs) = run_core(&[
+        c0.clone(),
+        format!("SVO_VECTORS1={}", car1.display()),
+        format!("SVO_MODEL_CYCLES1={}", model[1].0),
+        "SVO_FRAMES=2".to_string(),
+    ]);
+    eprintln!("core pool_4x2 car: {secs:.1} s (build included)");
+    assert!(ok, "core bench, pool_4x2, car:\n{text}");
+    frames_equal_the_model("car on pool_4x2", &text, &model);
+
+    let (ok, text, _) = run_core(&[c0, "SVO_STALL=20".to_string(), "SVO_SEED=1".to_string()]);
+    assert!(ok, "core bench, pool_4x2, stalls:\n{text}");
+    let (equal, n, cycles, _) = core_frame_line(&text, 0);
+    println!("core pool_4x2 car, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles");
+    assert_eq!((equal, n), (160, 160), "{text}");
 }
 
 /// The node memory's latency of testbench/hw/frame_hw.ron (every read, cycles).

@@ -1,26 +1,31 @@
-"""The whole accelerator (svo_top: svo_core behind AXI4-Lite, two AXI4 read masters and an
+"""The whole accelerator (svo_top: svo_core behind AXI4-Lite, its AXI4 read masters and an
 AXI4-Stream) rendering a frame of `sim vectors`, against the model's pixels and cycles.
 
 Pipeline position: all of it, from the host's side. The bench is the host and the memory:
 it writes the frame's registers over AXI4-Lite (cocotbext-axi AxiLiteMaster; addresses from
 testbench/rdl/svo_core.rdl through systemrdl-compiler, not a hand list), puts the direction
-table and the images in memory, starts the frame, takes the pixel stream (AxiStreamSink),
+table and the images in memory, loads the images' node words into svo_top's on-chip node
+store (CTRL.LOAD: LOAD_SRC = NODE_BASE, the images one after the other as the model places
+them, so a store word's address is the model's node address; the load's master m_axi_load is
+served by LoadRead), starts the frame, takes the pixel stream (AxiStreamSink),
 waits for STATUS.DONE and reads the counters. Every pixel must arrive exactly once with the
 word of frame_pixels.hex (the model's), and CYCLES must equal the cycle model's frame cycles.
 
 Memory, two modes (SVO_STALL):
-- 0 (default): a read slave of fixed latency SVO_MEM_LATENCY (the model's node memory of the
-  frame's hardware, testbench/hw/frame_hw.ron: a read asked in cycle c is there in cycle
-  c + L) on both read masters, the stream always ready: the frame's cycles must be the
-  model's.
-- P > 0: cocotbext-axi AxiRamRead on both masters with random pauses (P % of cycles) on AR
-  and R, and on the stream's tready (seeded: SVO_SEED, printed): the pixels must still all
-  arrive once and right, with no deadlock; the cycles are reported, not compared.
+- 0 (default): a read slave of fixed latency SVO_MEM_LATENCY (the model's uncached attribute
+  read of the frame's hardware, testbench/hw/frame_hw.ron: a read asked in cycle c is there in
+  cycle c + L) on the attribute and direction masters, the stream always ready: the frame's
+  cycles must be the model's. The load's slave has the same latency and no pauses.
+- P > 0: cocotbext-axi AxiRamRead on the attribute and direction masters with random pauses
+  (P % of cycles) on AR and R, LoadRead's own on the load's AR and R, and on the stream's
+  tready (seeded: SVO_SEED, printed): the pixels must still all arrive once and right, with
+  no deadlock; the cycles are reported, not compared.
 
-With several walkers (run.py SVO_HW=pool_2x4: svo_top built on hw/pool_2x4_pkg.sv) svo_top
-has one node master per walker, as vectors; NodeLanesRead serves them in both modes (fixed
-latency, or with its own random pauses on each lane's AR and R), the direction master as
-above. The other SVO_HW packages (frame_hw, pool_1x4) have one walker and one plain master.
+With several walkers (run.py SVO_HW=pool_2x4 or pool_4x2: svo_top built on hw/<HW>_pkg.sv)
+svo_top has one attribute master per walker, as vectors; NodeLanesRead serves them in both
+modes (fixed latency, or with its own random pauses on each lane's AR and R), the direction
+master as above. The other SVO_HW packages (frame_hw, pool_1x4) have one walker and one plain
+master.
 
 The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
 with each instance (its NMAT words in INSTANCE_TABLE, frame_instances nmat_*).
@@ -31,13 +36,17 @@ BUFFER_VALID 1; its tables from SVO_VECTORS1, `sim vectors --frame 1` of the sam
 the camera and the instances whose registers changed flagged dirty, or without it the same
 still frame again, nothing dirty), SVO_CORRUPT=pixel:N (flip
 bit 0 of pixel N's expected word) or cycles (one more expected cycle): exactly one failure.
-Before the first frame starts, five STARTs with one bad register each must be refused with
+Before the first frame, a START before the load must be refused with STATUS.ERROR 7 and one
+during the load with 8 (LOADING set); the load's cycles (LOAD_CYCLES) are printed. Then five
+STARTs with one bad register each must be refused with
 svo_top's STATUS.ERROR code and neither BUSY nor DONE: a frame size of 0 (1), a direction table
 base off its burst alignment (2), a node base off 4 bytes (3), an instance count of 0 and one
 over the table's 128 (4); SVO_CORRUPT=error expects 3 for the first: exactly one failure.
 After the frames (without SVO_STALL), two more frames in each of which one read answers
-SLVERR must end DONE with STATUS.ERROR 5 (a node read) and 6 (a direction-table read);
-SVO_CORRUPT=resp expects 6 for the node read: exactly one failure. Prints failures (first
+SLVERR must end DONE with STATUS.ERROR 5 (an attribute read) and 6 (a direction-table read);
+SVO_CORRUPT=resp expects 6 for the attribute read: exactly one failure. Then a load whose beat
+answers SLVERR must end with STATUS.ERROR 9 and the next START be refused with 7;
+SVO_CORRUPT=load expects 8 for the load: exactly one failure. Prints failures (first
 10), then "core: N passed, N failed".
 """
 import json
@@ -215,6 +224,70 @@ class NodeLanesRead:
                 self.q[w].append((self.cycle + self.lat, addr))
 
 
+class LoadRead:
+    """svo_top's load master (m_axi_load_*, 8-byte beats, INCR bursts): a burst's beats from
+    L cycles after its AR handshake, one a cycle as rready takes them (the DMA takes one every
+    other cycle), rvalid held until taken. With pct > 0 arready and each beat not yet shown
+    pause in a random pct % of cycles (rng), counted in stalls["load ar"] / ["load r"].
+    fail_at = k: the load's beat k answers SLVERR (STATUS.ERROR 9). Checks that no burst
+    crosses a 4 KiB page."""
+
+    def __init__(self, dut, mem, latency, rng=None, pct=0, stalls=None):
+        self.dut, self.mem, self.lat = dut, mem, latency
+        self.rng, self.pct, self.stalls = rng, pct, stalls
+        self.bursts = []            # [due cycle, address, beats left]
+        self.cycle = 0
+        self.shown = False          # a beat is on R, not yet taken
+        self.beats = 0              # beats taken since the last reset_count()
+        self.fail_at = None
+        self.errors = []            # protocol errors seen (bursts crossing a page)
+        self.ar = 1
+        dut.m_axi_load_arready.value = 1
+        for name in ("rvalid", "rid", "rresp", "rlast", "rdata"):
+            getattr(dut, f"m_axi_load_{name}").value = 0
+
+    def paused(self, key):
+        if self.pct and self.rng.randrange(100) < self.pct:
+            self.stalls[key] += 1
+            return True
+        return False
+
+    def drive(self):
+        self.cycle += 1
+        d = self.dut
+        if not self.shown and self.bursts and self.bursts[0][0] <= self.cycle and not self.paused("load r"):
+            _, addr, left = self.bursts[0]
+            d.m_axi_load_rdata.value = int.from_bytes(self.mem[addr:addr + 8], "little")
+            d.m_axi_load_rlast.value = int(left == 1)
+            d.m_axi_load_rresp.value = 2 if self.fail_at == self.beats else 0
+            d.m_axi_load_rvalid.value = 1
+            self.shown = True
+        elif not self.shown:
+            d.m_axi_load_rvalid.value = 0
+            d.m_axi_load_rresp.value = 0
+        self.ar = 0 if self.paused("load ar") else 1
+        d.m_axi_load_arready.value = self.ar
+
+    def sample(self):
+        d = self.dut
+        if self.shown and d.m_axi_load_rready.value == 1:
+            self.shown = False
+            self.beats += 1
+            b = self.bursts[0]
+            b[1] += 8
+            b[2] -= 1
+            if b[2] == 0:
+                self.bursts.pop(0)
+        if self.ar and d.m_axi_load_arvalid.value == 1:
+            addr = int(d.m_axi_load_araddr.value)
+            n = int(d.m_axi_load_arlen.value) + 1
+            if int(d.m_axi_load_arsize.value) != 3 or addr % 8:
+                self.errors.append(f"a load burst at {addr:#x} of size {1 << int(d.m_axi_load_arsize.value)}")
+            if addr // 4096 != (addr + 8 * n - 1) // 4096:
+                self.errors.append(f"a load burst of {n} beats at {addr:#x} crosses a 4 KiB page")
+            self.bursts.append([self.cycle + self.lat, addr, n])
+
+
 async def every_cycle(dut, slaves):
     """One coroutine for both fixed-latency slaves (fewer simulator callbacks): at the falling
     edge their R, then, settled, their AR handshakes."""
@@ -300,8 +373,10 @@ async def frame_against_the_model(dut):
 
     cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
     dut.rst.value = 1
-    stalls = {"node ar": 0, "node r": 0, "dir ar": 0, "dir r": 0, "stream": 0}
+    stalls = {"node ar": 0, "node r": 0, "dir ar": 0, "dir r": 0, "stream": 0,
+              "load ar": 0, "load r": 0}
     rams = []
+    load = LoadRead(dut, mem, latency, rng, stall, stalls)
     slaves = []
     lanes = len(dut.m_axi_arvalid)                  # walkers: one node master each
     if lanes > 1:
@@ -334,9 +409,10 @@ async def frame_against_the_model(dut):
         sink.set_pause_generator(stall_gen(rng, stall, stalls, "stream"))
     axil = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), dut.clk, dut.rst)
     # The agents log every transfer at INFO: keep the bench's own lines readable.
-    for name in ("s_axil", "m_axi", "m_axi_dir", "m_axis"):
+    for name in ("s_axil", "m_axi", "m_axi_dir", "m_axi_load", "m_axis"):
         logging.getLogger(f"cocotb.{dut._name}.{name}").setLevel(logging.WARNING)
 
+    slaves.append(load)
     cocotb.start_soon(every_cycle(dut, slaves))
 
     await ClockCycles(dut.clk, 8)
@@ -420,6 +496,30 @@ async def frame_against_the_model(dut):
         else:
             b.passed += 1
 
+    # The node store's load: the words of the images the frames use (walker.json lists the
+    # images in the model's node space, the scene's first; the unit vectors' synthetic images
+    # after them are not read), from NODE_BASE, so that store word = the model's node address.
+    used_all = {t.get(k, "image") for t in ins for k in range(len(t.rows))}
+    ends = {im["index"]: (images[j + 1]["node_base"] if j + 1 < len(images) else len(nodes))
+            for j, im in enumerate(images)}
+    load_words = max(ends[i] for i in used_all)
+
+    async def run_load(words):
+        """CTRL.LOAD of `words` words from NODE_BASE; returns STATUS at its end and the
+        load's cycles (LOAD_CYCLES)."""
+        await w("LOAD_SRC_LO", NODE_BASE)
+        await w("LOAD_SRC_HI", NODE_BASE >> 32)
+        await w("LOAD_WORDS", words)
+        await w("CTRL", 0x4)
+        return await load_end()
+
+    async def load_end():
+        while True:
+            status = await r("STATUS")
+            if not status & 0x4:
+                return status, await r64("LOAD_CYCLES")
+            await ClockCycles(dut.clk, 100)
+
     for f in range(frames):
         for k in stalls:
             stalls[k] = 0                           # this frame's paused cycles
@@ -450,6 +550,31 @@ async def frame_against_the_model(dut):
             n0 = len(ins[0].rows)
             im0 = images[sorted({ins[0].get(k, "image") for k in range(n0)})[0]]
             i0, nb0 = im0["index"], NODE_BASE + 4 * im0["node_base"]
+            # STATUS.ERROR 7 and 8: a START before the node store is loaded, and one while it
+            # loads; then the load (its cycles are the load's, not the frame's).
+            await w("CTRL", 0x1)
+            await ClockCycles(dut.clk, 4)
+            status = await r("STATUS")
+            if (status >> 8) & 0xF != 7 or status & 0x7:
+                b.fail(f"a START before the store's load: STATUS {status:#x}, want ERROR 7, not BUSY, DONE or LOADING")
+            else:
+                b.passed += 1
+            await w("LOAD_SRC_LO", NODE_BASE)
+            await w("LOAD_SRC_HI", NODE_BASE >> 32)
+            await w("LOAD_WORDS", load_words)
+            await w("CTRL", 0x4)
+            await w("CTRL", 0x1)
+            await ClockCycles(dut.clk, 4)
+            status = await r("STATUS")
+            if (status >> 8) & 0xF != 8 or status & 0x7 != 0x4:
+                b.fail(f"a START while the store loads: STATUS {status:#x}, want ERROR 8 and LOADING, not BUSY or DONE")
+            else:
+                b.passed += 1
+            status, ld_cycles = await load_end()
+            print(f"core: load: {load_words} node words from {NODE_BASE:#x} in {ld_cycles} cycles"
+                  + (f"; protocol errors {load.errors[:3]}" if load.errors else ""))
+            if load.errors:
+                b.fail(f"the load's bursts: {load.errors[:3]}")
             await refused(3 if corrupt == "error" else 1, "a frame size of 0", "FRAME_SIZE",
                           0, width | (height << 16))
             await refused(2, "a direction table base off its burst alignment",
@@ -512,14 +637,17 @@ async def frame_against_the_model(dut):
         else:
             b.passed += 1
     # STATUS.ERROR 5 and 6: after the frames, two more frames with every pixel traced (the
-    # buffer valid, the camera dirty), in each of which one read answers SLVERR: a node read
-    # (5), then a direction-table read (6). The frame still runs to its end (the data is
+    # buffer valid, the camera dirty), in each of which one read answers SLVERR: an attribute
+    # read (5; node words come from the on-chip store), then a direction-table read (6). The frame still runs to its end (the data is
     # right, only the response says otherwise), so the stream is drained; STATUS must read
     # DONE with that ERROR code. The fixed-latency slaves inject it (not run with SVO_STALL,
-    # whose slaves are cocotbext-axi's). SVO_CORRUPT=resp expects 6 for the node read.
+    # whose slaves are cocotbext-axi's). SVO_CORRUPT=resp expects 6 for the attribute read.
+    # Then STATUS.ERROR 9: a load whose beat in the middle answers SLVERR ends with ERROR 9,
+    # not LOADING, and leaves the store without a load: the next START is refused with 7.
+    # SVO_CORRUPT=load expects 8 for the load: exactly one failure.
     if stall == 0:
         node_slave, dir_slave = slaves[0], slaves[1]
-        for code, slave, what in ((5, node_slave, "node"), (6, dir_slave, "direction")):
+        for code, slave, what in ((5, node_slave, "an attribute"), (6, dir_slave, "a direction")):
             await w_dirty(0x3, (1 << TABLE_INSTANCES) - 1)
             await w("STATUS", 0x2)
             slave.fail_next = True                  # the frame's first read of that master
@@ -535,11 +663,30 @@ async def frame_against_the_model(dut):
             status = await r("STATUS")
             want = 6 if corrupt == "resp" and code == 5 else code
             if (status >> 8) & 0xF != want or not status & 0x2 or slave.fail_next:
-                b.fail(f"a {what} read answering SLVERR: STATUS {status:#x}, want DONE and ERROR {want}"
+                b.fail(f"{what} read answering SLVERR: STATUS {status:#x}, want DONE and ERROR {want}"
                        + (" (no read came after the injection)" if slave.fail_next else ""))
             else:
-                print(f"core: a {what} read answering SLVERR: STATUS {status:#x} (ERROR {code})")
+                print(f"core: {what} read answering SLVERR: STATUS {status:#x} (ERROR {code})")
                 b.passed += 1
             slave.fail_next = False
+        # A short load (the store is not read again): a beat in its middle fails.
+        await w("STATUS", 0x2)                      # clear DONE
+        short = min(load_words, 512)
+        load.fail_at = load.beats + (short + 1) // 4
+        status, ld_cycles = await run_load(short)
+        want = 8 if corrupt == "load" else 9
+        if (status >> 8) & 0xF != want or status & 0x7 or load.fail_at >= load.beats:
+            b.fail(f"a load read answering SLVERR: STATUS {status:#x}, want ERROR {want}, not LOADING, BUSY or DONE")
+        else:
+            print(f"core: a load read answering SLVERR: STATUS {status:#x} (ERROR 9) after {ld_cycles} cycles")
+            b.passed += 1
+        load.fail_at = None
+        await w("CTRL", 0x1)
+        await ClockCycles(dut.clk, 4)
+        status = await r("STATUS")
+        if (status >> 8) & 0xF != 7 or status & 0x7:
+            b.fail(f"a START after the failed load: STATUS {status:#x}, want ERROR 7, not BUSY, DONE or LOADING")
+        else:
+            b.passed += 1
     print(f"core: {b.passed} passed, {b.failed} failed")
     assert b.failed == 0, f"{b.failed} checks failed"

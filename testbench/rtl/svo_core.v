@@ -70,7 +70,9 @@ module svo_core #(
     parameter KEYN     = LANES,                   // candidates a ray carries (≤ SO_MAX_KEYS)
     parameter CONTEXTS = 1,                       // walker_pool.contexts_per_walker
     parameter WALKERS  = 1,                       // walker_pool.walkers: a node-memory port each
-    parameter CW       = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1
+    parameter CW       = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,
+    parameter CTX_RESP = 0,                       // per-context response ports (svo_walker_pool)
+    parameter CRN      = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -148,7 +150,10 @@ module svo_core #(
     output wire                    err_pixel,
     // the node memory's context of a read: a response carries its read's (any order)
     output wire [WALKERS*CW-1:0]   mem_req_ctx,
-    input  wire [WALKERS*CW-1:0]   mem_resp_ctx
+    input  wire [WALKERS*CW-1:0]   mem_resp_ctx,
+    // with CTX_RESP, a node-word response port per context (svo_top's on-chip store)
+    input  wire [CRN-1:0]          ctx_resp_valid,
+    input  wire [CRN*32-1:0]       ctx_resp_data
 );
     localparam PAYW = 96 + 6 + KEYN * 40;
     localparam SO_CW = 6;
@@ -207,7 +212,7 @@ module svo_core #(
         .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
         .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
         .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
-        .WALKERS(WALKERS), .CW(CW))
+        .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP))
     u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
         .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
         .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),
@@ -221,7 +226,8 @@ module svo_core #(
         .rec_pixel(rec_pixel), .rec_word(rec_word), .done_valid(done_valid),
         .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
         .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
-        .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx));
+        .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx),
+        .ctx_resp_valid(ctx_resp_valid), .ctx_resp_data(ctx_resp_data));
 
     assign err_pipe = fr_err_pipe || wk_err_pipe;
     assign err_overflow = fr_err_ov || wk_err_ov;

@@ -10,7 +10,8 @@
 //
 // Pipeline position: between the walker pool (one request port per walker) and the walkers'
 // read data, beside the cache (svo_node_cache.v), which takes the reads that are not on chip.
-// Not yet inside svo_top (its node reads still go to fixed-latency AXI masters).
+// Inside svo_top, which serves every node word from it (the attribute records go to its AXI4
+// masters) and loads it with its DMA (m_axi_load, CTRL.LOAD).
 //
 // Cycle numbering: the first cycle after reset is the model's cycle 0.
 //
@@ -25,7 +26,8 @@
 //   read (served + LATENCY); rsp_data[32r +: 32] holds the word from that cycle until the
 //   requester's next completion.
 // Loading: load_valid, load_addr, load_data write one word of the store a cycle (between
-//   frames, as the model assumes: the store is read only during a frame).
+//   frames, as the model assumes: the store is read only during a frame; svo_top's load DMA
+//   drives them, refusing a START while it runs).
 //
 // How a bank serves: each bank keeps its next free port as (delay from now, ports used then)
 //   and a schedule of the reads it has accepted and not yet made: (delay, word), at most

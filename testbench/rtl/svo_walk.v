@@ -69,7 +69,9 @@ module svo_walk #(
     parameter KEYN      = LANES,      // keys a ray carries (svo_front's KEYN)
     parameter CONTEXTS  = 1,          // walker_pool.contexts_per_walker
     parameter WALKERS   = 1,          // walker_pool.walkers: one node-memory port each
-    parameter CW        = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1
+    parameter CW        = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,
+    parameter CTX_RESP  = 0,          // per-context response ports (svo_walker_pool)
+    parameter CRN       = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -117,7 +119,10 @@ module svo_walk #(
     output reg                     err_overflow, // a transform, reciprocal or pack flag (sticky)
     // the node memory's context of a read (svo_walker_pool: responses may come in any order)
     output wire [WALKERS*CW-1:0]   mem_req_ctx,
-    input  wire [WALKERS*CW-1:0]   mem_resp_ctx
+    input  wire [WALKERS*CW-1:0]   mem_resp_ctx,
+    // with CTX_RESP, a response port per context (svo_walker_pool; svo_top's on-chip store)
+    input  wire [CRN-1:0]          ctx_resp_valid,
+    input  wire [CRN*32-1:0]       ctx_resp_data
 );
     localparam TI = TW + 1;
     localparam KEYS = KEYN * 40;
@@ -254,7 +259,7 @@ module svo_walk #(
     wire wk_err_resp;
     svo_walker_pool #(.POS_W(PW), .T_W(TW), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
         .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAGW), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS),
-        .CW(CW)
+        .CW(CW), .CTX_RESP(CTX_RESP)
     ) u_walker (.clk(clk), .rst(rst), .in_valid(dp_valid), .in_ready(wk_in_ready),
         .in_enter(dp_data[RTB-1]), .in_t0(dp_data[RTB-2 -: 3*TI]),
         .in_t1(dp_data[RTB-2-3*TI -: 3*TI]),
@@ -264,7 +269,8 @@ module svo_walk #(
         .in_attr_base(inst_attr_base), .in_tag(dp_slot),
         .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready), .mem_req_attr(mem_req_attr),
         .mem_req_addr(mem_req_addr), .mem_req_ctx(mem_req_ctx), .mem_resp_valid(mem_resp_valid),
-        .mem_resp_ctx(mem_resp_ctx), .mem_resp_data(mem_resp_data), .out_valid(wk_out_valid),
+        .mem_resp_ctx(mem_resp_ctx), .mem_resp_data(mem_resp_data),
+        .ctx_resp_valid(ctx_resp_valid), .ctx_resp_data(ctx_resp_data), .out_valid(wk_out_valid),
         .out_ready(wk_out_ready), .out_outcome(wk_outcome), .out_t(wk_t), .out_voxel(wk_voxel),
         .out_attr_data(wk_attr_data), .out_tag(wk_tag), .err_resp(wk_err_resp));
     wire wk_leave = wk_out_valid && wk_out_ready;

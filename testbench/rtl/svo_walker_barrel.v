@@ -35,8 +35,8 @@
 // its write-back.
 //
 // Responses: a context's node and leaf words (which chain a request in the cycle they arrive)
-// come one a cycle for the walker (svo_top: walker w's reads return on its own master);
-// err_resp flags two in one cycle. Attribute records may arrive several a cycle (merged reads).
+// come one a cycle for the walker (svo_top's on-chip store breaks this only when a bank port
+// made the earlier of two reads wait); err_resp flags two in one cycle. Attribute records may arrive several a cycle (merged reads).
 `timescale 1ns/1ps
 `default_nettype none
 module svo_walker_barrel #(

@@ -79,9 +79,15 @@
 // The memory: per walker mem_req_* one read a cycle with its context (mem_req_ctx, the pool's
 // context index n = walker·CONTEXTS + k); responses in any order, each with its context
 // (mem_resp_ctx), on any port, but at most one node or leaf word (the words that chain a read in
-// the cycle they arrive) for one walker in a cycle — svo_top returns walker w's reads on its own
-// master; records of merged reads may complete several a cycle. Sticky err_resp: a response for
+// the cycle they arrive) for one walker in a cycle; records of merged reads may complete several
+// a cycle. (svo_top: its on-chip store can complete two chaining words of one walker in one
+// cycle when a bank port made the earlier read wait; err_resp, a FAULT, flags it: not seen in
+// the pool_4x2 runs of testbench/README.md, where reads waited for a port a few times a frame.) Sticky err_resp: a response for
 // a context that has no read out, or two chaining words for one walker in a cycle.
+// With CTX_RESP 1 each context also has a port of its own (ctx_resp_valid[n], its node word in
+// ctx_resp_data[32n +: 32]): svo_top's on-chip store answers there, several contexts a cycle,
+// while the walker ports carry the attribute records. With CTX_RESP 0 those ports are one
+// unused bit (the other benches leave them open).
 `timescale 1ns/1ps
 `default_nettype none
 module svo_walker_pool #(
@@ -93,7 +99,9 @@ module svo_walker_pool #(
     parameter TAG_W        = 1,
     parameter CONTEXTS     = 1,                 // contexts per walker
     parameter WALKERS      = 1,
-    parameter CW           = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1  // context index bits
+    parameter CW           = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,  // context index bits
+    parameter CTX_RESP     = 0,                 // per-context response ports (svo_top's store)
+    parameter CRN          = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                   clk,
     input  wire                   rst,
@@ -119,6 +127,8 @@ module svo_walker_pool #(
     input  wire [WALKERS-1:0]     mem_resp_valid,
     input  wire [WALKERS*CW-1:0]  mem_resp_ctx,
     input  wire [WALKERS*64-1:0]  mem_resp_data,
+    input  wire [CRN-1:0]         ctx_resp_valid,
+    input  wire [CRN*32-1:0]      ctx_resp_data,
     output wire                   out_valid,
     input  wire                   out_ready,
     output wire [1:0]             out_outcome,
@@ -218,6 +228,12 @@ module svo_walker_pool #(
             responding[i_r] = 1'b0;
             e_resp_valid[i_r] = 1'b0;
             e_resp_data[i_r] = mem_resp_data[63:0];
+            // A node word on the context's own port (no read merges onto a node read).
+            if (CTX_RESP != 0 && ctx_resp_valid[i_r % CRN]) begin
+                responding[i_r] = 1'b1;
+                e_resp_valid[i_r] = 1'b1;
+                e_resp_data[i_r] = {32'd0, ctx_resp_data[(i_r % CRN)*32 +: 32]};
+            end
             for (p_r = 0; p_r < W; p_r = p_r + 1) begin
                 if (mem_resp_valid[p_r] && mem_resp_ctx[p_r*CW +: CW] == i_r[CW-1:0])
                     responding[i_r] = 1'b1;
@@ -240,7 +256,6 @@ module svo_walker_pool #(
     integer n_q;                                  // a context index: its low CW bits matter
     /* verilator lint_on UNUSEDSIGNAL */
     always @* begin
-        sent = {N{1'b0}};
         for (w_q = 0; w_q < W; w_q = w_q + 1) begin
             pick[w_q] = {CW{1'b0}};
             p_addr[w_q] = 32'd0;
@@ -264,8 +279,16 @@ module svo_walker_pool #(
                     merge[w_q] = 1'b1;
                     merge_to[w_q] = i_q[CW-1:0];
                 end
-            snd[w_q] = want[w_q] && (merge[w_q] || mem_req_ready[w_q]);
-            if (snd[w_q]) sent[w_q * R +: R] = send_pick[w_q * R +: R];
+        end
+    end
+    // The port's handshake, apart from the pick: a memory's ready may depend on the read's
+    // kind (svo_top: a node read is always taken, an attribute read waits for AR).
+    integer w_k;
+    always @* begin
+        sent = {N{1'b0}};
+        for (w_k = 0; w_k < W; w_k = w_k + 1) begin
+            snd[w_k] = want[w_k] && (merge[w_k] || mem_req_ready[w_k]);
+            if (snd[w_k]) sent[w_k * R +: R] = send_pick[w_k * R +: R];
         end
         e_req_ready = sent;
     end

@@ -260,7 +260,7 @@ module tb_frame;
         .ev_reused(core_ev_reused),
         .ev_write_stall(), .ev_walk_stall(), .ev_bank_conflict(), .err_pipe(core_err_pipe),
         .err_overflow(core_err_ov), .err_pixel(core_err_pixel), .mem_req_ctx(),
-        .mem_resp_ctx(1'b0));
+        .mem_resp_ctx(1'b0), .ctx_resp_valid(1'b0), .ctx_resp_data(32'd0));
     /* verilator lint_on PINCONNECTEMPTY */
     // The node memory: a read requested in cycle c is valid in cycle c + L (tb_walker's).
     // With stalls: ready low in a random mem_stall % of cycles (drawn at the falling edge, for

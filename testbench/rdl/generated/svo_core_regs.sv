@@ -239,6 +239,9 @@ module svo_core_regs (
         logic DIR_TABLE_BASE_LO;
         logic DIR_TABLE_BASE_HI;
         logic DIRTY_INSTANCE[4];
+        logic LOAD_SRC_LO;
+        logic LOAD_SRC_HI;
+        logic LOAD_WORDS;
         struct {
             logic LO;
             logic HI;
@@ -275,6 +278,10 @@ module svo_core_regs (
             logic LO;
             logic HI;
         } REUSED;
+        struct {
+            logic LO;
+            logic HI;
+        } LOAD_CYCLES;
         struct {
             logic NODE_BASE_LO;
             logic NODE_BASE_HI;
@@ -320,6 +327,9 @@ module svo_core_regs (
         for(int i0=0; i0<4; i0++) begin
             decoded_reg_strb.DIRTY_INSTANCE[i0] = cpuif_req_masked & (cpuif_addr == 16'h60 + (16)'(i0) * 16'h4);
         end
+        decoded_reg_strb.LOAD_SRC_LO = cpuif_req_masked & (cpuif_addr == 16'h70);
+        decoded_reg_strb.LOAD_SRC_HI = cpuif_req_masked & (cpuif_addr == 16'h74);
+        decoded_reg_strb.LOAD_WORDS = cpuif_req_masked & (cpuif_addr == 16'h78);
         decoded_reg_strb.CYCLES.LO = cpuif_req_masked & (cpuif_addr == 16'h100) & !cpuif_req_is_wr;
         decoded_reg_strb.CYCLES.HI = cpuif_req_masked & (cpuif_addr == 16'h104) & !cpuif_req_is_wr;
         decoded_reg_strb.WALKS.LO = cpuif_req_masked & (cpuif_addr == 16'h108) & !cpuif_req_is_wr;
@@ -338,6 +348,8 @@ module svo_core_regs (
         decoded_reg_strb.NODE_READS.HI = cpuif_req_masked & (cpuif_addr == 16'h13c) & !cpuif_req_is_wr;
         decoded_reg_strb.REUSED.LO = cpuif_req_masked & (cpuif_addr == 16'h140) & !cpuif_req_is_wr;
         decoded_reg_strb.REUSED.HI = cpuif_req_masked & (cpuif_addr == 16'h144) & !cpuif_req_is_wr;
+        decoded_reg_strb.LOAD_CYCLES.LO = cpuif_req_masked & (cpuif_addr == 16'h148) & !cpuif_req_is_wr;
+        decoded_reg_strb.LOAD_CYCLES.HI = cpuif_req_masked & (cpuif_addr == 16'h14c) & !cpuif_req_is_wr;
         for(int i0=0; i0<8; i0++) begin
             decoded_reg_strb.IMAGE[i0].NODE_BASE_LO = cpuif_req_masked & (cpuif_addr == 16'h200 + (16)'(i0) * 16'h10);
             decoded_reg_strb.IMAGE[i0].NODE_BASE_HI = cpuif_req_masked & (cpuif_addr == 16'h204 + (16)'(i0) * 16'h10);
@@ -386,6 +398,10 @@ module svo_core_regs (
                 logic next;
                 logic load_next;
             } IRQ_EN;
+            struct {
+                logic next;
+                logic load_next;
+            } LOAD;
         } CTRL;
         struct {
             struct {
@@ -455,6 +471,24 @@ module svo_core_regs (
                 logic load_next;
             } VALUE;
         } DIRTY_INSTANCE[4];
+        struct {
+            struct {
+                logic [31:0] next;
+                logic load_next;
+            } VALUE;
+        } LOAD_SRC_LO;
+        struct {
+            struct {
+                logic [31:0] next;
+                logic load_next;
+            } VALUE;
+        } LOAD_SRC_HI;
+        struct {
+            struct {
+                logic [31:0] next;
+                logic load_next;
+            } VALUE;
+        } LOAD_WORDS;
         struct {
             struct {
                 struct {
@@ -492,6 +526,9 @@ module svo_core_regs (
             struct {
                 logic value;
             } IRQ_EN;
+            struct {
+                logic value;
+            } LOAD;
         } CTRL;
         struct {
             struct {
@@ -549,6 +586,21 @@ module svo_core_regs (
                 logic [31:0] value;
             } VALUE;
         } DIRTY_INSTANCE[4];
+        struct {
+            struct {
+                logic [31:0] value;
+            } VALUE;
+        } LOAD_SRC_LO;
+        struct {
+            struct {
+                logic [31:0] value;
+            } VALUE;
+        } LOAD_SRC_HI;
+        struct {
+            struct {
+                logic [31:0] value;
+            } VALUE;
+        } LOAD_WORDS;
         struct {
             struct {
                 struct {
@@ -623,6 +675,32 @@ module svo_core_regs (
         end
     end
     assign hwif_out.CTRL.IRQ_EN.value = field_storage.CTRL.IRQ_EN.value;
+    // Field: svo_core_regs.CTRL.LOAD
+    always_comb begin
+        automatic logic [0:0] next_c;
+        automatic logic load_next_c;
+        next_c = field_storage.CTRL.LOAD.value;
+        load_next_c = '0;
+        if(decoded_reg_strb.CTRL && decoded_req_is_wr) begin // SW write
+            next_c = (field_storage.CTRL.LOAD.value & ~decoded_wr_biten[2:2]) | (decoded_wr_data[2:2] & decoded_wr_biten[2:2]);
+            load_next_c = '1;
+        end else begin // singlepulse clears back to 0
+            next_c = '0;
+            load_next_c = '1;
+        end
+        field_combo.CTRL.LOAD.next = next_c;
+        field_combo.CTRL.LOAD.load_next = load_next_c;
+    end
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            field_storage.CTRL.LOAD.value <= 1'h0;
+        end else begin
+            if(field_combo.CTRL.LOAD.load_next) begin
+                field_storage.CTRL.LOAD.value <= field_combo.CTRL.LOAD.next;
+            end
+        end
+    end
+    assign hwif_out.CTRL.LOAD.value = field_storage.CTRL.LOAD.value;
     // Field: svo_core_regs.STATUS.DONE
     always_comb begin
         automatic logic [0:0] next_c;
@@ -910,6 +988,75 @@ module svo_core_regs (
         end
         assign hwif_out.DIRTY_INSTANCE[i0].VALUE.value = field_storage.DIRTY_INSTANCE[i0].VALUE.value;
     end
+    // Field: svo_core_regs.LOAD_SRC_LO.VALUE
+    always_comb begin
+        automatic logic [31:0] next_c;
+        automatic logic load_next_c;
+        next_c = field_storage.LOAD_SRC_LO.VALUE.value;
+        load_next_c = '0;
+        if(decoded_reg_strb.LOAD_SRC_LO && decoded_req_is_wr) begin // SW write
+            next_c = (field_storage.LOAD_SRC_LO.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
+            load_next_c = '1;
+        end
+        field_combo.LOAD_SRC_LO.VALUE.next = next_c;
+        field_combo.LOAD_SRC_LO.VALUE.load_next = load_next_c;
+    end
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            field_storage.LOAD_SRC_LO.VALUE.value <= 32'h0;
+        end else begin
+            if(field_combo.LOAD_SRC_LO.VALUE.load_next) begin
+                field_storage.LOAD_SRC_LO.VALUE.value <= field_combo.LOAD_SRC_LO.VALUE.next;
+            end
+        end
+    end
+    assign hwif_out.LOAD_SRC_LO.VALUE.value = field_storage.LOAD_SRC_LO.VALUE.value;
+    // Field: svo_core_regs.LOAD_SRC_HI.VALUE
+    always_comb begin
+        automatic logic [31:0] next_c;
+        automatic logic load_next_c;
+        next_c = field_storage.LOAD_SRC_HI.VALUE.value;
+        load_next_c = '0;
+        if(decoded_reg_strb.LOAD_SRC_HI && decoded_req_is_wr) begin // SW write
+            next_c = (field_storage.LOAD_SRC_HI.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
+            load_next_c = '1;
+        end
+        field_combo.LOAD_SRC_HI.VALUE.next = next_c;
+        field_combo.LOAD_SRC_HI.VALUE.load_next = load_next_c;
+    end
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            field_storage.LOAD_SRC_HI.VALUE.value <= 32'h0;
+        end else begin
+            if(field_combo.LOAD_SRC_HI.VALUE.load_next) begin
+                field_storage.LOAD_SRC_HI.VALUE.value <= field_combo.LOAD_SRC_HI.VALUE.next;
+            end
+        end
+    end
+    assign hwif_out.LOAD_SRC_HI.VALUE.value = field_storage.LOAD_SRC_HI.VALUE.value;
+    // Field: svo_core_regs.LOAD_WORDS.VALUE
+    always_comb begin
+        automatic logic [31:0] next_c;
+        automatic logic load_next_c;
+        next_c = field_storage.LOAD_WORDS.VALUE.value;
+        load_next_c = '0;
+        if(decoded_reg_strb.LOAD_WORDS && decoded_req_is_wr) begin // SW write
+            next_c = (field_storage.LOAD_WORDS.VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
+            load_next_c = '1;
+        end
+        field_combo.LOAD_WORDS.VALUE.next = next_c;
+        field_combo.LOAD_WORDS.VALUE.load_next = load_next_c;
+    end
+    always_ff @(posedge clk) begin
+        if(rst) begin
+            field_storage.LOAD_WORDS.VALUE.value <= 32'h0;
+        end else begin
+            if(field_combo.LOAD_WORDS.VALUE.load_next) begin
+                field_storage.LOAD_WORDS.VALUE.value <= field_combo.LOAD_WORDS.VALUE.next;
+            end
+        end
+    end
+    assign hwif_out.LOAD_WORDS.VALUE.value = field_storage.LOAD_WORDS.VALUE.value;
     for(genvar i0=0; i0<8; i0++) begin
         // Field: svo_core_regs.IMAGE[].NODE_BASE_LO.VALUE
         always_comb begin
@@ -1068,6 +1215,7 @@ module svo_core_regs (
         if(rd_mux_addr == 16'h8) begin
             readback_data_var[0] = hwif_in.STATUS.BUSY.next;
             readback_data_var[1] = field_storage.STATUS.DONE.value;
+            readback_data_var[2] = hwif_in.STATUS.LOADING.next;
             readback_data_var[11:8] = hwif_in.STATUS.ERROR.next;
             readback_data_var[15:12] = hwif_in.STATUS.FAULT.next;
         end
@@ -1107,6 +1255,15 @@ module svo_core_regs (
             if(rd_mux_addr == 16'h60 + (16)'(i0) * 16'h4) begin
                 readback_data_var[31:0] = field_storage.DIRTY_INSTANCE[i0].VALUE.value;
             end
+        end
+        if(rd_mux_addr == 16'h70) begin
+            readback_data_var[31:0] = field_storage.LOAD_SRC_LO.VALUE.value;
+        end
+        if(rd_mux_addr == 16'h74) begin
+            readback_data_var[31:0] = field_storage.LOAD_SRC_HI.VALUE.value;
+        end
+        if(rd_mux_addr == 16'h78) begin
+            readback_data_var[31:0] = field_storage.LOAD_WORDS.VALUE.value;
         end
         if(rd_mux_addr == 16'h100) begin
             readback_data_var[31:0] = hwif_in.CYCLES.LO.VALUE.next;
@@ -1161,6 +1318,12 @@ module svo_core_regs (
         end
         if(rd_mux_addr == 16'h144) begin
             readback_data_var[31:0] = hwif_in.REUSED.HI.VALUE.next;
+        end
+        if(rd_mux_addr == 16'h148) begin
+            readback_data_var[31:0] = hwif_in.LOAD_CYCLES.LO.VALUE.next;
+        end
+        if(rd_mux_addr == 16'h14c) begin
+            readback_data_var[31:0] = hwif_in.LOAD_CYCLES.HI.VALUE.next;
         end
         for(int i0=0; i0<8; i0++) begin
             if(rd_mux_addr == 16'h200 + (16)'(i0) * 16'h10) begin

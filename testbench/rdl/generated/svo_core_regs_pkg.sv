@@ -16,6 +16,10 @@ package svo_core_regs_pkg;
     } svo_core_regs__STATUS__DONE__in_t;
 
     typedef struct {
+        logic next;
+    } svo_core_regs__STATUS__LOADING__in_t;
+
+    typedef struct {
         logic [3:0] next;
     } svo_core_regs__STATUS__ERROR__in_t;
 
@@ -26,6 +30,7 @@ package svo_core_regs_pkg;
     typedef struct {
         svo_core_regs__STATUS__BUSY__in_t BUSY;
         svo_core_regs__STATUS__DONE__in_t DONE;
+        svo_core_regs__STATUS__LOADING__in_t LOADING;
         svo_core_regs__STATUS__ERROR__in_t ERROR;
         svo_core_regs__STATUS__FAULT__in_t FAULT;
     } svo_core_regs__STATUS__in_t;
@@ -60,6 +65,7 @@ package svo_core_regs_pkg;
         counter_rf__in_t STALL_STREAM;
         counter_rf__in_t NODE_READS;
         counter_rf__in_t REUSED;
+        counter_rf__in_t LOAD_CYCLES;
         svo_core_regs__INSTANCE_TABLE__external__in_t INSTANCE_TABLE;
     } svo_core_regs__in_t;
 
@@ -72,8 +78,13 @@ package svo_core_regs_pkg;
     } svo_core_regs__CTRL__IRQ_EN__out_t;
 
     typedef struct {
+        logic value;
+    } svo_core_regs__CTRL__LOAD__out_t;
+
+    typedef struct {
         svo_core_regs__CTRL__START__out_t START;
         svo_core_regs__CTRL__IRQ_EN__out_t IRQ_EN;
+        svo_core_regs__CTRL__LOAD__out_t LOAD;
     } svo_core_regs__CTRL__out_t;
 
     typedef struct {
@@ -169,6 +180,9 @@ package svo_core_regs_pkg;
         sw_word_r__out_t DIR_TABLE_BASE_LO;
         sw_word_r__out_t DIR_TABLE_BASE_HI;
         svo_core_regs__DIRTY_INSTANCE__out_t DIRTY_INSTANCE[4];
+        sw_word_r__out_t LOAD_SRC_LO;
+        sw_word_r__out_t LOAD_SRC_HI;
+        sw_word_r__out_t LOAD_WORDS;
         image_rf__out_t IMAGE[8];
         svo_core_regs__INSTANCE_TABLE__external__out_t INSTANCE_TABLE;
     } svo_core_regs__out_t;
