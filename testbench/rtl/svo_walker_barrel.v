@@ -31,11 +31,12 @@
 // The step (four stages, so STEP_LATENCY >= 4; svo_walker.v, one context, does it in three):
 //   X      the issue: the pool's scheduler grants the context (issue_grant, late in the cycle);
 //          only the selection is done: the context's index (an encoding of the one-hot grant),
-//          its four RAM words and two flags (apply, root) registered;
-//   X + 1  apply: a descriptor that arrived (the word in r_data) is applied: the child becomes
-//          the top frame, its first child found from its midpoints (in cram, or wram for the
-//          root), the parent pushed; otherwise the stored top frame and next child pass. The
-//          stack is read for a pop. Into stage A's registers;
+//          its wram and cram words and two flags (apply, root) registered;
+//   X + 1  apply (fram and nram read here by the registered index): a descriptor that arrived
+//          (the word in r_data) is applied: the child becomes the top frame, its first child
+//          found from its midpoints (in cram, or wram for the root), the parent pushed;
+//          otherwise the stored top frame and next child pass. The stack is read for a pop.
+//          Into stage A's registers;
 //   X + 2  stage A (svo_walker.v's S_COMP), the top frame written back into fram;
 //   X + 3  stage B (its first S_HOLD cycle), written back into nram; the step's child and its
 //          midpoints (computed here from stage A's registers) into cram. STEP_LATENCY - 4 hold
@@ -238,12 +239,13 @@ module svo_walker_barrel #(
     always @* for (ia = 0; ia < R; ia = ia + 1) arrive[ia] = resp[ia] && pend[ia] == P_DESC;
     reg           q_valid, q_apply, q_root;
     reg [RI-1:0]  q_k;
+    // wram and cram, which feed the first child's comparisons, are read here and registered;
+    // fram and nram, which only pass or are pushed, are read in the apply cycle by q_k (their
+    // words' registers would be 1,264 flip-flops; nothing writes the context's words between).
     // (each register takes the whole word; the apply cycle uses some fields, Yosys drops the rest)
     /* verilator lint_off UNUSEDSIGNAL */
     reg [WRW-1:0] w0;
-    reg [FRW-1:0] f0;
     reg [CRW-1:0] c0;
-    reg [NRW-1:0] n0;
     /* verilator lint_on UNUSEDSIGNAL */
     always @(posedge clk) begin
         q_valid <= !rst && s0;
@@ -251,9 +253,7 @@ module svo_walker_barrel #(
         q_root <= |(issue_grant & c_root);
         q_k <= k0;
         w0 <= wram[k0];
-        f0 <= fram[k0];
         c0 <= cram[k0];
-        n0 <= nram[k0];
     end
 
     // ---------------------------------------------------------------- the apply cycle (X + 1)
@@ -262,6 +262,10 @@ module svo_walker_barrel #(
     // take: no adder here), the parent pushed; otherwise the stored top frame passes. Also the
     // stack's read for a pop.
     wire [31:0] q_desc = r_data[q_k][31:0];
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [FRW-1:0] f0 = fram[q_k];
+    wire [NRW-1:0] n0 = nram[q_k];
+    /* verilator lint_on UNUSEDSIGNAL */
     // wram's fields.
     wire [2:0] w0_a = w0[WRW-4 -: 3];
     wire [3*TI-1:0] w0_t0 = w0[WRW-39-TAG_W -: 3*TI];
