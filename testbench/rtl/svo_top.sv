@@ -98,7 +98,7 @@ module svo_top
     parameter int ROOT_PROD = 4,
     parameter int STACK_DEPTH = 21,
     parameter int MAX_STEPS = 100000,
-    parameter int STEP_LATENCY = 3,
+    parameter int STEP_LATENCY = WALKER_POOL_STEP_LATENCY_CYCLES,  // the package's (barrel walker: >= 4)
     parameter int DIR_DEPTH = 64,             // direction FIFO entries
     parameter int DIR_BURST = 16,             // entries per direction burst (≤ 256, 4 KiB)
     parameter int OUT_DEPTH = 16,             // output beats

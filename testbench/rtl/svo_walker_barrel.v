@@ -12,27 +12,44 @@
 // What is where (per walker; W walkers = W copies of this module):
 //   context RAMs (LUT-RAM: each array written at one point, read asynchronously):
 //     wram  the walk's constants and root, written when a walk is taken: zero axes, mirror mask,
-//           attribute base, tag, the root's t0/t1, origin and half extent;
-//     fram  the top frame, written at the end of stage A (issue + 1): t0, t1, midpoints, zero-axis
-//           g and d, address, descriptor, level, coordinates;
-//     cram  the child in flight, written at the end of stage A of a step (not a pop): its t0, t1,
-//           g, coordinates, level;
-//     nram  written at the end of stage B (issue + 2): next child, step count, the hit's t and
+//           attribute base, tag, the root's t0/t1 and midpoints, origin and half extent;
+//     fram  the top frame, written at the end of stage A (issue + 2): t0, t1, midpoints,
+//           zero-axis g and d, address, descriptor, level, coordinates;
+//     cram  the child in flight, written at the end of stage B of a step (not a pop): its t0, t1,
+//           midpoints, g, coordinates, level;
+//     nram  written at the end of stage B (issue + 3): next child, step count, the hit's t and
 //           voxel, the far-escape address;
 //   stack RAM (block RAM: one synchronous port, depth CONTEXTS x (STACK_DEPTH - 1)): frames
-//     below each context's top, written by a descriptor's push at the issue, read for a pop at
-//     the issue (its data in stage A);
+//     below each context's top, written by a descriptor's push in the apply cycle (issue + 1),
+//     read for a pop in the same cycle (its data in stage A);
 //   per context registers (the sequencer, a few bits of each context beside the RAMs): state,
-//     pending read, hold count, stack pointer, the request address, the outcome, and one 64-bit
-//     word for the arrived descriptor (until its first issue) or the attribute record (until the
+//     pending read, hold count, stack pointer, the request address, the outcome, the chaining
+//     bases (the far-escape address and the attribute base, each with an adder for the word
+//     that chains a read in the cycle it arrives), and one 64-bit
+//     word for the arrived descriptor (until it is applied) or the attribute record (until the
 //     walk retires; several records can arrive in one cycle when reads merge).
-// The step: the issue cycle X reads the issuing context's RAM words (a descriptor that arrived
-// is applied here: the child becomes the top frame, its midpoints and first child computed
-// from the child's RAM word, the parent pushed) into the stage-A registers; X + 1 is stage A
-// (svo_walker.v's S_COMP) and X + 2 stage B (its first S_HOLD cycle), as in svo_walker.v, their
-// results written back. At most one context is in each stage (one issue a cycle), so one
-// datapath serves all contexts; a context's next issue is at X + STEP_LATENCY >= X + 3, after
-// its write-back.
+// The step (four stages, so STEP_LATENCY >= 4; svo_walker.v, one context, does it in three):
+//   X      the issue: the pool's scheduler grants the context (issue_grant, late in the cycle);
+//          only the selection is done: the context's index (an encoding of the one-hot grant),
+//          its wram and cram words and two flags (apply, root) registered;
+//   X + 1  apply (fram and nram read here by the registered index): a descriptor that arrived
+//          (the word in r_data) is applied: the child becomes the top frame, its first child
+//          found from its midpoints (in cram, or wram for the root), the parent pushed;
+//          otherwise the stored top frame and next child pass. The stack is read for a pop.
+//          Into stage A's registers;
+//   X + 2  stage A (svo_walker.v's S_COMP), the top frame written back into fram;
+//   X + 3  stage B (its first S_HOLD cycle), written back into nram; the step's child and its
+//          midpoints (computed here from stage A's registers) into cram. STEP_LATENCY - 4 hold
+//          cycles follow.
+// At most one context is in each stage (one issue a cycle), so one datapath serves all
+// contexts; a context's next issue is at X + STEP_LATENCY >= X + 4, after its write-back. The
+// cycles each context sees are svo_walker.v's at the same STEP_LATENCY (the model's
+// walker_pool.step_latency_cycles): the apply stage and stage B's midpoints only move work the
+// single-context walker does in its registers (its c_tm, c_first) into the step.
+// Why the apply stage: with the apply in the issue cycle (the step in three stages) the
+// selection (the grant, the LUT-RAM reads by the granted index) and the midpoints' 63-bit
+// adds and their comparisons were one path, 28 levels at CONTEXTS = 16 by the clock rule
+// (149 MHz); see testbench/README for the figures now.
 //
 // Responses: a context's node and leaf words (which chain a request in the cycle they arrive)
 // come one a cycle for the walker (svo_top's on-chip store breaks this only when a bank port
@@ -44,7 +61,7 @@ module svo_walker_barrel #(
     parameter T_W          = 62,
     parameter STACK_DEPTH  = 21,
     parameter MAX_STEPS    = 100000,
-    parameter STEP_LATENCY = 3,
+    parameter STEP_LATENCY = 4,
     parameter TAG_W        = 1,
     parameter CONTEXTS     = 2,
     parameter RI           = CONTEXTS > 1 ? $clog2(CONTEXTS) : 1   // context index bits
@@ -95,26 +112,31 @@ module svo_walker_barrel #(
     localparam F = STACK_DEPTH;
     localparam GW = POS_W + 2 + F;
     localparam FW = 9*TI + 32 + 32 + 4 + 5 + 60;   // a stack frame
-    localparam [31:0] HOLD1 = STEP_LATENCY - 3;    // hold cycles after stage B
+    localparam [31:0] HOLD1 = STEP_LATENCY - 4;    // hold cycles after stage B
     localparam SPW = $clog2(STACK_DEPTH) + 1;
     localparam SD = R * (STACK_DEPTH - 1);         // stack RAM depth
     localparam SAW = $clog2(SD) > 0 ? $clog2(SD) : 1;
     // RAM word widths.
-    localparam WRW = 3 + 3 + 32 + TAG_W + 6*TI + 3*(POS_W+1) + 3*POS_W;
+    localparam WRW = 3 + 3 + 32 + TAG_W + 9*TI + 3*(POS_W+1) + 3*POS_W;
     localparam FRW = 9*TI + 6*GW + 32 + 32 + 5 + 60;
-    localparam CRW = 6*TI + 3*GW + 60 + 5;
+    localparam CRW = 9*TI + 3*GW + 60 + 5;
     localparam NRW = 4 + 32 + T_W + 60 + 32;
 
     localparam [2:0] S_IDLE = 3'd0, S_REQ = 3'd1, S_MEMW = 3'd2, S_ISSUE = 3'd3,
-                     S_COMP = 3'd4, S_HOLD = 3'd5, S_OUT = 3'd6;
+                     S_COMP = 3'd4, S_HOLD = 3'd5, S_OUT = 3'd6, S_APPL = 3'd7;
     localparam [1:0] P_DESC = 2'd0, P_FAR = 2'd1, P_LEAF = 2'd2, P_ATTR = 2'd3;
     localparam [1:0] A_ISSUE = 2'd0, A_REQ = 2'd1, A_OUT = 2'd2;
 
     generate
-        if (STEP_LATENCY < 3 || STEP_LATENCY > 200 || STACK_DEPTH < 2 || STACK_DEPTH > 64
+        if (STEP_LATENCY > 200 || STACK_DEPTH < 2 || STACK_DEPTH > 64
             || CONTEXTS < 2 || CONTEXTS > 16)
         begin : bad_parameters
             svo_walker_barrel_unsupported_parameters fail ();
+        end
+        // The step is issue, apply, stage A, stage B: a context's next issue comes after its
+        // stage B's write-back (walker_pool.step_latency_cycles >= 4 when contexts_per_walker > 1).
+        if (STEP_LATENCY < 4) begin : step_latency_below_4
+            svo_walker_barrel_needs_step_latency_4_or_more fail ();
         end
     endgenerate
 
@@ -164,29 +186,23 @@ module svo_walker_barrel #(
     wire [63:0] rdata [0:R-1];                     // the responses, per context
     wire [R-1:0] resp, chain;
     // ---------------------------------------------------------------- the chaining response
-    // The one context whose node or leaf word arrives (a far word's child slot, a leaf's
-    // attribute record are requested in the cycle the word arrives).
-    reg [RI-1:0] rc;
-    reg [1:0]    n_chain;
+    // A far word's child slot and a leaf's attribute record are requested in the cycle the
+    // word arrives: per context its base (the far-escape address c_fa, kept beside nram's copy;
+    // the walk's attribute base, kept beside wram's) plus its word, one adder a context, so
+    // the response's path is base + word (no selection of the responding context, no RAM read
+    // by its index: that path was 16 levels, 4.5 ns, at CONTEXTS = 16).
+    reg [31:0] fa [0:R-1];                         // c_fa, written with nram
+    reg [31:0] ab [0:R-1];                         // the attribute base, written with wram
+    reg [31:0] chain_addr [0:R-1];
+    reg [1:0]  n_chain;
     integer ir;
     always @* begin
-        rc = {RI{1'b0}};
         n_chain = 2'd0;
-        for (ir = R - 1; ir >= 0; ir = ir - 1)
-            if (chain[ir]) begin
-                rc = ir[RI-1:0];
-                n_chain = n_chain == 2'd0 ? 2'd1 : 2'd2;
-            end
+        for (ir = 0; ir < R; ir = ir + 1) begin
+            chain_addr[ir] = (pend[ir] == P_FAR ? fa[ir] : ab[ir]) + rdata[ir][31:0];
+            if (chain[ir]) n_chain = n_chain == 2'd0 ? 2'd1 : 2'd2;
+        end
     end
-    // (each read port takes the whole word; some ports use some fields)
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire [NRW-1:0] rc_n = nram[rc];
-    wire [WRW-1:0] rc_w = wram[rc];
-    /* verilator lint_on UNUSEDSIGNAL */
-    wire [31:0] rc_word = rdata[rc][31:0];
-    wire [31:0] far_slot = rc_n[31:0] + rc_word;                        // c_fa + far pointer
-    wire [31:0] leaf_addr = rc_w[WRW-7 -: 32] + rc_word;                // attribute base + index
-    wire [31:0] chain_addr = pend[rc] == P_FAR ? far_slot : leaf_addr;
 
     genvar gc;
     generate
@@ -200,34 +216,61 @@ module svo_walker_barrel #(
             assign ev_resp[gc] = resp[gc];
             assign mem_req_valid[gc] = st[gc] == S_REQ || chain[gc];
             assign mem_req_attr[gc] = chain[gc] ? pend[gc] == P_LEAF : req_attr[gc];
-            assign mem_req_addr[gc*32 +: 32] = chain[gc] ? chain_addr : req_addr[gc];
+            assign mem_req_addr[gc*32 +: 32] = chain[gc] ? chain_addr[gc] : req_addr[gc];
         end
     endgenerate
 
-    // ---------------------------------------------------------------- stage 0: the issue
+    // ---------------------------------------------------------------- stage 0: the issue (X)
+    // Only the selection: the granted context's index and its four RAM words, registered, and
+    // two of its flags. issue_grant is one-hot (or zero) and only to a context with issue_req
+    // (the pool's scheduler: the oldest requester of the walker), so the index is a plain
+    // encoding of it; nothing of the issue cycle waits on arithmetic (the grant comes late in
+    // the cycle from the scheduler). The per-context registers req_addr, sp and r_data are read
+    // in the apply cycle by the registered index: they do not change in between.
     reg [RI-1:0] k0;
     integer ig;
     always @* begin
         k0 = {RI{1'b0}};
-        for (ig = R - 1; ig >= 0; ig = ig - 1) if (issue_grant[ig] && issue_req[ig]) k0 = ig[RI-1:0];
+        for (ig = 0; ig < R; ig = ig + 1) if (issue_grant[ig]) k0 = k0 | ig[RI-1:0];
     end
-    wire s0 = |(issue_grant & issue_req);
-    wire s0_arrive = resp[k0] && pend[k0] == P_DESC;
-    wire s0_apply = s0_arrive || apf[k0];          // the descriptor arrived: apply it
-    wire s0_root = c_root[k0];
-    wire [31:0] s0_desc = s0_arrive ? rdata[k0][31:0] : r_data[k0][31:0];
-    // (each read port takes the whole word; some ports use some fields)
+    wire s0 = |issue_grant;
+    reg [R-1:0] arrive;                            // a descriptor arrives (applied at this issue)
+    integer ia;
+    always @* for (ia = 0; ia < R; ia = ia + 1) arrive[ia] = resp[ia] && pend[ia] == P_DESC;
+    reg           q_valid, q_apply, q_root;
+    reg [RI-1:0]  q_k;
+    // wram and cram, which feed the first child's comparisons, are read here and registered;
+    // fram and nram, which only pass or are pushed, are read in the apply cycle by q_k (their
+    // words' registers would be 1,264 flip-flops; nothing writes the context's words between).
+    // (each register takes the whole word; the apply cycle uses some fields, Yosys drops the rest)
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [WRW-1:0] w0 = wram[k0];
-    wire [FRW-1:0] f0 = fram[k0];
-    wire [CRW-1:0] c0 = cram[k0];
-    wire [NRW-1:0] n0 = nram[k0];
+    reg [WRW-1:0] w0;
+    reg [CRW-1:0] c0;
+    /* verilator lint_on UNUSEDSIGNAL */
+    always @(posedge clk) begin
+        q_valid <= !rst && s0;
+        q_apply <= |(issue_grant & (apf | arrive));
+        q_root <= |(issue_grant & c_root);
+        q_k <= k0;
+        w0 <= wram[k0];
+        c0 <= cram[k0];
+    end
+
+    // ---------------------------------------------------------------- the apply cycle (X + 1)
+    // A descriptor that arrived is applied here: the child becomes the top frame, its first
+    // child found from its midpoints (computed with the child in stage B, the root's at the
+    // take: no adder here), the parent pushed; otherwise the stored top frame passes. Also the
+    // stack's read for a pop.
+    wire [31:0] q_desc = r_data[q_k][31:0];
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [FRW-1:0] f0 = fram[q_k];
+    wire [NRW-1:0] n0 = nram[q_k];
     /* verilator lint_on UNUSEDSIGNAL */
     // wram's fields.
-    wire [2:0] w0_zero = w0[WRW-1 -: 3];
     wire [2:0] w0_a = w0[WRW-4 -: 3];
     wire [3*TI-1:0] w0_t0 = w0[WRW-39-TAG_W -: 3*TI];
     wire [3*TI-1:0] w0_t1 = w0[WRW-39-TAG_W-3*TI -: 3*TI];
+    wire [3*TI-1:0] w0_tm = w0[WRW-39-TAG_W-6*TI -: 3*TI];
     wire [3*(POS_W+1)-1:0] w0_o = w0[3*POS_W +: 3*(POS_W+1)];
     wire [3*POS_W-1:0] w0_half = w0[0 +: 3*POS_W];
     // The applied frame (a descriptor's child) or the stored one.
@@ -242,9 +285,10 @@ module svo_walker_barrel #(
     integer j0;
     always @* begin
         for (j0 = 0; j0 < 3; j0 = j0 + 1) begin
-            if (s0_root) begin
+            if (q_root) begin
                 a0_t0[j0] = w0_t0[j0*TI +: TI];
                 a0_t1[j0] = w0_t1[j0*TI +: TI];
+                a0_tm[j0] = w0_tm[j0*TI +: TI];
                 a0_g[j0] = {~{{(GW-F-POS_W-1){w0_o[j0*(POS_W+1) + POS_W]}},
                               w0_o[j0*(POS_W+1) +: POS_W+1]}, {F{1'b0}}};
                 a0_d[j0] = {{(GW-F-POS_W){w0_half[j0*POS_W + POS_W-1]}},
@@ -253,32 +297,31 @@ module svo_walker_barrel #(
             end else begin
                 a0_t0[j0] = c0[CRW-1-j0*TI -: TI];
                 a0_t1[j0] = c0[CRW-1-(3+j0)*TI -: TI];
-                a0_g[j0] = c0[CRW-1-6*TI-j0*GW -: GW];
+                a0_tm[j0] = c0[CRW-1-(6+j0)*TI -: TI];
+                a0_g[j0] = c0[CRW-1-9*TI-j0*GW -: GW];
                 a0_d[j0] = $signed(f0[FRW-1-9*TI-(3+j0)*GW -: GW]) >>> 1;
                 a0_c[j0] = c0[5 + (2-j0)*20 +: 20];
             end
-            a0_tm[j0] = !w0_zero[j0] ? mid_t(a0_t0[j0], a0_t1[j0])
-                      : a0_g[j0][GW-1] ? NEG_INF : POS_INF;
         end
         for (j0 = 0; j0 < 3; j0 = j0 + 1)
             a0_first[2-j0] = a0_tm[j0] < a0_t0[0] || a0_tm[j0] < a0_t0[1] || a0_tm[j0] < a0_t0[2];
         a0_first[3] = 1'b0;
-        a0_level = s0_root ? 5'd0 : c0[4:0];
+        a0_level = q_root ? 5'd0 : c0[4:0];
     end
     // The frame into stage A.
-    wire [FRW-1:0] s0_frame = s0_apply
+    wire [FRW-1:0] s0_frame = q_apply
         ? {a0_t0[0], a0_t0[1], a0_t0[2], a0_t1[0], a0_t1[1], a0_t1[2], a0_tm[0], a0_tm[1],
-           a0_tm[2], a0_g[0], a0_g[1], a0_g[2], a0_d[0], a0_d[1], a0_d[2], req_addr[k0],
-           s0_desc, a0_level, a0_c[0], a0_c[1], a0_c[2]}
+           a0_tm[2], a0_g[0], a0_g[1], a0_g[2], a0_d[0], a0_d[1], a0_d[2], req_addr[q_k],
+           q_desc, a0_level, a0_c[0], a0_c[1], a0_c[2]}
         : f0;
-    wire [3:0]  s0_next = s0_apply ? a0_first : n0[NRW-1 -: 4];
-    wire [31:0] s0_steps = s0_apply && s0_root ? 32'd0 : n0[NRW-5 -: 32];
+    wire [3:0]  s0_next = q_apply ? a0_first : n0[NRW-1 -: 4];
+    wire [31:0] s0_steps = q_apply && q_root ? 32'd0 : n0[NRW-5 -: 32];
     // The stack: a descriptor (not the root's) pushes the parent; otherwise read the frame a
     // pop would take.
-    wire s0_push = s0 && s0_apply && !s0_root;
-    wire [SPW-1:0] sp0 = sp[k0];
+    wire s0_push = q_valid && q_apply && !q_root;
+    wire [SPW-1:0] sp0 = sp[q_k];
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [31:0] s0_base = k0 * (STACK_DEPTH - 1);
+    wire [31:0] s0_base = q_k * (STACK_DEPTH - 1);
     wire [31:0] s0_slot = s0_base + (s0_push || sp0 == {SPW{1'b0}} ? {{(32-SPW){1'b0}}, sp0}
                                                                     : {{(32-SPW){1'b0}}, sp0} - 32'd1);
     /* verilator lint_on UNUSEDSIGNAL */
@@ -289,13 +332,13 @@ module svo_walker_barrel #(
         stk_q <= stk[s0_slot[SAW-1:0]];
     end
 
-    // ---------------------------------------------------------------- stage A (issue + 1)
+    // ---------------------------------------------------------------- stage A (issue + 2)
     reg           p1_valid;
     reg [RI-1:0]  p1_k;
     reg [FRW-1:0] p1_f;
     reg [3:0]     f_next;
     reg [31:0]    p1_steps;
-    reg [2:0]     w_a;
+    reg [2:0]     w_a, w_z;
     reg [2:0]     f_pc [0:7];
     // (each read port takes the whole word; some ports use some fields)
     /* verilator lint_off UNUSEDSIGNAL */
@@ -304,12 +347,13 @@ module svo_walker_barrel #(
     wire [23:0] pc0 = prefix_counts(s0_fdesc[14:8]);
     integer jp;
     always @(posedge clk) begin
-        p1_valid <= !rst && s0;
-        p1_k <= k0;
+        p1_valid <= !rst && q_valid;
+        p1_k <= q_k;
         p1_f <= s0_frame;
         f_next <= s0_next;
         p1_steps <= s0_steps;
         w_a <= w0_a;
+        w_z <= w0[WRW-1 -: 3];
         for (jp = 0; jp < 8; jp = jp + 1) f_pc[jp] <= pc0[3*jp +: 3];
     end
     // The top frame's fields.
@@ -359,16 +403,12 @@ module svo_walker_barrel #(
             s_g[k] = f_g[k] + (s_y ^ {GW{s_neg}}) + {{(GW-1){1'b0}}, s_neg};
         end
     end
-    // Write-back of stage A: the top frame (a pop's parent from the stack, its g and d), and a
-    // step's child.
+    // Write-back of stage A: the top frame (a pop's parent from the stack, its g and d).
     wire [FW-1:0] sq = stk_q;
     wire [FRW-1:0] pop_frame = {sq[FW-1 -: 9*TI], s_g[0], s_g[1], s_g[2], f_d[0] <<< 1,
                                 f_d[1] <<< 1, f_d[2] <<< 1, sq[FW-1-9*TI -: 64], sq[64:0]};
     always @(posedge clk) begin
         if (p1_valid) fram[p1_k] <= popping ? pop_frame : p1_f;
-        if (p1_valid && !popping)
-            cram[p1_k] <= {s_t0[0], s_t0[1], s_t0[2], s_t1[0], s_t1[1], s_t1[2], s_g[0], s_g[1],
-                           s_g[2], s_c[0], s_c[1], s_c[2], f_level + 5'd1};
     end
     // Stage A's registers (svo_walker's a_* and the child's fields stage B reads).
     reg           p2_valid, p2_pop;
@@ -376,7 +416,11 @@ module svo_walker_barrel #(
     reg [3:0]     p2_next;
     reg [31:0]    p2_steps, p2_addr;
     reg signed [TI-1:0] c_t0 [0:2];
+    reg signed [TI-1:0] c_t1 [0:2];
+    reg signed [GW-1:0] c_g [0:2];
     reg [19:0] c_c [0:2];
+    reg [4:0]  c_level;
+    reg [2:0]  c_z;
     reg [8:0]  a_lt;
     reg [2:0]  a_pos, a_t0pos;
     reg        a_n01, a_n02, a_n12, a_e01, a_e02, a_e12;
@@ -393,11 +437,15 @@ module svo_walker_barrel #(
         p2_addr <= f_addr;
         for (j = 0; j < 3; j = j + 1) begin
             c_t0[j] <= s_t0[j];
+            c_t1[j] <= s_t1[j];
+            c_g[j] <= s_g[j];
             c_c[j] <= s_c[j];
             a_pos[j] <= s_t1[j] > T_ZERO;
             a_t0pos[j] <= s_t0[j] > T_ZERO;
         end
         a_lt <= s_lt;
+        c_level <= f_level + 5'd1;
+        c_z <= w_z;
         a_n01 <= s_t1[0] <= s_t1[1];
         a_n02 <= s_t1[0] <= s_t1[2];
         a_n12 <= s_t1[1] <= s_t1[2];
@@ -413,7 +461,7 @@ module svo_walker_barrel #(
         a_ovf <= {{(32-SPW){1'b0}}, sp1} + 32'd1 >= STACK_DEPTH;
     end
 
-    // ---------------------------------------------------------------- stage B (issue + 2)
+    // ---------------------------------------------------------------- stage B (issue + 3)
     wire        b_in = &a_lt && &a_pos;
     wire        b_enter = b_in && a_valid;
     wire [2:0]  b_cc = p2_next[2:0];
@@ -424,6 +472,17 @@ module svo_walker_barrel #(
                       : (!a_leaf && a_ovf) ? A_OUT : A_REQ;
     wire [31:0] b_slot_addr = a_base + {28'd0, a_slot};
     wire [T_W-1:0] b_t = a_t0pos[b_axis] ? c_t0[b_axis][T_W-1:0] : {T_W{1'b0}};
+    // The step's child (not a pop's) into cram with its midpoints, so that applying its
+    // descriptor has no adder: tm = floor((t0 + t1) / 2), on a zero axis +-inf by the side of
+    // its centre (g >= 0: +inf).
+    reg signed [TI-1:0] c_tm [0:2];
+    integer jb;
+    always @* for (jb = 0; jb < 3; jb = jb + 1)
+        c_tm[jb] = !c_z[jb] ? mid_t(c_t0[jb], c_t1[jb]) : c_g[jb][GW-1] ? NEG_INF : POS_INF;
+    always @(posedge clk)
+        if (p2_valid && !p2_pop)
+            cram[p2_k] <= {c_t0[0], c_t0[1], c_t0[2], c_t1[0], c_t1[1], c_t1[2], c_tm[0], c_tm[1],
+                           c_tm[2], c_g[0], c_g[1], c_g[2], c_c[0], c_c[1], c_c[2], c_level};
     always @(posedge clk)
         if (p2_valid)
             nram[p2_k] <= {p2_pop || a_lim ? p2_next : b_next,
@@ -437,10 +496,17 @@ module svo_walker_barrel #(
         kt = {RI{1'b0}};
         for (it = R - 1; it >= 0; it = it - 1) if (in_take[it]) kt = it[RI-1:0];
     end
+    // The root's midpoints (its zero axes' +-inf by the side of its centre 0: g = ~ox >= 0,
+    // +inf, iff ox < 0), ready for its descriptor's apply as a child's are.
+    reg [3*TI-1:0] in_tm;
+    integer jt;
+    always @* for (jt = 0; jt < 3; jt = jt + 1)
+        in_tm[jt*TI +: TI] = !in_zero[jt] ? mid_t(in_t0[jt*TI +: TI], in_t1[jt*TI +: TI])
+                           : !in_o[jt*(POS_W+1) + POS_W] ? NEG_INF : POS_INF;
     always @(posedge clk)
         if (|in_take)
             wram[kt] <= {in_zero, in_neg[0], in_neg[1], in_neg[2], in_attr_base, in_tag, in_t0,
-                         in_t1, in_o, in_half};
+                         in_t1, in_tm, in_o, in_half};
 
     integer n;
     always @(posedge clk) begin
@@ -465,24 +531,25 @@ module svo_walker_barrel #(
                     P_DESC: begin
                         r_data[n] <= rdata[n];
                         apf[n] <= 1'b1;
-                        st[n] <= issue_grant[n] ? S_COMP : S_ISSUE;
+                        st[n] <= issue_grant[n] ? S_APPL : S_ISSUE;
                     end
                     P_FAR: begin
                         pend[n] <= c_leaf[n] ? P_LEAF : P_DESC;
-                        req_addr[n] <= far_slot;
+                        req_addr[n] <= chain_addr[n];
                         req_attr[n] <= 1'b0;
                         st[n] <= mem_req_ready[n] ? S_MEMW : S_REQ;
                     end
                     P_LEAF: begin
                         pend[n] <= P_ATTR;
-                        req_addr[n] <= leaf_addr;
+                        req_addr[n] <= chain_addr[n];
                         req_attr[n] <= 1'b1;
                         st[n] <= mem_req_ready[n] ? S_MEMW : S_REQ;
                     end
                     default: ;
                     endcase
                 end
-                S_ISSUE: if (issue_grant[n]) st[n] <= S_COMP;
+                S_ISSUE: if (issue_grant[n]) st[n] <= S_APPL;
+                S_APPL: st[n] <= S_COMP;
                 S_COMP: begin
                     st[n] <= S_HOLD;
                     hold_left[n] <= HOLD1[7:0];
@@ -529,13 +596,16 @@ module svo_walker_barrel #(
                 end
                 default: ;
                 endcase
-                // The issue: the descriptor is applied (the parent pushed).
-                if (s0 && k0 == n[RI-1:0]) begin
+                // The apply cycle: the descriptor is applied (the parent pushed).
+                if (q_valid && q_k == n[RI-1:0]) begin
                     apf[n] <= 1'b0;
                     if (s0_push) sp[n] <= sp[n] + 1'b1;
                 end
+                // Stage B's far-escape address (as nram's).
+                if (p2_valid && p2_k == n[RI-1:0]) fa[n] <= p2_addr + {28'd0, a_slot};
                 // A new walk (possibly in the cycle the previous result leaves).
                 if (in_take[n]) begin
+                    ab[n] <= in_attr_base;
                     c_root[n] <= 1'b1;
                     c_leaf[n] <= 1'b0;
                     req_addr[n] <= in_node_base;
