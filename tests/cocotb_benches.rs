@@ -577,47 +577,7 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
 #[test]
 fn core_pool_of_two_walkers_of_four_contexts_renders_frames_equal_to_the_model() {
     let Some(venv) = venv() else { return };
-    let root = fresh_dir("core_pool_2x4");
-    let car = root.join("car");
-    let car1 = root.join("car1");
-    let model = core_frame_case_on(&car, "scenes/car.ron", 2, "pool_2x4", 4);
-    core_frame_vectors(
-        &car1,
-        &repo().join("scenes/car.ron").display().to_string(),
-        1,
-    );
-    let run_core = |extra: &[String]| {
-        let mut env = vec![
-            format!("SVO_VECTORS={}", car.display()),
-            "SVO_HW=pool_2x4".to_string(),
-            "SVO_NPIX=160".to_string(),
-            format!("SVO_MEM_LATENCY={FRAME_MEM_LATENCY}"),
-        ];
-        env.extend(extra.iter().cloned());
-        let env: Vec<&str> = env.iter().map(String::as_str).collect();
-        bench(&venv, "core", &env)
-    };
-    let c0 = format!("SVO_MODEL_CYCLES={}", model[0].0);
-    let (ok, text, secs) = run_core(&[
-        c0.clone(),
-        format!("SVO_VECTORS1={}", car1.display()),
-        format!("SVO_MODEL_CYCLES1={}", model[1].0),
-        "SVO_FRAMES=2".to_string(),
-    ]);
-    eprintln!("core pool_2x4 car: {secs:.1} s (build included)");
-    assert!(ok, "core bench, pool_2x4, car:\n{text}");
-    frames_equal_the_model("car on pool_2x4", &text, &model);
-
-    let (ok, text, _) = run_core(&[
-        c0.clone(),
-        "SVO_STALL=20".to_string(),
-        "SVO_SEED=1".to_string(),
-    ]);
-    assert!(ok, "core bench, pool_2x4, stalls:\n{text}");
-    let (equal, n, cycles, _) = core_frame_line(&text, 0);
-    println!("core pool_2x4 car, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles");
-    assert_eq!((equal, n), (160, 160), "{text}");
-
+    let (run_core, c0) = core_pool_car_frames_and_stalls(&venv, "pool_2x4");
     let (ok, text, _) = run_core(&[c0, "SVO_CORRUPT=cycles".to_string()]);
     assert!(!ok, "SVO_CORRUPT=cycles must fail the bench:\n{text}");
     let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("FAIL ")).collect();
@@ -639,25 +599,37 @@ fn core_pool_of_two_walkers_of_four_contexts_renders_frames_equal_to_the_model()
 #[test]
 fn core_pool_of_four_walkers_of_two_contexts_shares_the_onchip_store_as_the_model() {
     let Some(venv) = venv() else { return };
-    let root = fresh_dir("core_pool_4x2");
+    // The corruption checks are the other cases' (same bench): the runner is not needed again.
+    let _ = core_pool_car_frames_and_stalls(&venv, "pool_4x2");
+}
+
+/// The car's two 16 × 10 frames on svo_top built on testbench/hw/`hw`_pkg.sv (every pixel
+/// equal, the model's cycles and reuse), then frame 0 with random stalls (seed 1: every pixel
+/// once and right). Returns the bench runner on the car's vectors and frame 0's expected
+/// cycles, for a case's further runs.
+fn core_pool_car_frames_and_stalls<'a>(
+    venv: &'a Path,
+    hw: &'a str,
+) -> (impl Fn(&[String]) -> (bool, String, f64) + 'a, String) {
+    let root = fresh_dir(&format!("core_{hw}"));
     let car = root.join("car");
     let car1 = root.join("car1");
-    let model = core_frame_case_on(&car, "scenes/car.ron", 2, "pool_4x2", 4);
+    let model = core_frame_case_on(&car, "scenes/car.ron", 2, hw, 4);
     core_frame_vectors(
         &car1,
         &repo().join("scenes/car.ron").display().to_string(),
         1,
     );
-    let run_core = |extra: &[String]| {
+    let run_core = move |extra: &[String]| {
         let mut env = vec![
             format!("SVO_VECTORS={}", car.display()),
-            "SVO_HW=pool_4x2".to_string(),
+            format!("SVO_HW={hw}"),
             "SVO_NPIX=160".to_string(),
             format!("SVO_MEM_LATENCY={FRAME_MEM_LATENCY}"),
         ];
         env.extend(extra.iter().cloned());
         let env: Vec<&str> = env.iter().map(String::as_str).collect();
-        bench(&venv, "core", &env)
+        bench(venv, "core", &env)
     };
     let c0 = format!("SVO_MODEL_CYCLES={}", model[0].0);
     let (ok, text, secs) = run_core(&[
@@ -666,15 +638,20 @@ fn core_pool_of_four_walkers_of_two_contexts_shares_the_onchip_store_as_the_mode
         format!("SVO_MODEL_CYCLES1={}", model[1].0),
         "SVO_FRAMES=2".to_string(),
     ]);
-    eprintln!("core pool_4x2 car: {secs:.1} s (build included)");
-    assert!(ok, "core bench, pool_4x2, car:\n{text}");
-    frames_equal_the_model("car on pool_4x2", &text, &model);
+    eprintln!("core {hw} car: {secs:.1} s (build included)");
+    assert!(ok, "core bench, {hw}, car:\n{text}");
+    frames_equal_the_model(&format!("car on {hw}"), &text, &model);
 
-    let (ok, text, _) = run_core(&[c0, "SVO_STALL=20".to_string(), "SVO_SEED=1".to_string()]);
-    assert!(ok, "core bench, pool_4x2, stalls:\n{text}");
+    let (ok, text, _) = run_core(&[
+        c0.clone(),
+        "SVO_STALL=20".to_string(),
+        "SVO_SEED=1".to_string(),
+    ]);
+    assert!(ok, "core bench, {hw}, stalls:\n{text}");
     let (equal, n, cycles, _) = core_frame_line(&text, 0);
-    println!("core pool_4x2 car, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles");
+    println!("core {hw} car, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles");
     assert_eq!((equal, n), (160, 160), "{text}");
+    (run_core, c0)
 }
 
 /// The node memory's latency of testbench/hw/frame_hw.ron (every read, cycles).
