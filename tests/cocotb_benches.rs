@@ -165,7 +165,8 @@ fn hit_buffer_reuses_across_frames_as_the_model_rows_say() {
 /// `verilator --lint-only -Wall`), `lint_core` (svo_core, the whole accelerator, the same),
 /// `lint_top` (svo_top, the core behind its AXI interfaces, the same, with the generated files'
 /// waivers of testbench/lint_waivers.vlt; `lint_top_pool` and `lint_top_pool4` on the 2 x 4
-/// and 4 x 2 walker pools) and `lint_regs` (the generated register block, without -Wall:
+/// and 4 x 2 walker pools), `lint_cache` (the node cache on its AXI4 ports, a standalone unit)
+/// and `lint_regs` (the generated register block, without -Wall:
 /// PeakRDL's code), both with the venv's Verilator 5.048 (Debian's 5.006 fails inside on the
 /// register block); `sim` (tb_hit_record in Icarus on the golden vectors: every row passes);
 /// `synth` (Yosys `synth_xilinx -family xcup` of svo_hit_buffer: accepted, the buffer in block
@@ -193,6 +194,7 @@ fn fusesoc_lint_sim_and_synth_targets_pass() {
         ("lint_top", None),
         ("lint_top_pool", None),
         ("lint_top_pool4", None),
+        ("lint_cache", None),
         ("lint_regs", None),
         ("sim", Some(vectors.as_str())),
         ("synth", None),
