@@ -68,6 +68,10 @@ pub struct HardwareArgs {
     /// With --levels: stages shown.
     #[arg(long, value_name = "N", default_value_t = 8, requires = "levels")]
     stages: usize,
+    /// With --levels: also print each shown stage's slowest path, from the register it
+    /// starts at, as the named nets it passes and the cells between them.
+    #[arg(long, requires = "levels")]
+    path: bool,
     /// With --sv-package: the package's name.
     #[arg(
         long,
@@ -81,7 +85,7 @@ pub struct HardwareArgs {
 /// Runs `sim hardware`.
 pub fn hardware_command(a: HardwareArgs) -> Result<()> {
     if let Some(json) = &a.levels {
-        return levels_command(json, a.top.as_deref(), &a.rule, a.stages);
+        return levels_command(json, a.top.as_deref(), &a.rule, a.stages, a.path);
     }
     let hw = load_hardware(a.hw.as_deref())?;
     let dp = load_datapath(a.datapath.as_deref())?;
@@ -146,7 +150,13 @@ pub fn hardware_command(a: HardwareArgs) -> Result<()> {
 }
 
 /// `sim hardware --levels JSON --top MODULE --rule NAME`: the netlist's slowest stages.
-fn levels_command(json: &Path, top: Option<&str>, rule: &str, shown: usize) -> Result<()> {
+fn levels_command(
+    json: &Path,
+    top: Option<&str>,
+    rule: &str,
+    shown: usize,
+    path: bool,
+) -> Result<()> {
     let Some(top) = top else {
         bail!("--levels needs --top MODULE (the netlist's top module)");
     };
@@ -165,5 +175,8 @@ fn levels_command(json: &Path, top: Option<&str>, rule: &str, shown: usize) -> R
         "{}",
         text::levels_text(&json.display().to_string(), top, &stages, &r, shown)
     );
+    if path {
+        print!("{}", text::paths_text(&stages, shown));
+    }
     Ok(())
 }

@@ -70,6 +70,20 @@ pub struct StagePath {
     pub path: PathLevels,
     /// Its delay by the clock rule, picoseconds (clock-to-out, setup and margin included).
     pub ps: u32,
+    /// The path itself, from the register (or input) it starts at to the stage's register:
+    /// per net bit on the way, the kind of the cell driving it (empty for the start) and the
+    /// bit's RTL name when it has one.
+    pub through: Vec<PathCell>,
+}
+
+/// One net bit on a stage's slowest path.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PathCell {
+    /// The kind of the combinational cell that drives the bit (`LUT6`, `CARRY4`, …); empty
+    /// for the path's start, a register's or an input's output.
+    pub kind: String,
+    /// The bit's RTL name (its net's stem), if the netlist keeps one.
+    pub net: Option<String>,
 }
 
 /// How a cell takes part in the timing graph.
@@ -125,6 +139,8 @@ struct Graph<'a> {
     /// Net bit → the combinational cell that drives it.
     driver: HashMap<u64, usize>,
     memo: HashMap<u64, Arrival>,
+    /// Net bit → the input bit its slowest arrival came through (bits with a driver only).
+    pred: HashMap<u64, u64>,
 }
 
 impl Graph<'_> {
@@ -183,6 +199,7 @@ impl Graph<'_> {
                 (0, PathLevels::default())
             };
             let mut best: Arrival = (0, PathLevels::default());
+            let mut best_input = None;
             for (chain, i) in inputs {
                 // An input still unresolved here is on a combinational loop: it starts none.
                 let mut a = self.memo.get(&i).copied().unwrap_or_default();
@@ -190,9 +207,13 @@ impl Graph<'_> {
                     a.0 += entry.0;
                     a.1.luts += entry.1.luts;
                 }
-                if a.0 > best.0 {
+                if a.0 > best.0 || best_input.is_none() {
                     best = a;
+                    best_input = Some(i);
                 }
+            }
+            if let Some(i) = best_input {
+                self.pred.insert(bit, i);
             }
             let lv = PathLevels {
                 luts: best.1.luts + p.luts,
@@ -202,6 +223,32 @@ impl Graph<'_> {
             self.memo.insert(bit, (best.0 + w, lv));
         }
         self.memo.get(&b).copied().unwrap_or_default()
+    }
+
+    /// The slowest path into net bit `end` (resolved by [`Graph::arrival`]), from its start:
+    /// each bit with its driving cell's kind and its RTL name.
+    fn path_to(&self, end: u64, names: &HashMap<u64, String>) -> Vec<PathCell> {
+        let mut bits = vec![end];
+        let mut b = end;
+        // Each step goes to an earlier bit of an acyclic walk (a loop's bits start none).
+        while let Some(&p) = self.pred.get(&b) {
+            if bits.len() > self.cells.len() {
+                break;
+            }
+            bits.push(p);
+            b = p;
+        }
+        bits.iter()
+            .rev()
+            .map(|b| PathCell {
+                kind: self
+                    .driver
+                    .get(b)
+                    .map(|&ci| self.cells[ci].kind.trim_start_matches('\\').to_string())
+                    .unwrap_or_default(),
+                net: names.get(b).cloned(),
+            })
+            .collect()
     }
 
     /// Input bits of a combinational cell that its outputs depend on (a LUT-RAM's read
@@ -289,8 +336,10 @@ pub fn stage_paths(json: &str, top: &str, rule: ClockRule) -> Result<Vec<StagePa
         roles: roles.clone(),
         driver,
         memo: HashMap::new(),
+        pred: HashMap::new(),
     };
-    let mut stages: HashMap<String, Arrival> = HashMap::new();
+    // Per stage: its slowest arrival and the endpoint bit it arrives at.
+    let mut stages: HashMap<String, (Arrival, Option<u64>)> = HashMap::new();
     for (i, c) in cells.iter().enumerate() {
         // Every input of a register-like cell ends paths, and so does a LUT-RAM's write side
         // (data, write enable, write address), in pin-name order.
@@ -332,8 +381,8 @@ pub fn stage_paths(json: &str, top: &str, rule: ClockRule) -> Result<Vec<StagePa
                 if let Bit::Net(x) = b {
                     let a = g.arrival(*x);
                     let e = stages.entry(stage.clone()).or_default();
-                    if a.0 > e.0 {
-                        *e = a;
+                    if a.0 > e.0 .0 || e.1.is_none() {
+                        *e = (a, Some(*x));
                     }
                 }
             }
@@ -342,10 +391,11 @@ pub fn stage_paths(json: &str, top: &str, rule: ClockRule) -> Result<Vec<StagePa
     let fixed = rule.clk_to_out_setup_ps + rule.margin_ps;
     let mut out: Vec<StagePath> = stages
         .into_iter()
-        .map(|(stage, (ps, path))| StagePath {
+        .map(|(stage, ((ps, path), end))| StagePath {
             stage,
             path,
             ps: ps + fixed,
+            through: end.map(|b| g.path_to(b, &names)).unwrap_or_default(),
         })
         .collect();
     out.sort_by(|a, b| b.ps.cmp(&a.ps).then_with(|| a.stage.cmp(&b.stage)));
@@ -392,6 +442,9 @@ mod tests {
         );
         assert_eq!(r.levels(&s[0].path), 2);
         assert_eq!(s[0].ps, 150 + 300 + 450 + 2 * 50);
+        // The path: r0's output, then the LUT and the two carry cells (no net names kept).
+        let kinds: Vec<&str> = s[0].through.iter().map(|c| c.kind.as_str()).collect();
+        assert_eq!(kinds, ["", "LUT2", "CARRY4", "CARRY4"]);
         let copy = s.iter().find(|p| p.stage == "copy_q").unwrap();
         assert_eq!(copy.path, PathLevels::default());
         assert!(stage_paths(NET, "nope", r).is_err());

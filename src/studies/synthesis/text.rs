@@ -269,3 +269,54 @@ pub fn levels_text(
     }
     s
 }
+
+/// The slowest path of each of the first `shown` stages (`sim hardware --levels --path`): the
+/// named nets it passes, from the register it starts at, with the cells between two names
+/// counted by kind (a run without names is what synthesis did not keep a name for).
+pub fn paths_text(stages: &[super::netlist::StagePath], shown: usize) -> String {
+    let mut s = String::new();
+    for p in stages.iter().take(shown) {
+        let _ = writeln!(s, "path into {}:", p.stage);
+        // Runs of unnamed cells, as (kind, count) in order, between the named bits.
+        let mut run: Vec<(&str, usize)> = Vec::new();
+        let mut parts: Vec<String> = Vec::new();
+        let flush = |run: &mut Vec<(&str, usize)>, parts: &mut Vec<String>| {
+            if !run.is_empty() {
+                let cells: Vec<String> = run
+                    .iter()
+                    .map(|(k, n)| {
+                        if *n > 1 {
+                            format!("{k} ×{n}")
+                        } else {
+                            k.to_string()
+                        }
+                    })
+                    .collect();
+                parts.push(format!("[{}]", cells.join(", ")));
+                run.clear();
+            }
+        };
+        for (i, c) in p.through.iter().enumerate() {
+            if !c.kind.is_empty() {
+                match run.last_mut() {
+                    Some((k, n)) if *k == c.kind => *n += 1,
+                    _ => run.push((c.kind.as_str(), 1)),
+                }
+            }
+            // A name ends the run before it; the same name again (a wide net's bits) once.
+            if let Some(name) = &c.net {
+                let repeat = i > 0 && p.through[i - 1].net.as_ref() == Some(name);
+                if !repeat {
+                    flush(&mut run, &mut parts);
+                    parts.push(name.clone());
+                }
+            } else if i == 0 {
+                parts.push("(unnamed register)".to_string());
+            }
+        }
+        flush(&mut run, &mut parts);
+        parts.push(format!("→ {}", p.stage));
+        let _ = writeln!(s, "  {}", parts.join(" → ").replace("→ → ", "→ "));
+    }
+    s
+}
