@@ -315,8 +315,43 @@ pub fn paths_text(stages: &[super::netlist::StagePath], shown: usize) -> String 
             }
         }
         flush(&mut run, &mut parts);
-        parts.push(format!("→ {}", p.stage));
-        let _ = writeln!(s, "  {}", parts.join(" → ").replace("→ → ", "→ "));
+        parts.push(p.stage.clone());
+        let _ = writeln!(s, "  {}", parts.join(" → "));
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::netlist::{PathCell, StagePath};
+    use super::*;
+    use rtl_model::cost::timing::PathLevels;
+
+    /// Named bits stand on their own (a wide net's bits once), unnamed cells between them are
+    /// counted by kind in order, and the stage ends the line.
+    #[test]
+    fn a_path_prints_its_named_nets_and_the_cells_between() {
+        let cell = |kind: &str, net: Option<&str>| PathCell {
+            kind: kind.to_string(),
+            net: net.map(str::to_string),
+        };
+        let p = StagePath {
+            stage: "q".to_string(),
+            path: PathLevels::default(),
+            ps: 0,
+            through: vec![
+                cell("", Some("a")),
+                cell("LUT6", None),
+                cell("LUT6", None),
+                cell("CARRY4", None),
+                cell("LUT2", Some("b")),
+                cell("LUT2", Some("b")),
+                cell("LUT3", None),
+            ],
+        };
+        assert_eq!(
+            paths_text(&[p], 1),
+            "path into q:\n  a → [LUT6 ×2, CARRY4, LUT2] → b → [LUT2, LUT3] → q\n"
+        );
+    }
 }
