@@ -91,8 +91,8 @@ impl SvoImage {
 
         let d = usize::from(depth);
         let groups = group_order(&levels, d, PREFIX_LEVELS);
-        let (start, far, total) = place(&levels, d, &groups)?;
-        let mut nodes = vec![0u32; total as usize];
+        let Placement { start, far, words } = place(&levels, d, &groups)?;
+        let mut nodes = vec![0u32; words as usize];
         let mut far_words = 0u64;
         // The root's group is always the first, at word 1.
         nodes[0] = descriptor(&levels, 0, 0, d, 1, false);
@@ -114,7 +114,7 @@ impl SvoImage {
                 let c = first + p as usize;
                 let offset = start[l + 1][c] - (g + p);
                 let word = if mask & (1 << p) != 0 {
-                    // offset < total < 2^32 (checked by `place`).
+                    // offset < words < 2^32 (checked by `place`).
                     nodes[(g + k + j) as usize] = offset as u32;
                     let ptr = k - p + j;
                     j += 1;
@@ -200,12 +200,15 @@ fn group_order(levels: &[Level], d: usize, top: u8) -> Vec<(u8, u32)> {
 /// exceeds `NEAR_PTR_MAX`. Far words move every later group, so iterate to the fixed point:
 /// a group always lies after the descriptors that point to it, so inserting words only
 /// lengthens distances and the far set only grows.
-#[allow(clippy::type_complexity)]
-fn place(
-    levels: &[Level],
-    d: usize,
-    order: &[(u8, u32)],
-) -> Result<(Vec<Vec<u64>>, Vec<Vec<u8>>, u64), BuildError> {
+/// Where [`place`] puts the groups: per level and node, its group's first word and which of
+/// its children have far words; and the image's size in words.
+struct Placement {
+    start: Vec<Vec<u64>>,
+    far: Vec<Vec<u8>>,
+    words: u64,
+}
+
+fn place(levels: &[Level], d: usize, order: &[(u8, u32)]) -> Result<Placement, BuildError> {
     let mut start: Vec<Vec<u64>> = levels.iter().map(|lv| vec![0; lv.code.len()]).collect();
     let mut far: Vec<Vec<u8>> = levels.iter().map(|lv| vec![0; lv.code.len()]).collect();
     loop {
@@ -235,7 +238,11 @@ fn place(
             if pos > u64::from(u32::MAX) {
                 return Err(BuildError::TooLarge { words: pos });
             }
-            return Ok((start, far, pos));
+            return Ok(Placement {
+                start,
+                far,
+                words: pos,
+            });
         }
     }
 }
