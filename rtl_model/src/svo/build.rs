@@ -17,6 +17,7 @@
 
 use super::descriptor::NEAR_PTR_MAX;
 use super::{ChildDescriptor, LeafSet, SvoImage, SvoStats};
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 /// Levels the image lays out first, level by level: the root word and the groups of the
@@ -25,6 +26,41 @@ use thiserror::Error;
 /// shorter top is a shorter prefix. 8 = the default hardware's `node_memory.onchip.levels`,
 /// so its on-chip set is one prefix per image; `configs/baseline.ron`'s 6 levels are one too.
 pub const PREFIX_LEVELS: u8 = 8;
+
+/// How [`SvoImage::build_with`] orders the groups in node memory. The image format (descriptors,
+/// far words) is the same in both; only the addresses differ, so the functional models give
+/// the same pixels and the cycle model different memory traffic.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ImageLayout {
+    /// The top [`PREFIX_LEVELS`] levels first, level by level, then each deeper subtree depth
+    /// first: the on-chip top levels are one prefix of the image (the module documentation
+    /// says why). The default since issue 29.
+    #[default]
+    TopLevelsFirst,
+    /// Every subtree depth first right after its parent's group: the layout before issue 29,
+    /// kept so that figures measured on it (`configs/baseline.ron`,
+    /// `configs/default_2026_11.ron`) stay reproducible (`sim --image-layout depth-first`).
+    DepthFirst,
+}
+
+impl ImageLayout {
+    /// The levels laid out level by level before the depth-first subtrees (1: none, the
+    /// root's group is simply the first group of a depth-first layout).
+    pub fn top_levels(self) -> u8 {
+        match self {
+            ImageLayout::TopLevelsFirst => PREFIX_LEVELS,
+            ImageLayout::DepthFirst => 1,
+        }
+    }
+
+    /// The name the CLI and the report use.
+    pub fn name(self) -> &'static str {
+        match self {
+            ImageLayout::TopLevelsFirst => "top-levels-first",
+            ImageLayout::DepthFirst => "depth-first",
+        }
+    }
+}
 
 /// Why an image could not be built.
 #[derive(Debug, Error, PartialEq, Eq)]
@@ -51,8 +87,14 @@ struct Level {
 }
 
 impl SvoImage {
-    /// Builds the memory image of a leaf set.
+    /// Builds the memory image of a leaf set in the default layout
+    /// ([`ImageLayout::TopLevelsFirst`]).
     pub fn build(set: &LeafSet) -> Result<Self, BuildError> {
+        Self::build_with(set, ImageLayout::default())
+    }
+
+    /// Builds the memory image of a leaf set in the given layout.
+    pub fn build_with(set: &LeafSet, layout: ImageLayout) -> Result<Self, BuildError> {
         let depth = set.depth();
         let leaves = set.leaves();
         if leaves.len() as u64 > u64::from(u32::MAX) {
@@ -90,7 +132,7 @@ impl SvoImage {
         }
 
         let d = usize::from(depth);
-        let groups = group_order(&levels, d, PREFIX_LEVELS);
+        let groups = group_order(&levels, d, layout.top_levels());
         let Placement { start, far, words } = place(&levels, d, &groups)?;
         let mut nodes = vec![0u32; words as usize];
         let mut far_words = 0u64;
@@ -195,11 +237,6 @@ fn group_order(levels: &[Level], d: usize, top: u8) -> Vec<(u8, u32)> {
     order
 }
 
-/// Word addresses of every group in `order` and which of its children need far words, and
-/// the image's size. A descriptor gets a far word exactly when its distance to its group
-/// exceeds `NEAR_PTR_MAX`. Far words move every later group, so iterate to the fixed point:
-/// a group always lies after the descriptors that point to it, so inserting words only
-/// lengthens distances and the far set only grows.
 /// Where [`place`] puts the groups: per level and node, its group's first word and which of
 /// its children have far words; and the image's size in words.
 struct Placement {
@@ -208,6 +245,11 @@ struct Placement {
     words: u64,
 }
 
+/// Word addresses of every group in `order` and which of its children need far words, and
+/// the image's size. A descriptor gets a far word exactly when its distance to its group
+/// exceeds `NEAR_PTR_MAX`. Far words move every later group, so iterate to the fixed point:
+/// a group always lies after the descriptors that point to it, so inserting words only
+/// lengthens distances and the far set only grows.
 fn place(levels: &[Level], d: usize, order: &[(u8, u32)]) -> Result<Placement, BuildError> {
     let mut start: Vec<Vec<u64>> = levels.iter().map(|lv| vec![0; lv.code.len()]).collect();
     let mut far: Vec<Vec<u8>> = levels.iter().map(|lv| vec![0; lv.code.len()]).collect();
