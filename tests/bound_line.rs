@@ -41,6 +41,7 @@ fn bound_with(hw: &HwConfig, dp: &DatapathConfig) -> (String, String) {
         scene,
         depth: Some(6),
         materialise: Materialise::Auto,
+        image_layout: Default::default(),
         options: RenderOptions::default(),
         out_dir: None,
         report_json: None,

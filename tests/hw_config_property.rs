@@ -412,6 +412,7 @@ fn judge(hw: &HwConfig, out: &std::path::Path) -> Result<Outcome, String> {
         scene,
         depth: Some(5),
         materialise: Materialise::Auto,
+        image_layout: Default::default(),
         options: RenderOptions::default(),
         out_dir: Some(out.to_path_buf()),
         report_json: None,

@@ -414,6 +414,7 @@ fn timing(hw: &HwConfig) -> Result<(Vec<u64>, String), String> {
         scene,
         depth: Some(6),
         materialise: Materialise::Auto,
+        image_layout: Default::default(),
         options: RenderOptions::default(),
         out_dir: None,
         report_json: None,

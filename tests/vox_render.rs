@@ -18,6 +18,7 @@ fn config(scene: Scene) -> RunConfig {
         scene,
         depth: None,
         materialise: Materialise::Auto,
+        image_layout: Default::default(),
         options: RenderOptions::default(),
         out_dir: None,
         report_json: None,

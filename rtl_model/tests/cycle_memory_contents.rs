@@ -20,6 +20,7 @@ use std::collections::HashSet;
 use rtl_model::cycle::memory::{
     Completion, FetchKind, MemoryLayout, NodeMemory, NodeMemoryConfig, OnChipConfig, Source,
 };
+use rtl_model::svo::build::PREFIX_LEVELS;
 use rtl_model::svo::{ChildRef, LeafAttr, LeafSet, SvoImage};
 
 // ---------------------------------------------------------------------------------------
@@ -307,12 +308,17 @@ fn onchip_whitelist_is_the_top_levels() {
         assert_eq!(layout.onchip_words(), want.len() as u64);
         assert_eq!(layout.onchip_levels(), levels);
         assert!(!layout.is_onchip(n) && !layout.is_onchip(u32::MAX));
-        // The top levels are scattered through a depth-first image, not a prefix.
-        if levels == 4 {
+        // The image lays its top levels out first (svo/build.rs), so they are its first words.
+        if (1..=PREFIX_LEVELS).contains(&levels) {
             let max = *want.iter().max().unwrap();
-            assert!(u64::from(max) > 4 * layout.onchip_words());
+            assert_eq!(
+                u64::from(max) + 1,
+                layout.onchip_words(),
+                "levels {levels}: the on-chip words are not the prefix [0, {})",
+                layout.onchip_words()
+            );
             println!(
-                "levels 4: {} words on chip in {} ranges, up to word {max}",
+                "levels {levels}: {} words on chip in {} ranges, up to word {max}",
                 layout.onchip_words(),
                 layout.onchip_ranges().len()
             );

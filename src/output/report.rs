@@ -78,6 +78,9 @@ pub struct OptionsReport {
     pub sort: bool,
     /// Worker threads.
     pub threads: usize,
+    /// How the memory images order their words (`top-levels-first` or `depth-first`,
+    /// `--image-layout`).
+    pub image_layout: String,
 }
 
 /// Totals over the run.

@@ -20,12 +20,13 @@ use crate::output::report::CycleSummary;
 use crate::output::report::{
     AssetReport, FrameReport, OptionsReport, Report, SceneReport, Summary,
 };
-use crate::world::assets::{build_assets, effective_depths, Asset, Materialise};
+use crate::world::assets::{build_assets_in, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
 use anyhow::Result;
 use rtl_model::cost::ResourceReport;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;
+use rtl_model::svo::ImageLayout;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -39,6 +40,8 @@ pub struct RunConfig {
     pub depth: Option<u8>,
     /// How SDF assets are stored.
     pub materialise: Materialise,
+    /// How the memory images order their words (`--image-layout`).
+    pub image_layout: ImageLayout,
     /// Renderer switches.
     pub options: RenderOptions,
     /// Folder for PNGs (`None`: no images).
@@ -171,10 +174,15 @@ pub struct RunOutput {
     pub buffer: HitBuffer,
 }
 
-/// Builds the assets of a scene at the configured depths.
-pub fn build(scene: &Scene, depth: Option<u8>, mode: Materialise) -> Result<Vec<Asset>> {
+/// Builds the assets of a scene at the configured depths, images in `layout`.
+pub fn build(
+    scene: &Scene,
+    depth: Option<u8>,
+    mode: Materialise,
+    layout: ImageLayout,
+) -> Result<Vec<Asset>> {
     let depths = effective_depths(scene, depth)?;
-    Ok(build_assets(scene, &depths, mode)?)
+    Ok(build_assets_in(scene, &depths, mode, layout)?)
 }
 
 /// Runs the chosen model over all frames and writes the outputs. `progress` is called after
@@ -188,7 +196,7 @@ pub fn run(cfg: &RunConfig, mut progress: impl FnMut(&FrameReport, u32)) -> Resu
     // memory is then no longer available); both before any output exists.
     super::memory::check(cfg.model, w, h)?;
     let build_start = Instant::now();
-    let assets = build(&cfg.scene, cfg.depth, cfg.materialise)?;
+    let assets = build(&cfg.scene, cfg.depth, cfg.materialise, cfg.image_layout)?;
     let build_s = build_start.elapsed().as_secs_f64();
     super::memory::check(cfg.model, w, h)?;
     let scene = &cfg.scene;
@@ -294,6 +302,7 @@ fn run_report(
             culling: cfg.options.culling,
             sort: cfg.options.sort,
             threads: rayon::current_num_threads(),
+            image_layout: cfg.image_layout.name().into(),
         },
         assets: assets.iter().map(AssetReport::from).collect(),
         summary: Summary {

@@ -1,14 +1,66 @@
-//! Packs a [`LeafSet`] into an [`SvoImage`]: depth-first group layout with far pointers.
+//! Packs a [`LeafSet`] into an [`SvoImage`]: the group layout with far pointers.
 //!
-//! Layout: the root descriptor at word 0, its children's group at word 1, and then for every
-//! group, in label order, each internal child's whole subtree right after the group (and its
-//! far words). Depth-first placement keeps a node's children close to it, so the 15-bit
-//! near pointer covers every level except the top few of very large trees; where it does not
-//! reach, the descriptor points to a far word placed right after its own group.
+//! Pipeline position: run offline, once per asset, before the walkers read the image.
+//!
+//! Layout ("top levels first"): the root descriptor at word 0; then the groups of the nodes
+//! at levels 0 ..= [`PREFIX_LEVELS`] − 2, level by level (Morton order within a level), so
+//! the image's top `L` levels are the words `[0, end_L)` for every `L ≤ PREFIX_LEVELS`; then,
+//! for each node at level `PREFIX_LEVELS − 1` in Morton order, its whole subtree depth first
+//! (a group, its far words, then its children's subtrees in label order). Why: an RTL on-chip
+//! store that holds the top levels can then test an address with one compare against
+//! `end_L` and keep each word at its own address, with no address translation; below the
+//! top, depth-first placement keeps children close to their parents, so the 15-bit near
+//! pointer reaches them. Where it does not reach (the top's widest levels, and the
+//! descriptors of level `PREFIX_LEVELS − 1`, whose subtrees lie after the top), the
+//! descriptor points to a far word placed right after its own group. The measurements that
+//! chose this layout over plain depth first: `docs/svo-format.md` §4.
 
 use super::descriptor::NEAR_PTR_MAX;
 use super::{ChildDescriptor, LeafSet, SvoImage, SvoStats};
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
+
+/// Levels the image lays out first, level by level: the root word and the groups of the
+/// nodes at levels 0 ..= `PREFIX_LEVELS − 2` (the descriptors of levels 0 .. `PREFIX_LEVELS`,
+/// their far words and any leaf slots there) occupy the words `[0, prefix_end)`, and each
+/// shorter top is a shorter prefix. 8 = the default hardware's `node_memory.onchip.levels`,
+/// so its on-chip set is one prefix per image; `configs/baseline.ron`'s 6 levels are one too.
+pub const PREFIX_LEVELS: u8 = 8;
+
+/// How [`SvoImage::build_with`] orders the groups in node memory. The image format (descriptors,
+/// far words) is the same in both; only the addresses differ, so the functional models give
+/// the same pixels and the cycle model different memory traffic.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ImageLayout {
+    /// The top [`PREFIX_LEVELS`] levels first, level by level, then each deeper subtree depth
+    /// first: the on-chip top levels are one prefix of the image (the module documentation
+    /// says why). The default since issue 29.
+    #[default]
+    TopLevelsFirst,
+    /// Every subtree depth first right after its parent's group: the layout before issue 29,
+    /// kept so that figures measured on it (`configs/baseline.ron`,
+    /// `configs/default_2026_11.ron`) stay reproducible (`sim --image-layout depth-first`).
+    DepthFirst,
+}
+
+impl ImageLayout {
+    /// The levels laid out level by level before the depth-first subtrees (1: none, the
+    /// root's group is simply the first group of a depth-first layout).
+    pub fn top_levels(self) -> u8 {
+        match self {
+            ImageLayout::TopLevelsFirst => PREFIX_LEVELS,
+            ImageLayout::DepthFirst => 1,
+        }
+    }
+
+    /// The name the CLI and the report use.
+    pub fn name(self) -> &'static str {
+        match self {
+            ImageLayout::TopLevelsFirst => "top-levels-first",
+            ImageLayout::DepthFirst => "depth-first",
+        }
+    }
+}
 
 /// Why an image could not be built.
 #[derive(Debug, Error, PartialEq, Eq)]
@@ -35,8 +87,14 @@ struct Level {
 }
 
 impl SvoImage {
-    /// Builds the memory image of a leaf set.
+    /// Builds the memory image of a leaf set in the default layout
+    /// ([`ImageLayout::TopLevelsFirst`]).
     pub fn build(set: &LeafSet) -> Result<Self, BuildError> {
+        Self::build_with(set, ImageLayout::default())
+    }
+
+    /// Builds the memory image of a leaf set in the given layout.
+    pub fn build_with(set: &LeafSet, layout: ImageLayout) -> Result<Self, BuildError> {
         let depth = set.depth();
         let leaves = set.leaves();
         if leaves.len() as u64 > u64::from(u32::MAX) {
@@ -73,44 +131,18 @@ impl SvoImage {
             return Ok(Self::assemble(depth, vec![0], Vec::new(), &levels, 0));
         }
 
-        // Bottom-up: words of each node's subtree below its own slot, and which of its
-        // children need far words.
         let d = usize::from(depth);
-        let mut size: Vec<Vec<u64>> = vec![Vec::new(); d];
-        let mut far: Vec<Vec<u8>> = vec![Vec::new(); d];
-        for l in (0..d).rev() {
-            let lv = &levels[l];
-            let n = lv.code.len();
-            let mut sz = Vec::with_capacity(n);
-            let mut fm = Vec::with_capacity(n);
-            for i in 0..n {
-                let k = lv.valid[i].count_ones() as u64;
-                if l + 1 == d {
-                    sz.push(k); // leaf slots only
-                    fm.push(0);
-                    continue;
-                }
-                let first = lv.first_child[i] as usize;
-                let child_sizes = &size[l + 1][first..first + k as usize];
-                let (mask, f) = far_mask(child_sizes);
-                sz.push(k + u64::from(f) + child_sizes.iter().sum::<u64>());
-                fm.push(mask);
-            }
-            size[l] = sz;
-            far[l] = fm;
-        }
-        let total = 1 + size[0][0];
-        if total > u64::from(u32::MAX) {
-            return Err(BuildError::TooLarge { words: total });
-        }
-        let mut nodes = vec![0u32; total as usize];
+        let groups = group_order(&levels, d, layout.top_levels());
+        let Placement { start, far, words } = place(&levels, d, &groups)?;
+        let mut nodes = vec![0u32; words as usize];
         let mut far_words = 0u64;
+        // The root's group is always the first, at word 1.
         nodes[0] = descriptor(&levels, 0, 0, d, 1, false);
-        // Explicit stack of groups to emit: (level, node index, group start word).
-        let mut stack = vec![(0usize, 0usize, 1u64)];
-        while let Some((l, i, g)) = stack.pop() {
+        for &(l, i) in &groups {
+            let (l, i) = (usize::from(l), i as usize);
             let lv = &levels[l];
-            let k = lv.valid[i].count_ones() as u64;
+            let g = start[l][i];
+            let k = u64::from(lv.valid[i].count_ones());
             let first = lv.first_child[i] as usize;
             if l + 1 == d {
                 for p in 0..k {
@@ -119,13 +151,12 @@ impl SvoImage {
                 continue;
             }
             let mask = far[l][i];
-            let f = u64::from(mask.count_ones());
-            let mut cursor = g + k + f;
             let mut j = 0u64;
             for p in 0..k {
                 let c = first + p as usize;
-                let offset = cursor - (g + p);
+                let offset = start[l + 1][c] - (g + p);
                 let word = if mask & (1 << p) != 0 {
+                    // offset < words < 2^32 (checked by `place`).
                     nodes[(g + k + j) as usize] = offset as u32;
                     let ptr = k - p + j;
                     j += 1;
@@ -135,8 +166,6 @@ impl SvoImage {
                     descriptor(&levels, l + 1, c, d, offset, false)
                 };
                 nodes[(g + p) as usize] = word;
-                stack.push((l + 1, c, cursor));
-                cursor += size[l + 1][c];
             }
         }
         let attrs = leaves.iter().map(|&(_, a)| a).collect();
@@ -174,28 +203,89 @@ impl SvoImage {
     }
 }
 
-/// Which children of a group need far words, given the sizes of their subtrees, and how many.
-/// Adding far words moves later subtrees further away, so iterate to the fixed point (the set
-/// only grows, and it has at most 8 members).
-fn far_mask(child_sizes: &[u64]) -> (u8, u32) {
-    let k = child_sizes.len() as u64;
-    let mut mask = 0u8;
-    loop {
-        let f = u64::from(mask.count_ones());
-        let mut new_mask = 0u8;
-        let mut before = 0u64;
-        for (p, &s) in child_sizes.iter().enumerate() {
-            // An internal child with an empty subtree cannot occur (every node has a leaf).
-            let offset = k - p as u64 + f + before;
-            if offset > u64::from(NEAR_PTR_MAX) {
-                new_mask |= 1 << p;
+/// The order of the groups in node memory after the root word. First the groups of the nodes
+/// at levels `0 ..= top − 2`, level by level and in Morton order within a level: with the
+/// root word they are the image's top `top` levels, and every shorter top is a prefix of them
+/// too. Then, for every node at level `top − 1` in Morton order, its whole subtree depth first
+/// (a group, then its children's subtrees in label order), so that below the top, children
+/// stay close to their parents and near pointers reach them. A tree of fewer levels is laid
+/// out level by level throughout. Each entry is (level, index in that level).
+fn group_order(levels: &[Level], d: usize, top: u8) -> Vec<(u8, u32)> {
+    let groups: usize = levels.iter().map(|lv| lv.code.len()).sum();
+    let mut order = Vec::with_capacity(groups);
+    // Levels are below 2^8 (MAX_DEPTH) and indices below 2^32 (leaves are).
+    let cut = usize::from(top.saturating_sub(1)).clamp(1, d);
+    for (l, lv) in levels.iter().enumerate().take(cut) {
+        order.extend((0..lv.code.len()).map(|i| (l as u8, i as u32)));
+    }
+    if cut < d {
+        let mut stack = Vec::new();
+        for i in 0..levels[cut].code.len() {
+            stack.push((cut, i));
+            while let Some((l, i)) = stack.pop() {
+                order.push((l as u8, i as u32));
+                if l + 1 == d {
+                    continue;
+                }
+                let first = levels[l].first_child[i] as usize;
+                let k = levels[l].valid[i].count_ones() as usize;
+                // Reversed, so that the lowest label is popped (placed) first.
+                stack.extend((first..first + k).rev().map(|c| (l + 1, c)));
             }
-            before += s;
         }
-        if new_mask == mask {
-            return (mask, mask.count_ones());
+    }
+    order
+}
+
+/// Where [`place`] puts the groups: per level and node, its group's first word and which of
+/// its children have far words; and the image's size in words.
+struct Placement {
+    start: Vec<Vec<u64>>,
+    far: Vec<Vec<u8>>,
+    words: u64,
+}
+
+/// Word addresses of every group in `order` and which of its children need far words, and
+/// the image's size. A descriptor gets a far word exactly when its distance to its group
+/// exceeds `NEAR_PTR_MAX`. Far words move every later group, so iterate to the fixed point:
+/// a group always lies after the descriptors that point to it, so inserting words only
+/// lengthens distances and the far set only grows.
+fn place(levels: &[Level], d: usize, order: &[(u8, u32)]) -> Result<Placement, BuildError> {
+    let mut start: Vec<Vec<u64>> = levels.iter().map(|lv| vec![0; lv.code.len()]).collect();
+    let mut far: Vec<Vec<u8>> = levels.iter().map(|lv| vec![0; lv.code.len()]).collect();
+    loop {
+        let mut pos = 1u64;
+        for &(l, i) in order {
+            let (l, i) = (usize::from(l), i as usize);
+            start[l][i] = pos;
+            pos += u64::from(levels[l].valid[i].count_ones() + far[l][i].count_ones());
         }
-        mask |= new_mask;
+        let mut changed = false;
+        for &(l, i) in order {
+            let (l, i) = (usize::from(l), i as usize);
+            if l + 1 == d {
+                continue;
+            }
+            let g = start[l][i];
+            let first = levels[l].first_child[i] as usize;
+            for p in 0..levels[l].valid[i].count_ones() as usize {
+                let offset = start[l + 1][first + p] - (g + p as u64);
+                if offset > u64::from(NEAR_PTR_MAX) && far[l][i] & (1 << p) == 0 {
+                    far[l][i] |= 1 << p;
+                    changed = true;
+                }
+            }
+        }
+        if !changed {
+            if pos > u64::from(u32::MAX) {
+                return Err(BuildError::TooLarge { words: pos });
+            }
+            return Ok(Placement {
+                start,
+                far,
+                words: pos,
+            });
+        }
     }
 }
 

@@ -15,7 +15,7 @@ pub mod leaf_set;
 pub mod morton;
 
 pub use attr::LeafAttr;
-pub use build::BuildError;
+pub use build::{BuildError, ImageLayout};
 pub use descriptor::ChildDescriptor;
 pub use fetch::FetchKind;
 pub use image::{ChildRef, SvoImage, SvoStats};

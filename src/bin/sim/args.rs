@@ -3,6 +3,7 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
+use rtl_model::svo::ImageLayout;
 use std::path::PathBuf;
 use svo_sim::world::assets::Materialise;
 use svo_sim::world::scene::Scene;
@@ -37,6 +38,30 @@ pub struct SceneArgs {
     /// reading past the limit.
     #[arg(long, value_name = "MIB", default_value_t = DEFAULT_VOX_MIB)]
     pub max_vox_mib: u64,
+    /// How each memory image orders its words: the top 8 levels first, level by level, so the
+    /// on-chip levels are one prefix (the default), or depth first throughout (the layout
+    /// before issue 29, for figures measured on it). Pixels are the same; node addresses,
+    /// hence the cycle model's memory traffic, are not (docs/svo-format.md §4).
+    #[arg(long, value_enum, default_value_t = LayoutArg::TopLevelsFirst)]
+    pub image_layout: LayoutArg,
+}
+
+/// `--image-layout`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LayoutArg {
+    /// The top 8 levels first, level by level, then each subtree depth first.
+    TopLevelsFirst,
+    /// Every subtree depth first after its parent's group (before issue 29).
+    DepthFirst,
+}
+
+impl From<LayoutArg> for ImageLayout {
+    fn from(a: LayoutArg) -> Self {
+        match a {
+            LayoutArg::TopLevelsFirst => ImageLayout::TopLevelsFirst,
+            LayoutArg::DepthFirst => ImageLayout::DepthFirst,
+        }
+    }
 }
 
 /// Default of `--max-vox-mib`.

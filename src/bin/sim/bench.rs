@@ -243,7 +243,12 @@ fn sample_validate(a: &BenchArgs, scene: &Scene, assets: &[Asset], rate: f64) ->
             Ok(v)
         });
         let built = loaded.map_err(anyhow::Error::from).and_then(|v| {
-            let va = build(&v, None, svo_sim::world::assets::Materialise::Auto)?;
+            let va = build(
+                &v,
+                None,
+                svo_sim::world::assets::Materialise::Auto,
+                a.scene.image_layout.into(),
+            )?;
             Ok((v, va))
         });
         match built {
@@ -350,7 +355,7 @@ pub fn run_command(a: BenchArgs) -> Result<()> {
         rayon::current_num_threads()
     );
     let t = std::time::Instant::now();
-    let assets = build(&scene, sa.depth, sa.materialise())?;
+    let assets = build(&scene, sa.depth, sa.materialise(), sa.image_layout.into())?;
     println!(
         "assets built in {:.2} s (excluded)",
         t.elapsed().as_secs_f64()

@@ -177,6 +177,7 @@ impl RunArgs {
             scene: self.scene.load((None, None))?,
             depth: self.scene.depth,
             materialise: self.scene.materialise(),
+            image_layout: self.scene.image_layout.into(),
             options: RenderOptions {
                 use_hit_buffer: !self.no_hit_buffer,
                 early_termination: !self.no_early_termination,

@@ -10,7 +10,7 @@ pub mod voxelize;
 use crate::error::AssetError;
 use crate::world::scene::{AssetSource, Scene};
 use crate::world::sdf::Sdf;
-use rtl_model::svo::{LeafSet, SvoImage, SvoStats, MAX_DEPTH};
+use rtl_model::svo::{ImageLayout, LeafSet, SvoImage, SvoStats, MAX_DEPTH};
 use std::time::Instant;
 use voxelize::SdfOctree;
 
@@ -87,11 +87,24 @@ pub fn effective_depths(scene: &Scene, depth: Option<u8>) -> Result<Vec<u8>, Ass
         .collect())
 }
 
-/// Builds every asset of the scene at the given depths (see [`effective_depths`]).
+/// Builds every asset of the scene at the given depths (see [`effective_depths`]), images in
+/// the default layout.
 pub fn build_assets(
     scene: &Scene,
     depths: &[u8],
     mode: Materialise,
+) -> Result<Vec<Asset>, AssetError> {
+    build_assets_in(scene, depths, mode, ImageLayout::default())
+}
+
+/// Builds every asset of the scene at the given depths, images in `layout` (`sim
+/// --image-layout`: the layout moves node addresses, so the cycle model's memory traffic, not
+/// the pixels).
+pub fn build_assets_in(
+    scene: &Scene,
+    depths: &[u8],
+    mode: Materialise,
+    layout: ImageLayout,
 ) -> Result<Vec<Asset>, AssetError> {
     scene
         .file
@@ -103,7 +116,7 @@ pub fn build_assets(
             let start = Instant::now();
             let name = spec.name.clone();
             let image = |set: &LeafSet| {
-                SvoImage::build(set).map_err(|source| AssetError::Image {
+                SvoImage::build_with(set, layout).map_err(|source| AssetError::Image {
                     asset: name.clone(),
                     source,
                 })

@@ -1,6 +1,8 @@
 //! The address map the node memory serves: how many node words and attribute records there
 //! are, and which node words the on-chip store holds (the image's top levels, as a whitelist
-//! of word ranges and a bitmap for the per-read test).
+//! of word ranges and a bitmap for the per-read test). Images from `SvoImage::build` lay
+//! their top `PREFIX_LEVELS` (8) levels out first, level by level, so for up to 8 levels the
+//! whitelist is the single range `[0, end)`; more levels add scattered groups after it.
 //!
 //! Pipeline position: built once per scene image ([`MemoryLayout::from_image`]) before the
 //! run; [`super::NodeMemory`] checks every request against it and routes on-chip reads to the

@@ -25,24 +25,23 @@
 //! 3. **External DRAM**: a fixed latency, a peak byte rate per cycle, and a limited number of
 //!    outstanding line fills (MSHRs). A miss fills a whole cache line.
 //!
-//! # Why the on-chip part is "the top levels", not "the first bytes"
+//! # Why the on-chip part is "the top levels", and why they are the first words
 //!
-//! The image is laid out depth first (`svo/build.rs`): word 0 is the root, then the root's
-//! group, then the *whole* subtree of its first child, and so on. A prefix of the image is
-//! therefore the root plus the leftmost corner of the tree down to the leaves, which helps
-//! only the rays that look at that corner. The part every ray touches is the top of the tree:
-//! each walk starts at the root and descends through levels 1, 2, …, so those few words are
-//! read by every ray, and there are at most 8^l of them at level l (about 4^l for the surface
-//! voxels the builders make). The on-chip region is therefore an address whitelist built from
-//! the image's top levels ([`MemoryLayout::from_image`]): the root word and the groups (slots
-//! and far words) of every internal node above level `levels − 1`, i.e. every descriptor of a
-//! node at a level below `levels`, the far word needed to descend from it, and any leaf slot
-//! at those levels. The whitelist is scattered through the image, but that costs the hardware
-//! nothing: a walker knows the level of the node it is about to read (its stack depth), so the
-//! on-chip test in RTL is `level < levels`, not an address compare; the builder copies those
-//! groups to the block RAM and the model only needs their number (capacity) and timing. Whole
-//! levels are kept, up to [`OnChipConfig::max_bytes`], because a partial level would need an
-//! address compare after all. To size the store by bytes instead, set `levels` to its
+//! The part of the image every ray touches is the top of the tree: each walk starts at the
+//! root and descends through levels 1, 2, …, so those few words are read by every ray, and
+//! there are at most 8^l of them at level l (about 4^l for the surface voxels the builders
+//! make). The on-chip region is therefore the image's top `levels` levels
+//! ([`MemoryLayout::from_image`]): the root word and the groups (slots and far words) of
+//! every internal node above level `levels − 1`, i.e. every descriptor of a node at a level
+//! below `levels`, the far word needed to descend from it, and any leaf slot at those levels.
+//! The image lays those levels out first, level by level (`svo/build.rs`, up to
+//! `PREFIX_LEVELS` = 8; deeper subtrees follow depth first), so for `levels ≤ 8` the region
+//! is one prefix `[0, end)` of each image: the RTL store tests an address with one compare
+//! and holds each word at its own address (bank = word address mod banks, as modelled). For
+//! `levels > 8` the model still holds the deeper levels' groups, scattered through the
+//! depth-first part, as a whitelist (an RTL store would need an address translation for
+//! them). Whole levels are kept, up to [`OnChipConfig::max_bytes`], because a partial level
+//! is not a useful prefix of the top. To size the store by bytes instead, set `levels` to its
 //! maximum (21) and `max_bytes` to the budget: it then holds as many whole top levels as fit.
 //!
 //! # Use
