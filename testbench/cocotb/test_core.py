@@ -27,6 +27,15 @@ modes (fixed latency, or with its own random pauses on each lane's AR and R), th
 master as above. The other SVO_HW packages (frame_hw, pool_1x4) have one walker and one plain
 master.
 
+With the node cache (run.py SVO_HW=pool_4x2_cache, or any package with onchip.levels 0: run.py
+sets SVO_NODE_CACHE=1 and the package's SVO_DRAM_LATENCY, SVO_DRAM_BPC, SVO_LINE_BYTES) every
+node word and attribute record comes through svo_top's cache and its master m_axi_node_*,
+served by NodeCacheDram: the model's built-in DRAM timing, the node image at NODE_BASE and the
+records at ATTR_BASE (both multiples of the cache's set span, so the cache's sets and banks are
+the model's); with SVO_STALL=P its AR and R pause as the others. There is no node store: the
+load's checks become one, a LOAD refused with STATUS.ERROR 7; the attribute-read SLVERR frame
+becomes a fill's (ERROR 10; SVO_CORRUPT=resp expects 6 for it); no failing load at the end.
+
 The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
 with each instance (its NMAT words in INSTANCE_TABLE, frame_instances nmat_*).
 

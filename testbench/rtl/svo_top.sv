@@ -21,7 +21,31 @@
 //   cocotb bench does, therefore gives every read the model's bank. (Derived from NODE_BASE
 //   and LOAD_SRC rather than a store base per image: one subtraction, and no register the
 //   host could set inconsistently with the load.) A read at or beyond the loaded words fails
-//   the frame (STATUS.ERROR 7).
+//   the frame (STATUS.ERROR 7). This is the node memory of hardware with every node word on
+//   chip (node_memory.onchip.levels 21); with levels 0, the node cache below instead.
+// - the node cache (svo_node_cache_axi, hardware with onchip.levels 0 and cache.attr_cached):
+//   every node word and attribute record a walker reads, the model's NodeMemory without its
+//   on-chip store (cache.banks line-interleaved banks of cache.ports lookups, sets x ways
+//   true-LRU tags, dram.mshrs merging MSHRs, the miss queue; memory/mod.rs, cache.rs,
+//   dram.rs), one request port per walker in the cycle the walker sends (port order =
+//   context order, the model's order within a cycle), node words back on the contexts' own
+//   ports, records on the walker response ports. Its fills leave on m_axi_node_* (below).
+//   Addresses are the core's (word index NODE_BASE / 4 + i, record index ATTR_BASE / 8 + i),
+//   so the cache's lines are system byte addresses; they are the model's lines, sets and banks
+//   when the host lays the node images (and the records) one after the other as the model
+//   does from a base that is a multiple of cache.size_bytes / cache.ways. The lines stay
+//   across frames (the model's cache does), and cycle 0 of a frame waits in PREFILL until the
+//   cache's own cycle count (its bank rotation) agrees with the model's. The per-walker
+//   attribute masters m_axi_* are then unused (ARVALID 0), there is no node store (a LOAD is
+//   refused with STATUS.ERROR 7, a START needs none).
+// - m_axi_node_*: AXI4 read ports of the node cache's fills (onchip.levels 0; otherwise one
+//   port, tied off): NODE_PORTS = ceil(dram.bytes_per_cycle / cache.line_bytes) ports of
+//   NODE_DW = line_bytes · 8 data bits, ID = the MSHR (NODE_IDW bits), one beat a fill,
+//   fill n on port n mod NODE_PORTS, RREADY high; ARADDR (ADDR_W bits) = the line's byte
+//   address: NODE_BASE + 4·word for node words, ATTR_BASE + 8·record for records (the cache's
+//   unified 41-bit space without its attribute bit 40). The frame's cycles are the model's
+//   when the memory takes every AR at once and returns RLAST in the built-in bus's completion
+//   cycle − 2 (svo_node_cache_axi.v: dram.latency = AR-to-RLAST latency + 3).
 // - m_axi_*: AXI4 read masters (64-bit data) for the attribute records, one per walker (walker
 //   w on bit / slice w of each signal; one walker: a plain master), each with up to
 //   contexts_per_walker reads in flight, in order (one ID): an 8-byte read at
@@ -70,14 +94,16 @@
 // refused (LOAD_SRC off 8 bytes or beyond the 32-bit word range, LOAD_WORDS 0 or over
 // STORE_WORDS), or a node read at or beyond the loaded words during the frame; 8 a START while
 // the store loads, or a LOAD while a frame runs (refused); 9 a load read returned an error
-// response (the store is left without a load). Codes 1–4, 7 (no load) and 8 refuse the START
-// (8 before 1–4, 7 after them).
+// response (the store is left without a load); 10 a node-cache fill (m_axi_node_*) returned
+// an error response (the cache's axi_error rising: sticky in the cache until reset, so the
+// first such fill after reset). Codes 1–4, 7 (no load) and 8 refuse the START (8 before 1–4,
+// 7 after them). On the node cache's hardware a LOAD is refused with 7 (there is no store).
 //
 // The record's normal is the core's (svo_normal in the record stage) from each instance's
 // normal matrix (its NMAT words in the instance table, written by the host with the instance).
 //
-// Parameters: the hardware (FIFO depths, lanes, latencies, write paths, the on-chip banks)
-// from svo_hw_pkg (`sim hardware --sv-package`), the datapath formats as parameters (defaults:
+// Parameters: the hardware (FIFO depths, lanes, latencies, write paths, the on-chip banks,
+// the node cache's geometry and the DRAM's MSHRs and bus width) from svo_hw_pkg (`sim hardware --sv-package`), the datapath formats as parameters (defaults:
 // the default datapath, docs/number-formats.md), the store's size (STORE_WORDS: 1 MiB by
 // default, the car's 167,060 words at depth 8 fit; within onchip.max_bytes) and the load's
 // burst (LOAD_BURST beats).
