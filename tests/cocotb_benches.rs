@@ -165,7 +165,8 @@ fn hit_buffer_reuses_across_frames_as_the_model_rows_say() {
 /// `verilator --lint-only -Wall`), `lint_core` (svo_core, the whole accelerator, the same),
 /// `lint_top` (svo_top, the core behind its AXI interfaces, the same, with the generated files'
 /// waivers of testbench/lint_waivers.vlt; `lint_top_pool` and `lint_top_pool4` on the 2 x 4
-/// and 4 x 2 walker pools), `lint_cache` (the node cache on its AXI4 ports, a standalone unit)
+/// and 4 x 2 walker pools, `lint_top_cache` on the 4 x 2 pool reading through the node cache),
+/// `lint_cache` (the node cache on its AXI4 ports, a standalone unit)
 /// and `lint_regs` (the generated register block, without -Wall:
 /// PeakRDL's code), both with the venv's Verilator 5.048 (Debian's 5.006 fails inside on the
 /// register block); `sim` (tb_hit_record in Icarus on the golden vectors: every row passes);
@@ -194,6 +195,7 @@ fn fusesoc_lint_sim_and_synth_targets_pass() {
         ("lint_top", None),
         ("lint_top_pool", None),
         ("lint_top_pool4", None),
+        ("lint_top_cache", None),
         ("lint_cache", None),
         ("lint_regs", None),
         ("sim", Some(vectors.as_str())),
@@ -603,6 +605,67 @@ fn core_pool_of_four_walkers_of_two_contexts_shares_the_onchip_store_as_the_mode
     let Some(venv) = venv() else { return };
     // The corruption checks are the other cases' (same bench): the runner is not needed again.
     let _ = core_pool_car_frames_and_stalls(&venv, "pool_4x2");
+}
+
+/// svo_top on testbench/hw/pool_4x2_cache.ron — four walkers of two contexts reading every
+/// node word and attribute record through a small node cache (4 KiB, 32-byte lines, 16 MSHRs;
+/// onchip.levels 0: svo_node_cache_axi inside svo_top, its fills on m_axi_node_*) — renders
+/// the car's two 16 × 10 frames at depth 8 with the bench's memory on m_axi_node_* timed as
+/// the model's built-in DRAM (test_core.py NodeCacheDram): every pixel equal, the model's
+/// cycles and reuse, a fill answering SLVERR ending with STATUS.ERROR 10; then frame 0 with
+/// random pauses (seed 1, 20 %) on the cache's AR and R, the direction master and the stream:
+/// every pixel once and right, pauses injected on the cache's port.
+#[test]
+fn core_pool_of_four_walkers_of_two_contexts_reads_through_the_node_cache_as_the_model() {
+    let Some(venv) = venv() else { return };
+    let hw = "pool_4x2_cache";
+    let root = fresh_dir(&format!("core_{hw}"));
+    let (car, car1) = (root.join("car"), root.join("car1"));
+    let scene = repo().join("scenes/car.ron").display().to_string();
+    let model = core_frame_case_on(&car, "scenes/car.ron", 2, hw, 8);
+    core_frame_vectors_at(&car1, &scene, 1, 8);
+    let run_core = |extra: &[String]| {
+        let mut env = vec![
+            format!("SVO_VECTORS={}", car.display()),
+            format!("SVO_HW={hw}"),
+            "SVO_NPIX=160".to_string(),
+            format!("SVO_MODEL_CYCLES={}", model[0].0),
+        ];
+        env.extend(extra.iter().cloned());
+        let env: Vec<&str> = env.iter().map(String::as_str).collect();
+        bench(&venv, "core", &env)
+    };
+    let (ok, text, secs) = run_core(&[
+        format!("SVO_VECTORS1={}", car1.display()),
+        format!("SVO_MODEL_CYCLES1={}", model[1].0),
+        "SVO_FRAMES=2".to_string(),
+    ]);
+    eprintln!("core {hw} car: {secs:.1} s (build included)");
+    assert!(ok, "core bench, {hw}, car:\n{text}");
+    frames_equal_the_model(&format!("car on {hw}"), &text, &model);
+    assert!(
+        text.contains("a node-cache fill read answering SLVERR: STATUS 0xa02 (ERROR 10)"),
+        "{text}"
+    );
+
+    let (ok, text, _) = run_core(&["SVO_STALL=20".to_string(), "SVO_SEED=1".to_string()]);
+    assert!(ok, "core bench, {hw}, stalls:\n{text}");
+    let (equal, n, cycles, _) = core_frame_line(&text, 0);
+    let stalls = text
+        .lines()
+        .find(|l| l.starts_with("core: frame 0: random stalls"))
+        .unwrap_or_else(|| panic!("no stall line:\n{text}"));
+    println!("core {hw} car, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles; {stalls}");
+    assert_eq!((equal, n), (160, 160), "{text}");
+    let count = |key: &str| -> u64 {
+        stalls
+            .split(&format!("{key} "))
+            .nth(1)
+            .and_then(|s| s.split(|c: char| !c.is_ascii_digit()).next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no \"{key}\" count in: {stalls}"))
+    };
+    assert!(count("cache ar") > 0 && count("cache r") > 0, "{stalls}");
 }
 
 /// The car's two 16 × 10 frames on svo_top built on testbench/hw/`hw`_pkg.sv (every pixel

@@ -8,6 +8,7 @@ Builds are kept in $SVO_COCOTB_BUILD (default target/cocotb/<bench>), rebuilt wh
 changes. Exits non-zero when a test fails.
 """
 import os
+import re
 import shutil
 import sys
 import time
@@ -140,6 +141,14 @@ def main() -> int:
             print(f"run.py: SVO_HW={extra_env.get('SVO_HW')}: no package {pkg}", file=sys.stderr)
             return 2
         sources = [pkg] + [s for s in sources if s.name != "frame_hw_pkg.sv"]
+        # Hardware without on-chip node words (onchip.levels 0) reads them through svo_top's
+        # node cache: the bench's memory behind m_axi_node_* takes the package's DRAM timing.
+        consts = dict(re.findall(r"localparam int (\w+) = (\d+);", pkg.read_text()))
+        if consts.get("NODE_MEMORY_ONCHIP_LEVELS") == "0":
+            extra_env.setdefault("SVO_NODE_CACHE", "1")
+            extra_env.setdefault("SVO_DRAM_LATENCY", consts["NODE_MEMORY_DRAM_LATENCY"])
+            extra_env.setdefault("SVO_DRAM_BPC", consts["NODE_MEMORY_DRAM_BYTES_PER_CYCLE"])
+            extra_env.setdefault("SVO_LINE_BYTES", consts["NODE_MEMORY_CACHE_LINE_BYTES"])
         # A package outside hw/ gets its own folder even if its stem is a committed one's.
         if pkg.parent != TB / "hw":
             hw = f"file_{hw}"

@@ -27,6 +27,15 @@ modes (fixed latency, or with its own random pauses on each lane's AR and R), th
 master as above. The other SVO_HW packages (frame_hw, pool_1x4) have one walker and one plain
 master.
 
+With the node cache (run.py SVO_HW=pool_4x2_cache, or any package with onchip.levels 0: run.py
+sets SVO_NODE_CACHE=1 and the package's SVO_DRAM_LATENCY, SVO_DRAM_BPC, SVO_LINE_BYTES) every
+node word and attribute record comes through svo_top's cache and its master m_axi_node_*,
+served by NodeCacheDram: the model's built-in DRAM timing, the node image at NODE_BASE and the
+records at ATTR_BASE (both multiples of the cache's set span, so the cache's sets and banks are
+the model's); with SVO_STALL=P its AR and R pause as the others. There is no node store: the
+load's checks become one, a LOAD refused with STATUS.ERROR 7; the attribute-read SLVERR frame
+becomes a fill's (ERROR 10; SVO_CORRUPT=resp expects 6 for it); no failing load at the end.
+
 The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
 with each instance (its NMAT words in INSTANCE_TABLE, frame_instances nmat_*).
 
@@ -288,6 +297,95 @@ class LoadRead:
             self.bursts.append([self.cycle + self.lat, addr, n])
 
 
+class NodeCacheDram:
+    """svo_top's node-cache master (m_axi_node_*, hardware with node_memory.onchip.levels 0):
+    an AXI4 read slave whose timing is the model's built-in DRAM bus (rtl_model memory/dram.rs)
+    as svo_node_cache_axi.v's contract states it and testbench/tb/tb_axi_dram.sv implements it
+    (written again here, not shared, because the data must be the node image and the attribute
+    records in `mem`, where tb_dram_model returns a hash of the address): the AR of a fill
+    taken in cycle a counts as issued in a - 1; the fill starts on the one bus at
+    max((a - 1 + LATENCY) * B, the previous fill's end), ends LINE_BYTES later, is done in
+    ceil(end / B), and its one beat (RLAST) is on R in done - 2 on the port its AR came on.
+    ARs are taken in rotating port order from the port of the next fill (the master stripes
+    fill n on port n mod ports), stopping at the first port without one, so the bus order is
+    the issue order. With pct > 0, each port's ARREADY and each due beat pause in a random
+    pct % of cycles (rng), counted in stalls["cache ar"] / ["cache r"]; held beats wait in
+    order. fail_next: the next beat answers SLVERR (STATUS.ERROR 10)."""
+
+    ADDR_W = 40
+
+    def __init__(self, dut, mem, latency, bpc, line, rng=None, pct=0, stalls=None):
+        self.dut, self.mem, self.lat, self.bpc, self.line = dut, mem, latency, bpc, line
+        self.rng, self.pct, self.stalls = rng, pct, stalls
+        self.ports = len(dut.m_axi_node_arvalid)
+        self.idw = len(dut.m_axi_node_arid) // self.ports
+        self.q = [[] for _ in range(self.ports)]  # (due cycle, address, id), in order
+        self.cycle = 0
+        self.bus_end = 0                          # the last fill's end (byte slots)
+        self.next_port = 0                        # the port of the next fill
+        self.fills = 0
+        self.fail_next = False
+        self.errors = []
+        self.ar = (1 << self.ports) - 1
+        dut.m_axi_node_arready.value = self.ar
+        for name in ("rvalid", "rid", "rresp", "rlast", "rdata"):
+            getattr(dut, f"m_axi_node_{name}").value = 0
+
+    def paused(self, key):
+        if self.pct and self.rng.randrange(100) < self.pct:
+            self.stalls[key] += 1
+            return True
+        return False
+
+    def drive(self):
+        """The falling edge of a cycle: each port's R and ARREADY for this cycle."""
+        self.cycle += 1
+        rvalid, rdata, rresp, rid, ar = 0, 0, 0, 0, 0
+        for p in range(self.ports):
+            q = self.q[p]
+            if q and q[0][0] <= self.cycle and not self.paused("cache r"):
+                _, addr, i = q.pop(0)
+                rvalid |= 1 << p
+                rid |= i << (self.idw * p)
+                if self.fail_next:
+                    rresp |= 2 << (2 * p)
+                    self.fail_next = False
+                rdata |= int.from_bytes(self.mem[addr:addr + self.line], "little") << (8 * self.line * p)
+            if not self.paused("cache ar"):
+                ar |= 1 << p
+        self.ar = ar
+        d = self.dut
+        d.m_axi_node_arready.value = ar
+        d.m_axi_node_rvalid.value = rvalid
+        d.m_axi_node_rresp.value = rresp
+        d.m_axi_node_rlast.value = rvalid
+        d.m_axi_node_rid.value = rid
+        d.m_axi_node_rdata.value = rdata
+
+    def sample(self):
+        """Once the cycle has settled: the AR handshakes at its closing edge, in fill order."""
+        arvalid = int(self.dut.m_axi_node_arvalid.value)
+        if not arvalid & self.ar:
+            return
+        araddr = int(self.dut.m_axi_node_araddr.value)
+        arid = int(self.dut.m_axi_node_arid.value)
+        arlen = int(self.dut.m_axi_node_arlen.value)
+        arsize = int(self.dut.m_axi_node_arsize.value)
+        for j in range(self.ports):
+            p = (self.next_port + j) % self.ports
+            if not (arvalid & self.ar) >> p & 1:
+                break                             # the fills behind it wait, in order
+            addr = (araddr >> (self.ADDR_W * p)) & ((1 << self.ADDR_W) - 1)
+            if (arlen >> (8 * p)) & 0xFF or 1 << ((arsize >> (3 * p)) & 7) != self.line or addr % self.line:
+                self.errors.append(f"a fill at {addr:#x} that is not one aligned beat of {self.line} bytes")
+            start = max((self.cycle - 1 + self.lat) * self.bpc, self.bus_end)
+            self.bus_end = start + self.line
+            done = -(-self.bus_end // self.bpc)
+            self.q[p].append((done - 2, addr, (arid >> (self.idw * p)) & ((1 << self.idw) - 1)))
+            self.next_port = (p + 1) % self.ports
+            self.fills += 1
+
+
 async def every_cycle(dut, slaves):
     """One coroutine for both fixed-latency slaves (fewer simulator callbacks): at the falling
     edge their R, then, settled, their AR handshakes."""
@@ -334,6 +432,8 @@ async def frame_against_the_model(dut):
     model = [int(os.environ.get("SVO_MODEL_CYCLES", "-1")),
              int(os.environ.get("SVO_MODEL_CYCLES1", "-1"))]
     corrupt = os.environ.get("SVO_CORRUPT", "")
+    # Hardware with the node cache (run.py sets these from the package: onchip.levels 0).
+    cached = os.environ.get("SVO_NODE_CACHE", "0") == "1"
     rng = random.Random(seed)
     print(f"core: vectors {vec}, seed {seed}, stall {stall} %, memory latency {latency}, {frames} frame(s)"
           + (f", corrupted {corrupt}" if corrupt else ""))
@@ -375,6 +475,8 @@ async def frame_against_the_model(dut):
     dut.rst.value = 1
     stalls = {"node ar": 0, "node r": 0, "dir ar": 0, "dir r": 0, "stream": 0,
               "load ar": 0, "load r": 0}
+    if cached:
+        stalls.update({"cache ar": 0, "cache r": 0})
     rams = []
     load = LoadRead(dut, mem, latency, rng, stall, stalls)
     slaves = []
@@ -413,6 +515,14 @@ async def frame_against_the_model(dut):
         logging.getLogger(f"cocotb.{dut._name}.{name}").setLevel(logging.WARNING)
 
     slaves.append(load)
+    dram = None
+    if cached:
+        dram = NodeCacheDram(dut, mem, int(os.environ["SVO_DRAM_LATENCY"]),
+                             int(os.environ["SVO_DRAM_BPC"]), int(os.environ["SVO_LINE_BYTES"]),
+                             rng, stall, stalls)
+        slaves.append(dram)
+        print(f"core: node cache: {dram.ports} AXI port(s) of {dram.line} bytes, DRAM latency "
+              f"{dram.lat}, {dram.bpc} bytes a cycle")
     cocotb.start_soon(every_cycle(dut, slaves))
 
     await ClockCycles(dut.clk, 8)
@@ -550,6 +660,20 @@ async def frame_against_the_model(dut):
             n0 = len(ins[0].rows)
             im0 = images[sorted({ins[0].get(k, "image") for k in range(n0)})[0]]
             i0, nb0 = im0["index"], NODE_BASE + 4 * im0["node_base"]
+        if f == 0 and cached:
+            # No node store: a LOAD is refused with STATUS.ERROR 7 (the cache reads the images
+            # from memory; nothing to load), and a START needs none.
+            await w("LOAD_SRC_LO", NODE_BASE)
+            await w("LOAD_SRC_HI", NODE_BASE >> 32)
+            await w("LOAD_WORDS", load_words)
+            await w("CTRL", 0x4)
+            await ClockCycles(dut.clk, 4)
+            status = await r("STATUS")
+            if (status >> 8) & 0xF != 7 or status & 0x7:
+                b.fail(f"a LOAD on the node cache's hardware: STATUS {status:#x}, want ERROR 7, not BUSY, DONE or LOADING")
+            else:
+                b.passed += 1
+        if f == 0 and not cached:
             # STATUS.ERROR 7 and 8: a START before the node store is loaded, and one while it
             # loads; then the load (its cycles are the load's, not the frame's).
             await w("CTRL", 0x1)
@@ -575,6 +699,7 @@ async def frame_against_the_model(dut):
                   + (f"; protocol errors {load.errors[:3]}" if load.errors else ""))
             if load.errors:
                 b.fail(f"the load's bursts: {load.errors[:3]}")
+        if f == 0:
             await refused(3 if corrupt == "error" else 1, "a frame size of 0", "FRAME_SIZE",
                           0, width | (height << 16))
             await refused(2, "a direction table base off its burst alignment",
@@ -647,7 +772,10 @@ async def frame_against_the_model(dut):
     # SVO_CORRUPT=load expects 8 for the load: exactly one failure.
     if stall == 0:
         node_slave, dir_slave = slaves[0], slaves[1]
-        for code, slave, what in ((5, node_slave, "an attribute"), (6, dir_slave, "a direction")):
+        # With the node cache, the first fill's beat instead (10; node words and records both
+        # come through it).
+        first = (10, dram, "a node-cache fill") if cached else (5, node_slave, "an attribute")
+        for code, slave, what in (first, (6, dir_slave, "a direction")):
             await w_dirty(0x3, (1 << TABLE_INSTANCES) - 1)
             await w("STATUS", 0x2)
             slave.fail_next = True                  # the frame's first read of that master
@@ -661,7 +789,7 @@ async def frame_against_the_model(dut):
                     break
                 await ClockCycles(dut.clk, 10)
             status = await r("STATUS")
-            want = 6 if corrupt == "resp" and code == 5 else code
+            want = 6 if corrupt == "resp" and code in (5, 10) else code
             if (status >> 8) & 0xF != want or not status & 0x2 or slave.fail_next:
                 b.fail(f"{what} read answering SLVERR: STATUS {status:#x}, want DONE and ERROR {want}"
                        + (" (no read came after the injection)" if slave.fail_next else ""))
@@ -669,6 +797,7 @@ async def frame_against_the_model(dut):
                 print(f"core: {what} read answering SLVERR: STATUS {status:#x} (ERROR {code})")
                 b.passed += 1
             slave.fail_next = False
+    if stall == 0 and not cached:
         # A short load (the store is not read again): a beat in its middle fails.
         await w("STATUS", 0x2)                      # clear DONE
         short = min(load_words, 512)
@@ -688,5 +817,10 @@ async def frame_against_the_model(dut):
             b.fail(f"a START after the failed load: STATUS {status:#x}, want ERROR 7, not BUSY, DONE or LOADING")
         else:
             b.passed += 1
+    if cached:
+        print(f"core: node cache: {dram.fills} fills"
+              + (f"; protocol errors {dram.errors[:3]}" if dram.errors else ""))
+        if dram.errors:
+            b.fail(f"the node cache's fills: {dram.errors[:3]}")
     print(f"core: {b.passed} passed, {b.failed} failed")
     assert b.failed == 0, f"{b.failed} checks failed"

@@ -21,7 +21,31 @@
 //   cocotb bench does, therefore gives every read the model's bank. (Derived from NODE_BASE
 //   and LOAD_SRC rather than a store base per image: one subtraction, and no register the
 //   host could set inconsistently with the load.) A read at or beyond the loaded words fails
-//   the frame (STATUS.ERROR 7).
+//   the frame (STATUS.ERROR 7). This is the node memory of hardware with every node word on
+//   chip (node_memory.onchip.levels 21); with levels 0, the node cache below instead.
+// - the node cache (svo_node_cache_axi, hardware with onchip.levels 0 and cache.attr_cached):
+//   every node word and attribute record a walker reads, the model's NodeMemory without its
+//   on-chip store (cache.banks line-interleaved banks of cache.ports lookups, sets x ways
+//   true-LRU tags, dram.mshrs merging MSHRs, the miss queue; memory/mod.rs, cache.rs,
+//   dram.rs), one request port per walker in the cycle the walker sends (port order =
+//   context order, the model's order within a cycle), node words back on the contexts' own
+//   ports, records on the walker response ports. Its fills leave on m_axi_node_* (below).
+//   Addresses are the core's (word index NODE_BASE / 4 + i, record index ATTR_BASE / 8 + i),
+//   so the cache's lines are system byte addresses; they are the model's lines, sets and banks
+//   when the host lays the node images (and the records) one after the other as the model
+//   does from a base that is a multiple of cache.size_bytes / cache.ways. The lines stay
+//   across frames (the model's cache does), and cycle 0 of a frame waits in PREFILL until the
+//   cache's own cycle count (its bank rotation) agrees with the model's. The per-walker
+//   attribute masters m_axi_* are then unused (ARVALID 0), there is no node store (a LOAD is
+//   refused with STATUS.ERROR 7, a START needs none).
+// - m_axi_node_*: AXI4 read ports of the node cache's fills (onchip.levels 0; otherwise one
+//   port, tied off): NODE_PORTS = ceil(dram.bytes_per_cycle / cache.line_bytes) ports of
+//   NODE_DW = line_bytes · 8 data bits, ID = the MSHR (NODE_IDW bits), one beat a fill,
+//   fill n on port n mod NODE_PORTS, RREADY high; ARADDR (ADDR_W bits) = the line's byte
+//   address: NODE_BASE + 4·word for node words, ATTR_BASE + 8·record for records (the cache's
+//   unified 41-bit space without its attribute bit 40). The frame's cycles are the model's
+//   when the memory takes every AR at once and returns RLAST in the built-in bus's completion
+//   cycle − 2 (svo_node_cache_axi.v: dram.latency = AR-to-RLAST latency + 3).
 // - m_axi_*: AXI4 read masters (64-bit data) for the attribute records, one per walker (walker
 //   w on bit / slice w of each signal; one walker: a plain master), each with up to
 //   contexts_per_walker reads in flight, in order (one ID): an 8-byte read at
@@ -70,14 +94,16 @@
 // refused (LOAD_SRC off 8 bytes or beyond the 32-bit word range, LOAD_WORDS 0 or over
 // STORE_WORDS), or a node read at or beyond the loaded words during the frame; 8 a START while
 // the store loads, or a LOAD while a frame runs (refused); 9 a load read returned an error
-// response (the store is left without a load). Codes 1–4, 7 (no load) and 8 refuse the START
-// (8 before 1–4, 7 after them).
+// response (the store is left without a load); 10 a node-cache fill (m_axi_node_*) returned
+// an error response (the cache's axi_error rising: sticky in the cache until reset, so the
+// first such fill after reset). Codes 1–4, 7 (no load) and 8 refuse the START (8 before 1–4,
+// 7 after them). On the node cache's hardware a LOAD is refused with 7 (there is no store).
 //
 // The record's normal is the core's (svo_normal in the record stage) from each instance's
 // normal matrix (its NMAT words in the instance table, written by the host with the instance).
 //
-// Parameters: the hardware (FIFO depths, lanes, latencies, write paths, the on-chip banks)
-// from svo_hw_pkg (`sim hardware --sv-package`), the datapath formats as parameters (defaults:
+// Parameters: the hardware (FIFO depths, lanes, latencies, write paths, the on-chip banks,
+// the node cache's geometry and the DRAM's MSHRs and bus width) from svo_hw_pkg (`sim hardware --sv-package`), the datapath formats as parameters (defaults:
 // the default datapath, docs/number-formats.md), the store's size (STORE_WORDS: 1 MiB by
 // default, the car's 167,060 words at depth 8 fit; within onchip.max_bytes) and the load's
 // burst (LOAD_BURST beats).
@@ -106,7 +132,16 @@ module svo_top
     parameter int NINST     = 128,            // the instance table's instances (≤ 128: svo_core.rdl's INSTANCE_TABLE)
     parameter int KEYN      = 2 * SORTER_LANES, // candidates a ray carries through the sorter (≤ 63)
     parameter int STORE_WORDS = 262144,       // the on-chip node store's 32-bit words (1 MiB; a multiple of the banks)
-    parameter int LOAD_BURST = 32             // beats (8 bytes) per load burst (1 .. 256)
+    parameter int LOAD_BURST = 32,            // beats (8 bytes) per load burst (1 .. 256)
+    // The node cache's AXI side (do not set: from the package). With onchip.levels 0 the
+    // cache's fill ports: ceil(dram.bytes_per_cycle / cache.line_bytes) ports of line_bytes
+    // of data and clog2(dram.mshrs) ID bits; otherwise one 64-bit port of one ID bit, unused.
+    parameter int NODE_PORTS = NODE_MEMORY_ONCHIP_LEVELS == 0
+        ? (NODE_MEMORY_DRAM_BYTES_PER_CYCLE + NODE_MEMORY_CACHE_LINE_BYTES - 1)
+          / NODE_MEMORY_CACHE_LINE_BYTES : 1,
+    parameter int NODE_DW = NODE_MEMORY_ONCHIP_LEVELS == 0 ? NODE_MEMORY_CACHE_LINE_BYTES * 8 : 64,
+    parameter int NODE_IDW = NODE_MEMORY_ONCHIP_LEVELS == 0 && NODE_MEMORY_DRAM_MSHRS > 2
+        ? $clog2(NODE_MEMORY_DRAM_MSHRS) : 1
 ) (
     input  wire              clk,
     input  wire              rst,
@@ -179,6 +214,24 @@ module svo_top
     input  wire [0:0]        m_axi_load_rid,
     input  wire [1:0]        m_axi_load_rresp,
     input  wire              m_axi_load_rlast,
+    // AXI4 read masters of the node cache (node_memory.onchip.levels 0): NODE_PORTS ports
+    // (port p on bit / slice p), one-beat bursts of a whole line (svo_node_cache_axi); with
+    // the on-chip store (levels 21) one port, tied off (ARVALID 0)
+    output logic [NODE_PORTS-1:0]          m_axi_node_arvalid,
+    input  wire  [NODE_PORTS-1:0]          m_axi_node_arready,
+    output logic [NODE_PORTS*ADDR_W-1:0]   m_axi_node_araddr,
+    output logic [NODE_PORTS*NODE_IDW-1:0] m_axi_node_arid,
+    output logic [NODE_PORTS*8-1:0]        m_axi_node_arlen,
+    output logic [NODE_PORTS*3-1:0]        m_axi_node_arsize,
+    output logic [NODE_PORTS*2-1:0]        m_axi_node_arburst,
+    output logic [NODE_PORTS*3-1:0]        m_axi_node_arprot,
+    output logic [NODE_PORTS*4-1:0]        m_axi_node_arcache,
+    input  wire  [NODE_PORTS-1:0]          m_axi_node_rvalid,
+    output logic [NODE_PORTS-1:0]          m_axi_node_rready,
+    input  wire  [NODE_PORTS*NODE_DW-1:0]  m_axi_node_rdata,
+    input  wire  [NODE_PORTS*NODE_IDW-1:0] m_axi_node_rid,
+    input  wire  [NODE_PORTS*2-1:0]        m_axi_node_rresp,
+    input  wire  [NODE_PORTS-1:0]          m_axi_node_rlast,
     // AXI4-Stream: hit records
     output logic             m_axis_tvalid,
     input  wire              m_axis_tready,
@@ -200,6 +253,7 @@ module svo_top
     localparam int CONTEXTS = WALKER_POOL_CONTEXTS_PER_WALKER;
     localparam int WALKERS = WALKER_POOL_WALKERS;
     localparam int CW = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1;
+    localparam bit CACHED = NODE_MEMORY_ONCHIP_LEVELS == 0;   // node words through the cache
     generate
         if (TRANSFORM_UNITS != 1 || RECIPROCAL_UNITS != 3 || WALKER_ROOT_UNITS != 1
             || HIT_BUFFER_PRESENT == 0 || LANES > SORTER_LANES
@@ -215,20 +269,46 @@ module svo_top
         if (CONTEXTS < 1 || CONTEXTS > 16) begin : unsupported_contexts
             svo_top_builds_walker_pool_contexts_per_walker_1_to_16 bad();
         end
-        // Node words come from the on-chip store (svo_onchip_store: the model's banks, ports,
-        // latency and combining), which holds every level of every image: the model must keep
-        // them all on chip too (levels 21), and the store's words must fit its byte budget
-        // (a scene the store holds is then all on chip in the model as well).
-        if (NODE_MEMORY_ONCHIP_LEVELS != 21) begin : unsupported_onchip_levels
-            svo_top_needs_node_memory_onchip_levels_21 bad();
+        // Node words come either from the on-chip store (svo_onchip_store: the model's banks,
+        // ports, latency and combining), which holds every level of every image: the model
+        // must keep them all on chip too (levels 21), and the store's words must fit its byte
+        // budget (a scene the store holds is then all on chip in the model as well); or, with
+        // levels 0, from the node cache (svo_node_cache_axi), attribute records included.
+        // Levels in between (the model's on-chip whitelist in front of the cache) are not
+        // built yet.
+        if (NODE_MEMORY_ONCHIP_LEVELS != 21 && NODE_MEMORY_ONCHIP_LEVELS != 0)
+        begin : unsupported_onchip_levels
+            svo_top_needs_node_memory_onchip_levels_0_or_21 bad();
         end
-        if (64'(STORE_WORDS) * 4 > 64'(NODE_MEMORY_ONCHIP_MAX_BYTES)) begin : unsupported_onchip_bytes
+        if (!CACHED && 64'(STORE_WORDS) * 4 > 64'(NODE_MEMORY_ONCHIP_MAX_BYTES))
+        begin : unsupported_onchip_bytes
             svo_top_STORE_WORDS_over_node_memory_onchip_max_bytes bad();
         end
-        if (NODE_MEMORY_ONCHIP_LATENCY < 2) begin : unsupported_onchip_latency
+        if (!CACHED && NODE_MEMORY_ONCHIP_LATENCY < 2) begin : unsupported_onchip_latency
             svo_top_needs_node_memory_onchip_latency_2_or_more bad();
         end
-        if (STORE_WORDS < NODE_MEMORY_ONCHIP_BANKS || STORE_WORDS % NODE_MEMORY_ONCHIP_BANKS != 0)
+        // The cache: attribute records through it too (their own AXI masters would need the
+        // model's uncached timing beside the cache's; not built), and the AXI path's fixed
+        // three cycles (AR registered, R registered, the fill written) inside dram.latency
+        // (svo_node_cache_axi.v: an external memory of D cycles is dram.latency D + 3).
+        if (CACHED && !NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_cached_attr
+            svo_top_with_node_memory_onchip_levels_0_needs_cache_attr_cached_true bad();
+        end
+        if (CACHED && NODE_MEMORY_DRAM_LATENCY < 3) begin : unsupported_cached_latency
+            svo_top_with_node_memory_onchip_levels_0_needs_dram_latency_3_or_more bad();
+        end
+        if (CACHED && (NODE_MEMORY_CACHE_LINE_BYTES > 128 || NODE_MEMORY_CACHE_LINE_BYTES < 8))
+        begin : unsupported_cached_line
+            svo_top_with_node_memory_onchip_levels_0_needs_cache_line_bytes_8_to_128 bad();
+        end
+        if (CACHED && (NODE_PORTS != (NODE_MEMORY_DRAM_BYTES_PER_CYCLE
+            + NODE_MEMORY_CACHE_LINE_BYTES - 1) / NODE_MEMORY_CACHE_LINE_BYTES
+            || NODE_DW != NODE_MEMORY_CACHE_LINE_BYTES * 8))
+        begin : bad_node_ports
+            svo_top_NODE_PORTS_NODE_DW_are_derived_do_not_set bad();
+        end
+        if (!CACHED && (STORE_WORDS < NODE_MEMORY_ONCHIP_BANKS
+            || STORE_WORDS % NODE_MEMORY_ONCHIP_BANKS != 0))
         begin : bad_store_words
             svo_top_STORE_WORDS_a_multiple_of_node_memory_onchip_banks bad();
         end
@@ -237,10 +317,10 @@ module svo_top
         end
         // Attribute records go to the per-walker masters: up to WALKERS a cycle, each served
         // in its cycle (no lookup port or DRAM cycle waits).
-        if (WALKERS > 1 && NODE_MEMORY_CACHE_PORTS < WALKERS) begin : unsupported_cache_ports
+        if (!CACHED && WALKERS > 1 && NODE_MEMORY_CACHE_PORTS < WALKERS) begin : unsupported_cache_ports
             svo_top_with_several_walkers_needs_node_memory_cache_ports_of_walkers bad();
         end
-        if (NODE_MEMORY_CACHE_LINE_BYTES * WALKERS > NODE_MEMORY_DRAM_BYTES_PER_CYCLE)
+        if (!CACHED && NODE_MEMORY_CACHE_LINE_BYTES * WALKERS > NODE_MEMORY_DRAM_BYTES_PER_CYCLE)
         begin : unsupported_dram_bus
             svo_top_needs_node_memory_dram_bytes_per_cycle_of_walkers_lines bad();
         end
@@ -261,21 +341,21 @@ module svo_top
         // with several contexts two attribute reads can overlap, and the pool merges them as
         // the model's MSHRs do only for uncached 8-byte attribute lines (svo_walker_pool.v).
         // The fixed latency is the bench's: the uncached DRAM read's (dram.latency + 1).
-        if (WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_attr_cached
+        if (!CACHED && WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_attr_cached
             svo_top_with_several_contexts_needs_node_memory_cache_attr_cached_false bad();
         end
-        if (WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_LINE_BYTES != 8) begin : unsupported_line_bytes
+        if (!CACHED && WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_LINE_BYTES != 8) begin : unsupported_line_bytes
             svo_top_with_several_contexts_needs_node_memory_cache_line_bytes_8 bad();
         end
-        if (WALKERS * CONTEXTS > 1 && !NODE_MEMORY_DRAM_BACKEND_IS_BUILTIN) begin : unsupported_backend
+        if (!CACHED && WALKERS * CONTEXTS > 1 && !NODE_MEMORY_DRAM_BACKEND_IS_BUILTIN) begin : unsupported_backend
             svo_top_with_several_contexts_needs_node_memory_dram_backend_BuiltIn bad();
         end
-        if (NODE_MEMORY_CACHE_ATTR_CACHED
+        if (!CACHED && NODE_MEMORY_CACHE_ATTR_CACHED
             && NODE_MEMORY_CACHE_HIT_LATENCY != NODE_MEMORY_ONCHIP_LATENCY)
         begin : unsupported_hit_latency
             svo_top_needs_node_memory_cache_hit_latency_equal_to_onchip_latency bad();
         end
-        if (NODE_MEMORY_DRAM_LATENCY + 1 != NODE_MEMORY_ONCHIP_LATENCY)
+        if (!CACHED && NODE_MEMORY_DRAM_LATENCY + 1 != NODE_MEMORY_ONCHIP_LATENCY)
         begin : unsupported_dram_latency
             svo_top_needs_node_memory_dram_latency_plus_1_equal_to_onchip_latency bad();
         end
@@ -320,6 +400,8 @@ module svo_top
     logic [OC-1:0] out_n;                     // output FIFO beats
     logic rd_err, dir_err;                    // an error response this cycle
     logic st_err;                             // a node read beyond the loaded words this cycle
+    logic nc_err;                             // the node cache's fill answered an error (once)
+    logic nr_aligned;                         // the cache's cycle is the model's (PREFILL end)
     logic ld_busy;                            // the node store's load is under way
     logic store_ok;                           // the store holds a complete load
     logic [3:0] ld_error;                     // a refused LOAD or a failed load (one cycle)
@@ -340,7 +422,8 @@ module svo_top
     localparam int DIR_ALIGN = $clog2(16 * DIR_BURST);
     logic [3:0] start_error;
     always_comb begin
-        start_error = store_ok ? 4'd0 : 4'd7;  // no complete load: the images are not on chip
+        // No complete load: the images are not on chip (the cache reads them from memory).
+        start_error = store_ok || CACHED ? 4'd0 : 4'd7;
         for (int i = 0; i < IMAGES; i++) begin
             logic [63:0] nb, ab;
             nb = {hwif_out.IMAGE[i].NODE_BASE_HI.VALUE.value, hwif_out.IMAGE[i].NODE_BASE_LO.VALUE.value};
@@ -388,7 +471,11 @@ module svo_top
                         phase <= PREFILL;
                     end
                 end
-                PREFILL: if (dir_count >= DC'(npix < DIR_DEPTH ? npix : DIR_DEPTH)) phase <= RUN;
+                // With the cache, also when the cache's cycle (svo_node_cache's bank rotation:
+                // cycles since reset mod cache.banks) is the model's frame start (the frames'
+                // cycles before it): the cycles outside RUN since reset a multiple of the banks.
+                PREFILL: if (dir_count >= DC'(npix < DIR_DEPTH ? npix : DIR_DEPTH)
+                             && (!CACHED || nr_aligned)) phase <= RUN;
                 RUN: if (written + PIXW'(n_wr) >= npix) phase <= DRAIN;
                 DRAIN: if (out_n == '0) begin
                     done_pulse <= 1'b1;
@@ -399,6 +486,7 @@ module svo_top
             if (rd_err) error <= 4'd5;
             if (dir_err) error <= 4'd6;
             if (st_err) error <= 4'd7;
+            if (nc_err) error <= 4'd10;
             if (ld_error != 4'd0) error <= ld_error;
         end
     end
@@ -492,7 +580,7 @@ module svo_top
     wire [63:0] ld_src_r = {hwif_out.LOAD_SRC_HI.VALUE.value, hwif_out.LOAD_SRC_LO.VALUE.value};
     wire [31:0] ld_words_r = hwif_out.LOAD_WORDS.VALUE.value;
     wire ld_cmd = hwif_out.CTRL.LOAD.value;
-    wire ld_refused = ld_src_r[2:0] != 3'd0 || |ld_src_r[63:34]
+    wire ld_refused = CACHED || ld_src_r[2:0] != 3'd0 || |ld_src_r[63:34]
         || (ADDR_W < 64 && |(ld_src_r >> ADDR_W))
         || ld_words_r == 32'd0 || ld_words_r > 32'(STORE_WORDS);
     logic [ADDR_W-1:0] ld_src;                // the load's source (byte address of word 0)
@@ -575,103 +663,268 @@ module svo_top
     end
 
     // ---------------------------------------------------------------- node memory
-    // Node words: the on-chip store (svo_onchip_store, the model's banks: onchip.banks
-    // word-interleaved banks of ports_per_bank ports, latency, combine), one request port per
-    // walker, a completion port per context into the pool (svo_core CTX_RESP). The store
-    // address is the model's node address: the read's word index (IMAGE.NODE_BASE / 4 + the
-    // image's word) minus STORE base (LOAD_SRC / 4). The model places the scene's images one
-    // after the other from word 0 (src/models/cycle/layout.rs), and a host that loads them
-    // that way from LOAD_SRC, with NODE_BASE = LOAD_SRC + 4 · (the image's model base), gives
-    // every read the model's address, so bank = address mod banks as in the model. A node
-    // read at or beyond the loaded words is an error (STATUS.ERROR 7).
+    // Two node memories, by the package's node_memory.onchip.levels:
+    // - 21: the on-chip store (svo_onchip_store, the model's banks: onchip.banks
+    //   word-interleaved banks of ports_per_bank ports, latency, combine), one request port per
+    //   walker, a completion port per context into the pool (svo_core CTX_RESP). The store
+    //   address is the model's node address: the read's word index (IMAGE.NODE_BASE / 4 + the
+    //   image's word) minus STORE base (LOAD_SRC / 4). The model places the scene's images one
+    //   after the other from word 0 (src/models/cycle/layout.rs), and a host that loads them
+    //   that way from LOAD_SRC, with NODE_BASE = LOAD_SRC + 4 · (the image's model base), gives
+    //   every read the model's address, so bank = address mod banks as in the model. A node
+    //   read at or beyond the loaded words is an error (STATUS.ERROR 7). Attribute records:
+    //   one AXI4 master per walker (m_axi_*).
+    // - 0: the node cache (svo_node_cache_axi), node words and attribute records alike
+    //   (attr_cached), below.
     localparam int NW = WALKERS;
     localparam int NCTX = WALKERS * CONTEXTS;
     localparam int REQS = NCTX < 2 ? 2 : NCTX;
-    wire [NW-1:0] mem_req_valid, mem_req_attr, mem_req_ready, mem_resp_valid;
+    wire [NW-1:0] mem_req_valid, mem_req_attr, mem_req_ready;
+    logic [NW-1:0] mem_resp_valid;
     wire [NW*32-1:0] mem_req_addr;
-    wire [NW*CW-1:0] mem_req_ctx, mem_resp_ctx;
-    wire [NW*64-1:0] mem_resp_data;
-    wire [NW-1:0] rd_out, rd_resp_err, st_req, st_beyond;
-    wire [NW*32-1:0] st_addr;
-    wire [REQS-1:0] st_done;
+    wire [NW*CW-1:0] mem_req_ctx;
+    logic [NW*CW-1:0] mem_resp_ctx;
+    logic [NW*64-1:0] mem_resp_data;
+    wire [NW-1:0] rd_out, rd_resp_err, st_req;
+    wire [REQS-1:0] st_done;                  // a context's node word is back (CTX_RESP)
     wire [REQS*32-1:0] st_data;
     wire st_overflow;
-    logic [REQS-1:0] st_pend;                 // a context's store read is out
-    /* verilator lint_off PINCONNECTEMPTY */
-    svo_onchip_store #(.REQ_PORTS(NW), .REQUESTERS(REQS), .BANKS(NODE_MEMORY_ONCHIP_BANKS),
-        .PORTS(NODE_MEMORY_ONCHIP_PORTS_PER_BANK), .LATENCY(NODE_MEMORY_ONCHIP_LATENCY),
-        .COMBINE(NODE_MEMORY_ONCHIP_COMBINE ? 1 : 0), .WORDS(STORE_WORDS), .QDEPTH(REQS))
-    u_store (.clk(clk), .rst(rst || core_rst), .load_valid(ld_write), .load_addr(ld_wr),
-        .load_data(ld_hold ? ld_hi : m_axi_load_rdata[31:0]), .req_valid(st_req),
-        .req_requester(mem_req_ctx), .req_addr(st_addr), .rsp_done(st_done),
-        .rsp_data(st_data), .cnt_reads(), .cnt_combined(), .cnt_port_wait(),
-        .err(st_overflow));
-    /* verilator lint_on PINCONNECTEMPTY */
+    logic [REQS-1:0] st_pend;                 // a context's node-memory read is out
+    // The reads each context has out, for STALL_MEMORY: set by its request (st_req: the
+    // reads that go to the store or the cache), cleared by its completion (st_fin).
+    wire [REQS-1:0] st_fin;
     always_ff @(posedge clk) begin
-        if (rst || core_rst) begin
-            st_pend <= '0;
-            st_err <= 1'b0;
-        end else begin
-            st_err <= |st_beyond;
+        if (rst || core_rst) st_pend <= '0;
+        else
             for (int n = 0; n < REQS; n++) begin
                 logic asked;
                 asked = 1'b0;
                 for (int w = 0; w < NW; w++)
                     if (st_req[w] && mem_req_ctx[w*CW +: CW] == CW'(n)) asked = 1'b1;
-                st_pend[n] <= asked || (st_pend[n] && !st_done[n]);
+                st_pend[n] <= asked || (st_pend[n] && !st_fin[n]);
             end
-        end
     end
-
-    // Attribute records: one AXI4 read master per walker (its request port). Reads in flight,
-    // in order (one AXI ID): each context has at most one read out, so per master a FIFO of
-    // CONTEXTS entries names each response's context.
-    localparam int RQ = CONTEXTS;
-    localparam int RQW = RQ > 1 ? $clog2(RQ) : 1;
-    localparam int RQC = $clog2(RQ + 1);
     genvar gm;
     generate
-        for (gm = 0; gm < NW; gm = gm + 1) begin : node_port
-            logic [CW-1:0] rq [RQ];
-            logic [RQW-1:0] rq_wr, rq_rd;
-            logic [RQC-1:0] rq_n;
-            wire r_done = m_axi_rvalid[gm] && m_axi_rlast[gm];
-            wire rd_free = rq_n != RQC'(RQ) || r_done;
-            wire [31:0] a = mem_req_addr[gm*32 +: 32];
-            assign st_req[gm] = mem_req_valid[gm] && !mem_req_attr[gm];
-            assign st_addr[gm*32 +: 32] = a - store_base;
-            assign st_beyond[gm] = st_req[gm] && a - store_base >= store_words;
-            assign rd_out[gm] = rq_n != '0;
-            assign rd_resp_err[gm] = m_axi_rvalid[gm] && m_axi_rresp[gm*2 + 1];
-            assign m_axi_rready[gm] = 1'b1;      // the walker takes its read when it arrives
-            assign m_axi_arvalid[gm] = mem_req_valid[gm] && mem_req_attr[gm] && rd_free;
-            assign m_axi_araddr[gm*ADDR_W +: ADDR_W] = ADDR_W'({a, 3'b000});
-            assign m_axi_arsize[gm*3 +: 3] = 3'd3;
-            assign m_axi_arlen[gm*8 +: 8] = 8'd0;
-            assign m_axi_arid[gm] = 1'b0;
-            assign m_axi_arburst[gm*2 +: 2] = 2'b01;
-            assign m_axi_arprot[gm*3 +: 3] = 3'b000;
-            assign m_axi_arcache[gm*4 +: 4] = 4'b0011;
-            assign mem_req_ready[gm] = !mem_req_attr[gm] || (m_axi_arready[gm] && rd_free);
-            assign mem_resp_valid[gm] = m_axi_rvalid[gm];
-            assign mem_resp_ctx[gm*CW +: CW] = rq[rq_rd];
-            assign mem_resp_data[gm*64 +: 64] = m_axi_rdata[gm*64 +: 64];
-            wire ar_take = m_axi_arvalid[gm] && m_axi_arready[gm];
-            always_ff @(posedge clk) begin
-                if (ar_take) rq[rq_wr] <= mem_req_ctx[gm*CW +: CW];
-                if (rst || core_rst) begin
-                    rq_n <= '0;
-                    rq_wr <= '0;
-                    rq_rd <= '0;
-                end else begin
-                    if (ar_take) rq_wr <= rq_wr == RQW'(RQ - 1) ? '0 : rq_wr + 1'b1;
-                    if (r_done) rq_rd <= rq_rd == RQW'(RQ - 1) ? '0 : rq_rd + 1'b1;
-                    rq_n <= rq_n + RQC'(ar_take) - RQC'(r_done);
+        if (!CACHED) begin : onchip
+            wire [NW-1:0] st_beyond;
+            wire [NW*32-1:0] st_addr;
+            assign st_fin = st_done;
+            /* verilator lint_off PINCONNECTEMPTY */
+            svo_onchip_store #(.REQ_PORTS(NW), .REQUESTERS(REQS), .BANKS(NODE_MEMORY_ONCHIP_BANKS),
+                .PORTS(NODE_MEMORY_ONCHIP_PORTS_PER_BANK), .LATENCY(NODE_MEMORY_ONCHIP_LATENCY),
+                .COMBINE(NODE_MEMORY_ONCHIP_COMBINE ? 1 : 0), .WORDS(STORE_WORDS), .QDEPTH(REQS))
+            u_store (.clk(clk), .rst(rst || core_rst), .load_valid(ld_write), .load_addr(ld_wr),
+                .load_data(ld_hold ? ld_hi : m_axi_load_rdata[31:0]), .req_valid(st_req),
+                .req_requester(mem_req_ctx), .req_addr(st_addr), .rsp_done(st_done),
+                .rsp_data(st_data), .cnt_reads(), .cnt_combined(), .cnt_port_wait(),
+                .err(st_overflow));
+            /* verilator lint_on PINCONNECTEMPTY */
+            always_ff @(posedge clk) st_err <= !(rst || core_rst) && |st_beyond;
+
+            // Attribute records: one AXI4 read master per walker (its request port). Reads in
+            // flight, in order (one AXI ID): each context has at most one read out, so per
+            // master a FIFO of CONTEXTS entries names each response's context.
+            localparam int RQ = CONTEXTS;
+            localparam int RQW = RQ > 1 ? $clog2(RQ) : 1;
+            localparam int RQC = $clog2(RQ + 1);
+            for (gm = 0; gm < NW; gm = gm + 1) begin : node_port
+                logic [CW-1:0] rq [RQ];
+                logic [RQW-1:0] rq_wr, rq_rd;
+                logic [RQC-1:0] rq_n;
+                wire r_done = m_axi_rvalid[gm] && m_axi_rlast[gm];
+                wire rd_free = rq_n != RQC'(RQ) || r_done;
+                wire [31:0] a = mem_req_addr[gm*32 +: 32];
+                assign st_req[gm] = mem_req_valid[gm] && !mem_req_attr[gm];
+                assign st_addr[gm*32 +: 32] = a - store_base;
+                assign st_beyond[gm] = st_req[gm] && a - store_base >= store_words;
+                assign rd_out[gm] = rq_n != '0;
+                assign rd_resp_err[gm] = m_axi_rvalid[gm] && m_axi_rresp[gm*2 + 1];
+                assign m_axi_rready[gm] = 1'b1;      // the walker takes its read when it arrives
+                assign m_axi_arvalid[gm] = mem_req_valid[gm] && mem_req_attr[gm] && rd_free;
+                assign m_axi_araddr[gm*ADDR_W +: ADDR_W] = ADDR_W'({a, 3'b000});
+                assign m_axi_arsize[gm*3 +: 3] = 3'd3;
+                assign m_axi_arlen[gm*8 +: 8] = 8'd0;
+                assign m_axi_arid[gm] = 1'b0;
+                assign m_axi_arburst[gm*2 +: 2] = 2'b01;
+                assign m_axi_arprot[gm*3 +: 3] = 3'b000;
+                assign m_axi_arcache[gm*4 +: 4] = 4'b0011;
+                assign mem_req_ready[gm] = !mem_req_attr[gm] || (m_axi_arready[gm] && rd_free);
+                assign mem_resp_valid[gm] = m_axi_rvalid[gm];
+                assign mem_resp_ctx[gm*CW +: CW] = rq[rq_rd];
+                assign mem_resp_data[gm*64 +: 64] = m_axi_rdata[gm*64 +: 64];
+                wire ar_take = m_axi_arvalid[gm] && m_axi_arready[gm];
+                always_ff @(posedge clk) begin
+                    if (ar_take) rq[rq_wr] <= mem_req_ctx[gm*CW +: CW];
+                    if (rst || core_rst) begin
+                        rq_n <= '0;
+                        rq_wr <= '0;
+                        rq_rd <= '0;
+                    end else begin
+                        if (ar_take) rq_wr <= rq_wr == RQW'(RQ - 1) ? '0 : rq_wr + 1'b1;
+                        if (r_done) rq_rd <= rq_rd == RQW'(RQ - 1) ? '0 : rq_rd + 1'b1;
+                        rq_n <= rq_n + RQC'(ar_take) - RQC'(r_done);
+                    end
                 end
             end
+            always_ff @(posedge clk) rd_err <= !(rst || core_rst) && |rd_resp_err;
+            // The cache's port: none.
+            assign m_axi_node_arvalid = '0;
+            assign m_axi_node_araddr = '0;
+            assign m_axi_node_arid = '0;
+            assign m_axi_node_arlen = '0;
+            assign m_axi_node_arsize = '0;
+            assign m_axi_node_arburst = '0;
+            assign m_axi_node_arprot = '0;
+            assign m_axi_node_arcache = '0;
+            assign m_axi_node_rready = '1;
+            assign nc_err = 1'b0;
+            assign nr_aligned = 1'b1;
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire unused_onchip = &{1'b0, m_axi_node_arready, m_axi_node_rvalid, m_axi_node_rdata,
+                                   m_axi_node_rid, m_axi_node_rresp, m_axi_node_rlast};
+            /* verilator lint_on UNUSEDSIGNAL */
+        end else begin : cached
+            // The node cache (svo_node_cache_axi: banks, ports, tags, MSHRs, miss queue; its
+            // fills on NODE_PORTS AXI4 read ports of one beat a line, ARID = MSHR), cycle-exact
+            // with the model's NodeMemory without its on-chip store (memory/mod.rs, cache.rs,
+            // dram.rs) behind a memory of the built-in DRAM's timing (tb_axi_dram.sv's contract:
+            // dram.latency = the memory's AR-to-RLAST cycles + 3).
+            // Requests: every read the pool sends, in the cycle it sends it, walker w on the
+            // cache's port w (the pool's walker order is its context order, the model's service
+            // order within a cycle), requester = the pool's context index, kind 2 for an
+            // attribute record else 0 (the model times a far word as a node word), address the
+            // core's: the word index IMAGE.NODE_BASE / 4 + i, the record index IMAGE.ATTR_BASE /
+            // 8 + i. The cache takes every read (no ready). Its unified space (cache.rs: node
+            // byte 4·word, attribute record j at 2^40 + 8j) is then the system's byte addresses
+            // with bit 40 telling attributes: ARADDR = the cache's address without bit 40, i.e.
+            // NODE_BASE + 4i or ATTR_BASE + 8i. The model's addresses start from 0 (layout.rs:
+            // images one after the other); the same lines, sets and banks as the model's need
+            // the host to place the node space and the attribute space each at a multiple of
+            // SETS · LINE_BYTES bytes (the cache's size over its ways) with NODE_BASE = node
+            // space + 4 · (the image's model base), ATTR_BASE likewise (8 bytes a record), as
+            // the cocotb bench does; other bases read the right data at other set indices.
+            // Responses: a node word on its context's CTX_RESP port in its completion cycle; an
+            // attribute record on a walker response port (any port carries any context): up to
+            // NW records a cycle, lowest context first, more wait a cycle (the model completes
+            // them together: reads merged on one fill of a line holding several records; not
+            // seen at NW 4).
+            // The cache's cycle: svo_node_cache numbers cycles from reset (bank rotation
+            // cycle mod BANKS); the model's cycle runs only in frames, continuing from one
+            // frame to the next (the cache keeps its lines across frames; the pipeline's reset
+            // at START leaves it alone). PREFILL therefore ends only when the cycles outside
+            // RUN since reset are a multiple of cache.banks (up to banks − 1 more PREFILL
+            // cycles, outside CYCLES).
+            localparam int CSETS = NODE_MEMORY_CACHE_SIZE_BYTES
+                / (NODE_MEMORY_CACHE_WAYS * NODE_MEMORY_CACHE_LINE_BYTES);
+            localparam int CSLOTS = NODE_MEMORY_CACHE_MISS_QUEUE
+                + NODE_MEMORY_CACHE_BANKS * NODE_MEMORY_CACHE_PORTS;
+            localparam int CISSUE = NODE_MEMORY_DRAM_MSHRS < CSLOTS ? NODE_MEMORY_DRAM_MSHRS : CSLOTS;
+            localparam int CMW = $clog2(NODE_MEMORY_DRAM_MSHRS);
+            localparam int RQB = $clog2(REQS);
+            localparam int NB = NODE_MEMORY_CACHE_BANKS;
+            localparam int NBW = NB > 1 ? $clog2(NB) : 1;
+            wire [REQS-1:0] c_done;
+            wire [REQS*64-1:0] c_data;
+            wire [NW*RQB-1:0] c_req;
+            wire [NW*2-1:0] c_kind;
+            wire [NODE_PORTS*41-1:0] c_araddr;
+            wire [NODE_PORTS*CMW-1:0] c_arid;
+            wire c_axi_error;
+            logic c_axi_error_q;
+            logic [REQS-1:0] c_attr;              // the context's read out is a record
+            logic [REQS-1:0] a_wait;              // its record is back, not yet delivered
+            logic [NBW-1:0] nr;                   // cycles outside RUN since reset, mod banks
+            for (gm = 0; gm < NW; gm = gm + 1) begin : req
+                assign st_req[gm] = mem_req_valid[gm];
+                assign c_req[gm*RQB +: RQB] = RQB'(mem_req_ctx[gm*CW +: CW]);
+                assign c_kind[gm*2 +: 2] = {mem_req_attr[gm], 1'b0};
+                assign mem_req_ready[gm] = 1'b1;
+                assign rd_out[gm] = 1'b0;
+                assign rd_resp_err[gm] = 1'b0;
+            end
+            /* verilator lint_off PINCONNECTEMPTY */
+            svo_node_cache_axi #(.REQ_PORTS(NW), .REQUESTERS(REQS), .BANKS(NB),
+                .PORTS(NODE_MEMORY_CACHE_PORTS), .SETS(CSETS), .WAYS(NODE_MEMORY_CACHE_WAYS),
+                .LINE_BYTES(NODE_MEMORY_CACHE_LINE_BYTES),
+                .HIT_LATENCY(NODE_MEMORY_CACHE_HIT_LATENCY), .MSHRS(NODE_MEMORY_DRAM_MSHRS),
+                .MISS_QUEUE(NODE_MEMORY_CACHE_MISS_QUEUE), .ATTR_CACHED(1),
+                .FILL_LANES(NODE_PORTS), .ISSUE_LANES(CISSUE))
+            u_cache (.clk(clk), .rst(rst), .req_valid(mem_req_valid), .req_requester(c_req),
+                .req_kind(c_kind), .req_addr(mem_req_addr), .rsp_done(c_done), .rsp_data(c_data),
+                .m_arvalid(m_axi_node_arvalid), .m_arready(m_axi_node_arready),
+                .m_arid(c_arid), .m_araddr(c_araddr), .m_arlen(m_axi_node_arlen),
+                .m_arsize(m_axi_node_arsize), .m_arburst(m_axi_node_arburst),
+                .m_rvalid(m_axi_node_rvalid), .m_rready(m_axi_node_rready),
+                .m_rid(m_axi_node_rid[NODE_PORTS*CMW-1:0]), .m_rdata(m_axi_node_rdata),
+                .m_rresp(m_axi_node_rresp), .m_rlast(m_axi_node_rlast),
+                .axi_error(c_axi_error), .cnt_hits(), .cnt_misses(), .cnt_merged(),
+                .cnt_fills(), .cnt_uncached(), .cnt_replay_hits());
+            /* verilator lint_on PINCONNECTEMPTY */
+            for (gm = 0; gm < NODE_PORTS; gm = gm + 1) begin : axi
+                assign m_axi_node_araddr[gm*ADDR_W +: ADDR_W] = ADDR_W'(c_araddr[gm*41 +: 40]);
+                assign m_axi_node_arid[gm*NODE_IDW +: NODE_IDW] = NODE_IDW'(c_arid[gm*CMW +: CMW]);
+                assign m_axi_node_arprot[gm*3 +: 3] = 3'b000;
+                assign m_axi_node_arcache[gm*4 +: 4] = 4'b0011;
+            end
+            // Node words on the contexts' own ports; records onto the walker ports.
+            assign st_done = c_done & ~c_attr;
+            for (gm = 0; gm < REQS; gm = gm + 1) begin : ctx
+                assign st_data[gm*32 +: 32] = c_data[gm*64 +: 32];
+            end
+            wire [REQS-1:0] a_now = a_wait | (c_done & c_attr);
+            logic [REQS-1:0] a_sent;
+            always_comb begin
+                int p;
+                p = 0;
+                a_sent = '0;
+                mem_resp_valid = '0;
+                mem_resp_ctx = '0;
+                mem_resp_data = '0;
+                for (int n = 0; n < REQS; n++)
+                    if (a_now[n] && p < NW) begin
+                        a_sent[n] = 1'b1;
+                        mem_resp_valid[p] = 1'b1;
+                        mem_resp_ctx[p*CW +: CW] = CW'(n);
+                        mem_resp_data[p*64 +: 64] = c_data[n*64 +: 64];
+                        p = p + 1;
+                    end
+            end
+            assign st_fin = c_done;
+            assign st_overflow = 1'b0;
+            assign nc_err = c_axi_error && !c_axi_error_q;
+            assign nr_aligned = NBW'(nr + 1'b1) == '0 || NB == 1;
+            always_ff @(posedge clk) begin
+                for (int w = 0; w < NW; w++)
+                    if (mem_req_valid[w]) c_attr[RQB'(mem_req_ctx[w*CW +: CW])] <= mem_req_attr[w];
+                if (rst) begin
+                    a_wait <= '0;
+                    nr <= '0;
+                    c_axi_error_q <= 1'b0;
+                end else begin
+                    a_wait <= a_now & ~a_sent;
+                    if (!run) nr <= NBW'(nr + 1'b1);
+                    c_axi_error_q <= c_axi_error;
+                end
+            end
+            assign st_err = 1'b0;
+            assign rd_err = 1'b0;
+            assign m_axi_arvalid = '0;
+            assign m_axi_araddr = '0;
+            assign m_axi_arid = '0;
+            assign m_axi_arlen = '0;
+            assign m_axi_arsize = '0;
+            assign m_axi_arburst = '0;
+            assign m_axi_arprot = '0;
+            assign m_axi_arcache = '0;
+            assign m_axi_rready = '1;
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire unused_cached = &{1'b0, m_axi_node_rid, c_araddr, m_axi_rvalid, rd_resp_err,
+                                   store_base, store_words,
+                                   m_axi_rdata, m_axi_rlast, m_axi_load_rdata, ld_hi};
+            /* verilator lint_on UNUSEDSIGNAL */
         end
     endgenerate
-    always_ff @(posedge clk) rd_err <= !(rst || core_rst) && |rd_resp_err;
 
     // ---------------------------------------------------------------- the instance table
     // The register block's external INSTANCE_TABLE: a request is held until the table takes
