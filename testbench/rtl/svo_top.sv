@@ -274,8 +274,8 @@ module svo_top
         // must keep them all on chip too (levels 21), and the store's words must fit its byte
         // budget (a scene the store holds is then all on chip in the model as well); or, with
         // levels 0, from the node cache (svo_node_cache_axi), attribute records included.
-        // Levels in between (the model's on-chip whitelist in front of the cache) are not
-        // built yet.
+        // Levels in between (each image's top levels, a prefix of its words since issue 29's
+        // image layout, in front of the cache) are not built yet.
         if (NODE_MEMORY_ONCHIP_LEVELS != 21 && NODE_MEMORY_ONCHIP_LEVELS != 0)
         begin : unsupported_onchip_levels
             svo_top_needs_node_memory_onchip_levels_0_or_21 bad();
