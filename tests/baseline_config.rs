@@ -130,3 +130,35 @@ fn baseline_file_gives_the_golden_cycles_of_its_time() {
         "cycles per frame on configs/baseline.ron"
     );
 }
+
+/// `configs/default_2026_11.ron`: the default hardware before issue 29 moved the step latency to
+/// the barrel walker's 4. It writes out every field, and it is today's default but for the
+/// fields changed since (only `walker_pool.step_latency_cycles`, 3 there): a later change of a
+/// default adds its field to the list below, so that the file keeps describing its time.
+#[test]
+fn default_2026_11_file_is_the_default_of_its_time() {
+    fn differs_from_today(text: &str) -> Result<(), String> {
+        let missing = missing_fields(text);
+        if !missing.is_empty() {
+            return Err(format!("leaves out {missing:?}: write every field out"));
+        }
+        let file: HwConfig = ron::from_str(text).map_err(|e| format!("not hardware: {e}"))?;
+        file.validate().map_err(|e| format!("invalid: {e}"))?;
+        // Today's default with the fields changed since the file was written set back.
+        let mut then = HwConfig::default();
+        then.walker_pool.step_latency_cycles = 3;
+        if file != then {
+            return Err(format!(
+                "differs from the default of its time:\n file {file:?}\n then {then:?}"
+            ));
+        }
+        Ok(())
+    }
+    let text = std::fs::read_to_string(repo().join("configs/default_2026_11.ron")).expect("read");
+    differs_from_today(&text).unwrap_or_else(|e| panic!("configs/default_2026_11.ron {e}"));
+    // Shown failing once: a field changed in the file is caught.
+    let changed = text.replace("        walkers: 48,\n", "        walkers: 47,\n");
+    assert_ne!(changed, text, "the corruption must change the file");
+    let e = differs_from_today(&changed).expect_err("a changed field must be caught");
+    assert!(e.starts_with("differs from the default of its time"), "{e}");
+}

@@ -8,7 +8,7 @@ package walker_vectors_pkg;
   localparam int MEM_LATENCY_1 = 3;  // cycles per read of cycles_1: the on-chip node store's
   localparam int MEM_LATENCY_2 = 60;  // cycles per read of cycles_2: the DRAM's
   localparam int STEP_CYCLES = 1;  // walker issue interval, cycles
-  localparam int STEP_LATENCY = 3;  // cycles from a step to the context's next step or read
+  localparam int STEP_LATENCY = 4;  // cycles from a step to the context's next step or read
   localparam int STACK_DEPTH = 21;  // stack frames per context
   localparam int MAX_STEPS = 100000;  // step limit of a walk
   localparam int ROOT_LATENCY = 8;  // walker-root unit latency, cycles

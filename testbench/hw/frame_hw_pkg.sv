@@ -81,7 +81,7 @@ package svo_hw_pkg;
     localparam bit WALKER_POOL_STACK_IS_FULLT = 1'b1;
     localparam int WALKER_POOL_STACK_DEPTH = 21;
     localparam int WALKER_POOL_STEP_CYCLES = 1;
-    localparam int WALKER_POOL_STEP_LATENCY_CYCLES = 3;
+    localparam int WALKER_POOL_STEP_LATENCY_CYCLES = 4;
     localparam int WALKER_POOL_WALKERS = 1;
     localparam int WALKER_ROOT_UNITS = 1;
     // derived

@@ -492,9 +492,9 @@ module svo_walker_barrel #(
     // ---------------------------------------------------------------- the sequencers
     reg [RI-1:0] kt;
     integer it;
-    always @* begin
+    always @* begin                                // in_take is one-hot (or zero): OR-encode it
         kt = {RI{1'b0}};
-        for (it = R - 1; it >= 0; it = it - 1) if (in_take[it]) kt = it[RI-1:0];
+        for (it = 0; it < R; it = it + 1) if (in_take[it]) kt = kt | it[RI-1:0];
     end
     // The root's midpoints (its zero axes' +-inf by the side of its centre 0: g = ~ox >= 0,
     // +inf, iff ox < 0), ready for its descriptor's apply as a child's are.

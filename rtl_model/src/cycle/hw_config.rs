@@ -146,7 +146,7 @@ pub struct WalkerPool {
     /// (`configs/baseline.ron`).
     pub walkers: u32,
     /// R: ray contexts per walker, interleaved so one context's node fetch does not stall the
-    /// walker. Default 16 (issue 28; 8 before): a step takes `step_latency_cycles` (3) plus an
+    /// walker. Default 16 (issue 28; 8 before): a step takes `step_latency_cycles` (4) plus an
     /// on-chip or cache fetch (3–4), so 8 contexts keep a walker busy on on-chip hits, and the
     /// other 8 hide part of the DRAM misses (`node_memory.dram.latency`); 48 walkers of 16
     /// contexts matched 64 of 8 in `sim explore` for fewer walker datapaths.
@@ -156,7 +156,11 @@ pub struct WalkerPool {
     pub step_cycles: u32,
     /// Cycles from a context's step issuing to the same context's next step: the step
     /// pipeline (child interval select and entry/exit compares, next-child logic, midpoint
-    /// adders). Default 3; other contexts issue in between.
+    /// adders). Default 4 (issue 29; 3 before, `configs/default_2026_11.ron`): the RTL's barrel
+    /// walker (`svo_walker_barrel.v`, R > 1) steps in four stages (issue, apply of an arrived
+    /// descriptor, stage A, stage B) to make 300 MHz by the clock rule and refuses less; the
+    /// single-context walker (`svo_walker.v`, R = 1) makes 3 or more. Other contexts issue in
+    /// between.
     pub step_latency_cycles: u32,
     /// Stack frames per context. Default 21 = `svo::MAX_DEPTH` + 1, the most `units::walker`
     /// ever pushes, so any image the builders make fits.
@@ -195,7 +199,7 @@ impl Default for WalkerPool {
             walkers: 48,
             contexts_per_walker: 16,
             step_cycles: 1,
-            step_latency_cycles: 3,
+            step_latency_cycles: 4,
             stack_depth: MAX_DEPTH + 1,
             stack: StackStorage::FullT,
             read_ports: 1,
