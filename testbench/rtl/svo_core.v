@@ -72,6 +72,7 @@ module svo_core #(
     parameter WALKERS  = 1,                       // walker_pool.walkers: a node-memory port each
     parameter CW       = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,
     parameter CTX_RESP = 0,                       // per-context response ports (svo_walker_pool)
+    parameter ATTR_MERGE = 1,                     // svo_walker_pool's attribute-merge rule (0 behind a cache)
     parameter CRN      = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                    clk,
@@ -212,7 +213,8 @@ module svo_core #(
         .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
         .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
         .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
-        .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP))
+        .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP),
+        .ATTR_MERGE(ATTR_MERGE))
     u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
         .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
         .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),

@@ -998,7 +998,7 @@ module svo_top
         .D_RT_DP(FIFOS_ROOT_TO_DISPATCH), .D_WK_RC(FIFOS_WALKER_TO_RECORD),
         .D_RC_WR(FIFOS_RECORD_TO_WRITE), .DIR_FIXED(1), .RECIP_SEED_FILE(RECIP_SEED_FILE),
         .NINST(NINST), .KEYN(KEYN), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS), .CW(CW),
-        .CTX_RESP(1))
+        .CTX_RESP(1), .ATTR_MERGE(CACHED ? 0 : 1))
     u_core (.clk(clk), .rst(rst || core_rst), .run(run), .npix(npix), .dir_pixel(),
         .dir_f64({96'd0, dir_mem[dir_rd]}), .dir_valid(dir_valid), .dir_take(dir_take),
         .origin_f64('0), .cam_o(cam_o), .inst_base(sp_base), .n_inst(n_inst_f),

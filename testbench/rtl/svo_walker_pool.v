@@ -74,7 +74,10 @@
 // reads of one record sent in the same cycle both go out (the model merges the second, with
 // the same completion cycle). With one context in all no read can merge, so any node memory
 // works; with several, the hardware file must use uncached attributes with 8-byte lines
-// (svo_top refuses other node memories), where this rule is the model's exactly.
+// (svo_top refuses other node memories), where this rule is the model's exactly. Behind a
+// cache (svo_top with onchip.levels 0, attributes cached) the model merges in the cache
+// instead: a read of a record in flight is looked up like any other (a hit completes at the
+// hit latency, a miss joins the MSHR), so there ATTR_MERGE is 0 and every read goes out.
 //
 // The memory: per walker mem_req_* one read a cycle with its context (mem_req_ctx, the pool's
 // context index n = walker·CONTEXTS + k); responses in any order, each with its context
@@ -101,6 +104,7 @@ module svo_walker_pool #(
     parameter WALKERS      = 1,
     parameter CW           = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,  // context index bits
     parameter CTX_RESP     = 0,                 // per-context response ports (svo_top's store)
+    parameter ATTR_MERGE   = 1,                 // 1: the attribute-merge rule below; 0: every read goes out
     parameter CRN          = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                   clk,
@@ -277,7 +281,7 @@ module svo_walker_pool #(
             // cycle): the matches' lowest bit (m & -m), OR-encoded.
             for (i_q = 0; i_q < N; i_q = i_q + 1)
                 m_hit[i_q] = fill[i_q] && fill_addr[i_q] == p_addr[w_q] && !responding[i_q];
-            merge[w_q] = want[w_q] && p_attr[w_q] && |m_hit;
+            merge[w_q] = ATTR_MERGE != 0 && want[w_q] && p_attr[w_q] && |m_hit;
             m_low = m_hit & (~m_hit + 1'b1);
             merge_to[w_q] = {CW{1'b0}};
             for (i_q = 0; i_q < N; i_q = i_q + 1)
