@@ -349,6 +349,13 @@ fn core_frame_line(text: &str, f: u32) -> (u64, u64, u64, u64) {
     (n[0], n[1], n[2], reused)
 }
 
+/// The core bench's line of the stalls it injected in frame 0 (`core: frame 0: random stalls …`).
+fn stall_line(text: &str) -> &str {
+    text.lines()
+        .find(|l| l.starts_with("core: frame 0: random stalls"))
+        .unwrap_or_else(|| panic!("no stall line:\n{text}"))
+}
+
 /// Every frame of a `core` bench run of `scene`: all 160 pixels equal, the RTL's cycles and
 /// reused words the model's (`model[f]` = (cycles, hit_buffer_reused, _)).
 fn frames_equal_the_model(scene: &str, text: &str, model: &[(u64, u64, u64)]) {
@@ -533,10 +540,7 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
         let (ok, text, _) = run_core(&mc, &env);
         assert!(ok, "core bench with stalls, seed {seed}:\n{text}");
         let (equal, n, cycles, _) = core_frame_line(&text, 0);
-        let stalls = text
-            .lines()
-            .find(|l| l.starts_with("core: frame 0: random stalls"))
-            .unwrap_or_else(|| panic!("no stall line:\n{text}"));
+        let stalls = stall_line(&text);
         println!("core moving_camera, stalls seed {seed}: {equal}/{n} pixels equal in {cycles} cycles; {stalls}");
         assert_eq!((equal, n), (160, 160), "{text}");
     }
@@ -651,10 +655,7 @@ fn core_pool_of_four_walkers_of_two_contexts_reads_through_the_node_cache_as_the
     let (ok, text, _) = run_core(&["SVO_STALL=20".to_string(), "SVO_SEED=1".to_string()]);
     assert!(ok, "core bench, {hw}, stalls:\n{text}");
     let (equal, n, cycles, _) = core_frame_line(&text, 0);
-    let stalls = text
-        .lines()
-        .find(|l| l.starts_with("core: frame 0: random stalls"))
-        .unwrap_or_else(|| panic!("no stall line:\n{text}"));
+    let stalls = stall_line(&text);
     println!("core {hw} car, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles; {stalls}");
     assert_eq!((equal, n), (160, 160), "{text}");
     let count = |key: &str| -> u64 {

@@ -170,7 +170,19 @@ class FixedLatencyRead:
                 self.beats.append((self.cycle + self.lat + k, addr + k * size, k == n - 1))
 
 
-class NodeLanesRead:
+class RandomPauses:
+    """The random pauses of the stalling slaves below: with pct > 0 a point of the protocol
+    (key: "node ar", "load r", ...) pauses in a random pct % of the cycles it is asked about
+    (rng, seeded by the bench), counted in stalls[key]."""
+
+    def paused(self, key):
+        if self.pct and self.rng.randrange(100) < self.pct:
+            self.stalls[key] += 1
+            return True
+        return False
+
+
+class NodeLanesRead(RandomPauses):
     """svo_top's node memory with several walkers: one AXI4 read slave per walker's master
     (lane w = bits [w] of the m_axi_* vectors, its address and data the w-th slices), each as
     FixedLatencyRead: single beats, in order, a read there L cycles after its AR handshake.
@@ -189,12 +201,6 @@ class NodeLanesRead:
         dut.m_axi_arready.value = self.ar
         for name in ("rvalid", "rid", "rresp", "rlast", "rdata"):
             getattr(dut, f"m_axi_{name}").value = 0
-
-    def paused(self, key):
-        if self.pct and self.rng.randrange(100) < self.pct:
-            self.stalls[key] += 1
-            return True
-        return False
 
     def drive(self):
         """The falling edge of a cycle: each lane's R and arready for this cycle."""
@@ -233,7 +239,7 @@ class NodeLanesRead:
                 self.q[w].append((self.cycle + self.lat, addr))
 
 
-class LoadRead:
+class LoadRead(RandomPauses):
     """svo_top's load master (m_axi_load_*, 8-byte beats, INCR bursts): a burst's beats from
     L cycles after its AR handshake, one a cycle as rready takes them (the DMA takes one every
     other cycle), rvalid held until taken. With pct > 0 arready and each beat not yet shown
@@ -254,12 +260,6 @@ class LoadRead:
         dut.m_axi_load_arready.value = 1
         for name in ("rvalid", "rid", "rresp", "rlast", "rdata"):
             getattr(dut, f"m_axi_load_{name}").value = 0
-
-    def paused(self, key):
-        if self.pct and self.rng.randrange(100) < self.pct:
-            self.stalls[key] += 1
-            return True
-        return False
 
     def drive(self):
         self.cycle += 1
@@ -297,7 +297,7 @@ class LoadRead:
             self.bursts.append([self.cycle + self.lat, addr, n])
 
 
-class NodeCacheDram:
+class NodeCacheDram(RandomPauses):
     """svo_top's node-cache master (m_axi_node_*, hardware with node_memory.onchip.levels 0):
     an AXI4 read slave whose timing is the model's built-in DRAM bus (rtl_model memory/dram.rs)
     as svo_node_cache_axi.v's contract states it and testbench/tb/tb_axi_dram.sv implements it
@@ -330,12 +330,6 @@ class NodeCacheDram:
         dut.m_axi_node_arready.value = self.ar
         for name in ("rvalid", "rid", "rresp", "rlast", "rdata"):
             getattr(dut, f"m_axi_node_{name}").value = 0
-
-    def paused(self, key):
-        if self.pct and self.rng.randrange(100) < self.pct:
-            self.stalls[key] += 1
-            return True
-        return False
 
     def drive(self):
         """The falling edge of a cycle: each port's R and ARREADY for this cycle."""

@@ -136,7 +136,12 @@ mod tests {
 
     #[test]
     fn hand_timed_walks() {
-        let t = WalkTiming::new(&PoolConfig::default(), 100, 10);
+        // Step latency 3 (the walker of one context), whatever the default's.
+        let pool = PoolConfig {
+            step_latency_cycles: 3,
+            ..PoolConfig::default()
+        };
+        let t = WalkTiming::new(&pool, 100, 10);
         // A root miss: no ops, the result one cycle after dispatch.
         assert_eq!(t.cycles(&[], 5).unwrap(), 1);
         // Root read (request at +1, data at +1+L), 2 slots 3 apart, the last one's successor
@@ -156,5 +161,16 @@ mod tests {
         for l in [1, 3, 60] {
             assert_eq!(t.cycles(&hit, l).unwrap(), 1 + 3 * u64::from(l) + 3);
         }
+        // The default's step latency (4, the barrel walker's) adds one cycle per step.
+        let t4 = WalkTiming::new(
+            &PoolConfig {
+                step_latency_cycles: 4,
+                ..PoolConfig::default()
+            },
+            100,
+            10,
+        );
+        assert_eq!(t4.cycles(&miss, 3).unwrap(), 1 + 3 + 8);
+        assert_eq!(t4.cycles(&hit, 3).unwrap(), 1 + 3 * 3 + 4);
     }
 }
