@@ -36,6 +36,15 @@ the model's); with SVO_STALL=P its AR and R pause as the others. There is no nod
 load's checks become one, a LOAD refused with STATUS.ERROR 7; the attribute-read SLVERR frame
 becomes a fill's (ERROR 10; SVO_CORRUPT=resp expects 6 for it); no failing load at the end.
 
+With the store in front of the cache (run.py SVO_HW=pool_4x2_split, or any package with
+onchip.levels 1..8: run.py also sets SVO_ONCHIP_LEVELS and SVO_ONCHIP_MAX_BYTES) both: the bench
+finds each used image's on-chip prefix itself (top_levels_prefix, from the descriptor words, not
+the model's code), writes it into ONCHIP_WORDS[i], loads the store up to the last prefix's end
+(the load's checks 7, 8, 9 as above) and serves the cache as above (ERROR 10 for the SLVERR
+frame). SVO_CORRUPT=prefix writes the first used image's prefix one word short: its frames'
+cycles differ from the model's. On hardware without the split a START with ONCHIP_WORDS[0] set
+must be refused with ERROR 11.
+
 The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
 with each instance (its NMAT words in INSTANCE_TABLE, frame_instances nmat_*).
 
@@ -661,11 +670,11 @@ async def frame_against_the_model(dut):
         for i in sorted(used_all):
             nb = images[i]["node_base"]
             prefix[i] = top_levels_prefix(nodes[nb:ends[i]], onchip_levels, max_words)
-        print(f"core: on chip: the top {onchip_levels} levels, words per image "
-              + ", ".join(f"{i}: {n}/{ends[i] - images[i]['node_base']}" for i, n in prefix.items()))
         if corrupt == "prefix":
             # The first used image's last top-level word read through the cache instead.
             prefix[min(prefix)] -= 1
+        print(f"core: on chip: the top {onchip_levels} levels, words per image "
+              + ", ".join(f"{i}: {n}/{ends[i] - images[i]['node_base']}" for i, n in prefix.items()))
         # Only on-chip words are read from the store: load up to the last prefix's end.
         load_words = max(images[i]["node_base"] + n for i, n in prefix.items())
 

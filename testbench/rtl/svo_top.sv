@@ -22,10 +22,24 @@
 //   and LOAD_SRC rather than a store base per image: one subtraction, and no register the
 //   host could set inconsistently with the load.) A read at or beyond the loaded words fails
 //   the frame (STATUS.ERROR 7). This is the node memory of hardware with every node word on
-//   chip (node_memory.onchip.levels 21); with levels 0, the node cache below instead.
-// - the node cache (svo_node_cache_axi, hardware with onchip.levels 0 and cache.attr_cached):
-//   every node word and attribute record a walker reads, the model's NodeMemory without its
-//   on-chip store (cache.banks line-interleaved banks of cache.ports lookups, sets x ways
+//   chip (node_memory.onchip.levels 21); with levels 0, the node cache below instead; with
+//   levels 1..8 both (the split, below).
+// - the split (onchip.levels 1..8, the default's arrangement): each image's top levels are a
+//   prefix of its words (docs/svo-format.md §4: images lay their top 8 levels out first; the
+//   model's on-chip set of image i is [base_i, base_i + end_i), end_i =
+//   MemoryLayout::from_image(img, onchip).onchip_words()). The host writes end_i into
+//   ONCHIP_WORDS[i]; a node read whose word index lies in [NODE_BASE[i] / 4, + ONCHIP_WORDS[i])
+//   of some slot i (8 compares a walker port) goes to the store as above, every other read
+//   (node, far, attribute record) to the node cache below, in the same cycle, each on its own
+//   request port w = walker w (the model serves each cycle's requests in requester order, and
+//   splitting keeps that order on both sides, memory/mod.rs step). Both answer node words on
+//   the contexts' CTX_RESP ports (a context has one read out: one of them answers it). The
+//   store is loaded as above and must hold every on-chip word (the host may load just up to
+//   the last prefix's end); a store read beyond the loaded words is ERROR 7. ONCHIP_WORDS set
+//   on hardware without the split refuses the START (ERROR 11).
+// - the node cache (svo_node_cache_axi, hardware with onchip.levels 0..8 and
+//   cache.attr_cached): every node word (levels 1..8: outside the prefixes) and attribute
+//   record a walker reads, the model's NodeMemory without its on-chip store (cache.banks line-interleaved banks of cache.ports lookups, sets x ways
 //   true-LRU tags, dram.mshrs merging MSHRs, the miss queue; memory/mod.rs, cache.rs,
 //   dram.rs), one request port per walker in the cycle the walker sends (port order =
 //   context order, the model's order within a cycle), node words back on the contexts' own
@@ -36,9 +50,9 @@
 //   does from a base that is a multiple of cache.size_bytes / cache.ways. The lines stay
 //   across frames (the model's cache does), and cycle 0 of a frame waits in PREFILL until the
 //   cache's own cycle count (its bank rotation) agrees with the model's. The per-walker
-//   attribute masters m_axi_* are then unused (ARVALID 0), there is no node store (a LOAD is
-//   refused with STATUS.ERROR 7, a START needs none).
-// - m_axi_node_*: AXI4 read ports of the node cache's fills (onchip.levels 0; otherwise one
+//   attribute masters m_axi_* are then unused (ARVALID 0); with levels 0 there is no node
+//   store (a LOAD is refused with STATUS.ERROR 7, a START needs none).
+// - m_axi_node_*: AXI4 read ports of the node cache's fills (onchip.levels 0..8; otherwise one
 //   port, tied off): NODE_PORTS = ceil(dram.bytes_per_cycle / cache.line_bytes) ports of
 //   NODE_DW = line_bytes · 8 data bits, ID = the MSHR (NODE_IDW bits), one beat a fill,
 //   fill n on port n mod NODE_PORTS, RREADY high; ARADDR (ADDR_W bits) = the line's byte
@@ -96,8 +110,10 @@
 // the store loads, or a LOAD while a frame runs (refused); 9 a load read returned an error
 // response (the store is left without a load); 10 a node-cache fill (m_axi_node_*) returned
 // an error response (the cache's axi_error rising: sticky in the cache until reset, so the
-// first such fill after reset). Codes 1–4, 7 (no load) and 8 refuse the START (8 before 1–4,
-// 7 after them). On the node cache's hardware a LOAD is refused with 7 (there is no store).
+// first such fill after reset); 11 an ONCHIP_WORDS[i] not 0 on hardware without the split
+// (onchip.levels 0 or 21: it would mean nothing). Codes 1–4, 7 (no load), 8 and 11 refuse the
+// START (8 before 1–4, 7 and 11 after them). On the node cache's hardware (levels 0) a LOAD is
+// refused with 7 (there is no store).
 //
 // The record's normal is the core's (svo_normal in the record stage) from each instance's
 // normal matrix (its NMAT words in the instance table, written by the host with the instance).
