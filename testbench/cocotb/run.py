@@ -141,10 +141,16 @@ def main() -> int:
             print(f"run.py: SVO_HW={extra_env.get('SVO_HW')}: no package {pkg}", file=sys.stderr)
             return 2
         sources = [pkg] + [s for s in sources if s.name != "frame_hw_pkg.sv"]
-        # Hardware without on-chip node words (onchip.levels 0) reads them through svo_top's
-        # node cache: the bench's memory behind m_axi_node_* takes the package's DRAM timing.
-        consts = dict(re.findall(r"localparam int (\w+) = (\d+);", pkg.read_text()))
-        if consts.get("NODE_MEMORY_ONCHIP_LEVELS") == "0":
+        # Hardware without every node word on chip (onchip.levels 0..8) reads them, or all
+        # but each image's top levels (1..8: SVO_ONCHIP_LEVELS, the bench writes each image's
+        # prefix length into ONCHIP_WORDS), through svo_top's node cache: the bench's memory
+        # behind m_axi_node_* takes the package's DRAM timing.
+        consts = dict(re.findall(r"localparam \w+ (\w+) = (\d+);", pkg.read_text()))
+        levels = int(consts.get("NODE_MEMORY_ONCHIP_LEVELS", "21"))
+        if 1 <= levels <= 8:
+            extra_env.setdefault("SVO_ONCHIP_LEVELS", str(levels))
+            extra_env.setdefault("SVO_ONCHIP_MAX_BYTES", consts["NODE_MEMORY_ONCHIP_MAX_BYTES"])
+        if levels <= 8:
             extra_env.setdefault("SVO_NODE_CACHE", "1")
             extra_env.setdefault("SVO_DRAM_LATENCY", consts["NODE_MEMORY_DRAM_LATENCY"])
             extra_env.setdefault("SVO_DRAM_BPC", consts["NODE_MEMORY_DRAM_BYTES_PER_CYCLE"])

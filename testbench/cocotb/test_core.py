@@ -36,6 +36,15 @@ the model's); with SVO_STALL=P its AR and R pause as the others. There is no nod
 load's checks become one, a LOAD refused with STATUS.ERROR 7; the attribute-read SLVERR frame
 becomes a fill's (ERROR 10; SVO_CORRUPT=resp expects 6 for it); no failing load at the end.
 
+With the store in front of the cache (run.py SVO_HW=pool_4x2_split, or any package with
+onchip.levels 1..8: run.py also sets SVO_ONCHIP_LEVELS and SVO_ONCHIP_MAX_BYTES) both: the bench
+finds each used image's on-chip prefix itself (top_levels_prefix, from the descriptor words, not
+the model's code), writes it into ONCHIP_WORDS[i], loads the store up to the last prefix's end
+(the load's checks 7, 8, 9 as above) and serves the cache as above (ERROR 10 for the SLVERR
+frame). SVO_CORRUPT=prefix writes the first used image's prefix one word short: its frames'
+cycles differ from the model's. On hardware without the split a START with ONCHIP_WORDS[0] set
+must be refused with ERROR 11.
+
 The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
 with each instance (its NMAT words in INSTANCE_TABLE, frame_instances nmat_*).
 
@@ -416,6 +425,45 @@ def stall_gen(rng, pct, counter, key):
         yield s
 
 
+def top_levels_prefix(words, levels, max_words):
+    """The number of an image's first words its top `levels` levels take (docs/svo-format.md
+    §4), re-derived here from the descriptor format (docs/svo-format.md: leaf mask bits 7:0,
+    valid mask 15:8, far bit 16, pointer 31:17), not the model's code: level 0 is the root
+    word, level l the groups (the children's slots and the group's far words) of the internal
+    nodes of level l - 1, whole levels while they fit `max_words`. The image lays its top
+    levels out first, so they must be one prefix [0, end): checked."""
+    if levels == 0 or max_words == 0 or not words:
+        return 0
+    groups, total, frontier, level = [(0, 1)], 1, [0], 1
+    while level < levels and frontier:
+        new, nxt, level_words = [], [], 0
+        for a in frontier:
+            d = words[a]
+            valid, leaf = (d >> 8) & 0xFF, d & 0xFF
+            if not valid:
+                continue
+            base = a + (words[a + (d >> 17)] if (d >> 16) & 1 else d >> 17)
+            slot, far = base, 0
+            for label in range(8):
+                if not (valid >> label) & 1:
+                    continue
+                if not (leaf >> label) & 1:
+                    far += (words[slot] >> 16) & 1
+                    nxt.append(slot)
+                slot += 1
+            n = bin(valid).count("1") + far
+            new.append((base, base + n))
+            level_words += n
+        if total + level_words > max_words:
+            break
+        total, groups, frontier, level = total + level_words, groups + new, nxt, level + 1
+    end = 0
+    for s, e in sorted(groups):
+        assert s <= end, f"the top {levels} levels are not one prefix: a group at word {s}, the prefix ends at {end}"
+        end = max(end, e)
+    return end
+
+
 @cocotb.test()
 async def frame_against_the_model(dut):
     vec = Path(os.environ["SVO_VECTORS"])
@@ -428,6 +476,12 @@ async def frame_against_the_model(dut):
     corrupt = os.environ.get("SVO_CORRUPT", "")
     # Hardware with the node cache (run.py sets these from the package: onchip.levels 0).
     cached = os.environ.get("SVO_NODE_CACHE", "0") == "1"
+    # With the store in front of the cache (onchip.levels 1..8) both: each image's top levels
+    # (its first ONCHIP_WORDS[i] words, which the bench computes) from the store, the rest
+    # through the cache.
+    onchip_levels = int(os.environ.get("SVO_ONCHIP_LEVELS", "0"))
+    split = cached and onchip_levels > 0
+    store = split or not cached                     # svo_top has a node store to load
     rng = random.Random(seed)
     print(f"core: vectors {vec}, seed {seed}, stall {stall} %, memory latency {latency}, {frames} frame(s)"
           + (f", corrupted {corrupt}" if corrupt else ""))
@@ -566,6 +620,8 @@ async def frame_against_the_model(dut):
             await w(f"IMAGE[{i}].NODE_BASE_HI", nb >> 32)
             await w(f"IMAGE[{i}].ATTR_BASE_LO", ab)
             await w(f"IMAGE[{i}].ATTR_BASE_HI", ab >> 32)
+            if split:
+                await w(f"ONCHIP_WORDS[{i}]", prefix[i])
         # The instances into the instance table (INSTANCE_TABLE), each word at its offset
         # from the description's instance layout; only the instances whose row changed.
         for k in range(len(it.rows)):
@@ -607,6 +663,20 @@ async def frame_against_the_model(dut):
     ends = {im["index"]: (images[j + 1]["node_base"] if j + 1 < len(images) else len(nodes))
             for j, im in enumerate(images)}
     load_words = max(ends[i] for i in used_all)
+    # Each used image's on-chip prefix (split hardware): ONCHIP_WORDS[i].
+    prefix = {}
+    if split:
+        max_words = int(os.environ["SVO_ONCHIP_MAX_BYTES"]) // 4
+        for i in sorted(used_all):
+            nb = images[i]["node_base"]
+            prefix[i] = top_levels_prefix(nodes[nb:ends[i]], onchip_levels, max_words)
+        if corrupt == "prefix":
+            # The first used image's last top-level word read through the cache instead.
+            prefix[min(prefix)] -= 1
+        print(f"core: on chip: the top {onchip_levels} levels, words per image "
+              + ", ".join(f"{i}: {n}/{ends[i] - images[i]['node_base']}" for i, n in prefix.items()))
+        # Only on-chip words are read from the store: load up to the last prefix's end.
+        load_words = max(images[i]["node_base"] + n for i, n in prefix.items())
 
     async def run_load(words):
         """CTRL.LOAD of `words` words from NODE_BASE; returns STATUS at its end and the
@@ -654,7 +724,7 @@ async def frame_against_the_model(dut):
             n0 = len(ins[0].rows)
             im0 = images[sorted({ins[0].get(k, "image") for k in range(n0)})[0]]
             i0, nb0 = im0["index"], NODE_BASE + 4 * im0["node_base"]
-        if f == 0 and cached:
+        if f == 0 and not store:
             # No node store: a LOAD is refused with STATUS.ERROR 7 (the cache reads the images
             # from memory; nothing to load), and a START needs none.
             await w("LOAD_SRC_LO", NODE_BASE)
@@ -667,7 +737,7 @@ async def frame_against_the_model(dut):
                 b.fail(f"a LOAD on the node cache's hardware: STATUS {status:#x}, want ERROR 7, not BUSY, DONE or LOADING")
             else:
                 b.passed += 1
-        if f == 0 and not cached:
+        if f == 0 and store:
             # STATUS.ERROR 7 and 8: a START before the node store is loaded, and one while it
             # loads; then the load (its cycles are the load's, not the frame's).
             await w("CTRL", 0x1)
@@ -703,6 +773,10 @@ async def frame_against_the_model(dut):
             await refused(4, "an instance count of 0", "INSTANCES", 0, n0)
             await refused(4, f"an instance count over the table's {TABLE_INSTANCES}",
                           "INSTANCES", TABLE_INSTANCES + 1, n0)
+            if not split:
+                # ONCHIP_WORDS means nothing without the store in front of the cache: refused.
+                await refused(11, "ONCHIP_WORDS[0] set on hardware without the split",
+                              "ONCHIP_WORDS[0]", 1, 0)
         await w("STATUS", 0x2)                      # clear DONE
         await w("CTRL", 0x1)
         seen = {}
@@ -791,7 +865,7 @@ async def frame_against_the_model(dut):
                 print(f"core: {what} read answering SLVERR: STATUS {status:#x} (ERROR {code})")
                 b.passed += 1
             slave.fail_next = False
-    if stall == 0 and not cached:
+    if stall == 0 and store:
         # A short load (the store is not read again): a beat in its middle fails.
         await w("STATUS", 0x2)                      # clear DONE
         short = min(load_words, 512)

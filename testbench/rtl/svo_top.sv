@@ -22,10 +22,24 @@
 //   and LOAD_SRC rather than a store base per image: one subtraction, and no register the
 //   host could set inconsistently with the load.) A read at or beyond the loaded words fails
 //   the frame (STATUS.ERROR 7). This is the node memory of hardware with every node word on
-//   chip (node_memory.onchip.levels 21); with levels 0, the node cache below instead.
-// - the node cache (svo_node_cache_axi, hardware with onchip.levels 0 and cache.attr_cached):
-//   every node word and attribute record a walker reads, the model's NodeMemory without its
-//   on-chip store (cache.banks line-interleaved banks of cache.ports lookups, sets x ways
+//   chip (node_memory.onchip.levels 21); with levels 0, the node cache below instead; with
+//   levels 1..8 both (the split, below).
+// - the split (onchip.levels 1..8, the default's arrangement): each image's top levels are a
+//   prefix of its words (docs/svo-format.md §4: images lay their top 8 levels out first; the
+//   model's on-chip set of image i is [base_i, base_i + end_i), end_i =
+//   MemoryLayout::from_image(img, onchip).onchip_words()). The host writes end_i into
+//   ONCHIP_WORDS[i]; a node read whose word index lies in [NODE_BASE[i] / 4, + ONCHIP_WORDS[i])
+//   of some slot i (8 compares a walker port) goes to the store as above, every other read
+//   (node, far, attribute record) to the node cache below, in the same cycle, each on its own
+//   request port w = walker w (the model serves each cycle's requests in requester order, and
+//   splitting keeps that order on both sides, memory/mod.rs step). Both answer node words on
+//   the contexts' CTX_RESP ports (a context has one read out: one of them answers it). The
+//   store is loaded as above and must hold every on-chip word (the host may load just up to
+//   the last prefix's end); a store read beyond the loaded words is ERROR 7. ONCHIP_WORDS set
+//   on hardware without the split refuses the START (ERROR 11).
+// - the node cache (svo_node_cache_axi, hardware with onchip.levels 0..8 and
+//   cache.attr_cached): every node word (levels 1..8: outside the prefixes) and attribute
+//   record a walker reads, the model's NodeMemory without its on-chip store (cache.banks line-interleaved banks of cache.ports lookups, sets x ways
 //   true-LRU tags, dram.mshrs merging MSHRs, the miss queue; memory/mod.rs, cache.rs,
 //   dram.rs), one request port per walker in the cycle the walker sends (port order =
 //   context order, the model's order within a cycle), node words back on the contexts' own
@@ -36,9 +50,9 @@
 //   does from a base that is a multiple of cache.size_bytes / cache.ways. The lines stay
 //   across frames (the model's cache does), and cycle 0 of a frame waits in PREFILL until the
 //   cache's own cycle count (its bank rotation) agrees with the model's. The per-walker
-//   attribute masters m_axi_* are then unused (ARVALID 0), there is no node store (a LOAD is
-//   refused with STATUS.ERROR 7, a START needs none).
-// - m_axi_node_*: AXI4 read ports of the node cache's fills (onchip.levels 0; otherwise one
+//   attribute masters m_axi_* are then unused (ARVALID 0); with levels 0 there is no node
+//   store (a LOAD is refused with STATUS.ERROR 7, a START needs none).
+// - m_axi_node_*: AXI4 read ports of the node cache's fills (onchip.levels 0..8; otherwise one
 //   port, tied off): NODE_PORTS = ceil(dram.bytes_per_cycle / cache.line_bytes) ports of
 //   NODE_DW = line_bytes · 8 data bits, ID = the MSHR (NODE_IDW bits), one beat a fill,
 //   fill n on port n mod NODE_PORTS, RREADY high; ARADDR (ADDR_W bits) = the line's byte
@@ -96,8 +110,10 @@
 // the store loads, or a LOAD while a frame runs (refused); 9 a load read returned an error
 // response (the store is left without a load); 10 a node-cache fill (m_axi_node_*) returned
 // an error response (the cache's axi_error rising: sticky in the cache until reset, so the
-// first such fill after reset). Codes 1–4, 7 (no load) and 8 refuse the START (8 before 1–4,
-// 7 after them). On the node cache's hardware a LOAD is refused with 7 (there is no store).
+// first such fill after reset); 11 an ONCHIP_WORDS[i] not 0 on hardware without the split
+// (onchip.levels 0 or 21: it would mean nothing). Codes 1–4, 7 (no load), 8 and 11 refuse the
+// START (8 before 1–4, 7 and 11 after them). On the node cache's hardware (levels 0) a LOAD is
+// refused with 7 (there is no store).
 //
 // The record's normal is the core's (svo_normal in the record stage) from each instance's
 // normal matrix (its NMAT words in the instance table, written by the host with the instance).
@@ -133,14 +149,15 @@ module svo_top
     parameter int KEYN      = 2 * SORTER_LANES, // candidates a ray carries through the sorter (≤ 63)
     parameter int STORE_WORDS = 262144,       // the on-chip node store's 32-bit words (1 MiB; a multiple of the banks)
     parameter int LOAD_BURST = 32,            // beats (8 bytes) per load burst (1 .. 256)
-    // The node cache's AXI side (do not set: from the package). With onchip.levels 0 the
+    // The node cache's AXI side (do not set: from the package). With onchip.levels 0..8 the
     // cache's fill ports: ceil(dram.bytes_per_cycle / cache.line_bytes) ports of line_bytes
-    // of data and clog2(dram.mshrs) ID bits; otherwise one 64-bit port of one ID bit, unused.
-    parameter int NODE_PORTS = NODE_MEMORY_ONCHIP_LEVELS == 0
+    // of data and clog2(dram.mshrs) ID bits; with levels 21 one 64-bit port of one ID bit,
+    // unused.
+    parameter int NODE_PORTS = NODE_MEMORY_ONCHIP_LEVELS != 21
         ? (NODE_MEMORY_DRAM_BYTES_PER_CYCLE + NODE_MEMORY_CACHE_LINE_BYTES - 1)
           / NODE_MEMORY_CACHE_LINE_BYTES : 1,
-    parameter int NODE_DW = NODE_MEMORY_ONCHIP_LEVELS == 0 ? NODE_MEMORY_CACHE_LINE_BYTES * 8 : 64,
-    parameter int NODE_IDW = NODE_MEMORY_ONCHIP_LEVELS == 0 && NODE_MEMORY_DRAM_MSHRS > 2
+    parameter int NODE_DW = NODE_MEMORY_ONCHIP_LEVELS != 21 ? NODE_MEMORY_CACHE_LINE_BYTES * 8 : 64,
+    parameter int NODE_IDW = NODE_MEMORY_ONCHIP_LEVELS != 21 && NODE_MEMORY_DRAM_MSHRS > 2
         ? $clog2(NODE_MEMORY_DRAM_MSHRS) : 1
 ) (
     input  wire              clk,
@@ -253,7 +270,12 @@ module svo_top
     localparam int CONTEXTS = WALKER_POOL_CONTEXTS_PER_WALKER;
     localparam int WALKERS = WALKER_POOL_WALKERS;
     localparam int CW = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1;
-    localparam bit CACHED = NODE_MEMORY_ONCHIP_LEVELS == 0;   // node words through the cache
+    // The node memory by node_memory.onchip.levels: 21 the store alone (every word on chip),
+    // 0 the cache alone, 1..8 both (each image's top levels, a prefix of its words, in the
+    // store; the rest and the attribute records through the cache).
+    localparam bit HAS_STORE = NODE_MEMORY_ONCHIP_LEVELS != 0;  // svo_onchip_store + its load
+    localparam bit HAS_CACHE = NODE_MEMORY_ONCHIP_LEVELS != 21; // svo_node_cache_axi
+    localparam bit SPLIT = HAS_STORE && HAS_CACHE;             // the prefix test per read
     generate
         if (TRANSFORM_UNITS != 1 || RECIPROCAL_UNITS != 3 || WALKER_ROOT_UNITS != 1
             || HIT_BUFFER_PRESENT == 0 || LANES > SORTER_LANES
@@ -269,45 +291,48 @@ module svo_top
         if (CONTEXTS < 1 || CONTEXTS > 16) begin : unsupported_contexts
             svo_top_builds_walker_pool_contexts_per_walker_1_to_16 bad();
         end
-        // Node words come either from the on-chip store (svo_onchip_store: the model's banks,
-        // ports, latency and combining), which holds every level of every image: the model
-        // must keep them all on chip too (levels 21), and the store's words must fit its byte
-        // budget (a scene the store holds is then all on chip in the model as well); or, with
-        // levels 0, from the node cache (svo_node_cache_axi), attribute records included.
-        // Levels in between (each image's top levels, a prefix of its words since issue 29's
-        // image layout, in front of the cache) are not built yet.
-        if (NODE_MEMORY_ONCHIP_LEVELS != 21 && NODE_MEMORY_ONCHIP_LEVELS != 0)
+        // Node words come from the on-chip store (svo_onchip_store: the model's banks, ports,
+        // latency and combining), from the node cache (svo_node_cache_axi), or from both:
+        // - levels 21: the store holds every level of every image: the model must keep them
+        //   all on chip too, and the store's words must fit its byte budget (a scene the store
+        //   holds is then all on chip in the model as well);
+        // - levels 0: the cache, attribute records included;
+        // - levels 1..8: each image's top levels are a prefix of its words (docs/svo-format.md
+        //   §4, images lay their top 8 levels out first), the first ONCHIP_WORDS[i] words of
+        //   image i, read from the store; every other read through the cache. Levels 9..20
+        //   add scattered groups after the prefix in the model (memory/layout.rs): not built.
+        if (NODE_MEMORY_ONCHIP_LEVELS > 8 && NODE_MEMORY_ONCHIP_LEVELS != 21)
         begin : unsupported_onchip_levels
-            svo_top_needs_node_memory_onchip_levels_0_or_21 bad();
+            svo_top_needs_node_memory_onchip_levels_0_to_8_or_21 bad();
         end
-        if (!CACHED && 64'(STORE_WORDS) * 4 > 64'(NODE_MEMORY_ONCHIP_MAX_BYTES))
+        if (HAS_STORE && 64'(STORE_WORDS) * 4 > 64'(NODE_MEMORY_ONCHIP_MAX_BYTES))
         begin : unsupported_onchip_bytes
             svo_top_STORE_WORDS_over_node_memory_onchip_max_bytes bad();
         end
-        if (!CACHED && NODE_MEMORY_ONCHIP_LATENCY < 2) begin : unsupported_onchip_latency
+        if (HAS_STORE && NODE_MEMORY_ONCHIP_LATENCY < 2) begin : unsupported_onchip_latency
             svo_top_needs_node_memory_onchip_latency_2_or_more bad();
         end
         // The cache: attribute records through it too (their own AXI masters would need the
         // model's uncached timing beside the cache's; not built), and the AXI path's fixed
         // three cycles (AR registered, R registered, the fill written) inside dram.latency
         // (svo_node_cache_axi.v: an external memory of D cycles is dram.latency D + 3).
-        if (CACHED && !NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_cached_attr
-            svo_top_with_node_memory_onchip_levels_0_needs_cache_attr_cached_true bad();
+        if (HAS_CACHE && !NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_cached_attr
+            svo_top_with_node_memory_onchip_levels_0_to_8_needs_cache_attr_cached_true bad();
         end
-        if (CACHED && NODE_MEMORY_DRAM_LATENCY < 3) begin : unsupported_cached_latency
-            svo_top_with_node_memory_onchip_levels_0_needs_dram_latency_3_or_more bad();
+        if (HAS_CACHE && NODE_MEMORY_DRAM_LATENCY < 3) begin : unsupported_cached_latency
+            svo_top_with_node_memory_onchip_levels_0_to_8_needs_dram_latency_3_or_more bad();
         end
-        if (CACHED && (NODE_MEMORY_CACHE_LINE_BYTES > 128 || NODE_MEMORY_CACHE_LINE_BYTES < 8))
+        if (HAS_CACHE && (NODE_MEMORY_CACHE_LINE_BYTES > 128 || NODE_MEMORY_CACHE_LINE_BYTES < 8))
         begin : unsupported_cached_line
-            svo_top_with_node_memory_onchip_levels_0_needs_cache_line_bytes_8_to_128 bad();
+            svo_top_with_node_memory_onchip_levels_0_to_8_needs_cache_line_bytes_8_to_128 bad();
         end
-        if (CACHED && (NODE_PORTS != (NODE_MEMORY_DRAM_BYTES_PER_CYCLE
+        if (HAS_CACHE && (NODE_PORTS != (NODE_MEMORY_DRAM_BYTES_PER_CYCLE
             + NODE_MEMORY_CACHE_LINE_BYTES - 1) / NODE_MEMORY_CACHE_LINE_BYTES
             || NODE_DW != NODE_MEMORY_CACHE_LINE_BYTES * 8))
         begin : bad_node_ports
             svo_top_NODE_PORTS_NODE_DW_are_derived_do_not_set bad();
         end
-        if (!CACHED && (STORE_WORDS < NODE_MEMORY_ONCHIP_BANKS
+        if (HAS_STORE && (STORE_WORDS < NODE_MEMORY_ONCHIP_BANKS
             || STORE_WORDS % NODE_MEMORY_ONCHIP_BANKS != 0))
         begin : bad_store_words
             svo_top_STORE_WORDS_a_multiple_of_node_memory_onchip_banks bad();
@@ -317,10 +342,10 @@ module svo_top
         end
         // Attribute records go to the per-walker masters: up to WALKERS a cycle, each served
         // in its cycle (no lookup port or DRAM cycle waits).
-        if (!CACHED && WALKERS > 1 && NODE_MEMORY_CACHE_PORTS < WALKERS) begin : unsupported_cache_ports
+        if (!HAS_CACHE && WALKERS > 1 && NODE_MEMORY_CACHE_PORTS < WALKERS) begin : unsupported_cache_ports
             svo_top_with_several_walkers_needs_node_memory_cache_ports_of_walkers bad();
         end
-        if (!CACHED && NODE_MEMORY_CACHE_LINE_BYTES * WALKERS > NODE_MEMORY_DRAM_BYTES_PER_CYCLE)
+        if (!HAS_CACHE && NODE_MEMORY_CACHE_LINE_BYTES * WALKERS > NODE_MEMORY_DRAM_BYTES_PER_CYCLE)
         begin : unsupported_dram_bus
             svo_top_needs_node_memory_dram_bytes_per_cycle_of_walkers_lines bad();
         end
@@ -341,21 +366,21 @@ module svo_top
         // with several contexts two attribute reads can overlap, and the pool merges them as
         // the model's MSHRs do only for uncached 8-byte attribute lines (svo_walker_pool.v).
         // The fixed latency is the bench's: the uncached DRAM read's (dram.latency + 1).
-        if (!CACHED && WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_attr_cached
+        if (!HAS_CACHE && WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_attr_cached
             svo_top_with_several_contexts_needs_node_memory_cache_attr_cached_false bad();
         end
-        if (!CACHED && WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_LINE_BYTES != 8) begin : unsupported_line_bytes
+        if (!HAS_CACHE && WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_LINE_BYTES != 8) begin : unsupported_line_bytes
             svo_top_with_several_contexts_needs_node_memory_cache_line_bytes_8 bad();
         end
-        if (!CACHED && WALKERS * CONTEXTS > 1 && !NODE_MEMORY_DRAM_BACKEND_IS_BUILTIN) begin : unsupported_backend
+        if (!HAS_CACHE && WALKERS * CONTEXTS > 1 && !NODE_MEMORY_DRAM_BACKEND_IS_BUILTIN) begin : unsupported_backend
             svo_top_with_several_contexts_needs_node_memory_dram_backend_BuiltIn bad();
         end
-        if (!CACHED && NODE_MEMORY_CACHE_ATTR_CACHED
+        if (!HAS_CACHE && NODE_MEMORY_CACHE_ATTR_CACHED
             && NODE_MEMORY_CACHE_HIT_LATENCY != NODE_MEMORY_ONCHIP_LATENCY)
         begin : unsupported_hit_latency
             svo_top_needs_node_memory_cache_hit_latency_equal_to_onchip_latency bad();
         end
-        if (!CACHED && NODE_MEMORY_DRAM_LATENCY + 1 != NODE_MEMORY_ONCHIP_LATENCY)
+        if (!HAS_CACHE && NODE_MEMORY_DRAM_LATENCY + 1 != NODE_MEMORY_ONCHIP_LATENCY)
         begin : unsupported_dram_latency
             svo_top_needs_node_memory_dram_latency_plus_1_equal_to_onchip_latency bad();
         end
@@ -409,6 +434,7 @@ module svo_top
     // The frame's constants as the core's buses, latched at LATCH.
     logic [3*PW-1:0]       cam_o;
     logic [IMAGES*32-1:0]  img_node_base, img_attr_base;   // word and record indices
+    logic [IMAGES*32-1:0]  img_onchip_words;                // each image's prefix on chip
     logic [7:0]            n_inst_f;
     logic                  buffer_valid, camera_dirty;
     logic [NINST-1:0]      instance_dirty;
@@ -423,7 +449,11 @@ module svo_top
     logic [3:0] start_error;
     always_comb begin
         // No complete load: the images are not on chip (the cache reads them from memory).
-        start_error = store_ok || CACHED ? 4'd0 : 4'd7;
+        start_error = store_ok || !HAS_STORE ? 4'd0 : 4'd7;
+        // ONCHIP_WORDS means something only with the store in front of the cache (levels
+        // 1..8); elsewhere every word is on chip (21) or none (0): a nonzero one is refused.
+        for (int i = 0; i < IMAGES; i++)
+            if (!SPLIT && hwif_out.ONCHIP_WORDS[i].VALUE.value != 32'd0) start_error = 4'd11;
         for (int i = 0; i < IMAGES; i++) begin
             logic [63:0] nb, ab;
             nb = {hwif_out.IMAGE[i].NODE_BASE_HI.VALUE.value, hwif_out.IMAGE[i].NODE_BASE_LO.VALUE.value};
@@ -475,7 +505,7 @@ module svo_top
                 // cycles since reset mod cache.banks) is the model's frame start (the frames'
                 // cycles before it): the cycles outside RUN since reset a multiple of the banks.
                 PREFILL: if (dir_count >= DC'(npix < DIR_DEPTH ? npix : DIR_DEPTH)
-                             && (!CACHED || nr_aligned)) phase <= RUN;
+                             && (!HAS_CACHE || nr_aligned)) phase <= RUN;
                 RUN: if (written + PIXW'(n_wr) >= npix) phase <= DRAIN;
                 DRAIN: if (out_n == '0) begin
                     done_pulse <= 1'b1;
@@ -503,6 +533,7 @@ module svo_top
                     | {hwif_out.IMAGE[i].NODE_BASE_HI.VALUE.value[1:0], 30'd0};
                 img_attr_base[i*32 +: 32] <= hwif_out.IMAGE[i].ATTR_BASE_LO.VALUE.value >> 3
                     | {hwif_out.IMAGE[i].ATTR_BASE_HI.VALUE.value[2:0], 29'd0};
+                img_onchip_words[i*32 +: 32] <= hwif_out.ONCHIP_WORDS[i].VALUE.value;
             end
             n_inst_f <= n_inst;
             for (int k = 0; k < NINST; k++)
@@ -580,7 +611,7 @@ module svo_top
     wire [63:0] ld_src_r = {hwif_out.LOAD_SRC_HI.VALUE.value, hwif_out.LOAD_SRC_LO.VALUE.value};
     wire [31:0] ld_words_r = hwif_out.LOAD_WORDS.VALUE.value;
     wire ld_cmd = hwif_out.CTRL.LOAD.value;
-    wire ld_refused = CACHED || ld_src_r[2:0] != 3'd0 || |ld_src_r[63:34]
+    wire ld_refused = !HAS_STORE || ld_src_r[2:0] != 3'd0 || |ld_src_r[63:34]
         || (ADDR_W < 64 && |(ld_src_r >> ADDR_W))
         || ld_words_r == 32'd0 || ld_words_r > 32'(STORE_WORDS);
     logic [ADDR_W-1:0] ld_src;                // the load's source (byte address of word 0)
@@ -705,23 +736,63 @@ module svo_top
             end
     end
     genvar gm;
+    wire [NW-1:0] s_req;                      // a read to the store (levels 21: every node read)
+    wire [NW-1:0] s_top;                      // levels 1..8: the read is in its image's prefix
+    wire [REQS-1:0] s_done;                   // the store's answers, per context
+    wire [REQS*32-1:0] s_data;
+    wire s_overflow;
     generate
-        if (!CACHED) begin : onchip
+        if (HAS_STORE) begin : onchip
             wire [NW-1:0] st_beyond;
             wire [NW*32-1:0] st_addr;
-            assign st_fin = st_done;
             /* verilator lint_off PINCONNECTEMPTY */
             svo_onchip_store #(.REQ_PORTS(NW), .REQUESTERS(REQS), .BANKS(NODE_MEMORY_ONCHIP_BANKS),
                 .PORTS(NODE_MEMORY_ONCHIP_PORTS_PER_BANK), .LATENCY(NODE_MEMORY_ONCHIP_LATENCY),
                 .COMBINE(NODE_MEMORY_ONCHIP_COMBINE ? 1 : 0), .WORDS(STORE_WORDS), .QDEPTH(REQS))
             u_store (.clk(clk), .rst(rst || core_rst), .load_valid(ld_write), .load_addr(ld_wr),
-                .load_data(ld_hold ? ld_hi : m_axi_load_rdata[31:0]), .req_valid(st_req),
-                .req_requester(mem_req_ctx), .req_addr(st_addr), .rsp_done(st_done),
-                .rsp_data(st_data), .cnt_reads(), .cnt_combined(), .cnt_port_wait(),
-                .err(st_overflow));
+                .load_data(ld_hold ? ld_hi : m_axi_load_rdata[31:0]), .req_valid(s_req),
+                .req_requester(mem_req_ctx), .req_addr(st_addr), .rsp_done(s_done),
+                .rsp_data(s_data), .cnt_reads(), .cnt_combined(), .cnt_port_wait(),
+                .err(s_overflow));
             /* verilator lint_on PINCONNECTEMPTY */
             always_ff @(posedge clk) st_err <= !(rst || core_rst) && |st_beyond;
-
+            for (gm = 0; gm < NW; gm = gm + 1) begin : store_port
+                wire [31:0] a = mem_req_addr[gm*32 +: 32];
+                assign s_req[gm] = mem_req_valid[gm] && !mem_req_attr[gm] && (!SPLIT || s_top[gm]);
+                assign st_addr[gm*32 +: 32] = a - store_base;
+                assign st_beyond[gm] = s_req[gm] && a - store_base >= store_words;
+            end
+        end else begin : no_store
+            assign s_req = '0;
+            assign s_done = '0;
+            assign s_data = '0;
+            assign s_overflow = 1'b0;
+            assign st_err = 1'b0;
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire unused_store = &{1'b0, store_base, store_words, m_axi_load_rdata, ld_hi, s_top};
+            /* verilator lint_on UNUSEDSIGNAL */
+        end
+        // The prefix test (levels 1..8): a node read is on chip iff its word index lies in
+        // [IMAGE[i].NODE_BASE / 4, + ONCHIP_WORDS[i]) of some image slot i (8 compares a port;
+        // the images do not overlap, so at most one matches). Attribute records never.
+        if (SPLIT) begin : prefix
+            for (gm = 0; gm < NW; gm = gm + 1) begin : port
+                wire [31:0] a = mem_req_addr[gm*32 +: 32];
+                logic hit;
+                always_comb begin
+                    hit = 1'b0;
+                    for (int i = 0; i < IMAGES; i++)
+                        if (a - img_node_base[i*32 +: 32] < img_onchip_words[i*32 +: 32]) hit = 1'b1;
+                end
+                assign s_top[gm] = hit;
+            end
+        end else begin : no_prefix
+            assign s_top = '1;
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire unused_prefix = &{1'b0, img_onchip_words};
+            /* verilator lint_on UNUSEDSIGNAL */
+        end
+        if (!HAS_CACHE) begin : attr_masters
             // Attribute records: one AXI4 read master per walker (its request port). Reads in
             // flight, in order (one AXI ID): each context has at most one read out, so per
             // master a FIFO of CONTEXTS entries names each response's context.
@@ -735,9 +806,7 @@ module svo_top
                 wire r_done = m_axi_rvalid[gm] && m_axi_rlast[gm];
                 wire rd_free = rq_n != RQC'(RQ) || r_done;
                 wire [31:0] a = mem_req_addr[gm*32 +: 32];
-                assign st_req[gm] = mem_req_valid[gm] && !mem_req_attr[gm];
-                assign st_addr[gm*32 +: 32] = a - store_base;
-                assign st_beyond[gm] = st_req[gm] && a - store_base >= store_words;
+                assign st_req[gm] = s_req[gm];
                 assign rd_out[gm] = rq_n != '0;
                 assign rd_resp_err[gm] = m_axi_rvalid[gm] && m_axi_rresp[gm*2 + 1];
                 assign m_axi_rready[gm] = 1'b1;      // the walker takes its read when it arrives
@@ -780,6 +849,10 @@ module svo_top
             assign m_axi_node_rready = '1;
             assign nc_err = 1'b0;
             assign nr_aligned = 1'b1;
+            assign st_fin = s_done;
+            assign st_done = s_done;
+            assign st_data = s_data;
+            assign st_overflow = s_overflow;
             /* verilator lint_off UNUSEDSIGNAL */
             wire unused_onchip = &{1'b0, m_axi_node_arready, m_axi_node_rvalid, m_axi_node_rdata,
                                    m_axi_node_rid, m_axi_node_rresp, m_axi_node_rlast};
@@ -824,6 +897,7 @@ module svo_top
             localparam int RQB = $clog2(REQS);
             localparam int NB = NODE_MEMORY_CACHE_BANKS;
             localparam int NBW = NB > 1 ? $clog2(NB) : 1;
+            wire [NW-1:0] c_valid = mem_req_valid & ~s_req;   // the reads not on chip
             wire [REQS-1:0] c_done;
             wire [REQS*64-1:0] c_data;
             wire [NW*RQB-1:0] c_req;
@@ -850,7 +924,7 @@ module svo_top
                 .HIT_LATENCY(NODE_MEMORY_CACHE_HIT_LATENCY), .MSHRS(NODE_MEMORY_DRAM_MSHRS),
                 .MISS_QUEUE(NODE_MEMORY_CACHE_MISS_QUEUE), .ATTR_CACHED(1),
                 .FILL_LANES(NODE_PORTS), .ISSUE_LANES(CISSUE))
-            u_cache (.clk(clk), .rst(rst), .req_valid(mem_req_valid), .req_requester(c_req),
+            u_cache (.clk(clk), .rst(rst), .req_valid(c_valid), .req_requester(c_req),
                 .req_kind(c_kind), .req_addr(mem_req_addr), .rsp_done(c_done), .rsp_data(c_data),
                 .m_arvalid(m_axi_node_arvalid), .m_arready(m_axi_node_arready),
                 .m_arid(c_arid), .m_araddr(c_araddr), .m_arlen(m_axi_node_arlen),
@@ -867,10 +941,12 @@ module svo_top
                 assign m_axi_node_arprot[gm*3 +: 3] = 3'b000;
                 assign m_axi_node_arcache[gm*4 +: 4] = 4'b0011;
             end
-            // Node words on the contexts' own ports; records onto the walker ports.
-            assign st_done = c_done & ~c_attr;
+            // Node words on the contexts' own ports, the store's and the cache's together (a
+            // context has one read out: at most one of them answers it); records onto the
+            // walker ports.
+            assign st_done = s_done | (c_done & ~c_attr);
             for (gm = 0; gm < REQS; gm = gm + 1) begin : ctx
-                assign st_data[gm*32 +: 32] = c_data[gm*64 +: 32];
+                assign st_data[gm*32 +: 32] = s_done[gm] ? s_data[gm*32 +: 32] : c_data[gm*64 +: 32];
             end
             wire [REQS-1:0] a_now = a_wait | (c_done & c_attr);
             logic [REQS-1:0] a_sent;
@@ -890,13 +966,13 @@ module svo_top
                         p = p + 1;
                     end
             end
-            assign st_fin = c_done;
-            assign st_overflow = 1'b0;
+            assign st_fin = s_done | c_done;
+            assign st_overflow = s_overflow;
             assign nc_err = c_axi_error && !c_axi_error_q;
             assign nr_aligned = NBW'(nr + 1'b1) == '0 || NB == 1;
             always_ff @(posedge clk) begin
                 for (int w = 0; w < NW; w++)
-                    if (mem_req_valid[w]) c_attr[RQB'(mem_req_ctx[w*CW +: CW])] <= mem_req_attr[w];
+                    if (c_valid[w]) c_attr[RQB'(mem_req_ctx[w*CW +: CW])] <= mem_req_attr[w];
                 if (rst) begin
                     a_wait <= '0;
                     nr <= '0;
@@ -907,7 +983,6 @@ module svo_top
                     c_axi_error_q <= c_axi_error;
                 end
             end
-            assign st_err = 1'b0;
             assign rd_err = 1'b0;
             assign m_axi_arvalid = '0;
             assign m_axi_araddr = '0;
@@ -920,8 +995,7 @@ module svo_top
             assign m_axi_rready = '1;
             /* verilator lint_off UNUSEDSIGNAL */
             wire unused_cached = &{1'b0, m_axi_node_rid, c_araddr, m_axi_rvalid, rd_resp_err,
-                                   store_base, store_words,
-                                   m_axi_rdata, m_axi_rlast, m_axi_load_rdata, ld_hi};
+                                   m_axi_rdata, m_axi_rlast};
             /* verilator lint_on UNUSEDSIGNAL */
         end
     endgenerate
@@ -998,7 +1072,7 @@ module svo_top
         .D_RT_DP(FIFOS_ROOT_TO_DISPATCH), .D_WK_RC(FIFOS_WALKER_TO_RECORD),
         .D_RC_WR(FIFOS_RECORD_TO_WRITE), .DIR_FIXED(1), .RECIP_SEED_FILE(RECIP_SEED_FILE),
         .NINST(NINST), .KEYN(KEYN), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS), .CW(CW),
-        .CTX_RESP(1), .ATTR_MERGE(CACHED ? 0 : 1))
+        .CTX_RESP(1), .ATTR_MERGE(HAS_CACHE ? 0 : 1))
     u_core (.clk(clk), .rst(rst || core_rst), .run(run), .npix(npix), .dir_pixel(),
         .dir_f64({96'd0, dir_mem[dir_rd]}), .dir_valid(dir_valid), .dir_take(dir_take),
         .origin_f64('0), .cam_o(cam_o), .inst_base(sp_base), .n_inst(n_inst_f),

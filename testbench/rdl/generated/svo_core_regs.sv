@@ -242,6 +242,7 @@ module svo_core_regs (
         logic LOAD_SRC_LO;
         logic LOAD_SRC_HI;
         logic LOAD_WORDS;
+        logic ONCHIP_WORDS[8];
         struct {
             logic LO;
             logic HI;
@@ -330,6 +331,9 @@ module svo_core_regs (
         decoded_reg_strb.LOAD_SRC_LO = cpuif_req_masked & (cpuif_addr == 16'h70);
         decoded_reg_strb.LOAD_SRC_HI = cpuif_req_masked & (cpuif_addr == 16'h74);
         decoded_reg_strb.LOAD_WORDS = cpuif_req_masked & (cpuif_addr == 16'h78);
+        for(int i0=0; i0<8; i0++) begin
+            decoded_reg_strb.ONCHIP_WORDS[i0] = cpuif_req_masked & (cpuif_addr == 16'h80 + (16)'(i0) * 16'h4);
+        end
         decoded_reg_strb.CYCLES.LO = cpuif_req_masked & (cpuif_addr == 16'h100) & !cpuif_req_is_wr;
         decoded_reg_strb.CYCLES.HI = cpuif_req_masked & (cpuif_addr == 16'h104) & !cpuif_req_is_wr;
         decoded_reg_strb.WALKS.LO = cpuif_req_masked & (cpuif_addr == 16'h108) & !cpuif_req_is_wr;
@@ -491,6 +495,12 @@ module svo_core_regs (
         } LOAD_WORDS;
         struct {
             struct {
+                logic [31:0] next;
+                logic load_next;
+            } VALUE;
+        } ONCHIP_WORDS[8];
+        struct {
+            struct {
                 struct {
                     logic [31:0] next;
                     logic load_next;
@@ -601,6 +611,11 @@ module svo_core_regs (
                 logic [31:0] value;
             } VALUE;
         } LOAD_WORDS;
+        struct {
+            struct {
+                logic [31:0] value;
+            } VALUE;
+        } ONCHIP_WORDS[8];
         struct {
             struct {
                 struct {
@@ -1058,6 +1073,31 @@ module svo_core_regs (
     end
     assign hwif_out.LOAD_WORDS.VALUE.value = field_storage.LOAD_WORDS.VALUE.value;
     for(genvar i0=0; i0<8; i0++) begin
+        // Field: svo_core_regs.ONCHIP_WORDS[].VALUE
+        always_comb begin
+            automatic logic [31:0] next_c;
+            automatic logic load_next_c;
+            next_c = field_storage.ONCHIP_WORDS[i0].VALUE.value;
+            load_next_c = '0;
+            if(decoded_reg_strb.ONCHIP_WORDS[i0] && decoded_req_is_wr) begin // SW write
+                next_c = (field_storage.ONCHIP_WORDS[i0].VALUE.value & ~decoded_wr_biten[31:0]) | (decoded_wr_data[31:0] & decoded_wr_biten[31:0]);
+                load_next_c = '1;
+            end
+            field_combo.ONCHIP_WORDS[i0].VALUE.next = next_c;
+            field_combo.ONCHIP_WORDS[i0].VALUE.load_next = load_next_c;
+        end
+        always_ff @(posedge clk) begin
+            if(rst) begin
+                field_storage.ONCHIP_WORDS[i0].VALUE.value <= 32'h0;
+            end else begin
+                if(field_combo.ONCHIP_WORDS[i0].VALUE.load_next) begin
+                    field_storage.ONCHIP_WORDS[i0].VALUE.value <= field_combo.ONCHIP_WORDS[i0].VALUE.next;
+                end
+            end
+        end
+        assign hwif_out.ONCHIP_WORDS[i0].VALUE.value = field_storage.ONCHIP_WORDS[i0].VALUE.value;
+    end
+    for(genvar i0=0; i0<8; i0++) begin
         // Field: svo_core_regs.IMAGE[].NODE_BASE_LO.VALUE
         always_comb begin
             automatic logic [31:0] next_c;
@@ -1264,6 +1304,11 @@ module svo_core_regs (
         end
         if(rd_mux_addr == 16'h78) begin
             readback_data_var[31:0] = field_storage.LOAD_WORDS.VALUE.value;
+        end
+        for(int i0=0; i0<8; i0++) begin
+            if(rd_mux_addr == 16'h80 + (16)'(i0) * 16'h4) begin
+                readback_data_var[31:0] = field_storage.ONCHIP_WORDS[i0].VALUE.value;
+            end
         end
         if(rd_mux_addr == 16'h100) begin
             readback_data_var[31:0] = hwif_in.CYCLES.LO.VALUE.next;

@@ -183,6 +183,7 @@ package svo_core_regs_pkg;
         sw_word_r__out_t LOAD_SRC_LO;
         sw_word_r__out_t LOAD_SRC_HI;
         sw_word_r__out_t LOAD_WORDS;
+        sw_word_r__out_t ONCHIP_WORDS[8];
         image_rf__out_t IMAGE[8];
         svo_core_regs__INSTANCE_TABLE__external__out_t INSTANCE_TABLE;
     } svo_core_regs__out_t;
