@@ -588,8 +588,8 @@ fn core_behind_axi_renders_frames_equal_to_the_model() {
 #[test]
 fn core_pool_of_two_walkers_of_four_contexts_renders_frames_equal_to_the_model() {
     let Some(venv) = venv() else { return };
-    let (run_core, c0) = core_pool_car_frames_and_stalls(&venv, "pool_2x4");
-    let (ok, text, _) = run_core(&[c0, "SVO_CORRUPT=cycles".to_string()]);
+    let run = core_pool_car_frames_and_stalls(&venv, "pool_2x4", 4, Some(FRAME_MEM_LATENCY));
+    let (ok, text, _) = (run.run_core)(&[run.c0, "SVO_CORRUPT=cycles".to_string()]);
     assert!(!ok, "SVO_CORRUPT=cycles must fail the bench:\n{text}");
     let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("FAIL ")).collect();
     assert_eq!(fails.len(), 1, "{text}");
@@ -611,7 +611,7 @@ fn core_pool_of_two_walkers_of_four_contexts_renders_frames_equal_to_the_model()
 fn core_pool_of_four_walkers_of_two_contexts_shares_the_onchip_store_as_the_model() {
     let Some(venv) = venv() else { return };
     // The corruption checks are the other cases' (same bench): the runner is not needed again.
-    let _ = core_pool_car_frames_and_stalls(&venv, "pool_4x2");
+    let _ = core_pool_car_frames_and_stalls(&venv, "pool_4x2", 4, Some(FRAME_MEM_LATENCY));
 }
 
 /// svo_top on testbench/hw/pool_4x2_cache.ron — four walkers of two contexts reading every
@@ -626,41 +626,13 @@ fn core_pool_of_four_walkers_of_two_contexts_shares_the_onchip_store_as_the_mode
 fn core_pool_of_four_walkers_of_two_contexts_reads_through_the_node_cache_as_the_model() {
     let Some(venv) = venv() else { return };
     let hw = "pool_4x2_cache";
-    let root = fresh_dir(&format!("core_{hw}"));
-    let (car, car1) = (root.join("car"), root.join("car1"));
-    let scene = repo().join("scenes/car.ron").display().to_string();
-    let model = core_frame_case_on(&car, "scenes/car.ron", 2, hw, 8);
-    core_frame_vectors_at(&car1, &scene, 1, 8);
-    let run_core = |extra: &[String]| {
-        let mut env = vec![
-            format!("SVO_VECTORS={}", car.display()),
-            format!("SVO_HW={hw}"),
-            "SVO_NPIX=160".to_string(),
-            format!("SVO_MODEL_CYCLES={}", model[0].0),
-        ];
-        env.extend(extra.iter().cloned());
-        let env: Vec<&str> = env.iter().map(String::as_str).collect();
-        bench(&venv, "core", &env)
-    };
-    let (ok, text, secs) = run_core(&[
-        format!("SVO_VECTORS1={}", car1.display()),
-        format!("SVO_MODEL_CYCLES1={}", model[1].0),
-        "SVO_FRAMES=2".to_string(),
-    ]);
-    eprintln!("core {hw} car: {secs:.1} s (build included)");
-    assert!(ok, "core bench, {hw}, car:\n{text}");
-    frames_equal_the_model(&format!("car on {hw}"), &text, &model);
+    let run = core_pool_car_frames_and_stalls(&venv, hw, 8, None);
+    let text = &run.frames;
     assert!(
         text.contains("a node-cache fill read answering SLVERR: STATUS 0xa02 (ERROR 10)"),
         "{text}"
     );
-
-    let (ok, text, _) = run_core(&["SVO_STALL=20".to_string(), "SVO_SEED=1".to_string()]);
-    assert!(ok, "core bench, {hw}, stalls:\n{text}");
-    let (equal, n, cycles, _) = core_frame_line(&text, 0);
-    let stalls = stall_line(&text);
-    println!("core {hw} car, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles; {stalls}");
-    assert_eq!((equal, n), (160, 160), "{text}");
+    let stalls = stall_line(&run.stalls);
     let count = |key: &str| -> u64 {
         stalls
             .split(&format!("{key} "))
@@ -669,58 +641,74 @@ fn core_pool_of_four_walkers_of_two_contexts_reads_through_the_node_cache_as_the
             .and_then(|s| s.parse().ok())
             .unwrap_or_else(|| panic!("no \"{key}\" count in: {stalls}"))
     };
+    println!("core {hw} car, stalls seed 1: {stalls}");
     assert!(count("cache ar") > 0 && count("cache r") > 0, "{stalls}");
 }
 
-/// The car's two 16 × 10 frames on svo_top built on testbench/hw/`hw`_pkg.sv (every pixel
-/// equal, the model's cycles and reuse), then frame 0 with random stalls (seed 1: every pixel
-/// once and right). Returns the bench runner on the car's vectors and frame 0's expected
-/// cycles, for a case's further runs.
+/// The car's two 16 × 10 frames at octree depth `depth` on svo_top built on
+/// testbench/hw/`hw`_pkg.sv (every pixel equal, the model's cycles and reuse), then frame 0
+/// with random stalls (seed 1: every pixel once and right). `mem_latency`: the fixed-latency
+/// masters' latency (`SVO_MEM_LATENCY`; `None` on hardware that reads through the node cache,
+/// whose memory the bench times from the package). Returns the bench runner on the car's
+/// vectors, frame 0's expected cycles and both runs' output, for a case's further checks.
 fn core_pool_car_frames_and_stalls<'a>(
     venv: &'a Path,
     hw: &'a str,
-) -> (impl Fn(&[String]) -> (bool, String, f64) + 'a, String) {
+    depth: u32,
+    mem_latency: Option<u64>,
+) -> PoolCarRun<impl Fn(&[String]) -> (bool, String, f64) + 'a> {
     let root = fresh_dir(&format!("core_{hw}"));
     let car = root.join("car");
     let car1 = root.join("car1");
-    let model = core_frame_case_on(&car, "scenes/car.ron", 2, hw, 4);
-    core_frame_vectors(
-        &car1,
-        &repo().join("scenes/car.ron").display().to_string(),
-        1,
-    );
+    let scene = repo().join("scenes/car.ron").display().to_string();
+    let model = core_frame_case_on(&car, "scenes/car.ron", 2, hw, depth);
+    core_frame_vectors_at(&car1, &scene, 1, depth);
     let run_core = move |extra: &[String]| {
         let mut env = vec![
             format!("SVO_VECTORS={}", car.display()),
             format!("SVO_HW={hw}"),
             "SVO_NPIX=160".to_string(),
-            format!("SVO_MEM_LATENCY={FRAME_MEM_LATENCY}"),
         ];
+        env.extend(mem_latency.map(|l| format!("SVO_MEM_LATENCY={l}")));
         env.extend(extra.iter().cloned());
         let env: Vec<&str> = env.iter().map(String::as_str).collect();
         bench(venv, "core", &env)
     };
     let c0 = format!("SVO_MODEL_CYCLES={}", model[0].0);
-    let (ok, text, secs) = run_core(&[
+    let (ok, frames, secs) = run_core(&[
         c0.clone(),
         format!("SVO_VECTORS1={}", car1.display()),
         format!("SVO_MODEL_CYCLES1={}", model[1].0),
         "SVO_FRAMES=2".to_string(),
     ]);
     eprintln!("core {hw} car: {secs:.1} s (build included)");
-    assert!(ok, "core bench, {hw}, car:\n{text}");
-    frames_equal_the_model(&format!("car on {hw}"), &text, &model);
+    assert!(ok, "core bench, {hw}, car:\n{frames}");
+    frames_equal_the_model(&format!("car on {hw}"), &frames, &model);
 
-    let (ok, text, _) = run_core(&[
+    let (ok, stalls, _) = run_core(&[
         c0.clone(),
         "SVO_STALL=20".to_string(),
         "SVO_SEED=1".to_string(),
     ]);
-    assert!(ok, "core bench, {hw}, stalls:\n{text}");
-    let (equal, n, cycles, _) = core_frame_line(&text, 0);
+    assert!(ok, "core bench, {hw}, stalls:\n{stalls}");
+    let (equal, n, cycles, _) = core_frame_line(&stalls, 0);
     println!("core {hw} car, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles");
-    assert_eq!((equal, n), (160, 160), "{text}");
-    (run_core, c0)
+    assert_eq!((equal, n), (160, 160), "{stalls}");
+    PoolCarRun {
+        run_core,
+        c0,
+        frames,
+        stalls,
+    }
+}
+
+/// What [`core_pool_car_frames_and_stalls`] ran: its bench runner, frame 0's expected cycles
+/// (`SVO_MODEL_CYCLES=…`), and the output of the two-frame run and of the stall run.
+struct PoolCarRun<F> {
+    run_core: F,
+    c0: String,
+    frames: String,
+    stalls: String,
 }
 
 /// The node memory's latency of testbench/hw/frame_hw.ron (every read, cycles).
