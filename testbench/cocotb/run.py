@@ -43,6 +43,21 @@ BENCHES = {
         "test_hit_buffer",
         dict(HIT_BUFFER, WRITE_PORTS=2, RECORD_WRITES=2),
     ),
+    # The k-wide walk section's glue (svo_fifo_wide, svo_unit_lanes) at the default's two
+    # lanes with the transform's latency, and at three lanes with the reciprocal's, against
+    # the bench's own model of the rule (docs/cycle-model.md §2.1, "Walk issue of width k").
+    "unit_lanes": (
+        "tb_unit_lanes",
+        [RTL / "svo_delay.v", RTL / "svo_fifo_wide.v", RTL / "svo_unit_lanes.v", HERE / "tb_unit_lanes.sv"],
+        "test_unit_lanes",
+        dict(K=2, L=9, D_IN=4, D_OUT=4),
+    ),
+    "unit_lanes_k3": (
+        "tb_unit_lanes",
+        [RTL / "svo_delay.v", RTL / "svo_fifo_wide.v", RTL / "svo_unit_lanes.v", HERE / "tb_unit_lanes.sv"],
+        "test_unit_lanes",
+        dict(K=3, L=26, D_IN=6, D_OUT=5),
+    ),
     # svo_top: the whole core behind its AXI interfaces, on the frame's hardware
     # (testbench/hw/frame_hw_pkg.sv); NPIX from SVO_NPIX (default 768, a 32 x 24 frame).
     "core": (

@@ -277,10 +277,20 @@ module svo_top
     localparam bit HAS_CACHE = NODE_MEMORY_ONCHIP_LEVELS != 21; // svo_node_cache_axi
     localparam bit SPLIT = HAS_STORE && HAS_CACHE;             // the prefix test per read
     generate
-        if (TRANSFORM_UNITS != 1 || RECIPROCAL_UNITS != 3 || WALKER_ROOT_UNITS != 1
-            || HIT_BUFFER_PRESENT == 0 || LANES > SORTER_LANES
-            || UNITS_SORTER_LATENCY_CYCLES != SORTER_NET_DEPTH) begin : unsupported_hardware
-            svo_top_builds_one_walk_lane_and_the_models_sorter bad();
+        // One walk-issue lane (svo_walk): one transform, three reciprocals, one walker root,
+        // and with them the one-wide glue (FIFOs, dispatch, retire, record). k lanes
+        // (docs/cycle-model.md §2.1, "Walk issue of width k") widen every FIFO of the walk
+        // section, the dispatcher, the pool's retire and the record stage to k a cycle: not
+        // built (the default's k = 2 stops here).
+        if (TRANSFORM_UNITS != 1 || RECIPROCAL_UNITS != 3 || WALKER_ROOT_UNITS != 1)
+        begin : unsupported_walk_lanes
+            svo_top_builds_one_walk_issue_lane_transform_1_reciprocal_3_walker_root_1 bad();
+        end
+        // The front end: the hit buffer, at most SORTER_LANES sphere lanes (svo_front's
+        // keys), the sorter's latency its network depth (svo_sorter).
+        if (HIT_BUFFER_PRESENT == 0 || LANES > SORTER_LANES
+            || UNITS_SORTER_LATENCY_CYCLES != SORTER_NET_DEPTH) begin : unsupported_front
+            svo_top_builds_the_hit_buffer_and_the_models_sorter bad();
         end
         // The walker pool (svo_walker_pool): 1..64 walkers of 1..16 contexts, one request port
         // and one slot a cycle each, the package's step latency and stack. No bound on the
