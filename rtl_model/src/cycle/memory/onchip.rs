@@ -14,7 +14,6 @@
 //! without combining those few words' banks serve them `ports_per_bank` at a time.
 
 use super::config::OnChipConfig;
-use std::collections::VecDeque;
 
 /// The next free read port of an on-chip bank: `used` of its ports are taken in `cycle`.
 #[derive(Clone, Copy, Debug, Default)]
@@ -41,7 +40,45 @@ pub(super) struct Banks {
     combine: bool,
     /// Per bank (with `combine`), the reads scheduled and not yet before the current cycle:
     /// (cycle served, word), in service order.
-    queued: Vec<VecDeque<(u64, u32)>>,
+    queued: Vec<Scheduled>,
+}
+
+/// One bank's scheduled reads (cycle served, word), in service order, in one contiguous
+/// buffer: the entries from `head` on are live, those before it were served in an earlier
+/// cycle. Combining searches the live entries of every on-chip read's bank, so they are kept
+/// as one slice (no ring-buffer wrap to handle); the dead prefix is dropped when the queue
+/// empties or grows past half the buffer.
+#[derive(Clone, Debug, Default)]
+struct Scheduled {
+    entries: Vec<(u64, u32)>,
+    head: usize,
+}
+
+impl Scheduled {
+    /// Drops the reads served before cycle `k` (they are at the front: service cycles only
+    /// grow along a bank's queue).
+    #[inline]
+    fn retire_before(&mut self, k: u64) {
+        let live = &self.entries[self.head..];
+        let served = live.iter().take_while(|&&(s, _)| s < k).count();
+        self.head += served;
+        if self.head == self.entries.len() {
+            self.entries.clear();
+            self.head = 0;
+        } else if self.head >= 64 && 2 * self.head >= self.entries.len() {
+            self.entries.drain(..self.head);
+            self.head = 0;
+        }
+    }
+
+    /// The service cycle of the live read of `word`, if one is scheduled.
+    #[inline]
+    fn find(&self, word: u32) -> Option<u64> {
+        self.entries[self.head..]
+            .iter()
+            .find(|&&(_, a)| a == word)
+            .map(|&(s, _)| s)
+    }
 }
 
 impl Banks {
@@ -54,7 +91,7 @@ impl Banks {
             busy_until: 0,
             conflicts_counted: 0,
             combine: cfg.combine,
-            queued: vec![VecDeque::new(); if cfg.combine { cfg.banks as usize } else { 0 }],
+            queued: vec![Scheduled::default(); if cfg.combine { cfg.banks as usize } else { 0 }],
         }
     }
 
@@ -66,10 +103,8 @@ impl Banks {
         let bank = addr % self.count;
         if self.combine {
             let q = &mut self.queued[bank as usize];
-            while q.front().is_some_and(|&(s, _)| s < k) {
-                q.pop_front();
-            }
-            if let Some(&(s, _)) = q.iter().find(|&&(_, a)| a == addr) {
+            q.retire_before(k);
+            if let Some(s) = q.find(addr) {
                 return (bank, s, true);
             }
         }
@@ -87,7 +122,7 @@ impl Banks {
         }
         self.busy_until = self.busy_until.max(served);
         if self.combine {
-            self.queued[bank as usize].push_back((served, addr));
+            self.queued[bank as usize].entries.push((served, addr));
         }
         (bank, served, false)
     }
