@@ -16,6 +16,7 @@
 use super::cache::Tags;
 use super::config::{ConfigError, DramBackend, NodeMemoryConfig};
 use super::dramsim3::DramSim3;
+use super::mshr::MshrTable;
 use super::request::{Req, Source};
 use super::stats::DramDeviceStats;
 use std::collections::VecDeque;
@@ -56,9 +57,11 @@ struct Mshr {
 pub(super) struct Dram {
     /// MSHRs there are.
     max_mshrs: usize,
-    /// Lines in flight and their MSHRs; a handful (`dram.mshrs`), so a linear search beats
-    /// a tree.
-    mshrs: Vec<(u64, Mshr)>,
+    /// Lines in flight and their MSHRs, found by line through an index (up to `dram.mshrs`
+    /// of them: 256 by default, too many to scan per miss).
+    mshrs: MshrTable<Mshr>,
+    /// DRAMsim3's fills returned in the cycle being stepped (kept to reuse its allocation).
+    returned: Vec<(u64, u64)>,
     /// Reads parked in the MSHRs.
     parked: usize,
     backend: Backend,
@@ -153,7 +156,8 @@ impl Dram {
         };
         Ok(Self {
             max_mshrs: cfg.dram.mshrs as usize,
-            mshrs: Vec::new(),
+            mshrs: MshrTable::with_capacity(cfg.dram.mshrs as usize),
+            returned: Vec::new(),
             parked: 0,
             backend,
         })
@@ -228,10 +232,9 @@ impl Dram {
     /// Step 1 of cycle `k`: fills that complete now install their line (when a cached read
     /// wants it) and free their MSHR, before this cycle's lookups, so a lookup in the
     /// completion cycle hits. With DRAMsim3, runs the DRAM clocks of cycle `k` first and
-    /// returns the parked reads whose fill's completion cycle became known.
+    /// appends to `resolved` the parked reads whose fill's completion cycle became known.
     #[inline]
-    pub(super) fn retire(&mut self, k: u64, tags: &mut Tags) -> Vec<Resolved> {
-        let mut resolved = Vec::new();
+    pub(super) fn retire(&mut self, k: u64, tags: &mut Tags, resolved: &mut Vec<Resolved>) {
         match &mut self.backend {
             Backend::BuiltIn(bus) => {
                 while let Some(f) = bus.fills.front().copied() {
@@ -239,8 +242,7 @@ impl Dram {
                         break;
                     }
                     bus.fills.pop_front();
-                    let freed = self.mshrs.iter().position(|&(l, _)| l == f.line);
-                    if let Some((_, m)) = freed.map(|i| self.mshrs.swap_remove(i)) {
+                    if let Some(m) = self.mshrs.remove(f.line) {
                         if m.install {
                             tags.install(f.line);
                         }
@@ -248,33 +250,32 @@ impl Dram {
                 }
             }
             Backend::DramSim3(d) => {
-                let mut done = Vec::new();
+                let mut done = std::mem::take(&mut self.returned);
+                done.clear();
                 d.advance(k, &mut done);
-                for (line, at) in done {
-                    if let Some((_, m)) = self.mshrs.iter_mut().find(|(l, _)| *l == line) {
+                for &(line, at) in &done {
+                    if let Some(m) = self.mshrs.get_mut(line) {
                         m.done = Some(at);
                         self.parked -= m.parked.len();
                         resolved.extend(m.parked.drain(..).map(|(r, s, src)| (r, s, at, src)));
                     }
                 }
+                self.returned = done;
                 // Free in (done, line) order so the tags see the same installs every run.
                 loop {
                     let next = self
                         .mshrs
                         .iter()
-                        .enumerate()
-                        .filter(|(_, (_, m))| m.done.is_some_and(|t| t <= k))
-                        .min_by_key(|(_, (l, m))| (m.done, *l))
-                        .map(|(i, _)| i);
-                    let Some(i) = next else { break };
-                    let (line, m) = self.mshrs.swap_remove(i);
-                    if m.install {
+                        .filter(|(_, m)| m.done.is_some_and(|t| t <= k))
+                        .min_by_key(|&(l, m)| (m.done, l))
+                        .map(|(l, _)| l);
+                    let Some(line) = next else { break };
+                    if self.mshrs.remove(line).is_some_and(|m| m.install) {
                         tags.install(line);
                     }
                 }
             }
         }
-        resolved
     }
 
     /// Step 3 of cycle `k`: bytes the DRAM moved in it. Built-in: at most `bytes_per_cycle`.
@@ -300,7 +301,7 @@ impl Dram {
         cached: bool,
         k: u64,
     ) -> Option<(Source, Option<u64>)> {
-        if let Some((_, m)) = self.mshrs.iter_mut().find(|(l, _)| *l == line) {
+        if let Some(m) = self.mshrs.get_mut(line) {
             m.install |= cached;
             if m.done.is_none() {
                 m.parked.push((r, k, Source::Merged));
@@ -319,7 +320,7 @@ impl Dram {
                 (None, vec![(r, k, Source::Miss)])
             }
         };
-        self.mshrs.push((
+        self.mshrs.insert(
             line,
             Mshr {
                 done,
@@ -327,7 +328,7 @@ impl Dram {
                 issued: k,
                 parked,
             },
-        ));
+        );
         Some((Source::Miss, done))
     }
 

@@ -130,7 +130,7 @@
 //! blocks: crossbars, bank and miss queues, MSHR search, in LUTs and FFs), [`layout`] (the
 //! address map and the on-chip whitelist), [`request`] (requests, completions, refusals),
 //! [`stats`] (the counters), and the three places a read is served: `onchip.rs` (bank ports
-//! and combining), `cache.rs` (lines and LRU tags) and `dram.rs` (MSHRs and the fill bus; the DRAMsim3
+//! and combining), `cache.rs` (lines and LRU tags) and `dram.rs` (MSHRs, their table in `mshr.rs`, and the fill bus; the DRAMsim3
 //! backend in [`dramsim3`]). This file holds the model
 //! that arbitrates them cycle by cycle ([`NodeMemory`]).
 
@@ -140,6 +140,7 @@ pub mod crossbar;
 mod dram;
 pub mod dramsim3;
 pub mod layout;
+mod mshr;
 mod onchip;
 pub mod request;
 pub mod stats;
@@ -158,7 +159,7 @@ pub use stats::{DramDeviceStats, KindCounts, NodeMemoryStats};
 
 use super::completion_wheel::CompletionWheel;
 use cache::{line_of, Tags};
-use dram::Dram;
+use dram::{Dram, Resolved};
 use onchip::Banks;
 use request::Req;
 use std::cmp::Reverse;
@@ -210,6 +211,9 @@ pub struct NodeMemory {
     /// Bytes of a cache line (the divisor of [`line_of`]).
     line_bytes: u64,
     dram: Dram,
+    /// Parked reads whose completion DRAMsim3 returned in the cycle being stepped (kept to
+    /// reuse its allocation; always empty between steps).
+    resolved: Vec<Resolved>,
     pending: CompletionWheel,
     stats: NodeMemoryStats,
 }
@@ -238,6 +242,7 @@ impl NodeMemory {
             banks: Banks::new(&cfg.onchip),
             line_bytes: u64::from(cfg.cache.line_bytes),
             dram: Dram::new(&cfg, clock_mhz)?,
+            resolved: Vec::new(),
             cfg,
             layout,
             next: 0,
@@ -482,8 +487,14 @@ impl NodeMemory {
     fn step(&mut self, k: u64) {
         // 1. Fills that complete now install their line and free their MSHR, before this
         //    cycle's lookups (so a lookup in the completion cycle hits).
-        for (r, served, done, source) in self.dram.retire(k, &mut self.tags) {
-            self.complete(r, served, done, source);
+        self.dram.retire(k, &mut self.tags, &mut self.resolved);
+        if !self.resolved.is_empty() {
+            let mut resolved = std::mem::take(&mut self.resolved);
+            for &(r, served, done, source) in &resolved {
+                self.complete(r, served, done, source);
+            }
+            resolved.clear();
+            self.resolved = resolved;
         }
         //    Then the miss queue's head, in order: its tags are checked again (a fill issued
         //    while it waited may have brought its line in: then it is a hit, read through a
@@ -529,7 +540,10 @@ impl NodeMemory {
             self.arrivals.push(r);
         }
         if self.arrivals.len() > 1 {
-            self.arrivals.sort_unstable_by_key(|r| (r.requester, r.id));
+            // (requester, id) packed in one integer: the same order as the pair (ids are
+            // unique), compared without branches.
+            self.arrivals
+                .sort_unstable_by_key(|r| (u128::from(r.requester) << 64) | u128::from(r.id));
         }
         self.stats.port_conflict_cycles += self.banks.take_conflicts_before(k);
         let latency = u64::from(self.cfg.onchip.latency);

@@ -14,7 +14,6 @@
 //! without combining those few words' banks serve them `ports_per_bank` at a time.
 
 use super::config::OnChipConfig;
-use std::collections::VecDeque;
 
 /// The next free read port of an on-chip bank: `used` of its ports are taken in `cycle`.
 #[derive(Clone, Copy, Debug, Default)]
@@ -41,7 +40,45 @@ pub(super) struct Banks {
     combine: bool,
     /// Per bank (with `combine`), the reads scheduled and not yet before the current cycle:
     /// (cycle served, word), in service order.
-    queued: Vec<VecDeque<(u64, u32)>>,
+    queued: Vec<Scheduled>,
+}
+
+/// One bank's scheduled reads (cycle served, word), in service order, in one contiguous
+/// buffer: the entries from `head` on are live, those before it were served in an earlier
+/// cycle. Combining searches the live entries of every on-chip read's bank, so they are kept
+/// as one slice (no ring-buffer wrap to handle); the dead prefix is dropped when the queue
+/// empties or grows past half the buffer.
+#[derive(Clone, Debug, Default)]
+struct Scheduled {
+    entries: Vec<(u64, u32)>,
+    head: usize,
+}
+
+impl Scheduled {
+    /// Drops the reads served before cycle `k` (they are at the front: service cycles only
+    /// grow along a bank's queue).
+    #[inline]
+    fn retire_before(&mut self, k: u64) {
+        let live = &self.entries[self.head..];
+        let served = live.iter().take_while(|&&(s, _)| s < k).count();
+        self.head += served;
+        if self.head == self.entries.len() {
+            self.entries.clear();
+            self.head = 0;
+        } else if self.head >= 64 && 2 * self.head >= self.entries.len() {
+            self.entries.drain(..self.head);
+            self.head = 0;
+        }
+    }
+
+    /// The service cycle of the live read of `word`, if one is scheduled.
+    #[inline]
+    fn find(&self, word: u32) -> Option<u64> {
+        self.entries[self.head..]
+            .iter()
+            .find(|&&(_, a)| a == word)
+            .map(|&(s, _)| s)
+    }
 }
 
 impl Banks {
@@ -54,7 +91,7 @@ impl Banks {
             busy_until: 0,
             conflicts_counted: 0,
             combine: cfg.combine,
-            queued: vec![VecDeque::new(); if cfg.combine { cfg.banks as usize } else { 0 }],
+            queued: vec![Scheduled::default(); if cfg.combine { cfg.banks as usize } else { 0 }],
         }
     }
 
@@ -66,10 +103,8 @@ impl Banks {
         let bank = addr % self.count;
         if self.combine {
             let q = &mut self.queued[bank as usize];
-            while q.front().is_some_and(|&(s, _)| s < k) {
-                q.pop_front();
-            }
-            if let Some(&(s, _)) = q.iter().find(|&&(_, a)| a == addr) {
+            q.retire_before(k);
+            if let Some(s) = q.find(addr) {
                 return (bank, s, true);
             }
         }
@@ -87,7 +122,7 @@ impl Banks {
         }
         self.busy_until = self.busy_until.max(served);
         if self.combine {
-            self.queued[bank as usize].push_back((served, addr));
+            self.queued[bank as usize].entries.push((served, addr));
         }
         (bank, served, false)
     }
@@ -122,5 +157,58 @@ impl Banks {
     #[inline]
     pub(super) fn counted_to(&mut self, end: u64) {
         self.conflicts_counted = self.conflicts_counted.max(end);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::VecDeque;
+
+    /// A bank's scheduled reads against a ring buffer popped from the front (the arrangement
+    /// before issue 30), on a seeded random schedule long enough to keep live entries behind
+    /// more than 64 dead ones (the compaction path): the same service cycle found for every
+    /// word asked.
+    #[test]
+    fn scheduled_matches_a_ring_buffer() {
+        let seed = 0x0301_u64;
+        println!("seed {seed}");
+        let mut state = seed;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            state >> 33
+        };
+        let mut q = Scheduled::default();
+        let mut oracle: VecDeque<(u64, u32)> = VecDeque::new();
+        let (mut k, mut served) = (0u64, 0u64);
+        let mut compacted = false;
+        for step in 0..50_000u32 {
+            // Bursts that schedule far ahead (a long backlog), then cycles that drain it.
+            if next() % 4 == 0 {
+                k += 1 + next() % 3;
+            }
+            let before = q.entries.len();
+            q.retire_before(k);
+            // Dead entries dropped while live ones stay: the compaction path.
+            compacted |= q.head == 0 && !q.entries.is_empty() && q.entries.len() < before;
+            while oracle.front().is_some_and(|&(s, _)| s < k) {
+                oracle.pop_front();
+            }
+            let word = (next() % 24) as u32;
+            let want = oracle.iter().find(|&&(_, a)| a == word).map(|&(s, _)| s);
+            assert_eq!(q.find(word), want, "step {step}, cycle {k}, word {word}");
+            if want.is_none() {
+                served = served.max(k) + next() % 2;
+                q.entries.push((served, word));
+                oracle.push_back((served, word));
+            }
+            assert_eq!(q.entries.len() - q.head, oracle.len(), "step {step}");
+        }
+        assert!(
+            compacted,
+            "the schedule never kept live entries across a compaction"
+        );
     }
 }
