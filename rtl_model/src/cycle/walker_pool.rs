@@ -223,7 +223,7 @@ pub struct WalkerPoolModel {
     walkers: Vec<Walker>,
     rings: Rings,
     /// Contexts due in a cycle, in order: dispatched walks and contexts whose issue run ended
-    /// (runs that go on wait in their walker's latency ring, `rings.rs`).
+    /// (runs that go on wait in their walker's issue ring, `rings.rs`).
     wheel: Vec<Vec<u32>>,
     finished: VecDeque<u32>,
     busy_total: u32,
