@@ -11,15 +11,19 @@
 //!    next op: an issue run makes them ready; a read is requested from the node memory in this
 //!    cycle if the walker has a request port left, else it joins the walker's send queue; the
 //!    context waits either way.
-//! 2. **Dispatch** (at most one walk per cycle): to the walker with the most free contexts
-//!    (the lowest index on ties); the context starts in the next cycle with the walk's first
-//!    op, the root descriptor read.
+//! 2. **Dispatch** (at most one walk per walk lane and cycle, the caller's loop: one at
+//!    `HwConfig::walk_lanes` 1, two at the default): each to the walker with the most free
+//!    contexts (the lowest index on ties, counted after the cycle's earlier dispatches, so two
+//!    walks of one cycle can go to one walker); the context starts in the next cycle with the
+//!    walk's first op, the root descriptor read.
 //! 3. **Issue.** Each walker issues one ready context per `step_cycles` (its datapath's II),
 //!    round robin in the order contexts became ready; a context's next slot, or the read its
 //!    last slot computed the address of, comes `step_latency` cycles later. Other contexts
 //!    issue in between: that is how R contexts hide the step pipeline and memory latency.
-//! 4. **Retire.** Finished walks leave in the order they finished, one per cycle, when the
-//!    record stage's FIFO is ready; the context is free from the next cycle.
+//! 4. **Retire.** Finished walks leave in the order they finished, one per walk lane and
+//!    cycle (the caller's loop), while the record stage's FIFO takes them. The caller retires
+//!    before it dispatches, so a context freed in a cycle can take a walk dispatched in that
+//!    cycle, which starts in the next.
 //!
 //! **Request ports** (`walker_pool.read_ports`, issue 29). A walker sends at most `read_ports`
 //! reads per cycle (0: unlimited): the RTL walker interleaves its contexts in one datapath and
