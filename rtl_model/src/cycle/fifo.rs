@@ -192,13 +192,16 @@ pub struct Fifo<T> {
     stage: StageId,
     depth: usize,
     now: u64,
-    /// Storage; the front is the head. During a cycle it can be one shorter than `occupancy`
-    /// (the head was handed out), and the push waits in `pending` until the edge.
+    /// Storage; the front is the head. During a cycle its first `occupancy - taken` items are
+    /// those of the start of the cycle not yet handed out, and this cycle's pushes follow them
+    /// (`pending` of them), invisible to the consumer until the edge: a pop only takes items
+    /// of the start of the cycle, which are all in front of them.
     items: VecDeque<Stamped<T>>,
     /// Registered occupancy: what `ready`, `valid` and the counters use all cycle.
     occupancy: usize,
-    /// Pushes of this cycle, in order, waiting for the edge.
-    pending: Vec<Stamped<T>>,
+    /// Pushes of this cycle, at the back of `items`, waiting for the edge (stored in place,
+    /// so that the edge moves no item: issue 30).
+    pending: usize,
     /// Pushes and pops a cycle may drive (1 for an ordinary FIFO; `k` for the k-wide FIFOs of
     /// the walk section, docs/cycle-model.md §2.1).
     ports: usize,
@@ -243,7 +246,7 @@ impl<T> Fifo<T> {
             now: 0,
             items: VecDeque::with_capacity(depth),
             occupancy: 0,
-            pending: Vec::with_capacity(ports.max(1)),
+            pending: 0,
             ports: ports.max(1),
             pushes_now: 0,
             pops_now: 0,
@@ -287,7 +290,7 @@ impl<T> Fifo<T> {
     /// registered occupancy plus this cycle's pushes is below the depth.
     #[inline]
     pub fn can_push(&self) -> bool {
-        self.pushes_now < self.ports && self.occupancy + self.pending.len() < self.depth
+        self.pushes_now < self.ports && self.occupancy + self.pending < self.depth
     }
 
     /// Whether one more pop would return an item this cycle: a consumer port is left and an
@@ -372,6 +375,7 @@ impl<T> Fifo<T> {
     /// The producer offers `item` this cycle (asserts valid). Taken if the FIFO was not full at
     /// the start of the cycle; it is stamped as entering now and becomes visible after the
     /// edge. Otherwise the item comes back with the reason.
+    #[inline]
     pub fn try_push(&mut self, item: Stamped<T>) -> Result<(), Rejected<T>> {
         if self.pushes_now >= self.ports {
             self.stats.misuse = self.stats.misuse.saturating_add(1);
@@ -381,7 +385,7 @@ impl<T> Fifo<T> {
             });
         }
         self.pushes_now += 1;
-        if self.occupancy + self.pending.len() >= self.depth {
+        if self.occupancy + self.pending >= self.depth {
             if !self.full_now {
                 self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
             }
@@ -397,6 +401,7 @@ impl<T> Fifo<T> {
 
     /// The consumer asserts ready this cycle. Returns the head, stamped as leaving now, if the
     /// FIFO was not empty at the start of the cycle; `Ok(None)` (a starved cycle) otherwise.
+    #[inline]
     pub fn try_pop(&mut self) -> Result<Option<Stamped<T>>, FifoError> {
         if self.pops_now >= self.ports {
             self.stats.misuse = self.stats.misuse.saturating_add(1);
@@ -416,13 +421,16 @@ impl<T> Fifo<T> {
     }
 
     /// Push half of a handshake that has fired: stamp and hold for the edge.
+    #[inline]
     fn accept(&mut self, mut item: Stamped<T>) {
         item.enter(self.stage, self.now);
-        self.pending.push(item);
+        self.items.push_back(item);
+        self.pending += 1;
         self.stats.pushes = self.stats.pushes.saturating_add(1);
     }
 
     /// Pop half of a handshake that has fired: hand out the head, stamped.
+    #[inline]
     fn take(&mut self) -> Option<Stamped<T>> {
         // The caller checked `taken < occupancy`: storage holds the items of the start of the
         // cycle not yet handed out. `?` keeps the impossible case quiet instead of panicking.
@@ -462,7 +470,7 @@ pub fn forward<T>(from: &mut Fifo<T>, to: &mut Fifo<T>) -> Result<bool, FifoErro
     }
     let (valid, ready) = (
         from.taken < from.occupancy,
-        to.occupancy + to.pending.len() < to.depth,
+        to.occupancy + to.pending < to.depth,
     );
     from.pops_now += 1;
     to.pushes_now += 1;
@@ -484,24 +492,27 @@ pub fn forward<T>(from: &mut Fifo<T>, to: &mut Fifo<T>) -> Result<bool, FifoErro
 }
 
 impl<T> Commit for Fifo<T> {
+    #[inline]
     fn cycle(&self) -> u64 {
         self.now
     }
 
+    #[inline]
     fn commit(&mut self) {
         // This cycle's occupancy sample, in bulk with the cycles before it at the same level.
         self.unsampled += 1;
-        // Most cycles push nothing or one item: no drain iterator set up for those (the
-        // same items in the same order either way).
-        match self.pending.len() {
-            0 => {}
-            1 => {
-                if let Some(item) = self.pending.pop() {
-                    self.items.push_back(item);
-                }
-            }
-            _ => self.items.extend(self.pending.drain(..)),
+        // A FIFO whose sides were not driven this cycle — most of them, most cycles — has
+        // nothing pending, nothing handed out and no starved or full flag (only a driven side
+        // sets those): the edge only clears the last cycle's flags and counts the cycle.
+        if self.pushes_now == 0 && self.pops_now == 0 {
+            self.last_starved = false;
+            self.last_full = false;
+            self.now = self.now.saturating_add(1);
+            return;
         }
+        // This cycle's pushes are already in storage, behind the items left of the start of
+        // the cycle: the edge makes them visible.
+        self.pending = 0;
         let occupancy = self.items.len();
         if occupancy != self.occupancy {
             let s = &mut self.stats;
