@@ -86,11 +86,12 @@ fn drive<T>(f: &mut Fifo<T>, fx: &mut FifoFx<T>) -> Result<(), CycleError> {
 /// [`drive`] of a FIFO with effects.
 #[inline(never)]
 fn drive_moves<T>(f: &mut Fifo<T>, fx: &mut FifoFx<T>) -> Result<(), CycleError> {
+    // The stage already holds a copy of each item it popped: the FIFO drops its own in place.
     for _ in 0..std::mem::take(&mut fx.pops) {
-        f.try_pop().map_err(internal)?;
+        f.pop_driven().map_err(internal)?;
     }
     for item in fx.pushes.drain(..) {
-        f.try_push(item).map_err(internal)?;
+        f.push_driven(item).map_err(internal)?;
     }
     Ok(())
 }
