@@ -23,11 +23,13 @@
 //!   and `ready`; a pop when the consumer asks ([`Fifo::try_pop`]: ready) and `valid`. Both
 //!   may happen in one cycle (occupancy then stays). A side that is not driven in a cycle has
 //!   its signal low.
-//! - The storage write and the pointer update happen at the edge ([`Commit::commit`], via
-//!   [`super::clocked::Clock::edge`]). The popped item is handed to the consumer during the
-//!   cycle (it is the registered head, which the consumer captures at the same edge), but
-//!   `ready`, `valid` and [`Fifo::occupancy`] keep their start-of-cycle values until the edge,
-//!   so the producer and consumer may be evaluated in either order.
+//! - The pointer update happens at the edge ([`Commit::commit`], via
+//!   [`super::clocked::Clock::edge`]); a pushed item is stored at once, behind the items of
+//!   the start of the cycle, where no pop of the cycle reaches it (a pop only takes those, all
+//!   in front of it), and the edge makes it visible. The popped item is handed to the
+//!   consumer during the cycle (it is the registered head, which the consumer captures at the
+//!   same edge), but `ready`, `valid` and [`Fifo::occupancy`] keep their start-of-cycle values
+//!   until the edge, so the producer and consumer may be evaluated in either order.
 //!
 //! # Stamps
 //!
@@ -126,12 +128,18 @@ pub struct Rejected<T> {
     pub reason: Refusal,
 }
 
-impl<T> std::fmt::Display for Rejected<T> {
+impl std::fmt::Display for Refusal {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self.reason {
+        match self {
             Refusal::Full => write!(f, "FIFO full"),
             Refusal::AlreadyDriven => write!(f, "FIFO producer side driven twice in one cycle"),
         }
+    }
+}
+
+impl<T> std::fmt::Display for Rejected<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.reason.fmt(f)
     }
 }
 
@@ -192,13 +200,16 @@ pub struct Fifo<T> {
     stage: StageId,
     depth: usize,
     now: u64,
-    /// Storage; the front is the head. During a cycle it can be one shorter than `occupancy`
-    /// (the head was handed out), and the push waits in `pending` until the edge.
+    /// Storage; the front is the head. During a cycle its first `occupancy - taken` items are
+    /// those of the start of the cycle not yet handed out, and this cycle's pushes follow them
+    /// (`pending` of them), invisible to the consumer until the edge: a pop only takes items
+    /// of the start of the cycle, which are all in front of them.
     items: VecDeque<Stamped<T>>,
     /// Registered occupancy: what `ready`, `valid` and the counters use all cycle.
     occupancy: usize,
-    /// Pushes of this cycle, in order, waiting for the edge.
-    pending: Vec<Stamped<T>>,
+    /// Pushes of this cycle, at the back of `items`, waiting for the edge (stored in place,
+    /// so that the edge moves no item: issue 30).
+    pending: usize,
     /// Pushes and pops a cycle may drive (1 for an ordinary FIFO; `k` for the k-wide FIFOs of
     /// the walk section, docs/cycle-model.md §2.1).
     ports: usize,
@@ -243,7 +254,7 @@ impl<T> Fifo<T> {
             now: 0,
             items: VecDeque::with_capacity(depth),
             occupancy: 0,
-            pending: Vec::with_capacity(ports.max(1)),
+            pending: 0,
             ports: ports.max(1),
             pushes_now: 0,
             pops_now: 0,
@@ -287,7 +298,7 @@ impl<T> Fifo<T> {
     /// registered occupancy plus this cycle's pushes is below the depth.
     #[inline]
     pub fn can_push(&self) -> bool {
-        self.pushes_now < self.ports && self.occupancy + self.pending.len() < self.depth
+        self.pushes_now < self.ports && self.occupancy + self.pending < self.depth
     }
 
     /// Whether one more pop would return an item this cycle: a consumer port is left and an
@@ -372,6 +383,7 @@ impl<T> Fifo<T> {
     /// The producer offers `item` this cycle (asserts valid). Taken if the FIFO was not full at
     /// the start of the cycle; it is stamped as entering now and becomes visible after the
     /// edge. Otherwise the item comes back with the reason.
+    #[inline]
     pub fn try_push(&mut self, item: Stamped<T>) -> Result<(), Rejected<T>> {
         if self.pushes_now >= self.ports {
             self.stats.misuse = self.stats.misuse.saturating_add(1);
@@ -381,7 +393,7 @@ impl<T> Fifo<T> {
             });
         }
         self.pushes_now += 1;
-        if self.occupancy + self.pending.len() >= self.depth {
+        if self.occupancy + self.pending >= self.depth {
             if !self.full_now {
                 self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
             }
@@ -395,8 +407,62 @@ impl<T> Fifo<T> {
         Ok(())
     }
 
+    /// [`Fifo::try_push`] for a driver that treats a refusal as an error: the same handshake
+    /// and counters, but a refused item is dropped and only the reason comes back (no item
+    /// travels back through the result).
+    #[inline]
+    pub fn push_driven(&mut self, item: Stamped<T>) -> Result<(), Refusal> {
+        if self.pushes_now >= self.ports {
+            self.stats.misuse = self.stats.misuse.saturating_add(1);
+            return Err(Refusal::AlreadyDriven);
+        }
+        self.pushes_now += 1;
+        if self.occupancy + self.pending >= self.depth {
+            if !self.full_now {
+                self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
+            }
+            self.full_now = true;
+            return Err(Refusal::Full);
+        }
+        self.accept(item);
+        Ok(())
+    }
+
+    /// [`Fifo::try_pop`] for a driver whose consumer already holds a copy of the head: the
+    /// same handshake and counters, the item dropped in place. Whether an item left.
+    #[inline]
+    pub fn pop_driven(&mut self) -> Result<bool, FifoError> {
+        if self.pops_now >= self.ports {
+            self.stats.misuse = self.stats.misuse.saturating_add(1);
+            return Err(FifoError::PopSideDriven { cycle: self.now });
+        }
+        self.pops_now += 1;
+        if self.taken >= self.occupancy {
+            if self.occupancy == 0 && !self.starved_now {
+                self.stats.starved_cycles = self.stats.starved_cycles.saturating_add(1);
+                self.starved_now = true;
+            }
+            return Ok(false);
+        }
+        let Some(item) = self.items.front_mut() else {
+            return Ok(false);
+        };
+        self.taken += 1;
+        self.stats.pops = self.stats.pops.saturating_add(1);
+        match item.leave(self.stage, self.now) {
+            Ok(latency) => {
+                self.stats.latency_sum = self.stats.latency_sum.saturating_add(latency);
+                self.stats.latency_max = self.stats.latency_max.max(latency);
+            }
+            Err(_) => self.stats.misuse = self.stats.misuse.saturating_add(1),
+        }
+        self.items.pop_front();
+        Ok(true)
+    }
+
     /// The consumer asserts ready this cycle. Returns the head, stamped as leaving now, if the
     /// FIFO was not empty at the start of the cycle; `Ok(None)` (a starved cycle) otherwise.
+    #[inline]
     pub fn try_pop(&mut self) -> Result<Option<Stamped<T>>, FifoError> {
         if self.pops_now >= self.ports {
             self.stats.misuse = self.stats.misuse.saturating_add(1);
@@ -416,13 +482,16 @@ impl<T> Fifo<T> {
     }
 
     /// Push half of a handshake that has fired: stamp and hold for the edge.
+    #[inline]
     fn accept(&mut self, mut item: Stamped<T>) {
         item.enter(self.stage, self.now);
-        self.pending.push(item);
+        self.items.push_back(item);
+        self.pending += 1;
         self.stats.pushes = self.stats.pushes.saturating_add(1);
     }
 
     /// Pop half of a handshake that has fired: hand out the head, stamped.
+    #[inline]
     fn take(&mut self) -> Option<Stamped<T>> {
         // The caller checked `taken < occupancy`: storage holds the items of the start of the
         // cycle not yet handed out. `?` keeps the impossible case quiet instead of panicking.
@@ -462,7 +531,7 @@ pub fn forward<T>(from: &mut Fifo<T>, to: &mut Fifo<T>) -> Result<bool, FifoErro
     }
     let (valid, ready) = (
         from.taken < from.occupancy,
-        to.occupancy + to.pending.len() < to.depth,
+        to.occupancy + to.pending < to.depth,
     );
     from.pops_now += 1;
     to.pushes_now += 1;
@@ -484,24 +553,27 @@ pub fn forward<T>(from: &mut Fifo<T>, to: &mut Fifo<T>) -> Result<bool, FifoErro
 }
 
 impl<T> Commit for Fifo<T> {
+    #[inline]
     fn cycle(&self) -> u64 {
         self.now
     }
 
+    #[inline]
     fn commit(&mut self) {
         // This cycle's occupancy sample, in bulk with the cycles before it at the same level.
         self.unsampled += 1;
-        // Most cycles push nothing or one item: no drain iterator set up for those (the
-        // same items in the same order either way).
-        match self.pending.len() {
-            0 => {}
-            1 => {
-                if let Some(item) = self.pending.pop() {
-                    self.items.push_back(item);
-                }
-            }
-            _ => self.items.extend(self.pending.drain(..)),
+        // A FIFO whose sides were not driven this cycle — most of them, most cycles — has
+        // nothing pending, nothing handed out and no starved or full flag (only a driven side
+        // sets those): the edge only clears the last cycle's flags and counts the cycle.
+        if self.pushes_now == 0 && self.pops_now == 0 {
+            self.last_starved = false;
+            self.last_full = false;
+            self.now = self.now.saturating_add(1);
+            return;
         }
+        // This cycle's pushes are already in storage, behind the items left of the start of
+        // the cycle: the edge makes them visible.
+        self.pending = 0;
         let occupancy = self.items.len();
         if occupancy != self.occupancy {
             let s = &mut self.stats;
@@ -535,5 +607,62 @@ impl<T> Fifo<T> {
             s.full_cycles = s.full_cycles.saturating_add(k);
         }
         self.now = self.now.saturating_add(k);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vectors::rng::Rng;
+
+    /// The driver's forms (`push_driven`, `pop_driven`) against the handshake's own
+    /// (`try_push`, `try_pop`) on one seeded random stream of pushes and pops, wide and
+    /// narrow, full and empty: the same items out in the same order, and the same counters
+    /// after every edge.
+    #[test]
+    fn driven_forms_match_try_forms() {
+        let seed = 0x5eed_f030u64;
+        println!("seed {seed:#x}");
+        let mut rng = Rng::new(seed);
+        for case in 0..30 {
+            let depth = 1 + rng.below(6) as usize;
+            let ports = 1 + rng.below(3) as usize;
+            let mut a = Fifo::new_wide(StageId(7), depth, ports).expect("depth in range");
+            let mut b = Fifo::new_wide(StageId(7), depth, ports).expect("depth in range");
+            let mut got_a = Vec::new();
+            let mut next = 0u32;
+            for cycle in 0..500 {
+                // Up to one more push and pop than the ports: refusals and misuse included.
+                for _ in 0..rng.below(ports as u64 + 2) {
+                    got_a.push(a.try_pop().ok().flatten().map(|s| s.payload));
+                    let left = b.pop_driven().unwrap_or(false);
+                    assert_eq!(
+                        left,
+                        got_a.last().is_some_and(Option::is_some),
+                        "case {case} cycle {cycle}: pop"
+                    );
+                }
+                for _ in 0..rng.below(ports as u64 + 2) {
+                    let ra = a.try_push(Stamped::untracked(next)).map_err(|r| r.reason);
+                    let rb = b.push_driven(Stamped::untracked(next));
+                    assert_eq!(ra, rb, "case {case} cycle {cycle}: push");
+                    next += 1;
+                }
+                assert_eq!(a.stats(), b.stats(), "case {case} cycle {cycle}");
+                a.commit();
+                b.commit();
+                let heads: Vec<u32> = (0..a.occupancy())
+                    .filter_map(|i| a.registered(i).map(|s| s.payload))
+                    .collect();
+                let heads_b: Vec<u32> = (0..b.occupancy())
+                    .filter_map(|i| b.registered(i).map(|s| s.payload))
+                    .collect();
+                assert_eq!(heads, heads_b, "case {case} cycle {cycle}: contents");
+            }
+            assert!(
+                got_a.iter().flatten().count() > 0,
+                "case {case} moved nothing"
+            );
+        }
     }
 }

@@ -72,17 +72,26 @@ pub struct Targets<'a, 'f> {
 }
 
 /// A FIFO's pops and pushes of the cycle, as the stage would have driven it directly.
-#[inline]
+/// Most FIFOs are untouched in most cycles: the test for that is inlined into the caller and
+/// only a FIFO with effects pays for the call (inlining all of `drive` made the loop slower,
+/// docs/cycle-model.md §3).
+#[inline(always)]
 fn drive<T>(f: &mut Fifo<T>, fx: &mut FifoFx<T>) -> Result<(), CycleError> {
-    // Most FIFOs are untouched in most cycles: no iterator set up for them.
     if fx.pops == 0 && fx.pushes.is_empty() {
         return Ok(());
     }
+    drive_moves(f, fx)
+}
+
+/// [`drive`] of a FIFO with effects.
+#[inline(never)]
+fn drive_moves<T>(f: &mut Fifo<T>, fx: &mut FifoFx<T>) -> Result<(), CycleError> {
+    // The stage already holds a copy of each item it popped: the FIFO drops its own in place.
     for _ in 0..std::mem::take(&mut fx.pops) {
-        f.try_pop().map_err(internal)?;
+        f.pop_driven().map_err(internal)?;
     }
     for item in fx.pushes.drain(..) {
-        f.try_push(item).map_err(internal)?;
+        f.push_driven(item).map_err(internal)?;
     }
     Ok(())
 }

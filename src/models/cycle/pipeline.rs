@@ -703,21 +703,9 @@ impl<'f> Pipeline<'f> {
         self.sample_waves(now);
         let f = &mut self.fifos;
         let m = &mut *self.machine;
+        // The FIFOs are one part (`Fifos` commits each directly), the BRAM the other.
         m.clock
-            .edge(&mut [
-                &mut f.rg_sp as &mut dyn Commit,
-                &mut f.sp_so,
-                &mut f.so_ck,
-                &mut f.ck_tr,
-                &mut f.loop_back,
-                &mut f.tr_rc,
-                &mut f.rc_rt,
-                &mut f.rt_dp,
-                &mut f.wk_rc,
-                &mut f.rc_wr,
-                &mut f.ck_wr,
-                &mut m.bram,
-            ])
+            .edge(&mut [f as &mut dyn Commit, &mut m.bram])
             .map_err(internal)?;
         Ok(())
     }

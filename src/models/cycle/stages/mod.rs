@@ -179,7 +179,9 @@ pub fn hand_on_lanes<T>(
     now: u64,
 ) -> Result<bool, CycleError> {
     let mut any = false;
-    while lanes.ready(now).is_some() && out.can_push() {
+    // `has_ready` is one compare against the lanes' cached earliest result: the common cycle
+    // with nothing ready costs no scan of the lanes.
+    while lanes.has_ready(now) && out.can_push() {
         let Some(mut w) = lanes.pop(now) else { break };
         let _ = w.leave(stage, now);
         out.push(w)?;

@@ -75,7 +75,7 @@ impl Record {
     ) -> Result<StageState, CycleError> {
         let now = cx.now;
         let pushed = hand_on_lanes(&mut self.pack, id::RECORD, &mut io.out, now)?;
-        self.write_blocked = self.pack.ready(now).is_some() && !io.out.can_push();
+        self.write_blocked = self.pack.has_ready(now) && !io.out.can_push();
         let mut state = self.pack.state(now, !pushed, walked);
         while io.input.can_pop() && self.pack.can_accept(now) {
             if let Some(wk) = io.input.pop(now)? {
