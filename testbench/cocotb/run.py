@@ -134,6 +134,7 @@ def main() -> int:
     top, sources, module, parameters = BENCHES[bench]
     build_dir = Path(os.environ.get("SVO_COCOTB_BUILD", TB.parent / "target" / "cocotb")) / bench
     includes = []
+    extra_build = []
     if bench == "core":
         # The hit buffer's size is a build parameter (one build per size); the reciprocal
         # seed ROM is read at run time from a fixed path in the build folder, copied from
@@ -173,6 +174,12 @@ def main() -> int:
         # A package outside hw/ gets its own folder even if its stem is a committed one's.
         if pkg.parent != TB / "hw":
             hw = f"file_{hw}"
+        # SVO_MODEL_VCD (test_core.py's per-cycle check of the hit buffer's writes): svo_core's
+        # write valids made readable (core_writes.vlt), in a build folder of its own.
+        if "SVO_MODEL_VCD" in extra_env:
+            extra_build = [str(HERE / "core_writes.vlt")]
+            hw = f"{hw}_writes"
+            extra_env["SVO_MODEL_VCD"] = str(Path(extra_env["SVO_MODEL_VCD"]).resolve())
         build_dir = build_dir.with_name(f"core_{npix}" if hw == "frame_hw" else f"core_{hw}_{npix}")
         build_dir.mkdir(parents=True, exist_ok=True)
         vectors = extra_env.get("SVO_VECTORS")
@@ -194,7 +201,8 @@ def main() -> int:
         hdl_toplevel=top,
         includes=includes,
         build_dir=str(build_dir),
-        build_args=["-Wno-fatal", "-Wno-lint", "-Wno-style", "-Wno-TIMESCALEMOD", "-j", "2"],
+        build_args=["-Wno-fatal", "-Wno-lint", "-Wno-style", "-Wno-TIMESCALEMOD", "-j", "2"]
+        + extra_build,
         parameters=parameters,
         always=False,
     )

@@ -54,6 +54,11 @@ BUFFER_VALID 1; its tables from SVO_VECTORS1, `sim vectors --frame 1` of the sam
 the camera and the instances whose registers changed flagged dirty, or without it the same
 still frame again, nothing dirty), SVO_CORRUPT=pixel:N (flip
 bit 0 of pixel N's expected word) or cycles (one more expected cycle): exactly one failure.
+SVO_MODEL_VCD=FILE (the model's `sim --frames 1 --vcd FILE` of frame 0; run.py then builds
+with core_writes.vlt in a folder of its own): frame 0's hit-buffer writes cycle by cycle (how
+many in each cycle, counted from the first write) must be the model's pixels_written steps, a
+check finer than the frame's cycles (issue 29: the record FIFO's second push moves a write by
+a cycle without moving the frame's end).
 Before the first frame, a START before the load must be refused with STATUS.ERROR 7 and one
 during the load with 8 (LOADING set); the load's cycles (LOAD_CYCLES) are printed. Then five
 STARTs with one bad register each must be refused with
@@ -403,6 +408,59 @@ async def every_cycle(dut, slaves):
             s.sample()
 
 
+def model_writes(path):
+    """The hit buffer's writes per cycle in the cycle model's VCD of frame 0 (`sim --frames 1
+    --vcd FILE`): the cycles in which top.pipeline.pixels_written grew and by how much, as
+    (cycle, writes) with the cycle counted from the first write. Clock cycles from the clk
+    variable's rising edges."""
+    ids, scope, code_clk, code_w = {}, [], None, None
+    lines = open(path)
+    for line in lines:
+        if line.startswith("$scope"):
+            scope.append(line.split()[2])
+        elif line.startswith("$upscope"):
+            scope.pop()
+        elif line.startswith("$var"):
+            v = line.split()
+            if v[4] == "clk":
+                code_clk = v[3]
+            elif v[4] == "pixels_written" and scope[-1:] == ["pipeline"]:
+                code_w = v[3]
+        elif line.startswith("$enddefinitions"):
+            break
+    assert code_clk and code_w, f"{path}: no clk or pipeline.pixels_written"
+    t, rises, changes, prev = 0, [], [], 0
+    for line in lines:
+        if line.startswith("#"):
+            t = int(line[1:])
+        elif line.strip() == "1" + code_clk:
+            rises.append(t)
+        elif line.startswith("b") and line.split()[1] == code_w:
+            v = int(line.split()[0][1:], 2)
+            if v > prev:
+                changes.append((t, v - prev))
+            prev = v
+    period = rises[1] - rises[0]
+    c0 = changes[0][0] // period
+    return [(tt // period - c0, n) for tt, n in changes]
+
+
+async def rtl_writes(dut, out, stop):
+    """svo_core's hit-buffer writes per cycle (wr_valid, wr1_valid, wr2_valid; readable with
+    core_writes.vlt) into `out` as (cycle, writes), counted from the first write, until
+    stop[0]."""
+    core = dut.u_core
+    c, first = 0, None
+    while not stop[0]:
+        await RisingEdge(dut.clk)
+        await ReadOnly()
+        n = int(core.wr_valid.value) + int(core.wr1_valid.value) + int(core.wr2_valid.value)
+        if n:
+            first = c if first is None else first
+            out.append((c - first, n))
+        c += 1
+
+
 class Bench:
     def __init__(self, dut):
         self.dut = dut
@@ -471,6 +529,7 @@ async def frame_against_the_model(dut):
     stall = int(os.environ.get("SVO_STALL", "0"))
     latency = int(os.environ.get("SVO_MEM_LATENCY", "3"))
     frames = int(os.environ.get("SVO_FRAMES", "1"))
+    model_vcd = os.environ.get("SVO_MODEL_VCD")      # frame 0's writes cycle by cycle
     model = [int(os.environ.get("SVO_MODEL_CYCLES", "-1")),
              int(os.environ.get("SVO_MODEL_CYCLES1", "-1"))]
     corrupt = os.environ.get("SVO_CORRUPT", "")
@@ -778,6 +837,9 @@ async def frame_against_the_model(dut):
                 await refused(11, "ONCHIP_WORDS[0] set on hardware without the split",
                               "ONCHIP_WORDS[0]", 1, 0)
         await w("STATUS", 0x2)                      # clear DONE
+        writes, writes_stop = [], [False]
+        if f == 0 and model_vcd:
+            cocotb.start_soon(rtl_writes(dut, writes, writes_stop))
         await w("CTRL", 0x1)
         seen = {}
         while True:
@@ -793,6 +855,26 @@ async def frame_against_the_model(dut):
             if (await r("STATUS")) & 0x2:
                 break
             await ClockCycles(dut.clk, 10)
+        writes_stop[0] = True
+        if f == 0 and model_vcd:
+            # The hit buffer's writes cycle by cycle (SVO_MODEL_VCD): each cycle's number of
+            # writes, from the first, the model's.
+            want_w = model_writes(model_vcd)
+            if os.environ.get("SVO_WRITES_OUT"):
+                Path(os.environ["SVO_WRITES_OUT"]).write_text(json.dumps(writes))
+            if writes == want_w:
+                print(f"core: frame 0: the hit buffer's writes cycle by cycle the model's: "
+                      f"{sum(n for _, n in writes)} writes in {len(writes)} cycles, the last "
+                      f"{writes[-1][0]} cycles after the first")
+                b.passed += 1
+            else:
+                i = next((i for i, (a, m) in enumerate(zip(writes, want_w)) if a != m),
+                         min(len(writes), len(want_w)))
+                got_i = writes[i] if i < len(writes) else None
+                want_i = want_w[i] if i < len(want_w) else None
+                b.fail(f"frame 0: the hit buffer's writes differ from the model's from the "
+                       f"{i}th cycle with writes: RTL (cycle, writes) {got_i}, model {want_i} "
+                       f"(cycles counted from the first write)")
         status = await r("STATUS")
         cycles = await r64("CYCLES")
         counters = {n: await r64(n) for n in ("WALKS", "STALL_WALK_ISSUE", "STALL_WRITE_PORT",

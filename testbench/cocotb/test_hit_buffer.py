@@ -235,7 +235,8 @@ async def reuse_across_frames_against_the_model_rows(dut):
     groups = group_rows(usable, instances)
     assert len(usable) <= npix // 2, "NPIX too small for the rows"
     cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
-    for s in ("in_valid", "rec_valid", "walk_ready", "buffer_valid", "camera_dirty"):
+    # rec2_valid 0: this bench pushes one record a cycle (the second push is the core's).
+    for s in ("in_valid", "rec_valid", "rec2_valid", "walk_ready", "buffer_valid", "camera_dirty"):
         getattr(dut, s).value = 0
     dut.instance_dirty.value = 0
     dut.miss_word.value = 0

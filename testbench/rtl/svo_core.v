@@ -188,6 +188,9 @@ module svo_core #(
     wire [PIXW-1:0] hb_walk_pixel, rec_pixel;
     wire [PAYW-1:0] hb_walk_payload;
     wire [71:0] rec_word;
+    wire rec2_valid, rec2_ready;                   // the record stage's second push
+    wire [PIXW-1:0] rec2_pixel;
+    wire [71:0] rec2_word;
     svo_hit_buffer #(.NPIX(NPIX), .AW(AW), .PIXW(PIXW), .INSTANCES(NINST), .HB_READ(HB_READ),
         .PAYW(PAYW), .WR_DEPTH(D_RC_WR), .WRITE_PORTS(WRITE_PORTS),
         .RECORD_WRITES(RECORD_WRITES))
@@ -199,7 +202,8 @@ module svo_core #(
         .in_payload({fr_dir, fr_count, fr_keys}), .walk_valid(hb_walk_valid),
         .walk_ready(hb_walk_ready), .walk_pixel(hb_walk_pixel), .walk_payload(hb_walk_payload),
         .rec_valid(rec_valid), .rec_ready(rec_ready), .rec_pixel(rec_pixel),
-        .rec_word(rec_word), .wr_valid(wr_valid), .wr_pixel(wr_pixel), .wr_word(wr_word),
+        .rec_word(rec_word), .rec2_valid(rec2_valid), .rec2_ready(rec2_ready),
+        .rec2_pixel(rec2_pixel), .rec2_word(rec2_word), .wr_valid(wr_valid), .wr_pixel(wr_pixel), .wr_word(wr_word),
         .wr_direct(wr_direct), .wr1_valid(wr1_valid), .wr1_pixel(wr1_pixel),
         .wr1_word(wr1_word), .wr2_valid(wr2_valid), .wr2_pixel(wr2_pixel), .wr2_word(wr2_word),
         .ev_reused(ev_reused), .ev_write_stall(ev_write_stall), .ev_walk_stall(ev_walk_stall),
@@ -225,7 +229,9 @@ module svo_core #(
         .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
         .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),
         .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
-        .rec_pixel(rec_pixel), .rec_word(rec_word), .done_valid(done_valid),
+        .rec_pixel(rec_pixel), .rec_word(rec_word), .rec2_valid(rec2_valid),
+        .rec2_ready(rec2_ready), .rec2_pixel(rec2_pixel), .rec2_word(rec2_word),
+        .done_valid(done_valid),
         .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
         .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
         .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx),

@@ -26,7 +26,11 @@
 // ev_bank_conflict); with RECORD_WRITES = 2 (hit_buffer.record_writes) the record behind the
 // head is written as well (on wr2_*) when the check wrote nothing and it falls in the other
 // bank. The record FIFO then passes up to two a cycle, as the model's two-port
-// record_to_write. Both write-path designs are checked cycle by cycle against the model
+// record_to_write; it also takes up to two a cycle, as the model's FIFO has
+// max(k, record_writes) = 2 push ports at k = 1: the record stage's second ready record enters
+// on rec2_* in the cycle its first does when the FIFO has room for both (registered occupancy
+// + 1 < WR_DEPTH; records a, b waiting behind a full FIFO that wrote two enter together).
+// Both write-path designs are checked cycle by cycle against the model
 // (tb_frame.sv, testbench/cocotb/test_hit_buffer.py).
 //
 // The buffer holds one word per pixel (NPIX words of WB bits, word layout as
@@ -83,6 +87,11 @@ module svo_hit_buffer #(
     output wire                 rec_ready,
     input  wire [PIXW-1:0]      rec_pixel,
     input  wire [WB-1:0]        rec_word,
+    // a second record behind rec_* (RECORD_WRITES = 2), taken only with rec_*'s
+    input  wire                 rec2_valid,
+    output wire                 rec2_ready,
+    input  wire [PIXW-1:0]      rec2_pixel,
+    input  wire [WB-1:0]        rec2_word,
     // the buffer's writes (wr: the record FIFO's head, and the check's words when
     // WRITE_PORTS = 1; wr1: the check's FIFO; wr2: the record behind the head)
     output wire                 wr_valid,
@@ -259,6 +268,11 @@ module svo_hit_buffer #(
     reg [FW-1:0] f0_n;
     wire rec_push = rec_valid && rec_ready;
     assign rec_ready = f0_n < DEPTH_C;
+    // The second push port: room for two by the registered occupancy, taken with the first.
+    localparam [FW:0] DEPTH_W = DEPTH_I[FW:0];
+    assign rec2_ready = (RECORD_WRITES == 2) && {1'b0, f0_n} + 1'b1 < DEPTH_W;
+    wire rec2_push = rec_push && rec2_valid && rec2_ready;
+    wire [WW-1:0] f0_wr1 = (f0_wr == F_LAST) ? {WW{1'b0}} : f0_wr + 1'b1;
     wire f1_free;                                   // the check's FIFO has room
     wire ck_room = (WRITE_PORTS == 1) ? (!rec_push && f0_n < DEPTH_C) : f1_free;
     wire ck_push = h_valid && h_direct && ck_room;
@@ -285,8 +299,8 @@ module svo_hit_buffer #(
     // One bit wider than the occupancy so that WR_DEPTH = 1 needs no special case; the top
     // bit is never set (the occupancy stays within 0..WR_DEPTH).
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [FW:0] f0_next = {1'b0, f0_n} + {{FW{1'b0}}, f0_push} - {{FW{1'b0}}, wr_valid}
-                        - {{FW{1'b0}}, wr2_valid};
+    wire [FW:0] f0_next = {1'b0, f0_n} + {{FW{1'b0}}, f0_push} + {{FW{1'b0}}, rec2_push}
+                        - {{FW{1'b0}}, wr_valid} - {{FW{1'b0}}, wr2_valid};
     /* verilator lint_on UNUSEDSIGNAL */
     assign w0_en = wr_valid;
     assign w0_addr = wr_pixel[AW-1:0];
@@ -310,12 +324,17 @@ module svo_hit_buffer #(
         end else begin
             if (f0_push) begin
                 f0[f0_wr] <= rec_push ? {1'b0, rec_pixel, rec_word} : {1'b1, h_pixel, h_word};
-                f0_wr <= (f0_wr == F_LAST) ? {WW{1'b0}} : f0_wr + 1'b1;
+                f0_wr <= f0_wr1;
+            end
+            if (rec2_push) begin
+                f0[f0_wr1] <= {1'b0, rec2_pixel, rec2_word};
+                f0_wr <= (f0_wr1 == F_LAST) ? {WW{1'b0}} : f0_wr1 + 1'b1;
             end
             if (wr2_valid) f0_rd <= (f0_rd1 == F_LAST) ? {WW{1'b0}} : f0_rd1 + 1'b1;
             else if (wr_valid) f0_rd <= f0_rd1;
             f0_n <= f0_next[FW-1:0];
-            if ((accept && out_of_range(in_pixel)) || (rec_push && out_of_range(rec_pixel)))
+            if ((accept && out_of_range(in_pixel)) || (rec_push && out_of_range(rec_pixel))
+                || (rec2_push && out_of_range(rec2_pixel)))
                 err_pixel <= 1'b1;
         end
     end

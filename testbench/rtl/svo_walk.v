@@ -29,7 +29,9 @@
 // instance's normal matrix (`inst_nmat` for `ird_nm`, 9 sQ2.16 elements row-major, programmed by
 // the host with the frame) go through svo_normal (latency 13) while the other fields wait
 // beside it in an svo_delay, then svo_hit_pack (1): the pack pipe is 14 long, the model's
-// units.hit_pack (units::hit_record::PACK_LATENCY_CYCLES). `done_*` shows each ray's walk results when its record is decided (for checking).
+// units.hit_pack (units::hit_record::PACK_LATENCY_CYCLES). The pack pipe is svo_elastic2: two ready records
+// leave in a cycle on rec_* and rec2_* when record_to_write has room for both (its two push
+// ports at k = 1 in the model). `done_*` shows each ray's walk results when its record is decided (for checking).
 // Sticky `err_pipe`: a unit result without its slot, the loop-back FIFO refusing a walk
 // (never expected: it has one entry per slot), or a node read's response for a context with
 // no read out.
@@ -109,6 +111,12 @@ module svo_walk #(
     input  wire                    rec_ready,
     output wire [PIXW-1:0]         rec_pixel,
     output wire [71:0]             rec_word,
+    // a second ready record behind rec_*, taken with it (the model's second push into
+    // record_to_write: svo_elastic2)
+    output wire                    rec2_valid,
+    input  wire                    rec2_ready,
+    output wire [PIXW-1:0]         rec2_pixel,
+    output wire [71:0]             rec2_word,
     // a ray's walk results, when its record is decided
     output wire                    done_valid,
     output wire [PIXW-1:0]         done_pixel,
@@ -240,9 +248,12 @@ module svo_walk #(
     always @(posedge clk) if (nm_valid) pk_pixel <= pq_pixel;
     // The pipe's gate applies to every decision (a loop-back too), as the model's record
     // stage takes a walk only while its pack lanes can accept.
-    svo_elastic #(.L(NL + 1), .W(PIXW + 72)) pk_pipe (.clk(clk), .rst(rst), .in_valid(r_pack),
+    // Two out ports: record_to_write has two push ports at k = 1 (max(k, record_writes) in the
+    // model), so two waiting records enter it in a cycle when it has room for both.
+    svo_elastic2 #(.L(NL + 1), .W(PIXW + 72)) pk_pipe (.clk(clk), .rst(rst), .in_valid(r_pack),
         .in_ready(pk_in_ready), .unit_valid(pk_u_valid), .unit_data({pk_pixel, pk_word}),
-        .out_valid(rec_valid), .out_ready(rec_ready), .out_data({rec_pixel, rec_word}));
+        .out_valid(rec_valid), .out_ready(rec_ready), .out_data({rec_pixel, rec_word}),
+        .out2_valid(rec2_valid), .out2_ready(rec2_ready), .out2_data({rec2_pixel, rec2_word}));
 
     // ---------------------------------------------------------------- walker
     wire dp_valid;                                // root_to_dispatch's head
