@@ -140,22 +140,50 @@ pub fn transform_with_signs(
     ov: &mut Overflows,
     sig: TransformSignals,
 ) -> ([i64; 3], [i64; 3], [bool; 3]) {
+    let o_local = transform_origin(o, inst, cfg, ov, sig.origin);
+    let (d_local, signs) = transform_direction(d, inst, cfg, ov, sig.dir);
+    (o_local, d_local, signs)
+}
+
+/// The origin half of [`transform_with_signs`]: o' = Rᵀ(o − c) in `local_pos`, saturations
+/// counted on `sig`. Split out because o is the camera for every primary ray, so a caller may
+/// compute it once per instance and frame (the result depends on nothing else).
+#[inline]
+pub fn transform_origin(
+    o: [i64; 3],
+    inst: &InstanceRaw,
+    cfg: &TransformConfig,
+    ov: &mut Overflows,
+    sig: SignalId,
+) -> [i64; 3] {
     // Exact o − c: both in `pos`, so the difference needs one more bit and no rounding.
     // `validate` keeps positions within 62 bits, so o − c is exact in 64 and every product a
     // single 64×64 → 128-bit multiply.
     let rel = [0, 1, 2].map(|j| o[j].wrapping_sub(inst.centre[j]));
     let pf = i32::from(cfg.mat.frac) + i32::from(cfg.pos.frac);
+    [0, 1, 2].map(|k| dot(inst.axes[k], rel, pf, cfg.local_pos, ov, sig))
+}
+
+/// The direction half of [`transform_with_signs`]: d' = Rᵀd in `local_dir` and the signs of
+/// the exact sums, saturations counted on `sig`.
+#[inline]
+pub fn transform_direction(
+    d: [i64; 3],
+    inst: &InstanceRaw,
+    cfg: &TransformConfig,
+    ov: &mut Overflows,
+    sig: SignalId,
+) -> ([i64; 3], [bool; 3]) {
     let df = i32::from(cfg.mat.frac) + i32::from(cfg.dir.frac);
-    let o_local = [0, 1, 2].map(|k| dot(inst.axes[k], rel, pf, cfg.local_pos, ov, sig.origin));
     let mut signs = [false; 3];
     let d_local = [0, 1, 2].map(|k| {
         let col = inst.axes[k];
         let p = [0, 1, 2].map(|j| i128::from(col[j]) * i128::from(d[j]));
         let sum = (p[0] + p[1]) + p[2];
         signs[k] = sum < 0;
-        quantize(sum, df, cfg.local_dir, ov, sig.dir)
+        quantize(sum, df, cfg.local_dir, ov, sig)
     });
-    (o_local, d_local, signs)
+    (d_local, signs)
 }
 
 /// Worst-case error of converting an exact value into `f` (by its quantisation mode).

@@ -30,7 +30,9 @@ use rtl_model::units::raygen::direction_entry;
 use rtl_model::units::reciprocal::ReciprocalUnit;
 use rtl_model::units::sorter::{Sorter, SorterStats};
 use rtl_model::units::sphere::{sphere_test, SphereRaw, SphereSignals};
-use rtl_model::units::transform::{transform_with_signs, InstanceRaw, TransformSignals};
+use rtl_model::units::transform::{
+    transform_direction, transform_origin, InstanceRaw, TransformSignals,
+};
 use rtl_model::units::walker::{
     walk_fixed_observed, WalkObserver, WalkOutcome, WalkerHit, WalkerInput, WalkerPos, WalkerStats,
     WalkerT,
@@ -53,6 +55,10 @@ struct Inst<'a> {
     host: HostInstance,
     image: &'a SvoImage,
     world_from_local: DMat3,
+    /// The transform unit's o' = Rᵀ(o − c) for the camera origin, which is every primary
+    /// ray's: computed once per frame instead of once per walk. `None` when computing it
+    /// saturated, so that each walk recomputes it and counts its saturations as before.
+    o_local: Option<[i64; 3]>,
 }
 
 /// Counters a worker accumulates over its pixels.
@@ -131,8 +137,9 @@ pub struct FramePlan<'a> {
     pub dirty: Dirty,
     /// Whether reuse is allowed.
     pub use_hit_buffer: bool,
-    /// Camera position (raw, `raygen.pos`).
-    pub origin: [i64; 3],
+    /// Camera position (raw, `raygen.pos`); private because the instances' cached local
+    /// origins were computed from it.
+    origin: [i64; 3],
     sorter: Sorter,
     recip: ReciprocalUnit,
     /// A miss's record fields and word per sphere count (they depend on nothing else).
@@ -176,7 +183,7 @@ impl<'a> FramePlan<'a> {
         cfg.validate().map_err(FixedError::Config)?;
         let (w, h) = input.scene.file.resolution;
         let rg = cfg.raygen;
-        let insts: Vec<Inst<'a>> = input
+        let mut insts: Vec<Inst<'a>> = input
             .state
             .poses
             .iter()
@@ -215,6 +222,7 @@ impl<'a> FramePlan<'a> {
                     },
                     image,
                     world_from_local: r,
+                    o_local: None,
                 })
             })
             .collect::<Result<_, _>>()?;
@@ -232,6 +240,19 @@ impl<'a> FramePlan<'a> {
             .position
             .to_array()
             .map(|x| from_f64(x, rg.pos, host_ov, signals::RAYGEN_POS));
+        // Per-instance constants of the datapath (model speed-up, same results): the local
+        // origin, kept only if it computes without a saturation (the per-walk counts stay).
+        for inst in &mut insts {
+            let mut scratch = overflow_table();
+            let o_local = transform_origin(
+                origin,
+                &inst.host.raw,
+                &cfg.transform,
+                &mut scratch,
+                TR_SIG.origin,
+            );
+            inst.o_local = (scratch.total() == 0).then_some(o_local);
+        }
         // A miss's record depends only on the sphere count: pack the three words once.
         let miss = [SphereCount::None, SphereCount::One, SphereCount::Several].map(|kind| {
             let f = quantise(
@@ -285,6 +306,11 @@ impl<'a> FramePlan<'a> {
             lists: None,
             switches: RaySwitches::default(),
         })
+    }
+
+    /// Camera position (raw, `raygen.pos`): every primary ray's origin.
+    pub fn origin(&self) -> [i64; 3] {
+        self.origin
     }
 
     /// The plan with culling, sorting and early termination as `s` says.
@@ -347,13 +373,7 @@ impl<'a> FramePlan<'a> {
             _ => None,
         };
         let tested = listed.map_or(self.insts.len(), <[u16]>::len);
-        let every = 0..self.insts.len() as u16;
-        let ids: &mut dyn Iterator<Item = u16> = match listed {
-            Some(l) => &mut l.iter().copied(),
-            None => &mut every.clone(),
-        };
-        for k in ids {
-            let inst = &self.insts[usize::from(k)];
+        let mut test = |k: u16, inst: &Inst<'_>| {
             let sphere = &inst.host.sphere;
             let hit = sphere_test(
                 self.origin,
@@ -366,6 +386,18 @@ impl<'a> FramePlan<'a> {
             obs.on_sphere(k, self.origin, d, sphere, hit);
             if let Some(s) = hit {
                 out.push((s.t_enter, k));
+            }
+        };
+        match listed {
+            Some(l) => {
+                for &k in l {
+                    test(k, &self.insts[usize::from(k)]);
+                }
+            }
+            None => {
+                for (k, inst) in self.insts.iter().enumerate() {
+                    test(k as u16, inst);
+                }
             }
         }
         c.tests += tested as u64;
@@ -489,13 +521,22 @@ impl<'a> FramePlan<'a> {
         obs: &mut P,
     ) -> (WalkerInput, [bool; 3]) {
         obs.on_transform(k, self.origin, d, &inst.host.raw);
-        let (o_local, d_local, signs) = transform_with_signs(
-            self.origin,
+        let o_local = match inst.o_local {
+            Some(o) => o,
+            None => transform_origin(
+                self.origin,
+                &inst.host.raw,
+                &self.cfg.transform,
+                &mut c.ov,
+                TR_SIG.origin,
+            ),
+        };
+        let (d_local, signs) = transform_direction(
             d,
             &inst.host.raw,
             &self.cfg.transform,
             &mut c.ov,
-            TR_SIG,
+            TR_SIG.dir,
         );
         let mut inp = WalkerInput {
             origin: WalkerPos::of(o_local),

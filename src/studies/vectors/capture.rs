@@ -218,7 +218,7 @@ pub fn capture_frame(
     let miss_word = plan.finish(None, SphereCount::None, &mut c).word;
     Ok(FrameCapture {
         captured: rec.cap,
-        origin: plan.origin,
+        origin: plan.origin(),
         miss_word,
         instances,
         pixels: rec.pixels,
