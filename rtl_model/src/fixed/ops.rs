@@ -23,6 +23,17 @@ pub fn quantize(raw: i128, from_frac: i32, out: Format, ov: &mut Overflows, sig:
         if q > i128::from(out.min_raw()) && q <= i128::from(out.max_raw()) {
             return q as i64;
         }
+    } else if shift <= 0 && shift > -64 {
+        // Fast path for an exact left shift (the reciprocal's output, for one): a raw value
+        // within i64 shifted by under 64 bits cannot overflow i128, so when the result lies
+        // strictly inside the range (hence also inside a symmetric one) it is the general
+        // path's result, with nothing to count.
+        if let Ok(r) = i64::try_from(raw) {
+            let v = i128::from(r) << (-shift) as u32;
+            if v > i128::from(out.min_raw()) && v <= i128::from(out.max_raw()) {
+                return v as i64;
+            }
+        }
     }
     quantize_general(raw, from_frac, out, ov, sig)
 }
