@@ -472,3 +472,53 @@ fn reverse_order_gives_the_same_cycles_stalls_and_stage_states() {
         }
     }
 }
+
+/// `fifos[].full_cycles` counts back-pressure (`FifoStats::full_cycles`): a cycle in which the
+/// producer held an item ready to enter and the FIFO had no room. The kernels never offer an
+/// item a FIFO cannot take, so before they reported held items the count stayed 0 however
+/// blocked the stages were. With tiny FIFOs between the front stages and before the write
+/// stage, each front stage's `backpressured` row — classified by the stage itself, not by the
+/// FIFO's counters — must equal its output FIFO's full cycles, and the record stage's
+/// `record_write` stalls (a packed record it could not push) must be among
+/// `record_to_write`'s.
+#[test]
+fn fifo_full_cycles_count_the_producers_back_pressure() {
+    let mut scene = Scene::default_car().unwrap();
+    scene.set_resolution(96, 64).unwrap();
+    scene.set_frames(1).unwrap();
+    let mut hw = HwConfig::default();
+    hw.fifos.raygen_to_sphere = 1;
+    hw.fifos.sphere_to_sorter = 1;
+    hw.fifos.sorter_to_check = 1;
+    hw.fifos.check_to_transform = 1;
+    hw.fifos.record_to_write = 1;
+    let c = &run_scene(&scene, Some(7), &hw, false)[0];
+    let stage = |n: &str| c.stages.iter().find(|s| s.name == n).unwrap();
+    let fifo = |n: &str| c.fifos.iter().find(|f| f.name == n).unwrap();
+    for (s, f) in [
+        ("raygen", "raygen_to_sphere"),
+        ("sphere", "sphere_to_sorter"),
+        ("sorter", "sorter_to_check"),
+    ] {
+        let (blocked, full) = (stage(s).backpressured, fifo(f).full_cycles);
+        println!("{s}: {blocked} cycles back-pressured, {f}: {full} full cycles");
+        assert!(
+            blocked > 0,
+            "{s} never back-pressured: the test shows nothing"
+        );
+        assert_eq!(
+            full, blocked,
+            "{f}: full cycles against {s}'s blocked cycles"
+        );
+    }
+    let (stalls, full) = (c.stalls.record_write, fifo("record_to_write").full_cycles);
+    println!("record_write stalls {stalls}, record_to_write full cycles {full}");
+    assert!(
+        stalls > 0,
+        "the record stage never waited on record_to_write"
+    );
+    assert!(
+        full >= stalls,
+        "record_to_write: {full} full cycles, fewer than the record stage's {stalls} stalls on it"
+    );
+}

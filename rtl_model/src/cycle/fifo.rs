@@ -98,6 +98,16 @@ pub enum FifoError {
         /// The cycle.
         cycle: u64,
     },
+    /// [`Fifo::note_full`] on a FIFO that still had room for the held item.
+    #[error(
+        "producer reported back-pressure in cycle {cycle}, but the FIFO had room ({room} left)"
+    )]
+    NotFull {
+        /// The cycle.
+        cycle: u64,
+        /// Entries still free after this cycle's pushes.
+        room: usize,
+    },
     /// [`forward`] between FIFOs that are on different cycles.
     #[error("FIFOs are on different cycles ({from} and {to})")]
     OutOfStep {
@@ -155,7 +165,13 @@ pub struct FifoStats {
     pub pushes: u64,
     /// Items handed out.
     pub pops: u64,
-    /// Back-pressure: cycles in which the producer offered an item and the FIFO was full.
+    /// Back-pressure: cycles in which the producer held an item ready to enter and the FIFO
+    /// had no room for it (registered occupancy plus this cycle's pushes at the depth) —
+    /// offered and refused ([`Fifo::try_push`]), or held back and reported
+    /// ([`Fifo::note_full`]). At most one per cycle, whatever the ports: a `k`-port FIFO
+    /// that took some of a cycle's ready items (even all `k`) and was left with no room for
+    /// the rest counts the cycle; one whose producer had more ready than its `k` ports but
+    /// room left does not (that is the datapath's width, not back-pressure).
     pub full_cycles: u64,
     /// Starvation: cycles in which the consumer was ready and the FIFO was empty.
     pub starved_cycles: u64,
@@ -428,6 +444,28 @@ impl<T> Fifo<T> {
         Ok(())
     }
 
+    /// The producer holds an item ready to enter that it did not offer this cycle because
+    /// the FIFO has no room for it (a driver that checks [`Fifo::can_push`] before it offers,
+    /// so never offers into a full FIFO): counted in [`FifoStats::full_cycles`] as a refused
+    /// [`Fifo::try_push`] would be — once a cycle, and repeated by [`Fifo::skip_idle`].
+    /// Call it after the cycle's pushes. A FIFO with room left is refused (the producer
+    /// could have pushed: a driver bug), with nothing counted.
+    #[inline]
+    pub fn note_full(&mut self) -> Result<(), FifoError> {
+        let inside = self.occupancy + self.pending;
+        if inside < self.depth {
+            return Err(FifoError::NotFull {
+                cycle: self.now,
+                room: self.depth - inside,
+            });
+        }
+        if !self.full_now {
+            self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
+        }
+        self.full_now = true;
+        Ok(())
+    }
+
     /// [`Fifo::try_pop`] for a driver whose consumer already holds a copy of the head: the
     /// same handshake and counters, the item dropped in place. Whether an item left.
     #[inline]
@@ -563,9 +601,10 @@ impl<T> Commit for Fifo<T> {
         // This cycle's occupancy sample, in bulk with the cycles before it at the same level.
         self.unsampled += 1;
         // A FIFO whose sides were not driven this cycle — most of them, most cycles — has
-        // nothing pending, nothing handed out and no starved or full flag (only a driven side
-        // sets those): the edge only clears the last cycle's flags and counts the cycle.
-        if self.pushes_now == 0 && self.pops_now == 0 {
+        // nothing pending, nothing handed out and no starved flag (only a driven side sets
+        // it), and no full flag unless a held item was reported (`note_full`, which drives
+        // neither side): the edge only clears the last cycle's flags and counts the cycle.
+        if self.pushes_now == 0 && self.pops_now == 0 && !self.full_now {
             self.last_starved = false;
             self.last_full = false;
             self.now = self.now.saturating_add(1);
@@ -664,5 +703,69 @@ mod tests {
                 "case {case} moved nothing"
             );
         }
+    }
+
+    /// `note_full` counts as a refused offer would: a driver that offers only what the FIFO
+    /// takes and reports a held item (`note_full`, only when no room is left)
+    /// against one that offers everything with `try_push`, on a seeded random stream — the
+    /// same counters after every edge, and `skip_idle` after a cycle in which only a held
+    /// item was reported (neither side driven) credits the full cycles too.
+    #[test]
+    fn note_full_counts_as_a_refused_offer() {
+        let seed = 0x5eed_f031u64;
+        println!("seed {seed:#x}");
+        let mut rng = Rng::new(seed);
+        for case in 0..30 {
+            let depth = 1 + rng.below(6) as usize;
+            let ports = 1 + rng.below(3) as usize;
+            let mut a = Fifo::new_wide(StageId(7), depth, ports).expect("depth in range");
+            let mut b = Fifo::new_wide(StageId(7), depth, ports).expect("depth in range");
+            let mut next = 0u32;
+            let mut full_seen = false;
+            for cycle in 0..500 {
+                // Pops rarer than offers: the FIFO is often full.
+                for _ in 0..rng.below(ports as u64 + 1) / 2 + rng.below(2) {
+                    if a.pops_now < ports {
+                        let _ = a.try_pop();
+                        let _ = b.pop_driven();
+                    }
+                }
+                let offers = rng.below(ports as u64 + 1) as usize;
+                for _ in 0..offers.min(ports) {
+                    let _ = a.try_push(Stamped::untracked(next));
+                    next += 1;
+                }
+                let mut pushed = 0;
+                while pushed < offers && b.can_push() {
+                    b.push_driven(Stamped::untracked(0))
+                        .expect("can_push said yes");
+                    pushed += 1;
+                }
+                // `offers` ≤ `ports`: a held item here found no room, never only no port.
+                if pushed < offers {
+                    b.note_full().expect("no room left");
+                }
+                let (sa, sb) = (a.stats(), b.stats());
+                assert_eq!(sa.full_cycles, sb.full_cycles, "case {case} cycle {cycle}");
+                assert_eq!(sa.pushes, sb.pushes, "case {case} cycle {cycle}: pushes");
+                full_seen |= sa.full_cycles > 0;
+                a.commit();
+                b.commit();
+            }
+            assert!(full_seen, "case {case} never full");
+        }
+        // A full FIFO whose consumer is stalled and whose producer holds an item: only
+        // `note_full` drives it, and the idle skip repeats that cycle.
+        let mut f = Fifo::new(StageId(7), 1).expect("depth 1");
+        assert_eq!(f.note_full(), Err(FifoError::NotFull { cycle: 0, room: 1 }));
+        assert_eq!(f.stats().full_cycles, 0, "a refused note counts nothing");
+        f.push_driven(Stamped::untracked(1u32)).expect("room");
+        f.commit();
+        f.note_full().expect("full");
+        f.note_full().expect("full");
+        f.commit();
+        assert_eq!(f.stats().full_cycles, 1, "once a cycle");
+        f.skip_idle(5);
+        assert_eq!(f.stats().full_cycles, 6, "skip_idle repeats the held cycle");
     }
 }

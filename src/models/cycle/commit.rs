@@ -71,13 +71,14 @@ pub struct Targets<'a, 'f> {
     pub log_limit: usize,
 }
 
-/// A FIFO's pops and pushes of the cycle, as the stage would have driven it directly.
+/// A FIFO's pops and pushes of the cycle, as the stage would have driven it directly, and
+/// the back-pressure a producer reported (a full cycle, `FifoStats::full_cycles`).
 /// Most FIFOs are untouched in most cycles: the test for that is inlined into the caller and
 /// only a FIFO with effects pays for the call (inlining all of `drive` made the loop slower,
 /// docs/cycle-model.md §3).
 #[inline(always)]
 fn drive<T>(f: &mut Fifo<T>, fx: &mut FifoFx<T>) -> Result<(), CycleError> {
-    if fx.pops == 0 && fx.pushes.is_empty() {
+    if fx.pops == 0 && fx.pushes.is_empty() && !fx.full {
         return Ok(());
     }
     drive_moves(f, fx)
@@ -92,6 +93,10 @@ fn drive_moves<T>(f: &mut Fifo<T>, fx: &mut FifoFx<T>) -> Result<(), CycleError>
     }
     for item in fx.pushes.drain(..) {
         f.push_driven(item).map_err(internal)?;
+    }
+    // After the pushes: the held item found no room even with this cycle's offers inside.
+    if std::mem::take(&mut fx.full) {
+        f.note_full().map_err(internal)?;
     }
     Ok(())
 }

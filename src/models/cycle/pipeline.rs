@@ -464,8 +464,8 @@ impl<'f> Pipeline<'f> {
             S_RECORD => {
                 let mut io = RecordIo {
                     input: PopPort::new(&f.wk_rc),
-                    loop_back: PushPort::new(&f.loop_back, &mut fx.loop_back.pushes),
-                    out: PushPort::new(&f.rc_wr, &mut fx.rc_wr.pushes),
+                    loop_back: PushPort::new(&f.loop_back, &mut fx.loop_back),
+                    out: PushPort::new(&f.rc_wr, &mut fx.rc_wr),
                     slots: &self.slots,
                     slot_fx: &mut fx.slots,
                 };
@@ -480,7 +480,7 @@ impl<'f> Pipeline<'f> {
                 let m = &mut *self.machine;
                 let mut io = WalkerIo {
                     input: PopPort::new(&f.rt_dp),
-                    out: PushPort::new(&f.wk_rc, &mut fx.wk_rc.pushes),
+                    out: PushPort::new(&f.wk_rc, &mut fx.wk_rc),
                     slots: &self.slots,
                     best_full: &mut fx.slots.best_full,
                 };
@@ -497,7 +497,7 @@ impl<'f> Pipeline<'f> {
             S_ROOT => {
                 let mut io = UnitIo {
                     input: PopPort::new(&f.rc_rt),
-                    out: PushPort::new(&f.rt_dp, &mut fx.rt_dp.pushes),
+                    out: PushPort::new(&f.rt_dp, &mut fx.rt_dp),
                 };
                 let state = self.root.eval(&mut io, wires.more_walks, now)?;
                 fx.rc_rt.pops += io.input.asked();
@@ -506,7 +506,7 @@ impl<'f> Pipeline<'f> {
             S_RECIP => {
                 let mut io = UnitIo {
                     input: PopPort::new(&f.tr_rc),
-                    out: PushPort::new(&f.rc_rt, &mut fx.rc_rt.pushes),
+                    out: PushPort::new(&f.rc_rt, &mut fx.rc_rt),
                 };
                 let state = self.recip.eval(&mut io, wires.more_walks, now)?;
                 fx.tr_rc.pops += io.input.asked();
@@ -521,7 +521,7 @@ impl<'f> Pipeline<'f> {
                     let mut io = TransformIo {
                         loop_back: PopPort::new(&f.loop_back),
                         new_rays: PopPort::new(&f.ck_tr),
-                        out: PushPort::new(&f.tr_rc, &mut fx.tr_rc.pushes),
+                        out: PushPort::new(&f.tr_rc, &mut fx.tr_rc),
                         slots: SlotView::new(&self.slots, &slot_fx.releases),
                         takes: &mut slot_fx.takes,
                     };
@@ -536,13 +536,13 @@ impl<'f> Pipeline<'f> {
             S_CHECK => {
                 record_first("the check stage")?;
                 let (to_write, write_fx) = if f.two_write_paths {
-                    (&f.ck_wr, &mut fx.ck_wr.pushes)
+                    (&f.ck_wr, &mut fx.ck_wr)
                 } else {
-                    (&f.rc_wr, &mut fx.rc_wr.pushes)
+                    (&f.rc_wr, &mut fx.rc_wr)
                 };
                 let mut io = CheckIo {
                     input: PopPort::new(&f.so_ck),
-                    to_walk: PushPort::new(&f.ck_tr, &mut fx.ck_tr.pushes),
+                    to_walk: PushPort::new(&f.ck_tr, &mut fx.ck_tr),
                     to_write: PushPort::new(to_write, write_fx),
                     bram: &self.machine.bram,
                     reads: &mut fx.bram.reads,
@@ -556,7 +556,7 @@ impl<'f> Pipeline<'f> {
             S_SORTER => {
                 let mut io = UnitIo {
                     input: PopPort::new(&f.sp_so),
-                    out: PushPort::new(&f.so_ck, &mut fx.so_ck.pushes),
+                    out: PushPort::new(&f.so_ck, &mut fx.so_ck),
                 };
                 let state =
                     self.sorter
@@ -567,7 +567,7 @@ impl<'f> Pipeline<'f> {
             S_SPHERE => {
                 let mut io = UnitIo {
                     input: PopPort::new(&f.rg_sp),
-                    out: PushPort::new(&f.sp_so, &mut fx.sp_so.pushes),
+                    out: PushPort::new(&f.sp_so, &mut fx.sp_so),
                 };
                 let state =
                     self.sphere
@@ -576,7 +576,7 @@ impl<'f> Pipeline<'f> {
                 state
             }
             _ => {
-                let mut out = PushPort::new(&f.rg_sp, &mut fx.rg_sp.pushes);
+                let mut out = PushPort::new(&f.rg_sp, &mut fx.rg_sp);
                 self.raygen.eval(&mut out, &cx, &mut fx.frame)?
             }
         })

@@ -123,6 +123,7 @@ impl Check {
                 } else {
                     blocked = true;
                     self.write_blocked = true;
+                    io.to_write.note_full();
                 }
             } else if io.to_walk.ready() {
                 if let Some((mut ray, _)) = self.pipe.pop(now) {
@@ -133,6 +134,7 @@ impl Check {
                 }
             } else {
                 blocked = true;
+                io.to_walk.note_full();
             }
         }
         if io.input.valid() && self.pipe.can_accept(now) {

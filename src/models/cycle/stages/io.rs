@@ -115,13 +115,13 @@ fn refused(stage: StageId, inside: usize, offered: usize) -> CycleError {
 /// first's offers.
 pub struct PushPort<'a, T> {
     fifo: &'a Fifo<T>,
-    out: &'a mut Vec<Stamped<T>>,
+    out: &'a mut FifoFx<T>,
 }
 
 impl<'a, T> PushPort<'a, T> {
     /// The producer side of `fifo`, offering into `out`.
     #[inline]
-    pub fn new(fifo: &'a Fifo<T>, out: &'a mut Vec<Stamped<T>>) -> Self {
+    pub fn new(fifo: &'a Fifo<T>, out: &'a mut FifoFx<T>) -> Self {
         Self { fifo, out }
     }
 
@@ -134,7 +134,7 @@ impl<'a, T> PushPort<'a, T> {
     /// Whether one more push would be taken this cycle (`Fifo::can_push`).
     #[inline]
     pub fn can_push(&self) -> bool {
-        let n = self.out.len();
+        let n = self.out.pushes.len();
         n < self.fifo.ports() && self.fifo.occupancy() + n < self.fifo.depth()
     }
 
@@ -145,20 +145,38 @@ impl<'a, T> PushPort<'a, T> {
             return Err(refused(
                 self.fifo.stage(),
                 self.fifo.occupancy(),
-                self.out.len(),
+                self.out.pushes.len(),
             ));
         }
-        self.out.push(item);
+        self.out.pushes.push(item);
         Ok(())
+    }
+
+    /// The producer still holds an item ready to enter after its pushes of the cycle. A
+    /// kernel only offers what the FIFO takes, so a full FIFO never sees the refused offer
+    /// `Fifo::try_push` would count as back-pressure: the kernel says so here instead, and
+    /// the commit counts it (`Fifo::note_full`: once a cycle, whichever producer said it).
+    /// Marked full only when the FIFO has no room left after this cycle's offers (whether
+    /// or not its ports were all used); an item held back only because the ports were all
+    /// used while room was left is the datapath's width, not back-pressure
+    /// (`FifoStats::full_cycles`).
+    #[inline]
+    pub fn note_full(&mut self) {
+        if self.fifo.occupancy() + self.out.pushes.len() >= self.fifo.depth() {
+            self.out.full = true;
+        }
     }
 }
 
-/// A FIFO's effects in a cycle: pops asked and items offered.
+/// A FIFO's effects in a cycle: pops asked, items offered, and whether a producer held an
+/// item the FIFO had no room for.
 pub struct FifoFx<T> {
     /// `try_pop`s asked.
     pub pops: usize,
     /// Items offered, in order.
     pub pushes: Vec<Stamped<T>>,
+    /// A producer held a ready item back because the FIFO was full ([`PushPort::note_full`]).
+    pub full: bool,
 }
 
 impl<T> Default for FifoFx<T> {
@@ -166,6 +184,7 @@ impl<T> Default for FifoFx<T> {
         Self {
             pops: 0,
             pushes: Vec::new(),
+            full: false,
         }
     }
 }

@@ -151,7 +151,8 @@ pub fn internal(e: impl std::fmt::Display) -> CycleError {
 }
 
 /// The output half of a fixed unit between FIFOs: the ready head leaves into `out` when `out`
-/// is ready (registered). Returns whether it left.
+/// is ready (registered); a ready head `out` cannot take is back-pressure
+/// (`PushPort::note_full`). Returns whether it left.
 #[inline]
 pub fn hand_on<T>(
     pipe: &mut UnitPipe<Stamped<T>>,
@@ -159,8 +160,10 @@ pub fn hand_on<T>(
     out: &mut PushPort<'_, T>,
     now: u64,
 ) -> Result<bool, CycleError> {
-    if pipe.ready(now).is_some() && out.ready() {
-        if let Some(mut w) = pipe.pop(now) {
+    if pipe.ready(now).is_some() {
+        if !out.ready() {
+            out.note_full();
+        } else if let Some(mut w) = pipe.pop(now) {
             let _ = w.leave(stage, now);
             out.push(w)?;
             return Ok(true);
@@ -170,7 +173,9 @@ pub fn hand_on<T>(
 }
 
 /// [`hand_on`] for `n` units side by side: ready results leave, oldest first, while `out`
-/// takes them (up to its ports). Returns whether any left.
+/// takes them (up to its ports); a ready result left behind is reported to `out`, which
+/// counts it as back-pressure only if it had no room (`PushPort::note_full`). Returns
+/// whether any left.
 #[inline]
 pub fn hand_on_lanes<T>(
     lanes: &mut UnitLanes<Stamped<T>>,
@@ -186,6 +191,9 @@ pub fn hand_on_lanes<T>(
         let _ = w.leave(stage, now);
         out.push(w)?;
         any = true;
+    }
+    if lanes.has_ready(now) {
+        out.note_full();
     }
     Ok(any)
 }

@@ -89,6 +89,10 @@ impl Walkers {
             let _ = wk.leave(id::WALKER, now);
             out.push(wk)?;
         }
+        // A finished walker left behind is back-pressure if `walker_to_record` has no room.
+        if pool.finished_head().is_some() {
+            out.note_full();
+        }
         while io.input.can_pop() {
             if !pool.has_free() {
                 pool.note_dispatch_stall();
