@@ -652,7 +652,7 @@ impl<T> Fifo<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::vectors::rng::Rng;
+    use crate::cycle::test_rng::TestRng as Rng;
 
     /// The driver's forms (`push_driven`, `pop_driven`) against the handshake's own
     /// (`try_push`, `try_pop`) on one seeded random stream of pushes and pops, wide and

@@ -13,6 +13,8 @@ pub mod memory;
 pub mod part;
 pub mod ray_order;
 pub mod stage_stats;
+#[cfg(test)]
+mod test_rng;
 pub mod unit_lanes;
 pub mod unit_latency;
 pub mod unit_pipe;

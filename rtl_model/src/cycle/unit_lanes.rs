@@ -218,7 +218,7 @@ mod tests {
     fn cached_answers_match_a_reference_of_the_lanes() {
         let seed = 0x5eed_0030u64;
         println!("seed {seed:#x}");
-        let mut rng = crate::vectors::rng::Rng::new(seed);
+        let mut rng = crate::cycle::test_rng::TestRng::new(seed);
         for case in 0..40 {
             let (n, latency, ii) = (1 + rng.below(4), 1 + rng.below(6), 1 + rng.below(3));
             let mut u = UnitLanes::new(n as u32, latency as u32, ii as u32);
