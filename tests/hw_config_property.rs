@@ -51,7 +51,7 @@ fn field(lo: u32, hi: u32) -> BoxedStrategy<u32> {
 type Beyond = fn(&mut HwConfig);
 
 /// Every field's step beyond its limits.
-const BEYOND: [Beyond; 28] = [
+const BEYOND: [Beyond; 30] = [
     |h| h.part.name.clear(),
     |h| h.part.dsp48e2 = 0,
     |h| h.part.bram36 = 0,
@@ -70,6 +70,8 @@ const BEYOND: [Beyond; 28] = [
     |h| h.walker_pool.step_cycles = 100_001,
     |h| h.walker_pool.stack_depth = 65,
     |h| h.walker_pool.read_ports = h.walker_pool.contexts_per_walker + 1,
+    |h| h.walker_pool.response_register_cycles = 2,
+    |h| h.walker_pool.request_register_cycles = 2,
     |h| h.fifos.check_to_transform = 65_537,
     |h| h.fifos.root_to_dispatch = 65_536,
     |h| h.node_memory.onchip.levels = 22,
@@ -181,6 +183,8 @@ fn walker_pool() -> impl Strategy<Value = WalkerPool> {
         prop_oneof![Just(StackStorage::FullT), Just(StackStorage::ExactPop)],
         // 0 (unlimited) to a few; above the contexts is refused, which `BEYOND` also reaches.
         prop_oneof![Just(0u32), Just(1u32), 0u32..=4],
+        // The pool's response and request registers: 0 or 1 (2 is refused, in `BEYOND`).
+        (0u32..=1, 0u32..=1),
     )
         .prop_map(
             |(
@@ -191,6 +195,7 @@ fn walker_pool() -> impl Strategy<Value = WalkerPool> {
                 stack_depth,
                 stack,
                 read_ports,
+                (response_register_cycles, request_register_cycles),
             )| {
                 WalkerPool {
                     walkers,
@@ -200,6 +205,8 @@ fn walker_pool() -> impl Strategy<Value = WalkerPool> {
                     stack_depth,
                     stack,
                     read_ports,
+                    response_register_cycles,
+                    request_register_cycles,
                 }
             },
         )

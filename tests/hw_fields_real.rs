@@ -153,6 +153,17 @@ const FIELDS: &[(&str, Mutate, Expect)] = &[
         |h| h.walker_pool.read_ports = 0,
         Changes,
     ),
+    // The pool's registers (issue 29): a completion seen, a read sent, one cycle later.
+    (
+        "walker_pool.response_register_cycles",
+        |h| h.walker_pool.response_register_cycles = 1,
+        Changes,
+    ),
+    (
+        "walker_pool.request_register_cycles",
+        |h| h.walker_pool.request_register_cycles = 1,
+        Changes,
+    ),
     (
         "walker_pool.stack_depth",
         |h| h.walker_pool.stack_depth = 40,

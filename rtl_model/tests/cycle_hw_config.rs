@@ -230,6 +230,13 @@ fn invalid_configurations_are_rejected_with_the_field_named() {
         ("walker_pool.read_ports = 17", |c| {
             c.walker_pool.read_ports = 17
         }),
+        // The pool's registers are 0 or 1 cycles (issue 29).
+        ("walker_pool.response_register_cycles = 2", |c| {
+            c.walker_pool.response_register_cycles = 2
+        }),
+        ("walker_pool.request_register_cycles = 2", |c| {
+            c.walker_pool.request_register_cycles = 2
+        }),
         ("fifos.root_to_dispatch", |c| c.fifos.root_to_dispatch = 0),
         ("fifos.raygen_to_sphere", |c| {
             c.fifos.raygen_to_sphere = 1 << 20

@@ -9,6 +9,14 @@
 //! Random configurations include a step latency of 1 (a walk dispatched in the cycle before
 //! joins the ready queue before a step that ends now) and initiation intervals above 1, and
 //! random walks include empty and back-to-back issue runs and walks that start with a run.
+//!
+//! The pool's response and request registers (`walker_pool.response_register_cycles`,
+//! `request_register_cycles`, issue 29) are checked twice: the reference pool states them
+//! (a completion is seen in the cycle after the memory's; a read picked in C reaches the memory
+//! in C + 1, before anything else of that cycle, in pick order), and
+//! `registers_are_one_cycle_more_latency_on_a_memory_without_contention` compares a pool
+//! with them against a pool without them on a memory one or two cycles slower, where nothing
+//! but latency can tell them apart.
 
 mod common;
 
@@ -16,7 +24,9 @@ use std::collections::{BTreeMap, VecDeque};
 
 use common::{seed, Rng};
 use rtl_model::cycle::hw_config::WalkerPool as PoolConfig;
-use rtl_model::cycle::memory::{Completion, FetchKind, MemoryLayout, NodeMemory, NodeMemoryConfig};
+use rtl_model::cycle::memory::{
+    Completion, FetchKind, MemoryLayout, NodeMemory, NodeMemoryConfig, OnChipConfig,
+};
 use rtl_model::cycle::walk_op::WalkOp;
 use rtl_model::cycle::walker_pool::WalkerPoolModel;
 
@@ -53,6 +63,12 @@ struct RefPool {
     slots: u64,
     port_waits: u64,
     now: u64,
+    /// `response_register_cycles` 1 and the completions it holds (the memory's last cycle's).
+    resp_reg: bool,
+    held: Vec<Completion>,
+    /// `request_register_cycles` 1 and the reads it holds (picked in the last cycle).
+    req_reg: bool,
+    picked: Vec<(usize, FetchKind, u32)>,
 }
 
 impl RefPool {
@@ -85,6 +101,21 @@ impl RefPool {
             slots: 0,
             port_waits: 0,
             now: 0,
+            resp_reg: cfg.response_register_cycles == 1,
+            held: Vec::new(),
+            req_reg: cfg.request_register_cycles == 1,
+            picked: Vec::new(),
+        }
+    }
+
+    /// The port sends a read: to the memory now, or into the request register.
+    fn send_read(&mut self, ctx: usize, kind: FetchKind, addr: u32, mem: &mut NodeMemory) {
+        if self.req_reg {
+            self.picked.push((ctx, kind, addr));
+        } else {
+            mem.request(self.now, addr, kind, ctx as u32)
+                .expect("reference read");
+            self.reads += 1;
         }
     }
 
@@ -92,9 +123,7 @@ impl RefPool {
         let w = ctx / self.r;
         if self.sent[w] < self.ports {
             self.sent[w] += 1;
-            mem.request(self.now, addr, kind, ctx as u32)
-                .expect("reference read");
-            self.reads += 1;
+            self.send_read(ctx, kind, addr, mem);
         } else {
             self.send[w].push_back((ctx, kind, addr));
         }
@@ -135,6 +164,11 @@ impl RefPool {
     fn wake(&mut self, now: u64, mem: &mut NodeMemory, done: &mut Vec<Completion>) {
         self.now = now;
         mem.catch_up(now);
+        for (ctx, kind, addr) in std::mem::take(&mut self.picked) {
+            mem.request(now, addr, kind, ctx as u32)
+                .expect("reference registered read");
+            self.reads += 1;
+        }
         self.sent.iter_mut().for_each(|s| *s = 0);
         for w in 0..self.send.len() {
             while self.sent[w] < self.ports {
@@ -142,9 +176,7 @@ impl RefPool {
                     break;
                 };
                 self.sent[w] += 1;
-                mem.request(now, addr, kind, ctx as u32)
-                    .expect("reference read");
-                self.reads += 1;
+                self.send_read(ctx, kind, addr, mem);
             }
         }
         for ctx in self.due.remove(&now).unwrap_or_default() {
@@ -152,6 +184,11 @@ impl RefPool {
         }
         done.clear();
         mem.tick_into(now, done);
+        if self.resp_reg {
+            // Seen now: the memory's last cycle's; latched: this cycle's.
+            let fresh = std::mem::take(done);
+            *done = std::mem::replace(&mut self.held, fresh);
+        }
         for comp in done.iter() {
             let ctx = comp.requester as usize;
             if self.ctxs[ctx].waiting {
@@ -252,6 +289,8 @@ fn orders_match_a_reference_pool_every_cycle() {
             step_cycles: 1 + rng.below(3) as u32,
             step_latency_cycles: 1 + rng.below(5) as u32,
             read_ports: rng.below(3) as u32,
+            response_register_cycles: rng.below(2) as u32,
+            request_register_cycles: rng.below(2) as u32,
             ..PoolConfig::default()
         };
         let walkers = cfg.walkers as usize;
@@ -309,4 +348,109 @@ fn orders_match_a_reference_pool_every_cycle() {
         total_slots += c.slots;
     }
     assert!(total_slots > 0, "seed {s}: no slot ever issued");
+}
+
+/// A node memory no read ever waits in: every node word on chip in one bank of 64 ports
+/// (more than the walkers of these tests can send in a cycle), no combining, `latency` cycles.
+fn uncontended(latency: u32) -> NodeMemory {
+    let cfg = NodeMemoryConfig {
+        onchip: OnChipConfig {
+            levels: rtl_model::svo::MAX_DEPTH + 1,
+            max_bytes: u64::MAX,
+            latency,
+            banks: 1,
+            ports_per_bank: 64,
+            combine: false,
+        },
+        ..NodeMemoryConfig::default()
+    };
+    let layout = MemoryLayout::with_onchip_ranges(4096, 512, vec![(0, 4096)]).expect("layout");
+    NodeMemory::new(cfg, layout).expect("memory")
+}
+
+/// A walk of on-chip node reads and issue runs only.
+fn onchip_walk(rng: &mut Rng) -> Vec<u64> {
+    (0..1 + rng.below(6))
+        .map(|_| match rng.below(2) {
+            0 => WalkOp::Issue(1 + rng.below(6) as u32).pack(),
+            _ => WalkOp::Read(FetchKind::Node, rng.below(4096) as u32).pack(),
+        })
+        .collect()
+}
+
+/// The registers' independent statement: on a memory where no read waits, a register stage
+/// is one more cycle of read latency as a context sees it and nothing else. A pool with
+/// response register `a` and request register `b` on a memory of latency L must retire the
+/// same walks in the same cycles, send and queue the same reads per walker and cycle, and
+/// issue the same slots as a pool without registers on a memory of latency L + a + b.
+#[test]
+fn registers_are_one_cycle_more_latency_on_a_memory_without_contention() {
+    let s = seed(0x5eed_2929);
+    println!("seed {s} (SVO_TEST_SEED={s} replays it)");
+    let mut rng = Rng::new(s);
+    for case in 0..40 {
+        let (resp, req) = [(1, 0), (0, 1), (1, 1)][case % 3];
+        let base = PoolConfig {
+            walkers: 1 + rng.below(6) as u32,
+            contexts_per_walker: 1 + rng.below(6) as u32,
+            step_cycles: 1 + rng.below(3) as u32,
+            step_latency_cycles: 1 + rng.below(5) as u32,
+            read_ports: rng.below(3) as u32,
+            ..PoolConfig::default()
+        };
+        let cfg = PoolConfig {
+            response_register_cycles: resp,
+            request_register_cycles: req,
+            ..base.clone()
+        };
+        let latency = 1 + rng.below(5) as u32;
+        let walkers = cfg.walkers as usize;
+        let (mut mem, mut slow_mem) = (uncontended(latency), uncontended(latency + resp + req));
+        let mut pool = WalkerPoolModel::new(&cfg).expect("pool");
+        let mut slow = WalkerPoolModel::new(&base).expect("pool");
+        let mut to_dispatch = 150u64;
+        let mut retired = 0u64;
+        let mut now = 0u64;
+        while retired < 150 {
+            let at = format!("seed {s}, case {case} ({cfg:?}, latency {latency}), cycle {now}");
+            pool.wake(now, &mut mem).expect("wake");
+            slow.wake(now, &mut slow_mem).expect("wake");
+            for w in 0..walkers {
+                let state = |p: &WalkerPoolModel| {
+                    (p.walker_sent(w), p.walker_queued(w), p.walker_waiting(w))
+                };
+                assert_eq!(
+                    state(&pool),
+                    state(&slow),
+                    "{at}, walker {w}: (sent, queued, waiting)"
+                );
+            }
+            if rng.below(3) > 0 {
+                let got = pool.retire();
+                assert_eq!(got, slow.retire(), "{at}: retired walk");
+                retired += u64::from(got.is_some());
+            }
+            if to_dispatch > 0 && rng.below(3) > 0 {
+                let ops = onchip_walk(&mut rng);
+                let taken = pool.dispatch(to_dispatch, &ops);
+                assert_eq!(taken, slow.dispatch(to_dispatch, &ops), "{at}: dispatch");
+                to_dispatch -= u64::from(taken);
+            }
+            pool.issue();
+            slow.issue();
+            for w in 0..walkers {
+                let got = (pool.walker_issued(w), pool.walker_busy(w));
+                let want = (slow.walker_issued(w), slow.walker_busy(w));
+                assert_eq!(got, want, "{at}, walker {w}: (issued, busy)");
+            }
+            now += 1;
+            assert!(now < 1_000_000, "seed {s}, case {case}: no progress");
+        }
+        let (c, d) = (pool.take_cycles(), slow.take_cycles());
+        assert_eq!(
+            (c.reads, c.slots, c.read_port_waits),
+            (d.reads, d.slots, d.read_port_waits),
+            "seed {s}, case {case}: (reads, slots, read_port_waits)"
+        );
+    }
 }

@@ -77,6 +77,8 @@ package svo_hw_pkg;
     localparam int UNITS_WALKER_ROOT_LATENCY_CYCLES = 8;
     localparam int WALKER_POOL_CONTEXTS_PER_WALKER = 2;
     localparam int WALKER_POOL_READ_PORTS = 1;
+    localparam int WALKER_POOL_REQUEST_REGISTER_CYCLES = 0;
+    localparam int WALKER_POOL_RESPONSE_REGISTER_CYCLES = 0;
     localparam WALKER_POOL_STACK = "FullT";
     localparam bit WALKER_POOL_STACK_IS_FULLT = 1'b1;
     localparam int WALKER_POOL_STACK_DEPTH = 21;

@@ -363,6 +363,13 @@ module svo_top
         begin : unsupported_read_ports
             svo_top_builds_walker_pool_read_ports_1 bad();
         end
+        // The pool's registered response and request (walker_pool.rs, issue 29): not built.
+        if (WALKER_POOL_RESPONSE_REGISTER_CYCLES != 0) begin : unsupported_response_register
+            svo_top_builds_walker_pool_response_register_cycles_0 bad();
+        end
+        if (WALKER_POOL_REQUEST_REGISTER_CYCLES != 0) begin : unsupported_request_register
+            svo_top_builds_walker_pool_request_register_cycles_0 bad();
+        end
         if (WALKER_POOL_STEP_CYCLES != 1) begin : unsupported_step_cycles
             svo_top_builds_walker_pool_step_cycles_1 bad();
         end

@@ -105,6 +105,10 @@ module svo_walker_pool #(
     parameter CW           = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,  // context index bits
     parameter CTX_RESP     = 0,                 // per-context response ports (svo_top's store)
     parameter ATTR_MERGE   = 1,                 // 1: the attribute-merge rule below; 0: every read goes out
+    // walker_pool.response_register_cycles / request_register_cycles (walker_pool.rs,
+    // "Registered response and request"): only 0 is built; 1 is refused by name below.
+    parameter RESPONSE_REGISTER_CYCLES = 0,
+    parameter REQUEST_REGISTER_CYCLES  = 0,
     parameter CRN          = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                   clk,
@@ -151,6 +155,13 @@ module svo_walker_pool #(
     generate
         if (R < 1 || R > 16 || W < 1 || W > 64) begin : bad_contexts
             svo_walker_pool_needs_1_to_64_walkers_of_1_to_16_contexts bad();
+        end
+        // The registered response and request of the model (issue 29) are not built yet.
+        if (RESPONSE_REGISTER_CYCLES != 0) begin : unsupported_response_register
+            svo_walker_pool_builds_response_register_cycles_0 bad();
+        end
+        if (REQUEST_REGISTER_CYCLES != 0) begin : unsupported_request_register
+            svo_walker_pool_builds_request_register_cycles_0 bad();
         end
     endgenerate
 

@@ -183,6 +183,17 @@ pub struct WalkerPool {
     /// send, its estimate built one port), so the files that name that model keep both its
     /// cycles and its estimate.
     pub read_ports: u32,
+    /// Registers between the node memory's response and the pool (issue 29, for 300 MHz):
+    /// 0 (default) or 1. At 1 the pool sees a completion one cycle after the memory gives it,
+    /// so the context moves on (and sends its next read) one cycle later
+    /// (`walker_pool.rs`, "Registered response and request"). Other values are refused.
+    #[serde(default)]
+    pub response_register_cycles: u32,
+    /// Registers between a walker's request port and the node memory (issue 29): 0 (default)
+    /// or 1. At 1 a read the port picks in cycle C reaches the node memory in C + 1, where its
+    /// merge with the fills in flight is decided (`walker_pool.rs`). Other values are refused.
+    #[serde(default)]
+    pub request_register_cycles: u32,
 }
 
 impl WalkerPool {
@@ -203,6 +214,8 @@ impl Default for WalkerPool {
             stack_depth: MAX_DEPTH + 1,
             stack: StackStorage::FullT,
             read_ports: 1,
+            response_register_cycles: 0,
+            request_register_cycles: 0,
         }
     }
 }
@@ -538,6 +551,23 @@ impl HwConfig {
                  be used (0 = unlimited, every context sends in the cycle it wants to)",
                 w.read_ports, w.contexts_per_walker
             ));
+        }
+        for (name, v) in [
+            (
+                "walker_pool.response_register_cycles",
+                w.response_register_cycles,
+            ),
+            (
+                "walker_pool.request_register_cycles",
+                w.request_register_cycles,
+            ),
+        ] {
+            if v > 1 {
+                return Err(format!(
+                    "{name} = {v} is not supported: 0 (the pool's input or output is not \
+                     registered) or 1 (one register stage, walker_pool.rs)"
+                ));
+            }
         }
         for (name, depth) in self.fifos.named() {
             in_range(&format!("fifos.{name}"), depth, 1, FIFO_MAX_DEPTH)?;

@@ -38,6 +38,38 @@
 //! The RTL must enqueue a cycle's reads in the same order to agree cycle for cycle. A queued read
 //! counts as waiting on memory; its context-cycles in the queue are `read_port_waits`.
 //!
+//! **Registered response and request** (`walker_pool.response_register_cycles`,
+//! `walker_pool.request_register_cycles`, 0 or 1 each, default 0; issue 29, for 300 MHz:
+//! they cut the pool RTL's same-cycle path from a response to the chained read it sends). The
+//! rule the RTL implements:
+//!
+//! - **Response register 1.** The completions the node memory gives in cycle C (its
+//!   [`NodeMemory::tick_into`] order) are latched and seen by the pool in C + 1, in the
+//!   wake-up's completion place (after the contexts the wheel wakes in C + 1, in the memory's
+//!   order). The context moves on in C + 1: its next read takes a port, or joins the send
+//!   queue, in C + 1. The memory's own state (an MSHR freed, a bank port) is the memory's
+//!   cycle C; nothing there waits for the register.
+//! - **Request register 1.** A read the walker's port picks in cycle C (from the send queue
+//!   or a wake-up, by the request-port rule above, which is unchanged) reaches the node
+//!   memory in C + 1, before any other read of C + 1, in the order picked (walker by walker
+//!   as picked in C). The memory decides in C + 1, as for any read arriving in C + 1: its
+//!   bank-port arbitration, combining, cache lookup and MSHR merge see the fills it
+//!   received in C and earlier (those the RTL's register stage must bypass: sent in C) and
+//!   not the reads picked in C + 1. A read counts in `reads` when it reaches the memory.
+//! - **Both 1.** A response in C, seen in C + 1, sends its chained read to the memory in
+//!   C + 2. The RTL may compute the chain address (base + word) and compare it against the
+//!   fills in the memory's cycle C, ahead of the registers, as long as the merge it makes is
+//!   the one the memory makes with the read arriving in C + 2: a fill counts as in flight if
+//!   it is in flight in C + 2 (one sent in C or C + 1 included, one whose data arrives in
+//!   C + 1 not).
+//!
+//! On a node memory where no read ever waits (every word on chip, ports enough, no
+//! combining), each register is exactly one more cycle of read latency as a context sees it:
+//! `rtl_model/tests/cycle_walker_pool_order.rs` checks that equivalence, and checks the rule
+//! above against its reference pool on the default memory. Neither register is in the
+//! resource estimate (pipeline flip-flops are not counted, `cost/estimate.rs`): about
+//! 1 + ⌈log₂ W·R⌉ + 64 flip-flops per response port and 1 + ⌈log₂ W·R⌉ + 2 + 32 per request port.
+//!
 //! Memory contention is the node memory's: bank ports, cache lookup ports, MSHRs and the
 //! DRAM bus (`memory/`); outstanding misses are limited by its MSHRs. Every walker-cycle is
 //! classified as issuing (busy), waiting on memory, waiting on its own step latency, holding a
@@ -258,6 +290,16 @@ pub struct WalkerPoolModel {
     has_send: WalkerSet,
     /// Reads waiting in all send queues.
     queued_total: u32,
+    /// `walker_pool.response_register_cycles` 1: completions are seen one cycle late.
+    resp_reg: bool,
+    /// `walker_pool.request_register_cycles` 1: reads reach the node memory one cycle late.
+    req_reg: bool,
+    /// The response register: the completions the node memory gave in the cycle before, in
+    /// its order (`resp_reg` only).
+    held: Vec<Completion>,
+    /// The request register: the reads the walkers' ports picked in the cycle before, in the
+    /// order picked (context, kind, address; `req_reg` only).
+    picked: Vec<(u32, FetchKind, u32)>,
 }
 
 impl WalkerPoolModel {
@@ -316,6 +358,26 @@ impl WalkerPoolModel {
             },
             has_send: WalkerSet::new(w),
             queued_total: 0,
+            resp_reg: match cfg.response_register_cycles {
+                0 => false,
+                1 => true,
+                n => {
+                    return Err(PoolError::Config(format!(
+                        "walker_pool.response_register_cycles = {n}: 0 or 1"
+                    )))
+                }
+            },
+            req_reg: match cfg.request_register_cycles {
+                0 => false,
+                1 => true,
+                n => {
+                    return Err(PoolError::Config(format!(
+                        "walker_pool.request_register_cycles = {n}: 0 or 1"
+                    )))
+                }
+            },
+            held: Vec::new(),
+            picked: Vec::new(),
         })
     }
 
@@ -434,8 +496,12 @@ impl WalkerPoolModel {
                     }
                     if wk.sent < self.ports {
                         wk.sent += 1;
-                        mem.request(now, addr, kind, ctx)?;
-                        self.cycles.reads += 1;
+                        if self.req_reg {
+                            self.picked.push((ctx, kind, addr));
+                        } else {
+                            mem.request(now, addr, kind, ctx)?;
+                            self.cycles.reads += 1;
+                        }
                     } else {
                         wk.send.push_back((ctx, kind, addr));
                         self.has_send.insert(wi);
@@ -468,8 +534,12 @@ impl WalkerPoolModel {
                         break;
                     };
                     wk.sent += 1;
-                    mem.request(now, addr, kind, ctx)?;
-                    self.cycles.reads += 1;
+                    if self.req_reg {
+                        self.picked.push((ctx, kind, addr));
+                    } else {
+                        mem.request(now, addr, kind, ctx)?;
+                        self.cycles.reads += 1;
+                    }
                     self.queued_total -= 1;
                     self.activity += 1;
                 }
@@ -490,6 +560,14 @@ impl WalkerPoolModel {
         // Bring the memory to this cycle first, so the reads requested below are this
         // cycle's arrivals (the same arbitration either way; only cheaper).
         mem.catch_up(now);
+        if !self.picked.is_empty() {
+            // The request register: last cycle's picks reach the memory first, in pick order.
+            for (ctx, kind, addr) in std::mem::take(&mut self.picked) {
+                mem.request(now, addr, kind, ctx)?;
+                self.cycles.reads += 1;
+                self.activity += 1;
+            }
+        }
         if self.queued_total > 0 {
             self.send_queued(now, mem)?;
         }
@@ -515,6 +593,14 @@ impl WalkerPoolModel {
         let mut done = std::mem::take(&mut self.completions);
         done.clear();
         mem.tick_into(now, &mut done);
+        if self.resp_reg {
+            // The response register: this cycle's completions are latched, the cycle
+            // before's are seen now (after the wheel's contexts, in the memory's order).
+            std::mem::swap(&mut done, &mut self.held);
+            if !self.held.is_empty() {
+                self.activity += 1;
+            }
+        }
         for comp in &done {
             let ctx = comp.requester;
             let Some(c) = self.ctxs.get_mut(ctx as usize) else {
@@ -552,8 +638,9 @@ impl WalkerPoolModel {
     /// move by itself — a step latency ends, a walker's initiation interval ends with a
     /// ready context, or a read may complete (`mem`'s bound). `None`: nothing is due.
     pub fn next_event(&self, now: u64, mem: &NodeMemory) -> Option<u64> {
-        if self.queued_total > 0 {
-            // A queued read is sent in the next cycle (not idle; stated for safety).
+        if self.queued_total > 0 || !self.held.is_empty() || !self.picked.is_empty() {
+            // A queued read is sent, a registered read or completion moves on, in the next
+            // cycle (not idle; stated for safety).
             return Some(now + 1);
         }
         let mut next = mem.next_completion_bound();
