@@ -401,26 +401,13 @@ impl<T> Fifo<T> {
     /// edge. Otherwise the item comes back with the reason.
     #[inline]
     pub fn try_push(&mut self, item: Stamped<T>) -> Result<(), Rejected<T>> {
-        if self.pushes_now >= self.ports {
-            self.stats.misuse = self.stats.misuse.saturating_add(1);
-            return Err(Rejected {
-                item,
-                reason: Refusal::AlreadyDriven,
-            });
-        }
-        self.pushes_now += 1;
-        if self.occupancy + self.pending >= self.depth {
-            if !self.full_now {
-                self.stats.full_cycles = self.stats.full_cycles.saturating_add(1);
+        match self.push_admitted() {
+            Ok(()) => {
+                self.accept(item);
+                Ok(())
             }
-            self.full_now = true;
-            return Err(Rejected {
-                item,
-                reason: Refusal::Full,
-            });
+            Err(reason) => Err(Rejected { item, reason }),
         }
-        self.accept(item);
-        Ok(())
     }
 
     /// [`Fifo::try_push`] for a driver that treats a refusal as an error: the same handshake
@@ -428,6 +415,16 @@ impl<T> Fifo<T> {
     /// travels back through the result).
     #[inline]
     pub fn push_driven(&mut self, item: Stamped<T>) -> Result<(), Refusal> {
+        self.push_admitted()?;
+        self.accept(item);
+        Ok(())
+    }
+
+    /// The push side's handshake, shared by [`try_push`](Self::try_push) and
+    /// [`push_driven`](Self::push_driven): a port used (or misuse when none is left), then
+    /// room at the start of the cycle, a full cycle counted (once a cycle) when there is none.
+    #[inline]
+    fn push_admitted(&mut self) -> Result<(), Refusal> {
         if self.pushes_now >= self.ports {
             self.stats.misuse = self.stats.misuse.saturating_add(1);
             return Err(Refusal::AlreadyDriven);
@@ -440,7 +437,6 @@ impl<T> Fifo<T> {
             self.full_now = true;
             return Err(Refusal::Full);
         }
-        self.accept(item);
         Ok(())
     }
 
@@ -470,16 +466,7 @@ impl<T> Fifo<T> {
     /// same handshake and counters, the item dropped in place. Whether an item left.
     #[inline]
     pub fn pop_driven(&mut self) -> Result<bool, FifoError> {
-        if self.pops_now >= self.ports {
-            self.stats.misuse = self.stats.misuse.saturating_add(1);
-            return Err(FifoError::PopSideDriven { cycle: self.now });
-        }
-        self.pops_now += 1;
-        if self.taken >= self.occupancy {
-            if self.occupancy == 0 && !self.starved_now {
-                self.stats.starved_cycles = self.stats.starved_cycles.saturating_add(1);
-                self.starved_now = true;
-            }
+        if !self.pop_admitted()? {
             return Ok(false);
         }
         let Some(item) = self.items.front_mut() else {
@@ -502,6 +489,18 @@ impl<T> Fifo<T> {
     /// FIFO was not empty at the start of the cycle; `Ok(None)` (a starved cycle) otherwise.
     #[inline]
     pub fn try_pop(&mut self) -> Result<Option<Stamped<T>>, FifoError> {
+        if !self.pop_admitted()? {
+            return Ok(None);
+        }
+        Ok(self.take())
+    }
+
+    /// The pop side's handshake, shared by [`try_pop`](Self::try_pop) and
+    /// [`pop_driven`](Self::pop_driven): a port used (or misuse when none is left), and
+    /// whether an item present at the start of the cycle can leave; a starved cycle counted
+    /// otherwise.
+    #[inline]
+    fn pop_admitted(&mut self) -> Result<bool, FifoError> {
         if self.pops_now >= self.ports {
             self.stats.misuse = self.stats.misuse.saturating_add(1);
             return Err(FifoError::PopSideDriven { cycle: self.now });
@@ -514,9 +513,9 @@ impl<T> Fifo<T> {
                 self.stats.starved_cycles = self.stats.starved_cycles.saturating_add(1);
                 self.starved_now = true;
             }
-            return Ok(None);
+            return Ok(false);
         }
-        Ok(self.take())
+        Ok(true)
     }
 
     /// Push half of a handshake that has fired: stamp and hold for the edge.

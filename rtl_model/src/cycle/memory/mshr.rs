@@ -121,13 +121,8 @@ mod tests {
     fn table_matches_a_linear_list() {
         let seed = 0x30_u64;
         println!("seed {seed}");
-        let mut state = seed;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            state >> 33
-        };
+        let mut rng = crate::cycle::test_rng::TestRng::new(seed);
+        let mut next = move || rng.next_bits();
         let mut table = MshrTable::with_capacity(8);
         let mut list: Vec<(u64, u64)> = Vec::new();
         for step in 0..20_000u64 {

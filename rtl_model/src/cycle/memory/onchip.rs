@@ -173,13 +173,8 @@ mod tests {
     fn scheduled_matches_a_ring_buffer() {
         let seed = 0x0301_u64;
         println!("seed {seed}");
-        let mut state = seed;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            state >> 33
-        };
+        let mut rng = crate::cycle::test_rng::TestRng::new(seed);
+        let mut next = move || rng.next_bits();
         let mut q = Scheduled::default();
         let mut oracle: VecDeque<(u64, u32)> = VecDeque::new();
         let (mut k, mut served) = (0u64, 0u64);
