@@ -52,6 +52,14 @@ BENCHES = {
         "test_unit_lanes",
         dict(K=2, L=9, D_IN=4, D_OUT=4),
     ),
+    # The record stage's packing lane (svo_elastic2) at svo_walk's latency 14: two results a
+    # cycle into record_to_write's two push ports.
+    "elastic2": (
+        "tb_elastic2",
+        [RTL / "svo_delay.v", RTL / "svo_elastic2.v", HERE / "tb_elastic2.sv"],
+        "test_elastic2",
+        dict(L=14, W=16),
+    ),
     "unit_lanes_k3": (
         "tb_unit_lanes",
         [RTL / "svo_delay.v", RTL / "svo_fifo_wide.v", RTL / "svo_unit_lanes.v", HERE / "tb_unit_lanes.sv"],
