@@ -729,18 +729,22 @@ fn core_pool_of_two_walkers_of_four_contexts_renders_frames_equal_to_the_model()
     );
 }
 
-/// svo_top on testbench/hw/pool_4x2.ron — four walkers of two contexts sharing the on-chip
+/// svo_top on testbench/hw/pool_4x2_reg.ron — four walkers of two contexts sharing the on-chip
 /// node store's banks (svo_onchip_store: 16 banks of 2 ports, so a third read of one bank in a
 /// cycle waits, and reads of one word combine), loaded by the DMA (CTRL.LOAD over m_axi_load)
-/// before the first frame — renders the car's two 16 × 10 frames (the second with moving
-/// instances and reuse) with every pixel equal and the model's cycles and reuse; with random
-/// stalls (seed 1, on the attribute, direction and load masters and the stream) every pixel
-/// still once and right. Its corruption checks are the other cases' (same bench).
+/// before the first frame, with the walker pool's response and request registers
+/// (svo_walker_pool RESPONSE_REGISTER_CYCLES / REQUEST_REGISTER_CYCLES 1, pool_4x2.ron
+/// otherwise) — renders the car's two 16 × 10 frames (the second with moving instances and
+/// reuse) with every pixel equal and the model's cycles and reuse; with random stalls (seed 1,
+/// on the attribute, direction and load masters and the stream: the request register holds a
+/// read AR refuses) every pixel still once and right. Its corruption checks are the other
+/// cases' (same bench). (pool_4x2.ron, the same without the registers, is run by hand:
+/// testbench/README.md; pool_2x4 and pool_4x2_cache keep the registers' 0 in CI.)
 #[test]
 fn core_pool_of_four_walkers_of_two_contexts_shares_the_onchip_store_as_the_model() {
     let Some(venv) = venv() else { return };
     // The corruption checks are the other cases' (same bench): the runner is not needed again.
-    let _ = core_pool_car_frames_and_stalls(&venv, "pool_4x2", 4, Some(FRAME_MEM_LATENCY));
+    let _ = core_pool_car_frames_and_stalls(&venv, "pool_4x2_reg", 4, Some(FRAME_MEM_LATENCY));
 }
 
 /// svo_top on testbench/hw/pool_4x2_cache.ron — four walkers of two contexts reading every

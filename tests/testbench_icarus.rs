@@ -1210,11 +1210,12 @@ fn committed_hardware_packages_are_generated_from_their_files() {
     let t = Tmp::new("hw_packages");
     let dir = repo().join("testbench/hw");
     let ron = |name: &str| dir.join(name).display().to_string();
-    let (frame_ron, p14, p24, p42) = (
+    let (frame_ron, p14, p24, p42, p42r) = (
         ron("frame_hw.ron"),
         ron("pool_1x4.ron"),
         ron("pool_2x4.ron"),
         ron("pool_4x2.ron"),
+        ron("pool_4x2_reg.ron"),
     );
     for (committed, hw) in [
         ("svo_hw_pkg.sv", None),
@@ -1222,6 +1223,7 @@ fn committed_hardware_packages_are_generated_from_their_files() {
         ("pool_1x4_pkg.sv", Some(p14.as_str())),
         ("pool_2x4_pkg.sv", Some(p24.as_str())),
         ("pool_4x2_pkg.sv", Some(p42.as_str())),
+        ("pool_4x2_reg_pkg.sv", Some(p42r.as_str())),
     ] {
         let out = t.p(committed);
         let mut args = vec!["hardware", "--sv-package", &out];

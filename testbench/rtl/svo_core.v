@@ -73,6 +73,8 @@ module svo_core #(
     parameter CW       = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,
     parameter CTX_RESP = 0,                       // per-context response ports (svo_walker_pool)
     parameter ATTR_MERGE = 1,                     // svo_walker_pool's attribute-merge rule (0 behind a cache)
+    parameter RESP_REG = 0,                       // svo_walker_pool's response / request register
+    parameter REQ_REG = 0,                        //   (walker_pool.*_register_cycles, 0 or 1)
     parameter CRN      = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                    clk,
@@ -218,7 +220,7 @@ module svo_core #(
         .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
         .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
         .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP),
-        .ATTR_MERGE(ATTR_MERGE))
+        .ATTR_MERGE(ATTR_MERGE), .RESP_REG(RESP_REG), .REQ_REG(REQ_REG))
     u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
         .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
         .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),

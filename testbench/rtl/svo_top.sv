@@ -363,12 +363,13 @@ module svo_top
         begin : unsupported_read_ports
             svo_top_builds_walker_pool_read_ports_1 bad();
         end
-        // The pool's registered response and request (walker_pool.rs, issue 29): not built.
-        if (WALKER_POOL_RESPONSE_REGISTER_CYCLES != 0) begin : unsupported_response_register
-            svo_top_builds_walker_pool_response_register_cycles_0 bad();
+        // The pool's registered response and request (walker_pool.rs, issue 29): 0 or 1 each
+        // (the model's validate refuses more).
+        if (WALKER_POOL_RESPONSE_REGISTER_CYCLES > 1) begin : unsupported_response_register
+            svo_top_builds_walker_pool_response_register_cycles_0_or_1 bad();
         end
-        if (WALKER_POOL_REQUEST_REGISTER_CYCLES != 0) begin : unsupported_request_register
-            svo_top_builds_walker_pool_request_register_cycles_0 bad();
+        if (WALKER_POOL_REQUEST_REGISTER_CYCLES > 1) begin : unsupported_request_register
+            svo_top_builds_walker_pool_request_register_cycles_0_or_1 bad();
         end
         if (WALKER_POOL_STEP_CYCLES != 1) begin : unsupported_step_cycles
             svo_top_builds_walker_pool_step_cycles_1 bad();
@@ -1089,7 +1090,9 @@ module svo_top
         .D_RT_DP(FIFOS_ROOT_TO_DISPATCH), .D_WK_RC(FIFOS_WALKER_TO_RECORD),
         .D_RC_WR(FIFOS_RECORD_TO_WRITE), .DIR_FIXED(1), .RECIP_SEED_FILE(RECIP_SEED_FILE),
         .NINST(NINST), .KEYN(KEYN), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS), .CW(CW),
-        .CTX_RESP(1), .ATTR_MERGE(HAS_CACHE ? 0 : 1))
+        .CTX_RESP(1), .ATTR_MERGE(HAS_CACHE ? 0 : 1),
+        .RESP_REG(WALKER_POOL_RESPONSE_REGISTER_CYCLES),
+        .REQ_REG(WALKER_POOL_REQUEST_REGISTER_CYCLES))
     u_core (.clk(clk), .rst(rst || core_rst), .run(run), .npix(npix), .dir_pixel(),
         .dir_f64({96'd0, dir_mem[dir_rd]}), .dir_valid(dir_valid), .dir_take(dir_take),
         .origin_f64('0), .cam_o(cam_o), .inst_base(sp_base), .n_inst(n_inst_f),

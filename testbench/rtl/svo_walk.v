@@ -74,6 +74,8 @@ module svo_walk #(
     parameter CW        = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,
     parameter CTX_RESP  = 0,          // per-context response ports (svo_walker_pool)
     parameter ATTR_MERGE = 1,         // svo_walker_pool's attribute-merge rule (0 behind a cache)
+    parameter RESP_REG = 0,           // svo_walker_pool's response / request register (0 or 1)
+    parameter REQ_REG  = 0,
     parameter CRN       = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                    clk,
@@ -271,7 +273,8 @@ module svo_walk #(
     wire wk_err_resp;
     svo_walker_pool #(.POS_W(PW), .T_W(TW), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
         .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAGW), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS),
-        .CW(CW), .CTX_RESP(CTX_RESP), .ATTR_MERGE(ATTR_MERGE)
+        .CW(CW), .CTX_RESP(CTX_RESP), .ATTR_MERGE(ATTR_MERGE),
+        .RESPONSE_REGISTER_CYCLES(RESP_REG), .REQUEST_REGISTER_CYCLES(REQ_REG)
     ) u_walker (.clk(clk), .rst(rst), .in_valid(dp_valid), .in_ready(wk_in_ready),
         .in_enter(dp_data[RTB-1]), .in_t0(dp_data[RTB-2 -: 3*TI]),
         .in_t1(dp_data[RTB-2-3*TI -: 3*TI]),

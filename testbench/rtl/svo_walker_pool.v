@@ -33,7 +33,8 @@
 //                  the same cycle (the model retires before it dispatches);
 //   dispatch       one walk a cycle, to the walker with the most free contexts (a context
 //                  retiring in this cycle counts), the lowest index on ties, and there to its
-//                  lowest free context (which free context takes it changes no cycle).
+//                  lowest idle context, else the one retiring (which free context takes it
+//                  changes no cycle; the pool's own busy flags say which are idle).
 // How it is built, so that it grows as W·R² plus O(N) for N = W·R contexts (never N²):
 //   per walker     a context is in at most one queue at a time, and a walker's issue and send
 //                  queues hold only its own contexts, so one R x R age order per walker
@@ -87,6 +88,11 @@
 // cycle when a bank port made the earlier read wait; err_resp, a FAULT, flags it: not seen in
 // the pool_4x2 runs of testbench/README.md, where reads waited for a port a few times a frame.) Sticky err_resp: a response for
 // a context that has no read out, or two chaining words for one walker in a cycle.
+// Registers (walker_pool.rs, "Registered response and request"; issue 29, for 300 MHz):
+// RESPONSE_REGISTER_CYCLES 1 registers the responses (the contexts see the memory's cycle C in
+// C + 1; the fills' state stays the memory's), REQUEST_REGISTER_CYCLES 1 each walker port's
+// pick (the memory gets it in C + 1 and the merge is decided there, as the model's memory
+// decides it). Both 1 cut response -> wake-up order -> pick -> merge -> send twice.
 // With CTX_RESP 1 each context also has a port of its own (ctx_resp_valid[n], its node word in
 // ctx_resp_data[32n +: 32]): svo_top's on-chip store answers there, several contexts a cycle,
 // while the walker ports carry the attribute records. With CTX_RESP 0 those ports are one
@@ -106,7 +112,7 @@ module svo_walker_pool #(
     parameter CTX_RESP     = 0,                 // per-context response ports (svo_top's store)
     parameter ATTR_MERGE   = 1,                 // 1: the attribute-merge rule below; 0: every read goes out
     // walker_pool.response_register_cycles / request_register_cycles (walker_pool.rs,
-    // "Registered response and request"): only 0 is built; 1 is refused by name below.
+    // "Registered response and request"): 0 or 1 each (below, "Registers").
     parameter RESPONSE_REGISTER_CYCLES = 0,
     parameter REQUEST_REGISTER_CYCLES  = 0,
     parameter CRN          = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
@@ -156,12 +162,12 @@ module svo_walker_pool #(
         if (R < 1 || R > 16 || W < 1 || W > 64) begin : bad_contexts
             svo_walker_pool_needs_1_to_64_walkers_of_1_to_16_contexts bad();
         end
-        // The registered response and request of the model (issue 29) are not built yet.
-        if (RESPONSE_REGISTER_CYCLES != 0) begin : unsupported_response_register
-            svo_walker_pool_builds_response_register_cycles_0 bad();
+        // The registered response and request of the model (issue 29): one stage at most.
+        if (RESPONSE_REGISTER_CYCLES > 1) begin : unsupported_response_register
+            svo_walker_pool_builds_response_register_cycles_0_or_1 bad();
         end
-        if (REQUEST_REGISTER_CYCLES != 0) begin : unsupported_request_register
-            svo_walker_pool_builds_request_register_cycles_0 bad();
+        if (REQUEST_REGISTER_CYCLES > 1) begin : unsupported_request_register
+            svo_walker_pool_builds_request_register_cycles_0_or_1 bad();
         end
     endgenerate
 
@@ -236,41 +242,96 @@ module svo_walker_pool #(
     reg  [31:0]   fill_addr [0:N-1];
     reg  [N-1:0]  merged;                         // the read out rides on another's fill
     reg  [CW-1:0] merged_on [0:N-1];
-    reg  [N-1:0]  responding;                     // a response for context n on some port
+    reg  [N-1:0]  responding;                     // the memory answers context n's read now
+    // The response register (RESPONSE_REGISTER_CYCLES 1): the memory's cycle C is seen in
+    // C + 1, in the wake-up's completion place, by request age. The fills' state is the
+    // memory's: `responding` reads the ports, so a fill answered in C is not in flight in
+    // C + 1. The contexts a response reaches (its own, the reads merged onto its fill) are
+    // decoded before the register (a read never merges onto a fill answered in its cycle,
+    // so C's merged reads are C + 1's): the wake-up starts from the one-hot's flip-flops.
+    reg  [N-1:0]   d_valid, d_own;                // decoded in C: answered; on its own port
+    reg  [WI-1:0]  d_port [0:N-1];                // the walker port that answers it
+    wire [N-1:0]   r_valid_n, r_own;
+    wire [WI-1:0]  r_port [0:N-1];
+    wire [W-1:0]   r_valid;                       // the ports' valids (err_resp)
+    wire [W*64-1:0] r_data;
+    wire [CRN*32-1:0] r_cdata;
     always @* begin
-        // Responses: the addressed context, and every read merged onto its fill.
         for (i_r = 0; i_r < N; i_r = i_r + 1) begin
-            responding[i_r] = 1'b0;
-            e_resp_valid[i_r] = 1'b0;
-            e_resp_data[i_r] = mem_resp_data[63:0];
-            // A node word on the context's own port (no read merges onto a node read).
-            if (CTX_RESP != 0 && ctx_resp_valid[i_r % CRN]) begin
-                responding[i_r] = 1'b1;
-                e_resp_valid[i_r] = 1'b1;
-                e_resp_data[i_r] = {32'd0, ctx_resp_data[(i_r % CRN)*32 +: 32]};
-            end
+            // The memory's view: a response for context n on some port in this cycle.
+            responding[i_r] = CTX_RESP != 0 && ctx_resp_valid[i_r % CRN];
+            d_own[i_r] = responding[i_r];
+            d_valid[i_r] = d_own[i_r];
+            d_port[i_r] = {WI{1'b0}};
             for (p_r = 0; p_r < W; p_r = p_r + 1) begin
                 if (mem_resp_valid[p_r] && mem_resp_ctx[p_r*CW +: CW] == i_r[CW-1:0])
                     responding[i_r] = 1'b1;
+                // The contexts' view: the addressed context, and every read merged onto its
+                // fill (no read merges onto a node read, which own ports carry).
                 if (mem_resp_valid[p_r] && (mem_resp_ctx[p_r*CW +: CW] == i_r[CW-1:0]
                         || (merged[i_r] && mem_resp_ctx[p_r*CW +: CW] == merged_on[i_r]))) begin
-                    e_resp_valid[i_r] = 1'b1;
-                    e_resp_data[i_r] = mem_resp_data[p_r*64 +: 64];
+                    d_valid[i_r] = 1'b1;
+                    if (!d_own[i_r]) d_port[i_r] = p_r[WI-1:0];
                 end
             end
         end
     end
-    // Walker w's port: its oldest waiting read (one-hot among its contexts), read by an AND-OR
-    // of its R contexts. send_pick is one-hot, so no priority chain of R 2:1 muxes is needed;
-    // this and the other one-hot picks below (merge target, sender's class and id, retire heads,
-    // the dispatcher's free context) as AND-OR forms took the pool at 1 x 16 from 107.5 to
-    // 126.6 MHz by the clock rule (testbench/README.md), with the same cycles.
+    genvar g, gr, gq;
+    generate
+        if (RESPONSE_REGISTER_CYCLES != 0) begin : resp_reg
+            reg [N-1:0]      q_valid_n, q_own;
+            reg [WI-1:0]     q_port [0:N-1];
+            reg [W-1:0]      q_valid;
+            reg [W*64-1:0]   q_data;
+            reg [CRN*32-1:0] q_cdata;
+            always @(posedge clk) begin
+                q_valid_n <= rst ? {N{1'b0}} : d_valid;
+                q_valid <= rst ? {W{1'b0}} : mem_resp_valid;
+                q_own <= d_own;
+                q_data <= mem_resp_data;
+                q_cdata <= ctx_resp_data;
+            end
+            for (gq = 0; gq < N; gq = gq + 1) begin : ctx
+                always @(posedge clk) q_port[gq] <= d_port[gq];
+                assign r_port[gq] = q_port[gq];
+            end
+            assign r_valid_n = q_valid_n;
+            assign r_own = q_own;
+            assign r_valid = q_valid;
+            assign r_data = q_data;
+            assign r_cdata = q_cdata;
+        end else begin : resp_wire
+            for (gq = 0; gq < N; gq = gq + 1) begin : ctx
+                assign r_port[gq] = d_port[gq];
+            end
+            assign r_valid_n = d_valid;
+            assign r_own = d_own;
+            assign r_valid = mem_resp_valid;
+            assign r_data = mem_resp_data;
+            assign r_cdata = ctx_resp_data;
+        end
+    endgenerate
+    always @* begin
+        for (i_r = 0; i_r < N; i_r = i_r + 1) begin
+            e_resp_valid[i_r] = r_valid_n[i_r];
+            e_resp_data[i_r] = r_own[i_r] ? {32'd0, r_cdata[(i_r % CRN)*32 +: 32]}
+                                          : r_data[r_port[i_r]*64 +: 64];
+        end
+    end
+    // Walker w's port: its oldest waiting read (send_pick, one-hot), an AND-OR of its R
+    // contexts, no priority chain (this and the other one-hot picks as AND-OR forms took the
+    // pool at 1 x 16 from 107.5 to 126.6 MHz by the clock rule, testbench/README.md).
     reg  [CW-1:0] pick      [0:W-1];              // walker w's port's context
     reg  [31:0]   p_addr    [0:W-1];
-    reg  [W-1:0]  p_attr, want, merge, snd;
+    reg  [W-1:0]  p_attr, want, merge, snd, go;
     reg  [CW-1:0] merge_to  [0:W-1];
     reg  [N-1:0]  sent;
     reg  [N-1:0]  m_hit, m_low;                   // the fills a walker's read matches; the lowest
+    // The read at walker w's memory port (after the request register, if any).
+    wire [W-1:0]  o_valid, o_attr;
+    wire [N-1:0]  o_sel;
+    wire [CW-1:0] o_ctx  [0:W-1];
+    wire [31:0]   o_addr [0:W-1];
     /* verilator lint_off UNUSEDSIGNAL */
     integer n_q;                                  // a context index: its low CW bits matter
     /* verilator lint_on UNUSEDSIGNAL */
@@ -289,10 +350,12 @@ module svo_walker_pool #(
             // A read of a record whose fill is in flight (and not done in this cycle) merges:
             // its address against every context's fill (W x N compares, cross-walker), onto the
             // lowest such fill (two fills of one record are out when two walkers sent it in one
-            // cycle): the matches' lowest bit (m & -m), OR-encoded.
+            // cycle): the matches' lowest bit (m & -m), OR-encoded. Decided where the read
+            // meets the memory (after the request register), as the model's memory decides it
+            // in the cycle the read arrives.
             for (i_q = 0; i_q < N; i_q = i_q + 1)
-                m_hit[i_q] = fill[i_q] && fill_addr[i_q] == p_addr[w_q] && !responding[i_q];
-            merge[w_q] = ATTR_MERGE != 0 && want[w_q] && p_attr[w_q] && |m_hit;
+                m_hit[i_q] = fill[i_q] && fill_addr[i_q] == o_addr[w_q] && !responding[i_q];
+            merge[w_q] = ATTR_MERGE != 0 && o_valid[w_q] && o_attr[w_q] && |m_hit;
             m_low = m_hit & (~m_hit + 1'b1);
             merge_to[w_q] = {CW{1'b0}};
             for (i_q = 0; i_q < N; i_q = i_q + 1)
@@ -301,22 +364,56 @@ module svo_walker_pool #(
     end
     // The port's handshake, apart from the pick: a memory's ready may depend on the read's
     // kind (svo_top: a node read is always taken, an attribute read waits for AR).
+    // go: the port's read leaves (to the memory, or merged); snd: the walker's pick is taken
+    // (the context's read counts as sent: its request age, the walker's send order).
     integer w_k;
     always @* begin
         sent = {N{1'b0}};
         for (w_k = 0; w_k < W; w_k = w_k + 1) begin
-            snd[w_k] = want[w_k] && (merge[w_k] || mem_req_ready[w_k]);
+            go[w_k] = o_valid[w_k] && (merge[w_k] || mem_req_ready[w_k]);
+            // (with the register: the memory's ready, not the merge, frees it for a pick)
+            snd[w_k] = REQUEST_REGISTER_CYCLES != 0
+                ? want[w_k] && (!o_valid[w_k] || mem_req_ready[w_k]) : go[w_k];
             if (snd[w_k]) sent[w_k * R +: R] = send_pick[w_k * R +: R];
         end
         e_req_ready = sent;
     end
-    genvar g, gr;
+    // The request register (REQUEST_REGISTER_CYCLES 1): C's picks are at the memory port in
+    // C + 1, in pick order (ids by pick). It holds a read the memory refuses (AR busy; never
+    // on the memories timed as the model's, which take every read).
     generate
         for (g = 0; g < W; g = g + 1) begin : port
-            assign mem_req_valid[g] = want[g] && !merge[g];
-            assign mem_req_attr[g] = p_attr[g];
-            assign mem_req_addr[g*32 +: 32] = p_addr[g];
-            assign mem_req_ctx[g*CW +: CW] = pick[g];
+            if (REQUEST_REGISTER_CYCLES != 0) begin : req_reg
+                reg          q_valid, q_attr;
+                reg [R-1:0]  q_sel;
+                reg [CW-1:0] q_ctx;
+                reg [31:0]   q_addr;
+                always @(posedge clk) begin
+                    if (rst) q_valid <= 1'b0;
+                    else if (snd[g] || go[g]) q_valid <= snd[g];
+                    if (snd[g]) begin
+                        q_attr <= p_attr[g];
+                        q_sel <= send_pick[g*R +: R];
+                        q_ctx <= pick[g];
+                        q_addr <= p_addr[g];
+                    end
+                end
+                assign o_valid[g] = q_valid;
+                assign o_attr[g] = q_attr;
+                assign o_sel[g*R +: R] = q_sel;
+                assign o_ctx[g] = q_ctx;
+                assign o_addr[g] = q_addr;
+            end else begin : req_wire
+                assign o_valid[g] = want[g];
+                assign o_attr[g] = p_attr[g];
+                assign o_sel[g*R +: R] = send_pick[g*R +: R];
+                assign o_ctx[g] = pick[g];
+                assign o_addr[g] = p_addr[g];
+            end
+            assign mem_req_valid[g] = o_valid[g] && !merge[g];
+            assign mem_req_attr[g] = o_attr[g];
+            assign mem_req_addr[g*32 +: 32] = o_addr[g];
+            assign mem_req_ctx[g*CW +: CW] = o_ctx[g];
         end
     endgenerate
 
@@ -377,30 +474,37 @@ module svo_walker_pool #(
 
     // ---------------------------------------------------------------- dispatch and retire
     // The walker with the most free contexts (a context retiring now counts), the lowest
-    // index on ties; its lowest free context.
+    // index on ties; there its lowest idle context, else the one retiring (at most one in the
+    // pool). The pool keeps "idle" itself (busy: taken, not retired), from flip-flops, so the
+    // retire does not run through the free contexts' carry chain into the take.
+    reg  [N-1:0] busy;
+    wire [N-1:0] retiring = e_out_ready;          // fin_pick when out_ready: one-hot or zero
     reg [N-1:0] take_pick;
-    reg [R-1:0] t_free;
+    reg [R-1:0] t_idle;
     reg [5:0] nfree, best_n;
     reg [WI-1:0] best;
     always @* begin
         best = {WI{1'b0}};
         best_n = 6'd0;
         for (w_d = 0; w_d < W; w_d = w_d + 1) begin
-            nfree = 6'd0;
+            nfree = {5'd0, |retiring[w_d * R +: R]};
             for (k_d = 0; k_d < R; k_d = k_d + 1)
-                if (e_in_ready[w_d * R + k_d]) nfree = nfree + 6'd1;
+                if (!busy[w_d * R + k_d]) nfree = nfree + 6'd1;
             if (nfree > best_n) begin
                 best_n = nfree;
                 best = w_d[WI-1:0];
             end
         end
-        // Per walker its lowest free context (m & -m of its R bits), kept for the best one.
+        // Per walker its lowest idle context (m & -m of its R bits), or the retiring one,
+        // kept for the best walker.
         for (w_d = 0; w_d < W; w_d = w_d + 1) begin
-            t_free = e_in_ready[w_d * R +: R];
-            take_pick[w_d * R +: R] = w_d[WI-1:0] == best ? t_free & (~t_free + 1'b1) : {R{1'b0}};
+            t_idle = ~busy[w_d * R +: R];
+            take_pick[w_d * R +: R] = w_d[WI-1:0] != best ? {R{1'b0}}
+                : |t_idle ? t_idle & (~t_idle + 1'b1) : retiring[w_d * R +: R];
         end
     end
-    assign in_ready = |e_in_ready;
+    always @(posedge clk) busy <= rst ? {N{1'b0}} : (busy & ~retiring) | e_take;
+    assign in_ready = |(~busy) || |retiring;
     assign e_take = in_valid ? take_pick : {N{1'b0}};
 
     // Retire: finished walks leave in the order they finished. Each walker's oldest finished
@@ -499,20 +603,22 @@ module svo_walker_pool #(
                     fstamp[gn] <= fcount;
                     fcls[gn] <= ev_class(e_ev_lat[gn], e_ev_disp[gn]);
                 end
-                if (snd[GW] && send_pick[gn]) begin
-                    req_id[gn] <= {sstamp, s_rank[GW]};
-                    fill_addr[gn] <= p_addr[GW];
+                if (snd[GW] && send_pick[gn]) req_id[gn] <= {sstamp, s_rank[GW]};
+                // The memory's state: set when the read leaves the port, a fill ended when
+                // the memory answers it, a merged read when its context sees the answer.
+                if (go[GW] && o_sel[gn]) begin
+                    fill_addr[gn] <= o_addr[GW];
                     merged_on[gn] <= merge_to[GW];
                 end
                 if (rst) begin
                     fill[gn] <= 1'b0;
                     merged[gn] <= 1'b0;
-                end else if (snd[GW] && send_pick[gn]) begin
-                    fill[gn] <= !merge[GW] && p_attr[GW];
+                end else if (go[GW] && o_sel[gn]) begin
+                    fill[gn] <= !merge[GW] && o_attr[GW];
                     merged[gn] <= merge[GW];
-                end else if (e_resp_valid[gn]) begin
-                    fill[gn] <= 1'b0;
-                    merged[gn] <= 1'b0;
+                end else begin
+                    if (responding[gn]) fill[gn] <= 1'b0;
+                    if (e_resp_valid[gn]) merged[gn] <= 1'b0;
                 end
             end
         end
@@ -526,7 +632,11 @@ module svo_walker_pool #(
             if (|fin_ev) fcount <= fcount + 1'b1;
             if (|snd) sstamp <= sstamp + 1'b1;
             for (w = 0; w < W; w = w + 1)
-                if ((mem_resp_valid[w] && !(|e_resp_valid)) || |w_err) err_resp <= 1'b1;
+                if ((r_valid[w] && !(|e_resp_valid)) || |w_err) err_resp <= 1'b1;
+`ifndef SYNTHESIS
+            // The dispatcher's copy of the walkers' state (busy) must be theirs.
+            if (e_in_ready != (~busy | retiring)) err_resp <= 1'b1;
+`endif
         end
     end
 
