@@ -1179,6 +1179,18 @@ module svo_top
         end
     end
 
+    // STATUS.FAULT: the core's sticky flags, kept here from the frame's start (LATCH) until the
+    // next START, because the core's own flags are cleared with its pipeline reset, which
+    // svo_top holds from the cycle after DONE (IDLE): read live, a fault of the frame would be
+    // gone before the host could read it.
+    wire [3:0] fault_now = {err_three, err_pixel, err_pipe || st_overflow, err_overflow};
+    logic [3:0] fault_q;
+    always_ff @(posedge clk) begin
+        if (rst || phase == LATCH) fault_q <= '0;
+        else fault_q <= fault_q | fault_now;
+    end
+    wire [3:0] fault = fault_q | fault_now;
+
     always_comb begin
         hwif_in.INSTANCE_TABLE.wr_ack = it_go && it_wr;
         hwif_in.INSTANCE_TABLE.rd_ack = it_rack;
@@ -1187,7 +1199,7 @@ module svo_top
         hwif_in.STATUS.DONE.hwset = done_pulse;
         hwif_in.STATUS.ERROR.next = error;
         hwif_in.STATUS.LOADING.next = ld_busy;
-        hwif_in.STATUS.FAULT.next = {err_three, err_pixel, err_pipe || st_overflow, err_overflow};
+        hwif_in.STATUS.FAULT.next = fault;
         {hwif_in.CYCLES.HI.VALUE.next, hwif_in.CYCLES.LO.VALUE.next} = cycles;
         {hwif_in.WALKS.HI.VALUE.next, hwif_in.WALKS.LO.VALUE.next} = c_walks;
         {hwif_in.STALL_WALK_ISSUE.HI.VALUE.next, hwif_in.STALL_WALK_ISSUE.LO.VALUE.next} = c_walk_stall;
