@@ -96,7 +96,7 @@ use std::collections::VecDeque;
 use rings::{key, Rings, PHASE_DISPATCH_LAT1, PHASE_STEP, PHASE_WAKE};
 
 use super::hw_config::WalkerPool as PoolConfig;
-use super::memory::{Completion, FetchKind, NodeMemory, RequestError};
+use super::memory::{FetchKind, NodeMemory, RequestError};
 use super::walk_op::WalkOp;
 
 /// Why the pool stopped.
@@ -138,7 +138,8 @@ pub struct WalkerPoolModel {
     lat: u64,
     ii: u64,
     classes: ClassCounts,
-    completions: Vec<Completion>,
+    /// The requesters of the cycle's completions, in the node memory's order (reused).
+    completions: Vec<u32>,
     cycles: PoolCycles,
     /// Context wake-ups, dispatches, issues and retirements so far: unchanged over a cycle
     /// means nothing in the pool moved (idle-cycle skipping, [`WalkerPoolModel::activity`]).
@@ -155,9 +156,9 @@ pub struct WalkerPoolModel {
     resp_reg: bool,
     /// `walker_pool.request_register_cycles` 1: reads reach the node memory one cycle late.
     req_reg: bool,
-    /// The response register: the completions the node memory gave in the cycle before, in
-    /// its order (`resp_reg` only).
-    held: Vec<Completion>,
+    /// The response register: the completions (their requesters) the node memory gave in the
+    /// cycle before, in its order (`resp_reg` only).
+    held: Vec<u32>,
     /// The request register: the reads the walkers' ports picked in the cycle before, in the
     /// order picked (context, kind, address; `req_reg` only).
     picked: Vec<(u32, FetchKind, u32)>,
@@ -451,7 +452,7 @@ impl WalkerPoolModel {
         self.wheel[(now as usize) & mask] = due;
         let mut done = std::mem::take(&mut self.completions);
         done.clear();
-        mem.tick_into(now, &mut done);
+        mem.tick_requesters_into(now, &mut done);
         if self.resp_reg {
             // The response register: this cycle's completions are latched, the cycle
             // before's are seen now (after the wheel's contexts, in the memory's order).
@@ -460,8 +461,7 @@ impl WalkerPoolModel {
                 self.activity += 1;
             }
         }
-        for comp in &done {
-            let ctx = comp.requester;
+        for &ctx in &done {
             let Some(c) = self.ctxs.get_mut(ctx as usize) else {
                 continue;
             };

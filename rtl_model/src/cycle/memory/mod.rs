@@ -401,6 +401,14 @@ impl NodeMemory {
         self.pending.pop_due(cycle, out);
     }
 
+    /// [`tick_into`](Self::tick_into) for a caller that needs only who asked (the walker
+    /// pool): appends the requester of each of those completions, in the same order, without
+    /// copying the records.
+    pub fn tick_requesters_into(&mut self, cycle: u64, out: &mut Vec<u32>) {
+        self.advance_to(cycle.min(MAX_CYCLE + 1));
+        self.pending.pop_due_with(cycle, |c| out.push(c.requester));
+    }
+
     /// Simulates until every request has been served and returns all completions not yet
     /// returned, ordered by (done, id). `now` is then the cycle after the last one with any
     /// activity, which may be before the last `cycle_done`.

@@ -116,9 +116,9 @@ impl NodeMemory {
         Some((source, done))
     }
 
-    /// Counts a served read and queues its completion. Inlined into `step` (it runs for every
-    /// read; out of line, as this file's first version had it, it cost 68 M instructions of
-    /// the one-frame profile, issue 30).
+    /// Counts a served read and queues its completion. Inlined into `step`: it runs for every
+    /// read, and out of line (as it was once moved here from `mod.rs`, another codegen unit)
+    /// the one-frame profile of docs/cycle-model.md §3 took 18 M more instructions (issue 30).
     #[inline]
     pub(super) fn complete(&mut self, r: Req, served: u64, done: u64, source: Source) {
         let latency = done - r.cycle;
