@@ -91,7 +91,9 @@ impl CompletionWheel {
         }
     }
 
-    /// Queues `c` for its cycle `c.cycle_done`.
+    /// Queues `c` for its cycle `c.cycle_done`. Inlined into the node memory's completion, so
+    /// that the record is written once, into its bucket (issue 30).
+    #[inline]
     pub fn push(&mut self, c: Completion) {
         let done = c.cycle_done;
         if done >= self.base && done - self.base < SPAN {
@@ -105,13 +107,21 @@ impl CompletionWheel {
     /// Appends to `out` every completion done by `cycle` (`cycle_done ≤ cycle`), ordered by
     /// (cycle done, id).
     pub fn pop_due(&mut self, cycle: u64, out: &mut Vec<Completion>) {
+        self.pop_due_with(cycle, |c| out.push(*c));
+    }
+
+    /// [`pop_due`](Self::pop_due) handing each completion to `emit` instead, in the same
+    /// order: a caller that needs one field (the walker pool: who asked) takes it without
+    /// copying the whole record into a buffer first.
+    #[inline]
+    pub fn pop_due_with(&mut self, cycle: u64, mut emit: impl FnMut(&Completion)) {
         // Heap entries below `base` (none in the model's use) are due before any bucket.
         while let Some(Reverse(ByDone(c))) = self.far.peek().copied() {
             if c.cycle_done >= self.base || c.cycle_done > cycle {
                 break;
             }
             self.far.pop();
-            out.push(c);
+            emit(&c);
         }
         while self.base <= cycle {
             if self.in_wheel == 0 {
@@ -134,7 +144,8 @@ impl CompletionWheel {
                     bucket.sort_unstable_by_key(|c| c.id);
                 }
                 self.in_wheel -= bucket.len();
-                out.append(bucket);
+                bucket.iter().for_each(&mut emit);
+                bucket.clear();
             }
             // `cycle` may be u64::MAX (a caller skipping to the end): stop rather than wrap.
             if self.base == cycle {

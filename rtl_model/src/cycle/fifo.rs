@@ -474,15 +474,45 @@ impl<T> Fifo<T> {
         };
         self.taken += 1;
         self.stats.pops = self.stats.pops.saturating_add(1);
-        match item.leave(self.stage, self.now) {
-            Ok(latency) => {
-                self.stats.latency_sum = self.stats.latency_sum.saturating_add(latency);
-                self.stats.latency_max = self.stats.latency_max.max(latency);
-            }
-            Err(_) => self.stats.misuse = self.stats.misuse.saturating_add(1),
-        }
+        let (stage, now) = (self.stage, self.now);
+        Self::leave_counted(&mut self.stats, item, stage, now);
         self.items.pop_front();
         Ok(true)
+    }
+
+    /// A cycle's pops (the consumer holds copies: dropped in place, as by
+    /// [`pop_driven`](Self::pop_driven)) and then pushes, as one batch, when every one of them
+    /// fires: a port left for each, each pop an item of the start of the cycle, room for every
+    /// push. Then the counters and stamps are those of the calls one by one, with the
+    /// handshake checked once (issue 30). Returns `false`, with nothing done, otherwise: the
+    /// caller makes the calls one by one, which count or refuse what does not fire.
+    #[inline]
+    pub fn drive_batch(&mut self, pops: usize, pushes: &mut Vec<Stamped<T>>) -> bool {
+        let n = pushes.len();
+        let fires = self.pops_now + pops <= self.ports
+            && self.taken + pops <= self.occupancy
+            && self.pushes_now + n <= self.ports
+            && self.occupancy + self.pending + n <= self.depth;
+        if !fires {
+            return false;
+        }
+        self.pops_now += pops;
+        self.taken += pops;
+        for _ in 0..pops {
+            let Some(mut item) = self.items.pop_front() else {
+                break;
+            };
+            self.stats.pops = self.stats.pops.saturating_add(1);
+            self.stamp_leave(&mut item);
+        }
+        self.pushes_now += n;
+        self.pending += n;
+        self.stats.pushes = self.stats.pushes.saturating_add(n as u64);
+        for mut item in pushes.drain(..) {
+            item.enter(self.stage, self.now);
+            self.items.push_back(item);
+        }
+        true
     }
 
     /// The consumer asserts ready this cycle. Returns the head, stamped as leaving now, if the
@@ -535,14 +565,25 @@ impl<T> Fifo<T> {
         let mut item = self.items.pop_front()?;
         self.taken += 1;
         self.stats.pops = self.stats.pops.saturating_add(1);
-        match item.leave(self.stage, self.now) {
-            Ok(latency) => {
-                self.stats.latency_sum = self.stats.latency_sum.saturating_add(latency);
-                self.stats.latency_max = self.stats.latency_max.max(latency);
-            }
-            Err(_) => self.stats.misuse = self.stats.misuse.saturating_add(1),
-        }
+        self.stamp_leave(&mut item);
         Some(item)
+    }
+
+    /// Stamps `item` as leaving now and counts its time inside (or a misuse).
+    #[inline]
+    fn stamp_leave(&mut self, item: &mut Stamped<T>) {
+        Self::leave_counted(&mut self.stats, item, self.stage, self.now);
+    }
+
+    #[inline]
+    fn leave_counted(s: &mut FifoStats, item: &mut Stamped<T>, stage: StageId, now: u64) {
+        match item.leave(stage, now) {
+            Ok(latency) => {
+                s.latency_sum = s.latency_sum.saturating_add(latency);
+                s.latency_max = s.latency_max.max(latency);
+            }
+            Err(_) => s.misuse = s.misuse.saturating_add(1),
+        }
     }
 }
 

@@ -86,157 +86,18 @@
 //! pool that does it the spec's way.
 
 mod rings;
+mod state;
+
+pub use state::PoolCycles;
+use state::{Class, ClassCounts, Context, Walker, WalkerSet};
 
 use std::collections::VecDeque;
 
-use rings::{key, RingPos, Rings, PHASE_DISPATCH_LAT1, PHASE_STEP, PHASE_WAKE};
+use rings::{key, Rings, PHASE_DISPATCH_LAT1, PHASE_STEP, PHASE_WAKE};
 
 use super::hw_config::WalkerPool as PoolConfig;
-use super::memory::{Completion, FetchKind, NodeMemory, RequestError};
+use super::memory::{FetchKind, NodeMemory, RequestError};
 use super::walk_op::WalkOp;
-use serde::{Deserialize, Serialize};
-
-/// Walker-cycles of a frame by what the walker did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct PoolCycles {
-    /// Issued a step or pop.
-    pub issuing: u64,
-    /// No ready context; at least one waits on a node read.
-    pub memory_wait: u64,
-    /// No ready context; all busy ones wait on the step pipeline.
-    pub latency_wait: u64,
-    /// Only finished walks the record stage could not take.
-    pub backpressured: u64,
-    /// No context busy.
-    pub empty: u64,
-    /// Walks dispatched.
-    pub walks: u64,
-    /// Issue slots used (steps and pops).
-    pub slots: u64,
-    /// Reads made.
-    pub reads: u64,
-    /// Sum over cycles of busy contexts (mean occupancy = this / cycles / (W·R)).
-    pub busy_context_cycles: u64,
-    /// Cycles a walk waited in front of the dispatcher with no free context.
-    pub dispatch_stalls: u64,
-    /// Context-cycles a read waited in its walker's send queue for a request port
-    /// (`walker_pool.read_ports`): the report's `stalls.walker_read_port`.
-    pub read_port_waits: u64,
-}
-
-impl PoolCycles {
-    /// Adds another frame's counts.
-    pub fn add(&mut self, o: &Self) {
-        self.issuing += o.issuing;
-        self.memory_wait += o.memory_wait;
-        self.latency_wait += o.latency_wait;
-        self.backpressured += o.backpressured;
-        self.empty += o.empty;
-        self.walks += o.walks;
-        self.slots += o.slots;
-        self.reads += o.reads;
-        self.busy_context_cycles += o.busy_context_cycles;
-        self.dispatch_stalls += o.dispatch_stalls;
-        self.read_port_waits += o.read_port_waits;
-    }
-}
-
-#[derive(Clone, Debug, Default)]
-struct Context {
-    walker: u32,
-    busy: bool,
-    tag: u64,
-    ops: Vec<u64>,
-    pc: usize,
-    in_issue: bool,
-    waiting_mem: bool,
-    finished: bool,
-}
-
-#[derive(Clone, Debug, Default)]
-struct Walker {
-    /// Its issue ring: ready contexts, then steps under way (`rings.rs`).
-    pos: RingPos,
-    free: Vec<u32>,
-    busy: u32,
-    waiting_mem: u32,
-    finished: u32,
-    next_issue: u64,
-    /// The cycle it last issued in (`u64::MAX`: never).
-    issued_at: u64,
-    /// Reads waiting for a request port, oldest first, with the context that waits for each
-    /// (`read_ports` > 0 only).
-    send: VecDeque<(u32, FetchKind, u32)>,
-    /// Reads sent in cycle `sent_at` (so no per-cycle reset of every walker is needed).
-    sent: u32,
-    sent_at: u64,
-}
-
-/// What a walker that does not issue in a cycle is doing, from its context counts alone.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Class {
-    Empty = 0,
-    MemoryWait = 1,
-    Backpressured = 2,
-    LatencyWait = 3,
-}
-
-impl Walker {
-    fn class(&self) -> Class {
-        if self.busy == 0 {
-            Class::Empty
-        } else if self.waiting_mem > 0 {
-            Class::MemoryWait
-        } else if self.finished == self.busy {
-            Class::Backpressured
-        } else {
-            Class::LatencyWait
-        }
-    }
-}
-
-/// Walkers per [`Class`], kept up to date as contexts change state, so that classifying a
-/// cycle's idle walkers costs nothing per walker: only the walkers that issued are
-/// subtracted.
-#[derive(Clone, Debug, Default)]
-struct ClassCounts([u32; 4]);
-
-impl ClassCounts {
-    /// Moves one walker from class `from` to class `to`.
-    fn moved(&mut self, from: Class, to: Class) {
-        if from != to {
-            self.0[from as usize] -= 1;
-            self.0[to as usize] += 1;
-        }
-    }
-}
-
-/// A set of walker indices as bits, iterated in ascending order.
-#[derive(Clone, Debug, Default)]
-struct WalkerSet(Vec<u64>);
-
-impl WalkerSet {
-    fn new(walkers: usize) -> Self {
-        Self(vec![0; walkers.div_ceil(64)])
-    }
-
-    fn insert(&mut self, w: usize) {
-        self.0[w / 64] |= 1 << (w % 64);
-    }
-
-    fn remove(&mut self, w: usize) {
-        self.0[w / 64] &= !(1 << (w % 64));
-    }
-
-    /// The lowest walker in the set.
-    fn first(&self) -> Option<usize> {
-        self.0
-            .iter()
-            .enumerate()
-            .find(|(_, &b)| b != 0)
-            .map(|(i, b)| i * 64 + b.trailing_zeros() as usize)
-    }
-}
 
 /// Why the pool stopped.
 #[derive(Debug, thiserror::Error)]
@@ -277,7 +138,8 @@ pub struct WalkerPoolModel {
     lat: u64,
     ii: u64,
     classes: ClassCounts,
-    completions: Vec<Completion>,
+    /// The requesters of the cycle's completions, in the node memory's order (reused).
+    completions: Vec<u32>,
     cycles: PoolCycles,
     /// Context wake-ups, dispatches, issues and retirements so far: unchanged over a cycle
     /// means nothing in the pool moved (idle-cycle skipping, [`WalkerPoolModel::activity`]).
@@ -294,9 +156,9 @@ pub struct WalkerPoolModel {
     resp_reg: bool,
     /// `walker_pool.request_register_cycles` 1: reads reach the node memory one cycle late.
     req_reg: bool,
-    /// The response register: the completions the node memory gave in the cycle before, in
-    /// its order (`resp_reg` only).
-    held: Vec<Completion>,
+    /// The response register: the completions (their requesters) the node memory gave in the
+    /// cycle before, in its order (`resp_reg` only).
+    held: Vec<u32>,
     /// The request register: the reads the walkers' ports picked in the cycle before, in the
     /// order picked (context, kind, address; `req_reg` only).
     picked: Vec<(u32, FetchKind, u32)>,
@@ -474,9 +336,8 @@ impl WalkerPoolModel {
             }
             let Some(&op) = c.ops.get(c.pc) else {
                 c.finished = true;
-                let from = wk.class();
                 wk.finished += 1;
-                self.classes.moved(from, wk.class());
+                wk.reclass(&mut self.classes);
                 self.finished.push_back(ctx);
                 return Ok(());
             };
@@ -509,9 +370,8 @@ impl WalkerPoolModel {
                     }
                     c.pc += 1;
                     c.waiting_mem = true;
-                    let from = wk.class();
                     wk.waiting_mem += 1;
-                    self.classes.moved(from, wk.class());
+                    wk.reclass(&mut self.classes);
                     return Ok(());
                 }
             }
@@ -592,7 +452,7 @@ impl WalkerPoolModel {
         self.wheel[(now as usize) & mask] = due;
         let mut done = std::mem::take(&mut self.completions);
         done.clear();
-        mem.tick_into(now, &mut done);
+        mem.tick_requesters_into(now, &mut done);
         if self.resp_reg {
             // The response register: this cycle's completions are latched, the cycle
             // before's are seen now (after the wheel's contexts, in the memory's order).
@@ -601,17 +461,15 @@ impl WalkerPoolModel {
                 self.activity += 1;
             }
         }
-        for comp in &done {
-            let ctx = comp.requester;
+        for &ctx in &done {
             let Some(c) = self.ctxs.get_mut(ctx as usize) else {
                 continue;
             };
             if c.waiting_mem {
                 c.waiting_mem = false;
                 let wk = &mut self.walkers[c.walker as usize];
-                let from = wk.class();
                 wk.waiting_mem -= 1;
-                self.classes.moved(from, wk.class());
+                wk.reclass(&mut self.classes);
                 self.advance(ctx, PHASE_WAKE, mem)?;
             }
         }
@@ -738,9 +596,8 @@ impl WalkerPoolModel {
         c.waiting_mem = false;
         c.finished = false;
         let wk = &mut self.walkers[best];
-        let from = wk.class();
         wk.busy += 1;
-        self.classes.moved(from, wk.class());
+        wk.reclass(&mut self.classes);
         self.busy_total += 1;
         self.cycles.walks += 1;
         let at = self.now + 1;
@@ -777,7 +634,7 @@ impl WalkerPoolModel {
                 }
                 wk.next_issue = now + ii;
                 wk.issued_at = now;
-                issued_by_class[wk.class() as usize] += 1;
+                issued_by_class[wk.class as usize] += 1;
                 issued += 1;
                 // If the run goes on, the context goes back to its walker's ring, ready after
                 // the step latency (`rings.rs`).
@@ -827,10 +684,9 @@ impl WalkerPoolModel {
         c.busy = false;
         c.finished = false;
         let wk = &mut self.walkers[c.walker as usize];
-        let from = wk.class();
         wk.finished -= 1;
         wk.busy -= 1;
-        self.classes.moved(from, wk.class());
+        wk.reclass(&mut self.classes);
         wk.free.push(ctx);
         let (w, f) = (c.walker as usize, wk.free.len());
         self.by_free[f - 1].remove(w);
@@ -839,105 +695,5 @@ impl WalkerPoolModel {
         Some(c.tag)
     }
 }
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::cycle::memory::{MemoryLayout, NodeMemoryConfig, OnChipConfig};
-
-    /// On-chip reads of `latency` cycles through one bank of two ports: the memory itself
-    /// takes two reads a cycle, so only the walker's request ports can delay a read.
-    fn memory(latency: u32) -> NodeMemory {
-        let cfg = NodeMemoryConfig {
-            onchip: OnChipConfig {
-                levels: crate::svo::MAX_DEPTH + 1,
-                max_bytes: u64::MAX,
-                latency,
-                banks: 1,
-                ports_per_bank: 2,
-                combine: false,
-            },
-            ..NodeMemoryConfig::default()
-        };
-        let layout = MemoryLayout::with_onchip_ranges(16, 4, vec![(0, 16)]).expect("layout");
-        NodeMemory::new(cfg, layout).expect("memory")
-    }
-
-    fn ops(v: &[WalkOp]) -> Vec<u64> {
-        v.iter().map(|o| o.pack()).collect()
-    }
-
-    /// What [`two_walks`] saw: (tag, cycle) of each retirement, (cycle, reads sent) of each
-    /// cycle the walker sent, and the pool's counters.
-    struct Seen {
-        retired: Vec<(u64, u64)>,
-        sent: Vec<(u64, u32)>,
-        cycles: PoolCycles,
-    }
-
-    /// Runs walks A (dispatched in cycle 0) and B (cycle 8) on one walker of two contexts,
-    /// the record stage always ready.
-    fn two_walks(read_ports: u32) -> Seen {
-        let cfg = PoolConfig {
-            walkers: 1,
-            contexts_per_walker: 2,
-            step_cycles: 1,
-            step_latency_cycles: 3,
-            read_ports,
-            ..PoolConfig::default()
-        };
-        let mut pool = WalkerPoolModel::new(&cfg).expect("pool");
-        let mut mem = memory(5);
-        // A: root read, one slot, a child read. B: root read, one slot.
-        let a = ops(&[
-            WalkOp::Read(FetchKind::Node, 0),
-            WalkOp::Issue(1),
-            WalkOp::Read(FetchKind::Node, 1),
-        ]);
-        let b = ops(&[WalkOp::Read(FetchKind::Node, 2), WalkOp::Issue(1)]);
-        let (mut retired, mut sent) = (Vec::new(), Vec::new());
-        for now in 0..40 {
-            pool.wake(now, &mut mem).expect("wake");
-            if pool.walker_sent(0) > 0 {
-                sent.push((now, pool.walker_sent(0)));
-            }
-            if let Some(tag) = pool.retire() {
-                retired.push((tag, now));
-            }
-            match now {
-                0 => assert!(pool.dispatch(0xA, &a)),
-                8 => assert!(pool.dispatch(0xB, &b)),
-                _ => {}
-            }
-            pool.issue();
-        }
-        Seen {
-            retired,
-            sent,
-            cycles: pool.take_cycles(),
-        }
-    }
-
-    /// Hand-timed, L = 5, step latency 3. A: root read in cycle 1 (the cycle after its
-    /// dispatch), data in 6, its slot issues in 6, the child read in 9, data and done in 14.
-    /// B, dispatched in 8, sends its root read in 9 too. Unlimited ports: both in 9, B's data
-    /// in 14, its slot in 14, done in 17. One port: A's read was scheduled first (its slot
-    /// issued in 6, B's dispatch came in 8), so A sends in 9 and B waits one cycle: sent in
-    /// 10, data in 15, done in 18; one context-cycle of `read_port_waits`.
-    #[test]
-    fn two_reads_of_one_walker_in_one_cycle() {
-        let s = two_walks(0);
-        assert_eq!(s.retired, vec![(0xA, 14), (0xB, 17)]);
-        assert_eq!(s.sent, vec![(1, 1), (9, 2)]);
-        assert_eq!((s.cycles.reads, s.cycles.read_port_waits), (3, 0));
-        let s = two_walks(1);
-        assert_eq!(s.retired, vec![(0xA, 14), (0xB, 18)]);
-        assert_eq!(s.sent, vec![(1, 1), (9, 1), (10, 1)]);
-        assert_eq!((s.cycles.reads, s.cycles.read_port_waits), (3, 1));
-        // Two ports on two contexts: nothing waits, as with unlimited ports.
-        let s = two_walks(2);
-        assert_eq!(s.retired, vec![(0xA, 14), (0xB, 17)]);
-        assert_eq!(s.sent, vec![(1, 1), (9, 2)]);
-        assert_eq!(s.cycles.read_port_waits, 0);
-    }
-}
+mod tests;

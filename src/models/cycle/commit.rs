@@ -88,11 +88,16 @@ fn drive<T>(f: &mut Fifo<T>, fx: &mut FifoFx<T>) -> Result<(), CycleError> {
 #[inline(never)]
 fn drive_moves<T>(f: &mut Fifo<T>, fx: &mut FifoFx<T>) -> Result<(), CycleError> {
     // The stage already holds a copy of each item it popped: the FIFO drops its own in place.
-    for _ in 0..std::mem::take(&mut fx.pops) {
-        f.pop_driven().map_err(internal)?;
-    }
-    for item in fx.pushes.drain(..) {
-        f.push_driven(item).map_err(internal)?;
+    // The usual cycle, every pop and push firing, goes as one batch; otherwise one by one,
+    // so that what does not fire is counted or refused as it would be when driven directly.
+    let pops = std::mem::take(&mut fx.pops);
+    if !f.drive_batch(pops, &mut fx.pushes) {
+        for _ in 0..pops {
+            f.pop_driven().map_err(internal)?;
+        }
+        for item in fx.pushes.drain(..) {
+            f.push_driven(item).map_err(internal)?;
+        }
     }
     // After the pushes: the held item found no room even with this cycle's offers inside.
     if std::mem::take(&mut fx.full) {

@@ -132,7 +132,9 @@
 //! [`stats`] (the counters), and the three places a read is served: `onchip.rs` (bank ports
 //! and combining), `cache.rs` (lines and LRU tags) and `dram.rs` (MSHRs, their table in `mshr.rs`, and the fill bus; the DRAMsim3
 //! backend in [`dramsim3`]). This file holds the model
-//! that arbitrates them cycle by cycle ([`NodeMemory`]).
+//! that arbitrates them cycle by cycle ([`NodeMemory`]); `serve.rs` what happens to a read
+//! once its cycle's order is set (the arrivals' service order, the lookup, the miss queue's
+//! re-check, the send to DRAM, the completion record).
 
 mod cache;
 pub mod config;
@@ -143,6 +145,7 @@ pub mod layout;
 mod mshr;
 mod onchip;
 pub mod request;
+mod serve;
 pub mod stats;
 
 /// What a read fetches: the request API takes it (its home is the image's side, `svo`).
@@ -191,6 +194,9 @@ pub struct NodeMemory {
     /// Requests made for cycle `next` (the usual case: a walker asks in the cycle it is
     /// evaluated); sorted into service order when that cycle is simulated.
     arrivals: Vec<Req>,
+    /// The service order of `arrivals` when they are not in it already (`sort_arrivals`;
+    /// empty between steps).
+    order: Vec<u64>,
     /// The on-chip banks' ports. An on-chip read's service cycle is known when it arrives,
     /// so it goes straight to `pending` instead of waiting in a queue of its own.
     banks: Banks,
@@ -249,6 +255,7 @@ impl NodeMemory {
             next_id: 0,
             future: BinaryHeap::new(),
             arrivals: Vec::new(),
+            order: Vec::new(),
             waiting: 0,
             miss_q: VecDeque::new(),
             replay_ports: vec![0; cache_q.len()],
@@ -394,6 +401,14 @@ impl NodeMemory {
         self.pending.pop_due(cycle, out);
     }
 
+    /// [`tick_into`](Self::tick_into) for a caller that needs only who asked (the walker
+    /// pool): appends the requester of each of those completions, in the same order, without
+    /// copying the records.
+    pub fn tick_requesters_into(&mut self, cycle: u64, out: &mut Vec<u32>) {
+        self.advance_to(cycle.min(MAX_CYCLE + 1));
+        self.pending.pop_due_with(cycle, |c| out.push(c.requester));
+    }
+
     /// Simulates until every request has been served and returns all completions not yet
     /// returned, ordered by (done, id). `now` is then the cycle after the last one with any
     /// activity, which may be before the last `cycle_done`.
@@ -532,6 +547,7 @@ impl NodeMemory {
         //    An on-chip read is given its bank's next free port (or, combining, the read of
         //    its word already queued there) at once; a cached one crosses to its cache
         //    bank's queue (line mod banks).
+        let direct = self.arrivals.len();
         while let Some(Reverse(r)) = self.future.peek().copied() {
             if r.cycle > k {
                 break;
@@ -539,16 +555,11 @@ impl NodeMemory {
             self.future.pop();
             self.arrivals.push(r);
         }
-        if self.arrivals.len() > 1 {
-            // (requester, id) packed in one integer: the same order as the pair (ids are
-            // unique), compared without branches.
-            self.arrivals
-                .sort_unstable_by_key(|r| (u128::from(r.requester) << 64) | u128::from(r.id));
-        }
+        self.sort_arrivals(direct);
         self.stats.port_conflict_cycles += self.banks.take_conflicts_before(k);
         let latency = u64::from(self.cfg.onchip.latency);
-        for i in 0..self.arrivals.len() {
-            let r = self.arrivals[i];
+        for j in 0..self.arrivals.len() {
+            let r = self.arrivals[self.order.get(j).map_or(j, |&o| o as u32 as usize)];
             let onchip = r.kind != FetchKind::Attr && self.layout.is_onchip(r.addr);
             if onchip {
                 let (bank, served, combined) = self.banks.serve(r.addr, k);
@@ -565,6 +576,7 @@ impl NodeMemory {
             }
         }
         self.arrivals.clear();
+        self.order.clear();
         // 3. Bytes on the DRAM bus in this cycle.
         let bytes = self.dram.bytes_in(k);
         if bytes > 0 {
@@ -624,95 +636,5 @@ impl NodeMemory {
             self.stats.port_conflict_cycles += 1;
         }
         self.banks.counted_to(k + 1);
-    }
-
-    /// Looks up a read in cycle `k`: where it is served and when it completes, or `None` when
-    /// it misses with every MSHR taken (nothing changes then).
-    #[inline]
-    fn lookup(&mut self, r: Req, k: u64) -> Option<(Source, Option<u64>)> {
-        let line = line_of(r.kind, r.addr, self.line_bytes);
-        let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
-        if cached && self.tags.touch(line) {
-            self.stats.cache_lookups += 1;
-            self.stats.cache_hits += 1;
-            let done = k + u64::from(self.cfg.cache.hit_latency);
-            return Some((Source::CacheHit, Some(done)));
-        }
-        self.send_to_dram(r, k)
-    }
-
-    /// The tag re-check of the miss queue's head `r` in cycle `k`: `None` if its line is not
-    /// cached (it goes on to DRAM), `Some(true)` if it hit and was served through a lookup
-    /// port of its bank (counted as a cache hit, completing `hit_latency` later), `Some(false)`
-    /// if it hits but every port of its bank was taken this cycle by earlier re-checks.
-    #[inline]
-    fn replay_hit(&mut self, r: Req, k: u64) -> Option<bool> {
-        let line = line_of(r.kind, r.addr, self.line_bytes);
-        let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
-        if !cached || !self.tags.contains(line) {
-            return None;
-        }
-        let bank = (line % self.cache_q.len() as u64) as usize;
-        if self.replay_ports[bank] >= self.cfg.cache.ports {
-            return Some(false);
-        }
-        self.replay_ports[bank] += 1;
-        self.tags.touch(line);
-        self.stats.cache_lookups += 1;
-        self.stats.cache_hits += 1;
-        let done = k + u64::from(self.cfg.cache.hit_latency);
-        self.complete(r, k, done, Source::CacheHit);
-        Some(true)
-    }
-
-    /// A read that missed the tags (or is not cached) goes to DRAM in cycle `k`: it merges
-    /// into the fill of its line in flight or issues one, and is counted; `None` when every
-    /// MSHR is taken (nothing changes then). A read from the miss queue comes here after its
-    /// tags were checked again ([`replay_hit`](Self::replay_hit)), so it never fetches a line
-    /// that a fill issued while it waited has brought in.
-    #[inline]
-    fn send_to_dram(&mut self, r: Req, k: u64) -> Option<(Source, Option<u64>)> {
-        let line = line_of(r.kind, r.addr, self.line_bytes);
-        let cached = r.kind != FetchKind::Attr || self.cfg.cache.attr_cached;
-        let (source, done) = self.dram.miss(r, line, cached, k)?;
-        let merged = source == Source::Merged;
-        if !merged {
-            self.stats.dram_fills += 1;
-            self.stats.mshr_max_in_use = self
-                .stats
-                .mshr_max_in_use
-                .max(self.dram.mshrs_in_use() as u64);
-        }
-        if cached {
-            self.stats.cache_lookups += 1;
-            if merged {
-                self.stats.cache_merged += 1;
-            } else {
-                self.stats.cache_misses += 1;
-            }
-        } else {
-            self.stats.uncached_reads += 1;
-            if merged {
-                self.stats.uncached_merged += 1;
-            }
-        }
-        Some((source, done))
-    }
-
-    fn complete(&mut self, r: Req, served: u64, done: u64, source: Source) {
-        let latency = done - r.cycle;
-        self.stats.served += 1;
-        self.stats.latency_sum += latency;
-        self.stats.latency_max = self.stats.latency_max.max(latency);
-        self.pending.push(Completion {
-            id: RequestId(r.id),
-            requester: r.requester,
-            kind: r.kind,
-            addr: r.addr,
-            cycle_requested: r.cycle,
-            cycle_served: served,
-            cycle_done: done,
-            source,
-        });
     }
 }
