@@ -170,10 +170,14 @@ impl Graph<'_> {
         if let Some(a) = self.memo.get(&b) {
             return *a;
         }
-        // Explicit stack: (bit, inputs expanded).
+        // Explicit stack: (bit, inputs expanded). A bit whose inputs are being expanded is in
+        // `open` until it resolves: met again below itself, it is a combinational loop's
+        // back edge and is not expanded again (without this, a loop grew the stack without
+        // end: 22 GB on svo_core's netlist before the kernel killed the run).
         let mut stack = vec![(b, false)];
+        let mut open = std::collections::HashSet::new();
         while let Some((bit, expanded)) = stack.pop() {
-            if self.memo.contains_key(&bit) {
+            if self.memo.contains_key(&bit) || (!expanded && open.contains(&bit)) {
                 continue;
             }
             let Some(&ci) = self.driver.get(&bit) else {
@@ -182,14 +186,16 @@ impl Graph<'_> {
             };
             let inputs = self.comb_inputs(ci);
             if !expanded {
+                open.insert(bit);
                 stack.push((bit, true));
                 for (_, i) in inputs {
-                    if !self.memo.contains_key(&i) {
+                    if !self.memo.contains_key(&i) && !open.contains(&i) {
                         stack.push((i, false));
                     }
                 }
                 continue;
             }
+            open.remove(&bit);
             let (w, p) = self.weight(self.roles[ci]);
             // A carry cell holding its own LUTs (ECP5's CCU2C) is entered through one of them
             // from any input but the chain's: a LUT level with its net before the carry.
@@ -448,6 +454,33 @@ mod tests {
         let copy = s.iter().find(|p| p.stage == "copy_q").unwrap();
         assert_eq!(copy.path, PathLevels::default());
         assert!(stage_paths(NET, "nope", r).is_err());
+    }
+
+    /// FD → LUT a → LUT b → FD, with b feeding a back (a combinational loop, as a netlist
+    /// can hold one through a latch-like path the mapper leaves): the walk ends, and the loop's
+    /// back edge starts no path.
+    const LOOP_NET: &str = r#"{"modules": {"t": {
+      "cells": {
+        "r0": {"type": "FDRE", "port_directions": {"C": "input", "D": "input", "Q": "output"},
+               "connections": {"C": [1], "D": [2], "Q": [3]}},
+        "a":  {"type": "LUT2", "port_directions": {"I0": "input", "I1": "input", "O": "output"},
+               "connections": {"I0": [3], "I1": [5], "O": [4]}},
+        "b":  {"type": "LUT2", "port_directions": {"I0": "input", "I1": "input", "O": "output"},
+               "connections": {"I0": [4], "I1": ["0"], "O": [5]}},
+        "r1": {"type": "FDRE", "port_directions": {"C": "input", "D": "input", "Q": "output"},
+               "connections": {"C": [1], "D": [5], "Q": [6]}}
+      },
+      "netnames": {"\\loop_q": {"hide_name": 0, "bits": [6]}}
+    }}}"#;
+
+    #[test]
+    fn a_combinational_loop_ends_the_walk() {
+        let s = stage_paths(LOOP_NET, "t", ULTRASCALE_PLUS_2).unwrap();
+        let q = s.iter().find(|p| p.stage == "loop_q").unwrap();
+        // r0 → a → b: two LUT levels; b's edge back into a adds none.
+        assert_eq!(q.path.luts, 2);
+        let kinds: Vec<&str> = q.through.iter().map(|c| c.kind.as_str()).collect();
+        assert_eq!(kinds, ["", "LUT2", "LUT2"]);
     }
 
     /// ECP5: TRELLIS_FF → LUT4 → CCU2C (through its LUT input) → CCU2C (carry in) →
