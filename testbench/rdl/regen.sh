@@ -4,7 +4,7 @@
 # testbench/rdl/generated/, which is committed so that
 # lint, synthesis, FuseSoC and a Vivado project need no Python. With --check it generates
 # into a temporary folder and fails unless the bytes equal the committed files (CI runs
-# this through tests/cocotb_benches.rs: an edited .rdl without a regeneration fails).
+# this through tests/cocotb_units.rs: an edited .rdl without a regeneration fails).
 # Usage: testbench/rdl/regen.sh [--check]   (peakrdl from PATH, else $SVO_VENV/bin)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"

@@ -11,6 +11,7 @@
 
 pub mod bad_input;
 pub mod cache_bench;
+pub mod cocotb;
 pub mod mem_bench;
 pub mod oracle;
 pub mod process;
