@@ -496,21 +496,14 @@ impl<T> Fifo<T> {
         if !fires {
             return false;
         }
+        // The handshakes fired: each half as one call would complete it (`take`, `accept`).
         self.pops_now += pops;
-        self.taken += pops;
         for _ in 0..pops {
-            let Some(mut item) = self.items.pop_front() else {
-                break;
-            };
-            self.stats.pops = self.stats.pops.saturating_add(1);
-            self.stamp_leave(&mut item);
+            self.take();
         }
         self.pushes_now += n;
-        self.pending += n;
-        self.stats.pushes = self.stats.pushes.saturating_add(n as u64);
-        for mut item in pushes.drain(..) {
-            item.enter(self.stage, self.now);
-            self.items.push_back(item);
+        for item in pushes.drain(..) {
+            self.accept(item);
         }
         true
     }
