@@ -66,9 +66,21 @@ for name in RAY_SLOTS WALKER_POOL_WALKERS WALKER_POOL_CONTEXTS_PER_WALKER SORTER
     HIT_BUFFER_READ_LATENCY_CYCLES HIT_BUFFER_WRITE_PORTS HIT_BUFFER_RECORD_WRITES \
     FIFOS_RAYGEN_TO_SPHERE FIFOS_SPHERE_TO_SORTER FIFOS_SORTER_TO_CHECK \
     FIFOS_CHECK_TO_TRANSFORM FIFOS_TRANSFORM_TO_RECIPROCAL FIFOS_RECIPROCAL_TO_ROOT \
-    FIFOS_ROOT_TO_DISPATCH FIFOS_WALKER_TO_RECORD FIFOS_RECORD_TO_WRITE; do
+    FIFOS_ROOT_TO_DISPATCH FIFOS_WALKER_TO_RECORD FIFOS_RECORD_TO_WRITE \
+    TRANSFORM_UNITS RECIPROCAL_UNITS WALKER_ROOT_UNITS WALKER_POOL_STEP_CYCLES \
+    WALKER_POOL_RESPONSE_REGISTER_CYCLES WALKER_POOL_REQUEST_REGISTER_CYCLES; do
     need "$name" >/dev/null
 done
+# What svo_core does not build, refused by name as svo_top refuses it (svo_top.sv's
+# `unsupported_*` blocks), so that a package is never synthesised as something else.
+refuse() { echo "synth_core.sh: $pkg: svo_core builds $1" >&2; exit 2; }
+[ "$(need TRANSFORM_UNITS)/$(need RECIPROCAL_UNITS)/$(need WALKER_ROOT_UNITS)" = 1/3/1 ] \
+    || refuse "one walk-issue lane (transform 1, reciprocal 3, walker root 1)"
+[ "$(need WALKER_POOL_STEP_CYCLES)" = 1 ] || refuse "walker_pool.step_cycles 1"
+[ "$(need WALKER_POOL_RESPONSE_REGISTER_CYCLES)" -le 1 ] \
+    || refuse "walker_pool.response_register_cycles 0 or 1"
+[ "$(need WALKER_POOL_REQUEST_REGISTER_CYCLES)" -le 1 ] \
+    || refuse "walker_pool.request_register_cycles 0 or 1"
 # svo_top's localparams and its svo_core instance, in its order.
 slots=$(need RAY_SLOTS)
 walkers=$(need WALKER_POOL_WALKERS)
@@ -94,6 +106,8 @@ params=(
     D_RC_WR="$(need FIFOS_RECORD_TO_WRITE)" DIR_FIXED=1 NINST=128 KEYN="$(( 2 * lanes_so ))"
     CONTEXTS="$contexts" WALKERS="$walkers" CW="$([ $nctx -gt 1 ] && clog2 $nctx || echo 1)"
     CTX_RESP=1 ATTR_MERGE="$([ "$has_cache" = 1 ] && echo 0 || echo 1)"
+    RESP_REG="$(need WALKER_POOL_RESPONSE_REGISTER_CYCLES)"
+    REQ_REG="$(need WALKER_POOL_REQUEST_REGISTER_CYCLES)"
 )
 files=(svo_delay svo_fifo svo_elastic svo_elastic2 svo_f64_to_fixed svo_sqrt svo_raygen
     svo_sphere svo_sorter svo_front svo_transform svo_reciprocal svo_walker_root svo_walker
