@@ -64,23 +64,26 @@ module svo_walker_barrel #(
     parameter STEP_LATENCY = 4,
     parameter TAG_W        = 1,
     parameter CONTEXTS     = 2,
-    parameter RI           = CONTEXTS > 1 ? $clog2(CONTEXTS) : 1   // context index bits
+    parameter RI           = CONTEXTS > 1 ? $clog2(CONTEXTS) : 1,  // context index bits
+    parameter K            = 1    // take and result ports (the pool's walk lanes): 1 or 2
 ) (
     input  wire                    clk,
     input  wire                    rst,
-    // A walk: taken by the context whose in_take bit is set (the pool's dispatcher).
-    input  wire [CONTEXTS-1:0]     in_take,
-    output wire [CONTEXTS-1:0]     in_ready,
-    input  wire                    in_enter,
-    input  wire [3*(T_W+1)-1:0]    in_t0,
-    input  wire [3*(T_W+1)-1:0]    in_t1,
-    input  wire [3*(POS_W+1)-1:0]  in_o,
-    input  wire [3*POS_W-1:0]      in_half,
-    input  wire [2:0]              in_zero,
-    input  wire [2:0]              in_neg,
-    input  wire [31:0]             in_node_base,
-    input  wire [31:0]             in_attr_base,
-    input  wire [TAG_W-1:0]        in_tag,
+    // K take ports (lane j's fields at [j*WIDTH +: WIDTH]): lane j's walk is taken by the
+    // context whose bit of in_take[j*CONTEXTS +: CONTEXTS] is set (the pool's dispatcher; the
+    // lanes take different contexts).
+    input  wire [K*CONTEXTS-1:0]     in_take,
+    output wire [CONTEXTS-1:0]       in_ready,
+    input  wire [K-1:0]              in_enter,
+    input  wire [K*3*(T_W+1)-1:0]    in_t0,
+    input  wire [K*3*(T_W+1)-1:0]    in_t1,
+    input  wire [K*3*(POS_W+1)-1:0]  in_o,
+    input  wire [K*3*POS_W-1:0]      in_half,
+    input  wire [K*3-1:0]            in_zero,
+    input  wire [K*3-1:0]            in_neg,
+    input  wire [K*32-1:0]           in_node_base,
+    input  wire [K*32-1:0]           in_attr_base,
+    input  wire [K*TAG_W-1:0]        in_tag,
     // Per context, as svo_walker's ports of the same names.
     output wire [CONTEXTS-1:0]     mem_req_valid,
     input  wire [CONTEXTS-1:0]     mem_req_ready,
@@ -95,13 +98,13 @@ module svo_walker_barrel #(
     output reg  [CONTEXTS-1:0]     ev_lat,
     output reg  [CONTEXTS-1:0]     ev_disp,
     output wire [CONTEXTS-1:0]     ev_resp,
-    // The result of context fin (the pool's retire pick).
-    input  wire [RI-1:0]           fin,
-    output wire [1:0]              out_outcome,
-    output wire [T_W-1:0]          out_t,
-    output wire [59:0]             out_voxel,
-    output wire [63:0]             out_attr_data,
-    output wire [TAG_W-1:0]        out_tag,
+    // K result ports: port j the result of context fin[j*RI +: RI] (the pool's retire picks).
+    input  wire [K*RI-1:0]         fin,
+    output wire [K*2-1:0]          out_outcome,
+    output wire [K*T_W-1:0]        out_t,
+    output wire [K*60-1:0]         out_voxel,
+    output wire [K*64-1:0]         out_attr_data,
+    output wire [K*TAG_W-1:0]      out_tag,
     output reg                     err_resp    // sticky: two chaining responses in one cycle
 );
     localparam R = CONTEXTS;
@@ -129,7 +132,7 @@ module svo_walker_barrel #(
 
     generate
         if (STEP_LATENCY > 200 || STACK_DEPTH < 2 || STACK_DEPTH > 64
-            || CONTEXTS < 2 || CONTEXTS > 16)
+            || CONTEXTS < 2 || CONTEXTS > 16 || K < 1 || K > 2)
         begin : bad_parameters
             svo_walker_barrel_unsupported_parameters fail ();
         end
@@ -252,7 +255,7 @@ module svo_walker_barrel #(
         q_apply <= |(issue_grant & (apf | arrive));
         q_root <= |(issue_grant & c_root);
         q_k <= k0;
-        w0 <= wram[k0];
+        w0 <= wr_k0;
         c0 <= cram[k0];
     end
 
@@ -490,29 +493,70 @@ module svo_walker_barrel #(
                            b_t, c_c[2], c_c[1], c_c[0], p2_addr + {28'd0, a_slot}};
 
     // ---------------------------------------------------------------- the sequencers
-    reg [RI-1:0] kt;
-    integer it;
-    always @* begin                                // in_take is one-hot (or zero): OR-encode it
-        kt = {RI{1'b0}};
-        for (it = 0; it < R; it = it + 1) if (in_take[it]) kt = kt | it[RI-1:0];
-    end
-    // The root's midpoints (its zero axes' +-inf by the side of its centre 0: g = ~ox >= 0,
-    // +inf, iff ox < 0), ready for its descriptor's apply as a child's are.
-    reg [3*TI-1:0] in_tm;
-    integer jt;
-    always @* for (jt = 0; jt < 3; jt = jt + 1)
-        in_tm[jt*TI +: TI] = !in_zero[jt] ? mid_t(in_t0[jt*TI +: TI], in_t1[jt*TI +: TI])
-                           : !in_o[jt*(POS_W+1) + POS_W] ? NEG_INF : POS_INF;
+    // The take ports: port j's context kt[j] (its one-hot OR-encoded) and its wram word. Each
+    // port writes a wram bank of its own (LUT-RAM: one write port a bank); at K = 2 a bit per
+    // context (lane1, a live-value table) says which bank holds its walk, read with the word.
+    wire [R-1:0]   tk;                             // taken, on any port
+    wire [R-1:0]   tk1;                            // taken on port 1 (K = 2)
+    wire [RI-1:0]  kt    [0:K-1];
+    wire [WRW-1:0] wword [0:K-1];
+    wire [WRW-1:0] wr_k0;                          // wram's word of context k0
+    wire [WRW-1:0] wr_fin [0:K-1];                 // ... of result port j's context
+    genvar gk;
+    generate
+        for (gk = 0; gk < K; gk = gk + 1) begin : take_port
+            reg [RI-1:0] kq;
+            integer it;
+            always @* begin                        // in_take is one-hot (or zero): OR-encode it
+                kq = {RI{1'b0}};
+                for (it = 0; it < R; it = it + 1) if (in_take[gk*R + it]) kq = kq | it[RI-1:0];
+            end
+            assign kt[gk] = kq;
+            // The root's midpoints (its zero axes' +-inf by the side of its centre 0: g = ~ox
+            // >= 0, +inf, iff ox < 0), ready for its descriptor's apply as a child's are.
+            wire [2:0]             z  = in_zero[gk*3 +: 3];
+            wire [2:0]             ng = in_neg[gk*3 +: 3];
+            wire [3*TI-1:0]        t0 = in_t0[gk*3*TI +: 3*TI];
+            wire [3*TI-1:0]        t1 = in_t1[gk*3*TI +: 3*TI];
+            wire [3*(POS_W+1)-1:0] o  = in_o[gk*3*(POS_W+1) +: 3*(POS_W+1)];
+            reg  [3*TI-1:0]        in_tm;
+            integer jt;
+            always @* for (jt = 0; jt < 3; jt = jt + 1)
+                in_tm[jt*TI +: TI] = !z[jt] ? mid_t(t0[jt*TI +: TI], t1[jt*TI +: TI])
+                                   : !o[jt*(POS_W+1) + POS_W] ? NEG_INF : POS_INF;
+            assign wword[gk] = {z, ng[0], ng[1], ng[2], in_attr_base[gk*32 +: 32],
+                                in_tag[gk*TAG_W +: TAG_W], t0, t1, in_tm, o,
+                                in_half[gk*3*POS_W +: 3*POS_W]};
+        end
+        if (K > 1) begin : two_banks
+            reg [WRW-1:0] wram1 [0:R-1];
+            reg [R-1:0]   lane1;
+            assign tk = in_take[0 +: R] | in_take[R +: R];
+            assign tk1 = in_take[R +: R];
+            always @(posedge clk) begin
+                if (|in_take[R +: R]) wram1[kt[1]] <= wword[1];
+                lane1 <= rst ? {R{1'b0}} : (lane1 & ~tk) | tk1;
+            end
+            assign wr_k0 = lane1[k0] ? wram1[k0] : wram[k0];
+            for (gk = 0; gk < K; gk = gk + 1) begin : fin_read
+                assign wr_fin[gk] = lane1[fin[gk*RI +: RI]] ? wram1[fin[gk*RI +: RI]]
+                                                            : wram[fin[gk*RI +: RI]];
+            end
+        end else begin : one_bank
+            assign tk = in_take[0 +: R];
+            assign tk1 = {R{1'b0}};
+            assign wr_k0 = wram[k0];
+            assign wr_fin[0] = wram[fin[0 +: RI]];
+        end
+    endgenerate
     always @(posedge clk)
-        if (|in_take)
-            wram[kt] <= {in_zero, in_neg[0], in_neg[1], in_neg[2], in_attr_base, in_tag, in_t0,
-                         in_t1, in_tm, in_o, in_half};
+        if (|in_take[0 +: R]) wram[kt[0]] <= wword[0];
 
     integer n;
     always @(posedge clk) begin
         for (n = 0; n < R; n = n + 1) begin
             ev_lat[n] <= !rst && st[n] == S_HOLD && hold_left[n] == 8'd0;
-            ev_disp[n] <= !rst && in_take[n];
+            ev_disp[n] <= !rst && tk[n];
             if (rst) begin
                 st[n] <= S_IDLE;
                 b_dec[n] <= 1'b0;
@@ -604,17 +648,17 @@ module svo_walker_barrel #(
                 // Stage B's far-escape address (as nram's).
                 if (p2_valid && p2_k == n[RI-1:0]) fa[n] <= p2_addr + {28'd0, a_slot};
                 // A new walk (possibly in the cycle the previous result leaves).
-                if (in_take[n]) begin
-                    ab[n] <= in_attr_base;
+                if (tk[n]) begin
+                    ab[n] <= tk1[n] ? in_attr_base[(K-1)*32 +: 32] : in_attr_base[0 +: 32];
                     c_root[n] <= 1'b1;
                     c_leaf[n] <= 1'b0;
-                    req_addr[n] <= in_node_base;
+                    req_addr[n] <= tk1[n] ? in_node_base[(K-1)*32 +: 32] : in_node_base[0 +: 32];
                     req_attr[n] <= 1'b0;
                     pend[n] <= P_DESC;
                     sp[n] <= {SPW{1'b0}};
                     outcome[n] <= 2'd0;
                     apf[n] <= 1'b0;
-                    st[n] <= in_enter ? S_REQ : S_OUT;
+                    st[n] <= (tk1[n] ? in_enter[K-1] : in_enter[0]) ? S_REQ : S_OUT;
                 end
             end
         end
@@ -623,15 +667,22 @@ module svo_walker_barrel #(
     end
 
     // ---------------------------------------------------------------- the result
-    // (each read port takes the whole word; some ports use some fields)
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire [NRW-1:0] fin_n = nram[fin];
-    wire [WRW-1:0] fin_w = wram[fin];
-    /* verilator lint_on UNUSEDSIGNAL */
-    assign out_outcome = outcome[fin];
-    assign out_t = fin_n[NRW-37 -: T_W];
-    assign out_voxel = fin_n[32 +: 60];
-    assign out_attr_data = st[fin] == S_OUT ? r_data[fin] : rdata[fin];
-    assign out_tag = fin_w[WRW-39 -: TAG_W];
+    // K result ports: port j reads context fin[j]'s state (at K = 2 the pool's second retire
+    // lane, when both lanes retire from this walker).
+    generate
+        for (gk = 0; gk < K; gk = gk + 1) begin : result
+            wire [RI-1:0] f = fin[gk*RI +: RI];
+            // (each read port takes the whole word; some ports use some fields)
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire [NRW-1:0] fin_n = nram[f];
+            wire [WRW-1:0] fin_w = wr_fin[gk];
+            /* verilator lint_on UNUSEDSIGNAL */
+            assign out_outcome[gk*2 +: 2] = outcome[f];
+            assign out_t[gk*T_W +: T_W] = fin_n[NRW-37 -: T_W];
+            assign out_voxel[gk*60 +: 60] = fin_n[32 +: 60];
+            assign out_attr_data[gk*64 +: 64] = st[f] == S_OUT ? r_data[f] : rdata[f];
+            assign out_tag[gk*TAG_W +: TAG_W] = fin_w[WRW-39 -: TAG_W];
+        end
+    endgenerate
 endmodule
 `default_nettype wire

@@ -11,14 +11,16 @@
 // design the model's cost estimate prices (rtl_model/src/cost: `walker_contexts`,
 // `walker_stacks`). At R = 1 each walker is svo_walker, whose registers are its one context (the
 // estimate's calibrated walker; it adds no context file at R = 1). One issue grant and one
-// request port per walker; one result port for the pool. The contexts issue only when granted,
-// one slot a walker and cycle.
+// request port per walker, K take and K result ports (K walk-issue lanes, HwConfig::walk_lanes,
+// 1 or 2: the dispatch and retire lanes). The contexts issue only when granted, one slot a
+// walker and cycle.
 //
 // The scheduler is the model's, per cycle:
 //   wake-up order  a context moves on to its next op in the model's wake-up order: first those
 //                  whose step latency ended (ev_lat: at most one a walker, in walker order,
-//                  the order their slots issued), then the walk dispatched in the cycle before
-//                  (ev_disp: its root read, or a root miss), then the contexts whose read
+//                  the order their slots issued), then the walks dispatched in the cycle before
+//                  (ev_disp: a root read, or a root miss; in dispatch order: disp_lane, the
+//                  lane that took it), then the contexts whose read
 //                  completed (ev_resp) by request age (the node memory's (done, id) order).
 //                  That order decides where the context joins the queue its next op needs:
 //   issue          each walker's ready contexts issue round robin in the order they became
@@ -28,13 +30,13 @@
 //                  go first, oldest first, then this cycle's new ones in wake-up order; the
 //                  sends of one cycle are the node memory's ids in the order: waiting ones by
 //                  walker, then new ones in wake-up order (req_older keeps it);
-//   retire         finished walks leave in the order they finished, one a cycle for the pool,
-//                  when the record FIFO is ready (out_ready); the context takes a new walk in
-//                  the same cycle (the model retires before it dispatches);
-//   dispatch       one walk a cycle, to the walker with the most free contexts (a context
-//                  retiring in this cycle counts), the lowest index on ties, and there to its
-//                  lowest idle context, else the one retiring (which free context takes it
-//                  changes no cycle; the pool's own busy flags say which are idle).
+//   retire         finished walks leave in the order they finished, up to K a cycle for the
+//                  pool, while the record FIFO takes them (out_ready, a prefix); a context
+//                  takes a new walk in the same cycle (the model retires before it
+//                  dispatches): svo_walker_pool_retire.v;
+//   dispatch       up to K walks a cycle, each to the walker with the most free contexts
+//                  (this cycle's retires and the earlier lanes' takes counted), the lowest
+//                  index on ties, so two can go to one walker: svo_walker_pool_dispatch.v.
 // How it is built, so that it grows as W·R² plus O(N) for N = W·R contexts (never N²):
 //   per walker     a context is in at most one queue at a time, and a walker's issue and send
 //                  queues hold only its own contexts, so one R x R age order per walker
@@ -50,13 +52,11 @@
 //                  cycles that sent, the rank is its place among that cycle's sends (at most
 //                  one a walker; waiting ones by walker, then new ones in wake-up order, a new
 //                  one after a completion by its previous read's id): W x W rank compares.
-//                  Each finished walk keeps a finish key {finish stamp (counts the cycles in
-//                  which a walk finished), wake-up class, its read's id}; the pool retires the
-//                  oldest of the W walkers' oldest finished walks (a chain of W key compares).
-//                  Stamps and ids compare modulo their width: the finish stamps of waiting
-//                  walks span fewer than N values (FS_W = clog2(N) + 1 bits); read ids are
-//                  exact while no read stays out across 2^23 sending cycles (SEND_STAMP_W 24;
-//                  svo_top's node memory answers in a fixed latency).
+//                  Each finished walk keeps a finish key {finish stamp, wake-up class, read
+//                  id, dispatch lane}; the retire takes the oldest of the W walkers' oldest
+//                  finished walks, at K = 2 then the next (svo_walker_pool_retire.v). Read ids
+//                  compare modulo 2^ID_W: exact while no read stays out across 2^23 sending
+//                  cycles (SEND_STAMP_W 24; svo_top's node memory answers in a fixed latency).
 //   cost           per walker R² age bits (older, req_older) and R² compares; per context a
 //                  read id (24 + clog2(W) bits) and a finish key (clog2(N) + 3 bits); W² rank
 //                  compares of the ids; W - 1 key compares at retire. At 48 x 16: 24,576 age
@@ -108,6 +108,7 @@ module svo_walker_pool #(
     parameter TAG_W        = 1,
     parameter CONTEXTS     = 1,                 // contexts per walker
     parameter WALKERS      = 1,
+    parameter K            = 1,                 // walk-issue lanes (HwConfig::walk_lanes): 1 or 2
     parameter CW           = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,  // context index bits
     parameter CTX_RESP     = 0,                 // per-context response ports (svo_top's store)
     parameter ATTR_MERGE   = 1,                 // 1: the attribute-merge rule below; 0: every read goes out
@@ -119,18 +120,20 @@ module svo_walker_pool #(
 ) (
     input  wire                   clk,
     input  wire                   rst,
-    input  wire                   in_valid,
-    output wire                   in_ready,
-    input  wire                   in_enter,
-    input  wire [3*(T_W+1)-1:0]   in_t0,
-    input  wire [3*(T_W+1)-1:0]   in_t1,
-    input  wire [3*(POS_W+1)-1:0] in_o,
-    input  wire [3*POS_W-1:0]     in_half,
-    input  wire [2:0]             in_zero,
-    input  wire [2:0]             in_neg,
-    input  wire [31:0]            in_node_base,
-    input  wire [31:0]            in_attr_base,
-    input  wire [TAG_W-1:0]       in_tag,
+    // K walk lanes, packed, lane j at [j*WIDTH +: WIDTH]: lane j is taken iff in_valid[j] &&
+    // in_ready[j]; the source offers a prefix, the pool takes a prefix.
+    input  wire [K-1:0]             in_valid,
+    output wire [K-1:0]             in_ready,
+    input  wire [K-1:0]             in_enter,
+    input  wire [K*3*(T_W+1)-1:0]   in_t0,
+    input  wire [K*3*(T_W+1)-1:0]   in_t1,
+    input  wire [K*3*(POS_W+1)-1:0] in_o,
+    input  wire [K*3*POS_W-1:0]     in_half,
+    input  wire [K*3-1:0]           in_zero,
+    input  wire [K*3-1:0]           in_neg,
+    input  wire [K*32-1:0]          in_node_base,
+    input  wire [K*32-1:0]          in_attr_base,
+    input  wire [K*TAG_W-1:0]       in_tag,
     // One request port per walker (port w: walker w's reads), one response port per walker
     // (any context's response may come on any port).
     output wire [WALKERS-1:0]     mem_req_valid,
@@ -143,13 +146,15 @@ module svo_walker_pool #(
     input  wire [WALKERS*64-1:0]  mem_resp_data,
     input  wire [CRN-1:0]         ctx_resp_valid,
     input  wire [CRN*32-1:0]      ctx_resp_data,
-    output wire                   out_valid,
-    input  wire                   out_ready,
-    output wire [1:0]             out_outcome,
-    output wire [T_W-1:0]         out_t,
-    output wire [59:0]            out_voxel,
-    output wire [63:0]            out_attr_data,
-    output wire [TAG_W-1:0]       out_tag,
+    // K retire lanes: lane j the j-th walk to retire in this cycle (finish order); valid is a
+    // prefix; lane j retires iff out_valid[j] && out_ready[j] (the sink takes a prefix).
+    output wire [K-1:0]           out_valid,
+    input  wire [K-1:0]           out_ready,
+    output wire [K*2-1:0]         out_outcome,
+    output wire [K*T_W-1:0]       out_t,
+    output wire [K*60-1:0]        out_voxel,
+    output wire [K*64-1:0]        out_attr_data,
+    output wire [K*TAG_W-1:0]     out_tag,
     output reg                    err_resp
 );
     localparam R = CONTEXTS;
@@ -161,6 +166,10 @@ module svo_walker_pool #(
     generate
         if (R < 1 || R > 16 || W < 1 || W > 64) begin : bad_contexts
             svo_walker_pool_needs_1_to_64_walkers_of_1_to_16_contexts bad();
+        end
+        // Walk issue of width K (testbench/README.md): 1 or 2 lanes are built.
+        if (K < 1 || K > 2) begin : unsupported_lanes
+            svo_walker_pool_builds_1_or_2_walk_lanes bad();
         end
         // The registered response and request of the model (issue 29): one stage at most.
         if (RESPONSE_REGISTER_CYCLES > 1) begin : unsupported_response_register
@@ -179,12 +188,13 @@ module svo_walker_pool #(
     reg  [N-1:0] e_issue_grant, e_req_ready;
     wire [31:0]    e_req_addr  [0:N-1];
     reg  [63:0]    e_resp_data [0:N-1];
-    // Per walker: the result of the context being retired.
-    wire [1:0]     w_outcome   [0:W-1];
-    wire [T_W-1:0] w_t         [0:W-1];
-    wire [59:0]    w_voxel     [0:W-1];
-    wire [63:0]    w_attr_data [0:W-1];
-    wire [TAG_W-1:0] w_tag     [0:W-1];
+    // Per walker its K result ports (port j at [j*WIDTH +: WIDTH]): its oldest finished
+    // context's result, and at K = 2 its second oldest's.
+    wire [K*2-1:0]     w_outcome   [0:W-1];
+    wire [K*T_W-1:0]   w_t         [0:W-1];
+    wire [K*60-1:0]    w_voxel     [0:W-1];
+    wire [K*64-1:0]    w_attr_data [0:W-1];
+    wire [K*TAG_W-1:0] w_tag       [0:W-1];
     wire [W-1:0]   w_err;
 
     // ---------------------------------------------------------------- per walker: the age order
@@ -195,11 +205,11 @@ module svo_walker_pool #(
     // dispatched walk, then completions by request age: req_older[n][k], n's read out was sent
     // before k's; one send a walker and cycle, so within a walker that is the send order).
     wire [N-1:0] ev = e_ev_lat | e_ev_disp | e_ev_resp;
+    reg  [N-1:0] disp_lane;                       // the context's walk came on lane 1 (K = 2)
     reg  [R-1:0] older     [0:N-1];
     reg  [R-1:0] req_older [0:N-1];
     reg  [R-1:0] older_eff [0:N-1];               // this cycle's order, events included
-    integer w, i_e, k_e, w_o, k_o, i_r, p_r, w_q, k_q, i_q, w_s, v_s, k_s, w_h, k_h,
-            w_d, k_d;
+    integer w, i_e, k_e, w_o, k_o, i_r, p_r, w_q, k_q, i_q, w_s, v_s, k_s;
     always @* begin
         for (i_e = 0; i_e < N; i_e = i_e + 1)
             for (k_e = 0; k_e < R; k_e = k_e + 1) begin
@@ -207,6 +217,9 @@ module svo_walker_pool #(
                 else if (ev[i_e] && ev[(i_e / R) * R + k_e])
                     older_eff[i_e][k_e] = (e_ev_lat[i_e] && !e_ev_lat[(i_e / R) * R + k_e])
                         || (e_ev_disp[i_e] && e_ev_resp[(i_e / R) * R + k_e])
+                        // two walks dispatched in one cycle (K = 2): dispatch order
+                        || (e_ev_disp[i_e] && e_ev_disp[(i_e / R) * R + k_e]
+                            && !disp_lane[i_e] && disp_lane[(i_e / R) * R + k_e])
                         || (e_ev_resp[i_e] && e_ev_resp[(i_e / R) * R + k_e] && req_older[i_e][k_e]);
                 else if (ev[(i_e / R) * R + k_e]) older_eff[i_e][k_e] = 1'b1;  // joins behind
                 else if (ev[i_e]) older_eff[i_e][k_e] = 1'b0;
@@ -227,13 +240,16 @@ module svo_walker_pool #(
         end
     endfunction
     reg [R*R-1:0] ord_w [0:W-1];
-    reg [N-1:0] send_pick, fin_head;
+    reg [N-1:0] send_pick, fin_head, fin_head2;
     always @* begin
         for (w_o = 0; w_o < W; w_o = w_o + 1) begin
             for (k_o = 0; k_o < R; k_o = k_o + 1) ord_w[w_o][k_o * R +: R] = older_eff[w_o * R + k_o];
             e_issue_grant[w_o * R +: R] = oldest(e_issue_req[w_o * R +: R], ord_w[w_o]);
             send_pick[w_o * R +: R] = oldest(e_req_valid[w_o * R +: R], ord_w[w_o]);
             fin_head[w_o * R +: R] = oldest(e_out_valid[w_o * R +: R], ord_w[w_o]);
+            // (K = 2: the walker's second oldest finished walk, lane 1's candidate)
+            fin_head2[w_o * R +: R] = K < 2 || R < 2 ? {R{1'b0}}
+                : oldest(e_out_valid[w_o * R +: R] & ~fin_head[w_o * R +: R], ord_w[w_o]);
         end
     end
 
@@ -438,7 +454,7 @@ module svo_walker_pool #(
     endfunction
     reg [ID_W-1:0]         req_id [0:N-1];
     reg [SEND_STAMP_W-1:0] sstamp;
-    reg [W-1:0]            s_new, s_lat, s_disp, s_resp;
+    reg [W-1:0]            s_new, s_lat, s_disp, s_resp, s_dl;
     reg [ID_W-1:0]         s_oid  [0:W-1];          // the sender's previous read's id
     reg [RK_W-1:0]         s_rank [0:W-1];
     reg                    s_before;
@@ -448,6 +464,7 @@ module svo_walker_pool #(
             s_lat[w_s] = 1'b0;
             s_disp[w_s] = 1'b0;
             s_resp[w_s] = 1'b0;
+            s_dl[w_s] = 1'b0;
             s_oid[w_s] = {ID_W{1'b0}};
             // (send_pick is one-hot: AND-OR, no priority chain)
             for (k_s = 0; k_s < R; k_s = k_s + 1) begin
@@ -455,6 +472,7 @@ module svo_walker_pool #(
                 s_lat[w_s] = s_lat[w_s] | (send_pick[w_s * R + k_s] & e_ev_lat[w_s * R + k_s]);
                 s_disp[w_s] = s_disp[w_s] | (send_pick[w_s * R + k_s] & e_ev_disp[w_s * R + k_s]);
                 s_resp[w_s] = s_resp[w_s] | (send_pick[w_s * R + k_s] & e_ev_resp[w_s * R + k_s]);
+                s_dl[w_s] = s_dl[w_s] | (send_pick[w_s * R + k_s] & disp_lane[w_s * R + k_s]);
                 s_oid[w_s] = s_oid[w_s] | ({ID_W{send_pick[w_s * R + k_s]}} & req_id[w_s * R + k_s]);
             end
         end
@@ -466,6 +484,7 @@ module svo_walker_pool #(
                     || (s_new[v_s] && s_new[w_s]
                         && ((s_lat[v_s] && (!s_lat[w_s] || v_s < w_s))
                             || (s_disp[v_s] && s_resp[w_s])
+                            || (s_disp[v_s] && s_disp[w_s] && !s_dl[v_s] && s_dl[w_s])
                             || (s_resp[v_s] && s_resp[w_s] && id_before(s_oid[v_s], s_oid[w_s]))));
                 if (v_s != w_s && snd[v_s] && s_before) s_rank[w_s] = s_rank[w_s] + 1'b1;
             end
@@ -473,115 +492,60 @@ module svo_walker_pool #(
     end
 
     // ---------------------------------------------------------------- dispatch and retire
-    // The walker with the most free contexts (a context retiring now counts), the lowest
-    // index on ties; there its lowest idle context, else the one retiring (at most one in the
-    // pool). The pool keeps "idle" itself (busy: taken, not retired), from flip-flops, so the
-    // retire does not run through the free contexts' carry chain into the take.
-    reg  [N-1:0] busy;
-    wire [N-1:0] retiring = e_out_ready;          // fin_pick when out_ready: one-hot or zero
-    reg [N-1:0] take_pick;
-    reg [R-1:0] t_idle;
-    reg [5:0] nfree, best_n;
-    reg [WI-1:0] best;
-    always @* begin
-        best = {WI{1'b0}};
-        best_n = 6'd0;
-        for (w_d = 0; w_d < W; w_d = w_d + 1) begin
-            nfree = {5'd0, |retiring[w_d * R +: R]};
-            for (k_d = 0; k_d < R; k_d = k_d + 1)
-                if (!busy[w_d * R + k_d]) nfree = nfree + 6'd1;
-            if (nfree > best_n) begin
-                best_n = nfree;
-                best = w_d[WI-1:0];
-            end
-        end
-        // Per walker its lowest idle context (m & -m of its R bits), or the retiring one,
-        // kept for the best walker.
-        for (w_d = 0; w_d < W; w_d = w_d + 1) begin
-            t_idle = ~busy[w_d * R +: R];
-            take_pick[w_d * R +: R] = w_d[WI-1:0] != best ? {R{1'b0}}
-                : |t_idle ? t_idle & (~t_idle + 1'b1) : retiring[w_d * R +: R];
-        end
-    end
-    always @(posedge clk) busy <= rst ? {N{1'b0}} : (busy & ~retiring) | e_take;
-    assign in_ready = |(~busy) || |retiring;
-    assign e_take = in_valid ? take_pick : {N{1'b0}};
-
-    // Retire: finished walks leave in the order they finished. Each walker's oldest finished
-    // context (fin_head, its R x R order) carries its finish key: the finish stamp (counts the
-    // cycles in which some walk finished; the queue holds at most N walks, so their stamps
-    // span fewer than N values and compare modulo 2^FS_W), then the wake-up order of that
-    // cycle (step latency, by walker; the dispatched walk; completions by request id). The
-    // pool's pick is the oldest of the W heads (a chain of W key compares).
-    localparam FS_W = (N > 1 ? $clog2(N) : 1) + 1;
+    // Up to K finished walks retire, in finish order (svo_walker_pool_retire.v), then up to K
+    // walks are dispatched, each to the walker with the most free contexts, this cycle's
+    // retires and earlier lanes' takes counted (svo_walker_pool_dispatch.v).
+    wire [N-1:0]      busy;
+    wire [N-1:0]      retiring;                   // e_out_ready: the retire lanes' picks
+    wire [K*N-1:0]    take;                       // lane j's context: [j*N +: N]
+    wire [K*WI-1:0]   lane_w;                     // retire lane j's walker
+    wire [K-1:0]      lane_second;                // ... its second oldest (its result port 1)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire              have1;                      // (unused at K = 1)
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [N*ID_W-1:0] req_id_flat;
     wire [N-1:0] fin_ev = ev & e_out_valid;      // finished in this cycle (out_valid rises with an event)
-    reg [FS_W-1:0] fcount;
-    reg [FS_W-1:0] fstamp [0:N-1];
-    reg [1:0]      fcls   [0:N-1];
-    function automatic [1:0] ev_class(input lat, input disp);
-        ev_class = lat ? 2'd0 : disp ? 2'd1 : 2'd2;
-    endfunction
-    reg [W-1:0]    h_valid;
-    reg [FS_W-1:0] h_stamp [0:W-1];
-    reg [1:0]      h_cls   [0:W-1];
-    reg [ID_W-1:0] h_id    [0:W-1];
-    reg [RI-1:0]   h_local [0:W-1];
-    reg [FS_W-1:0] h_d;
-    reg [WI-1:0]   fin_w;
-    reg            h_have;
-    reg [N-1:0]    fin_pick;
-    /* verilator lint_off UNUSEDSIGNAL */
-    integer n_h;                                  // a context index: its low CW bits matter
-    /* verilator lint_on UNUSEDSIGNAL */
-    always @* begin
-        for (w_h = 0; w_h < W; w_h = w_h + 1) begin
-            h_valid[w_h] = |fin_head[w_h * R +: R];
-            h_stamp[w_h] = {FS_W{1'b0}};
-            h_cls[w_h] = 2'd0;
-            h_id[w_h] = {ID_W{1'b0}};
-            h_local[w_h] = {RI{1'b0}};
-            // (fin_head is one-hot: AND-OR, no priority chain)
-            for (k_h = 0; k_h < R; k_h = k_h + 1) begin
-                n_h = w_h * R + k_h;
-                h_stamp[w_h] = h_stamp[w_h]
-                    | ({FS_W{fin_head[n_h]}} & (fin_ev[n_h] ? fcount : fstamp[n_h]));
-                h_cls[w_h] = h_cls[w_h] | ({2{fin_head[n_h]}}
-                    & (fin_ev[n_h] ? ev_class(e_ev_lat[n_h], e_ev_disp[n_h]) : fcls[n_h]));
-                h_id[w_h] = h_id[w_h] | ({ID_W{fin_head[n_h]}} & req_id[n_h]);
-                h_local[w_h] = h_local[w_h] | ({RI{fin_head[n_h]}} & k_h[RI-1:0]);
-            end
+    genvar gi;
+    generate
+        for (gi = 0; gi < N; gi = gi + 1) begin : ids
+            assign req_id_flat[gi * ID_W +: ID_W] = req_id[gi];
         end
-        fin_w = {WI{1'b0}};
-        h_have = 1'b0;
-        for (w_h = 0; w_h < W; w_h = w_h + 1) begin
-            h_d = h_stamp[w_h] - h_stamp[fin_w];
-            // Walker w_h's head before the best so far (a lower walker): an earlier finish,
-            // or the same cycle and earlier in its wake-up order (two step latencies: the
-            // lower walker first).
-            if (h_valid[w_h] && (!h_have || h_d[FS_W-1]
-                    || (h_d == {FS_W{1'b0}} && (h_cls[w_h] < h_cls[fin_w]
-                        || (h_cls[w_h] == 2'd2 && h_cls[fin_w] == 2'd2
-                            && id_before(h_id[w_h], h_id[fin_w])))))) begin
-                fin_w = w_h[WI-1:0];
-                h_have = 1'b1;
-            end
+    endgenerate
+    svo_walker_pool_retire #(.WALKERS(W), .CONTEXTS(R), .K(K), .ID_W(ID_W)) u_retire (
+        .clk(clk), .rst(rst), .fin_head(fin_head), .fin_head2(fin_head2), .fin_ev(fin_ev),
+        .ev_lat(e_ev_lat), .ev_disp(e_ev_disp), .disp_lane(disp_lane), .req_id(req_id_flat),
+        .out_ready(out_ready), .have1(have1), .retiring(retiring), .lane_w(lane_w),
+        .lane_second(lane_second));
+    svo_walker_pool_dispatch #(.WALKERS(W), .CONTEXTS(R), .K(K)) u_dispatch (
+        .clk(clk), .rst(rst), .in_valid(in_valid), .in_ready(in_ready), .retiring(retiring),
+        .take(take), .busy(busy));
+    assign e_out_ready = retiring;
+    assign e_take = K > 1 ? take[0 +: N] | take[(K-1)*N +: N] : take[0 +: N];
+    // The lane a context's walk came on (the wake-up order's ev_disp: dispatch order).
+    wire [N-1:0] e_lane = K > 1 ? take[(K-1)*N +: N] : {N{1'b0}};
+    always @(posedge clk)
+        disp_lane <= rst ? {N{1'b0}} : (disp_lane & ~e_take) | e_lane;
+
+    // Retire lane j's result: its walker's result port 0 (the walker's oldest finished
+    // context), or port 1 (its second oldest: lane 1 when both lanes retire from one walker).
+    genvar gl;
+    assign out_valid[0] = |e_out_valid;
+    generate
+        if (K > 1) begin : out_lane1
+            assign out_valid[1] = have1;
         end
-        for (w_h = 0; w_h < W; w_h = w_h + 1)
-            fin_pick[w_h * R +: R] = h_have && fin_w == w_h[WI-1:0] ? fin_head[w_h * R +: R]
-                                                                      : {R{1'b0}};
-    end
-    assign e_out_ready = out_ready ? fin_pick : {N{1'b0}};
-    assign out_valid = |e_out_valid;
-    // The result of the retiring context: its walker's result port (each walker reads its
-    // context's state at the index within the walker).
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire [RI-1:0] fin_local = h_local[fin_w];   // (unused at R = 1)
-    /* verilator lint_on UNUSEDSIGNAL */
-    assign out_outcome = w_outcome[fin_w];
-    assign out_t = w_t[fin_w];
-    assign out_voxel = w_voxel[fin_w];
-    assign out_attr_data = w_attr_data[fin_w];
-    assign out_tag = w_tag[fin_w];
+        for (gl = 0; gl < K; gl = gl + 1) begin : out_lane
+            wire [WI-1:0] lw_w = lane_w[gl * WI +: WI];
+            wire          sec = lane_second[gl];
+            assign out_outcome[gl*2 +: 2] = sec ? w_outcome[lw_w][(K-1)*2 +: 2] : w_outcome[lw_w][0 +: 2];
+            assign out_t[gl*T_W +: T_W] = sec ? w_t[lw_w][(K-1)*T_W +: T_W] : w_t[lw_w][0 +: T_W];
+            assign out_voxel[gl*60 +: 60] = sec ? w_voxel[lw_w][(K-1)*60 +: 60] : w_voxel[lw_w][0 +: 60];
+            assign out_attr_data[gl*64 +: 64] = sec ? w_attr_data[lw_w][(K-1)*64 +: 64]
+                                                    : w_attr_data[lw_w][0 +: 64];
+            assign out_tag[gl*TAG_W +: TAG_W] = sec ? w_tag[lw_w][(K-1)*TAG_W +: TAG_W]
+                                                    : w_tag[lw_w][0 +: TAG_W];
+        end
+    endgenerate
 
     // Per context state (a generate loop: Verilator does not unroll large loops of delayed
     // assignments to arrays).
@@ -599,10 +563,6 @@ module svo_walker_pool #(
             always @(posedge clk) begin
                 older[gn] <= older_eff[gn];
                 req_older[gn] <= req_older_nx;
-                if (fin_ev[gn]) begin
-                    fstamp[gn] <= fcount;
-                    fcls[gn] <= ev_class(e_ev_lat[gn], e_ev_disp[gn]);
-                end
                 if (snd[GW] && send_pick[gn]) req_id[gn] <= {sstamp, s_rank[GW]};
                 // The memory's state: set when the read leaves the port, a fill ended when
                 // the memory answers it, a merged read when its context sees the answer.
@@ -626,10 +586,8 @@ module svo_walker_pool #(
     always @(posedge clk) begin
         if (rst) begin
             err_resp <= 1'b0;
-            fcount <= {FS_W{1'b0}};
             sstamp <= {SEND_STAMP_W{1'b0}};
         end else begin
-            if (|fin_ev) fcount <= fcount + 1'b1;
             if (|snd) sstamp <= sstamp + 1'b1;
             for (w = 0; w < W; w = w + 1)
                 if ((r_valid[w] && !(|e_resp_valid)) || |w_err) err_resp <= 1'b1;
@@ -646,40 +604,80 @@ module svo_walker_pool #(
     // R = 1). R > 1: svo_walker_barrel, one step datapath and the R contexts' state in RAMs.
     generate
         if (R == 1) begin : single
+            // The walks offered, one word per lane (lane 1 a copy of lane 0's at K = 1, never
+            // taken), so that a walker at R = 1 selects its lane: its registers are its context.
+            localparam LWW = 1 + 6*(T_W+1) + 3*(POS_W+1) + 3*POS_W + 3 + 3 + 32 + 32 + TAG_W;
+            wire [LWW-1:0] lw [0:1];
+            for (gl = 0; gl < 2; gl = gl + 1) begin : lane
+                localparam L = gl < K ? gl : 0;
+                assign lw[gl] = {in_enter[L], in_t0[L*3*(T_W+1) +: 3*(T_W+1)],
+                    in_t1[L*3*(T_W+1) +: 3*(T_W+1)], in_o[L*3*(POS_W+1) +: 3*(POS_W+1)],
+                    in_half[L*3*POS_W +: 3*POS_W], in_zero[L*3 +: 3], in_neg[L*3 +: 3],
+                    in_node_base[L*32 +: 32], in_attr_base[L*32 +: 32], in_tag[L*TAG_W +: TAG_W]};
+            end
             for (g = 0; g < N; g = g + 1) begin : ctx
+                // Its lane's walk (the dispatcher's take of lane 1, else lane 0).
+                wire [LWW-1:0] wd = lw[e_lane[g]];
+                wire [1:0]     r_outcome;
+                wire [T_W-1:0] r_t;
+                wire [59:0]    r_voxel;
+                wire [63:0]    r_attr_data;
+                wire [TAG_W-1:0] r_tag;
                 /* verilator lint_off PINCONNECTEMPTY */
                 svo_walker #(.POS_W(POS_W), .T_W(T_W), .STACK_DEPTH(STACK_DEPTH),
                     .MAX_STEPS(MAX_STEPS), .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAG_W)
                 ) u_walker (.clk(clk), .rst(rst), .in_valid(e_take[g]), .in_ready(e_in_ready[g]),
-                    .in_enter(in_enter), .in_t0(in_t0), .in_t1(in_t1), .in_o(in_o),
-                    .in_half(in_half), .in_zero(in_zero), .in_neg(in_neg),
-                    .in_node_base(in_node_base), .in_attr_base(in_attr_base), .in_tag(in_tag),
+                    .in_enter(wd[LWW-1]), .in_t0(wd[LWW-2 -: 3*(T_W+1)]),
+                    .in_t1(wd[LWW-2-3*(T_W+1) -: 3*(T_W+1)]),
+                    .in_o(wd[LWW-2-6*(T_W+1) -: 3*(POS_W+1)]),
+                    .in_half(wd[70+TAG_W+3*POS_W-1 -: 3*POS_W]), .in_zero(wd[70+TAG_W-1 -: 3]),
+                    .in_neg(wd[67+TAG_W-1 -: 3]), .in_node_base(wd[64+TAG_W-1 -: 32]),
+                    .in_attr_base(wd[32+TAG_W-1 -: 32]), .in_tag(wd[TAG_W-1:0]),
                     .mem_req_valid(e_req_valid[g]), .mem_req_ready(e_req_ready[g]),
                     .mem_req_attr(e_req_attr[g]), .mem_req_addr(e_req_addr[g]),
                     .mem_resp_valid(e_resp_valid[g]), .mem_resp_data(e_resp_data[g]),
                     .out_valid(e_out_valid[g]), .out_ready(e_out_ready[g]),
-                    .out_outcome(w_outcome[g]), .out_t(w_t[g]), .out_voxel(w_voxel[g]),
+                    .out_outcome(r_outcome), .out_t(r_t), .out_voxel(r_voxel),
                     .out_level(), .out_attr(), .out_entry_axis(), .out_steps(), .out_fetches(),
-                    .out_attr_data(w_attr_data[g]), .out_tag(w_tag[g]), .visit_valid(),
+                    .out_attr_data(r_attr_data), .out_tag(r_tag), .visit_valid(),
                     .visit_level(), .visit_coords(), .issue_grant(e_issue_grant[g]),
                     .issue_req(e_issue_req[g]), .ev_lat(e_ev_lat[g]), .ev_disp(e_ev_disp[g]),
                     .ev_resp(e_ev_resp[g]));
                 /* verilator lint_on PINCONNECTEMPTY */
+                // One context: a walker's second oldest never exists (port 1 is port 0).
+                assign w_outcome[g] = {K{r_outcome}};
+                assign w_t[g] = {K{r_t}};
+                assign w_voxel[g] = {K{r_voxel}};
+                assign w_attr_data[g] = {K{r_attr_data}};
+                assign w_tag[g] = {K{r_tag}};
                 assign w_err[g] = 1'b0;
             end
         end else begin : barrel
             for (g = 0; g < W; g = g + 1) begin : walker
                 wire [R*32-1:0] req_addr;
                 reg  [R*64-1:0] w_resp_data;
+                wire [K*R-1:0]  w_take;           // lane j's take: [j*R +: R]
+                reg  [K*RI-1:0] w_fin;            // result port j's context (its local index)
                 integer q;
                 always @* for (q = 0; q < R; q = q + 1) w_resp_data[q*64 +: 64] = e_resp_data[g*R + q];
+                // The walker's oldest and second oldest finished contexts (one-hot: OR-encoded).
+                always @* begin
+                    w_fin = {K*RI{1'b0}};
+                    for (q = 0; q < R; q = q + 1) begin
+                        if (fin_head[g*R + q]) w_fin[0 +: RI] = w_fin[0 +: RI] | q[RI-1:0];
+                        if (fin_head2[g*R + q]) w_fin[(K-1)*RI +: RI] = w_fin[(K-1)*RI +: RI] | q[RI-1:0];
+                    end
+                end
                 for (gr = 0; gr < R; gr = gr + 1) begin : ctx
                     assign e_req_addr[g*R + gr] = req_addr[gr*32 +: 32];
                 end
+                for (gr = 0; gr < K; gr = gr + 1) begin : lane
+                    assign w_take[gr*R +: R] = take[gr*N + g*R +: R];
+                end
                 svo_walker_barrel #(.POS_W(POS_W), .T_W(T_W), .STACK_DEPTH(STACK_DEPTH),
                     .MAX_STEPS(MAX_STEPS), .STEP_LATENCY(STEP_LATENCY), .TAG_W(TAG_W),
-                    .CONTEXTS(R), .RI(RI)
-                ) u_walker (.clk(clk), .rst(rst), .in_take(e_take[g*R +: R]),
+                    .CONTEXTS(R), .RI(RI), .K(K)
+                ) u_walker (.clk(clk), .rst(rst), .in_take(w_take),
                     .in_ready(e_in_ready[g*R +: R]), .in_enter(in_enter), .in_t0(in_t0),
                     .in_t1(in_t1), .in_o(in_o), .in_half(in_half), .in_zero(in_zero),
                     .in_neg(in_neg), .in_node_base(in_node_base), .in_attr_base(in_attr_base),
@@ -690,7 +688,7 @@ module svo_walker_pool #(
                     .out_ready(e_out_ready[g*R +: R]), .issue_grant(e_issue_grant[g*R +: R]),
                     .issue_req(e_issue_req[g*R +: R]), .ev_lat(e_ev_lat[g*R +: R]),
                     .ev_disp(e_ev_disp[g*R +: R]), .ev_resp(e_ev_resp[g*R +: R]),
-                    .fin(fin_local), .out_outcome(w_outcome[g]), .out_t(w_t[g]),
+                    .fin(w_fin), .out_outcome(w_outcome[g]), .out_t(w_t[g]),
                     .out_voxel(w_voxel[g]), .out_attr_data(w_attr_data[g]), .out_tag(w_tag[g]),
                     .err_resp(w_err[g]));
             end

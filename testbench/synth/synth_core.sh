@@ -111,8 +111,8 @@ params=(
 )
 files=(svo_delay svo_fifo svo_elastic svo_elastic2 svo_f64_to_fixed svo_sqrt svo_raygen
     svo_sphere svo_sorter svo_front svo_transform svo_reciprocal svo_walker_root svo_walker
-    svo_walker_barrel svo_walker_pool svo_normal svo_hit_pack svo_hit_check svo_hit_buffer
-    svo_walk svo_core)
+    svo_walker_barrel svo_walker_pool_dispatch svo_walker_pool_retire svo_walker_pool svo_normal
+    svo_hit_pack svo_hit_check svo_hit_buffer svo_walk svo_core)
 ys="$logs/$top.ys"
 {
     printf 'read_verilog -defer'
