@@ -34,8 +34,9 @@ mod tests {
                 walker_root: 8
             }
         );
-        // `sim hardware` prints 569 DSP48E2 for the default (two walk-issue lanes, the normal unit 9).
-        assert_eq!(c.dsp48e2, 569);
+        // `sim hardware` prints 577 DSP48E2 for the default (two walk-issue lanes, the normal
+        // unit 9, svo_front's candidate gathering 8).
+        assert_eq!(c.dsp48e2, 577);
         assert_eq!(c.dsp48e2, hw.resources(&dp).unwrap().used.dsp48e2);
         assert_eq!(c.multipliers.transform, "32x41");
         // (±e − o) is sQ8.32 + 1 bit = 41 bits, 1/|d| sQ22.30 = 52.
