@@ -53,11 +53,12 @@ mod tests {
         // Sphere lane: l·d 3 × 2, l·l 3 × 2, t_ca² 1 × 4 = 16, × 8 lanes = 128. Transform:
         // 9 × 2 (R·(o − c)) + 9 × 4 (R·d) = 54 a unit. Reciprocal 12 a unit (unchanged).
         // Walker root: 6 × 3 (24 × 51: 1 × 3 tiles) = 18 a unit. The default's two walk-issue
-        // lanes: 128 + 2 × 54 + 6 × 12 + 2 × 18 = 344, and the normal unit's 9.
+        // lanes: 128 + 2 × 54 + 6 × 12 + 2 × 18 = 344, the normal unit's 9 and svo_front's
+        // candidate gathering's 8 (one per lane, whatever the formats).
         let mut dp = DatapathConfig::default();
         crate::studies::sweep::configs::set_pos_frac(&mut dp, 16);
         let c = cost(&dp, &HwConfig::for_datapath(&dp)).unwrap();
-        assert_eq!(c.dsp48e2, 128 + 2 * 54 + 6 * 12 + 2 * 18 + 9);
+        assert_eq!(c.dsp48e2, 128 + 2 * 54 + 6 * 12 + 2 * 18 + 9 + 8);
         assert_eq!(c.multipliers.walker_root, "25x52");
     }
 }
