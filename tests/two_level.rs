@@ -294,8 +294,25 @@ fn cycle_model_with_lists_matches_flat_and_elaboration_says_why() {
     let lists =
         rtl_model::units::tile_list::bram36_count(&tl, e.hardware.sphere_units, f.width, f.height);
     assert!(lists >= 2 * 116, "{lists} BRAM36 for the lists");
+    // And the block-RAM candidate FIFO's growth with the wider instance ids
+    // (check_to_transform carries 2 × sorter lanes of them, `cost::structures`): the
+    // elaborated estimate's less the same hardware's with 8-bit ids, 1 BRAM36 here.
+    let fifo_bram = |dp: &rtl_model::datapath::DatapathConfig| {
+        e.hardware
+            .resources(dp)
+            .unwrap()
+            .items
+            .iter()
+            .filter(|i| i.name == "fifo.check_to_transform")
+            .map(|i| i.used.bram36)
+            .sum::<u64>()
+    };
+    let mut eight = e.datapath.clone();
+    eight.hit_record.instance_bits = 8;
+    let fifo = fifo_bram(&e.datapath) - fifo_bram(&eight);
+    assert_eq!(fifo, 1);
     assert_eq!(
-        e.full.bram36 - e.total_saved().bram36 + lists,
+        e.full.bram36 - e.total_saved().bram36 + lists + fifo,
         e.elaborated.bram36,
         "{:?} {:?}",
         e.full,

@@ -50,11 +50,12 @@ fn pins() -> Vec<Pin> {
     // record_to_write: 8 × (72 + 12) = 84 bits: RAM32M16 8 × ⌈84 / 14⌉ = 48 LUTs; pointers
     // 3 × (⌈log₂ 8⌉ + 1) = 12 LUTs and FFs; no output register (LUT-RAM is read as addressed).
     let record = ("fifo.record_to_write", 1, 48 + 12, 12);
-    // loop_back: 72 entries (the ray slots) of a ray 12 + 3·32 + 3·40 = 228 and 16 lanes of
-    // (32 + 8): 868 bits. Deeper than 64 entries, so in block RAM (its blocks are pinned in
-    // `deep_fifos_are_block_ram_and_shallow_ones_lut_ram`): the output register with a LUT per
-    // bit selecting its next value, 868; pointers 3 × (⌈log₂ 72⌉ + 1) = 24.
-    let loop_back = ("fifo.loop_back", 1, 868 + 24, 868 + 24);
+    // check_to_transform: 1,024 entries of a ray 12 + 3·32 = 108 bits (its pixel and
+    // direction) and its candidate list, 2 × 16 = 32 candidates of (32 + 8) bits and a count
+    // of ⌈log₂ 33⌉ = 6 bits: 1,394 bits. Deeper than 64 entries, so in block RAM (its blocks
+    // are pinned in `deep_fifos_are_block_ram_and_shallow_ones_lut_ram`): the output register
+    // with a LUT per bit selecting its next value, 1,394; pointers 3 × (⌈log₂ 1024⌉ + 1) = 33.
+    let check = ("fifo.check_to_transform", 1, 1394 + 33, 1394 + 33);
     // MSHR CAM: line address 34 − 6 = 28 bits; 16 × (1 + 28 + 7) FFs; compare(28) = 10 pairs
     // + ⌈10 / 6⌉ = 12 LUTs, for 2 ports × 16 entries, + 16 for the free-entry pick.
     let mshr = ("mshr_cam", 1, 2 * 16 * 12 + 16, 16 * 36);
@@ -62,7 +63,7 @@ fn pins() -> Vec<Pin> {
     // 20: compare 7 pairs + 2 = 9 LUTs per way); way select 64 × ⌈1 / 3⌉; LRU 2 × 1 bits per
     // set in RAM64M8 8 × ⌈2 / 7⌉ × ⌈512 / 64⌉ = 64, + 2 update LUTs. FFs 4 × (34 + 64) + 2 × 20.
     let cache = ("cache_control", 2, 2 * 9 + 64 + 64 + 2, 4 * 98 + 2 * 20);
-    vec![contexts, record, loop_back, mshr, cache]
+    vec![contexts, record, check, mshr, cache]
 }
 
 /// Whether `items` hold the pin: the item is there with its instances, LUTs and FFs.
@@ -98,8 +99,10 @@ fn each_structure_matches_its_hand_computed_formula() {
         .copied()
         .filter(|n| n.starts_with("fifo."))
         .collect();
-    assert_eq!(fifos.len(), 10, "{names:?}");
-    assert_eq!(fifos[4], "fifo.loop_back");
+    assert_eq!(fifos.len(), 9, "{names:?}");
+    assert_eq!(fifos[3], "fifo.check_to_transform");
+    // The loop-back is the ray-slot table (`cost::core_logic`), not a FIFO of rays.
+    assert!(names.contains(&"ray_slots") && !names.contains(&"fifo.loop_back"));
 }
 
 #[test]
@@ -113,7 +116,7 @@ fn each_pin_fails_when_its_configuration_is_corrupted() {
             hw.walker_pool.contexts_per_walker = 40
         }),
         ("fifo.record_to_write", |hw| hw.fifos.record_to_write = 40),
-        ("fifo.loop_back", |hw| hw.sorter_lanes = 9),
+        ("fifo.check_to_transform", |hw| hw.sorter_lanes = 9),
         ("mshr_cam", |hw| hw.node_memory.dram.mshrs = 17),
         ("cache_control", |hw| hw.node_memory.cache.ways = 4),
     ];
@@ -187,19 +190,19 @@ fn deep_fifos_are_block_ram_and_shallow_ones_lut_ram() {
             .find(|it| it.name == name)
             .map(|it| it.used.bram36)
     };
-    // loop_back, 72 × 868 bits: twelve blocks of 512 × 72 hold 864 bits, a thirteenth the
-    // last 4 bits.
-    assert_eq!(bram("fifo.loop_back"), Some(13));
-    // check_to_transform, 1,024 × 868: 24 blocks of 1,024 × 36 hold 864 bits, one more 4.
-    assert_eq!(bram("fifo.check_to_transform"), Some(25));
+    // check_to_transform, 1,024 × 1,394: 38 blocks of 1,024 × 36 hold 1,368 bits, one more
+    // the last 26.
+    assert_eq!(bram("fifo.check_to_transform"), Some(39));
     // root_to_dispatch, 64 entries: LUT-RAM, no resource line of its own.
     assert_eq!(bram("fifo.root_to_dispatch"), None);
-    // Shown failing: at 64 slots the loop-back FIFO is LUT-RAM and has no block.
+    // Shown failing: at 64 entries check_to_transform is LUT-RAM and has no block.
     let mut shallow = hand();
-    shallow.fifos.root_to_dispatch = 56;
+    shallow.fifos.check_to_transform = 64;
     let res = shallow.resources(&dp).unwrap();
     assert!(
-        res.items.iter().all(|it| it.name != "fifo.loop_back"),
-        "a 64-entry loop-back FIFO must be LUT-RAM"
+        res.items
+            .iter()
+            .all(|it| it.name != "fifo.check_to_transform"),
+        "a 64-entry check_to_transform FIFO must be LUT-RAM"
     );
 }

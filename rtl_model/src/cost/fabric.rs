@@ -55,6 +55,16 @@ pub mod calibration {
     pub const SORTER_16: (u64, u64) = (31665, 13134);
     /// The network width `SORTER_16` was synthesised at.
     pub const SORTER_16_LANES: u8 = 16;
+    /// `svo_sorter` at N = 8 with MAX_KEYS = 16 = 2N, as svo_top builds it (`SO_MAX_KEYS` =
+    /// `KEYN` = 2 × sorter lanes): 8839 LUT + 93 SRL, 3905 FF (Yosys 0.23 `synth_xilinx
+    /// -family xcup -flatten` of svo_sorter.v with `chparam -set MAX_KEYS 16`, 39 s CPU;
+    /// docs/cycle-model.md §1.5, "The whole svo_core"). 0.66× the LUTs and FFs of `SORTER`:
+    /// the run buffers and their read multiplexers are half as deep.
+    pub const SORTER_2N: (u64, u64) = (8932, 3905);
+    /// `svo_sorter` at N = 16 with MAX_KEYS = 32 = 2N, as svo_top builds it: the whole core's
+    /// `synth_core.sh --per-module testbench/hw/frame_hw_pkg.sv`, svo_sorter alone: 19546 CLB
+    /// LUT (258 SRL), 9178 FF (0.62× and 0.70× of `SORTER_16`).
+    pub const SORTER_16_2N: (u64, u64) = (19546, 9178);
     /// `svo_normal` (8-bit codes, an 18-bit divisor: 9 DSP48E2 products, the sums, the
     /// normalising shift and two 7-step restoring dividers, 13 stages each within 300 MHz by
     /// the clock rule): 1543 LUT (SRL included), 1508 FF.
@@ -174,7 +184,7 @@ fn formula(name: &str) -> &'static str {
         "walker_root" => "W = 6(pos+2+inv) + 6(t+1) + 3 pos",
         "walker" => "W = 9(t+1) + 3(pos+1); per walker as the one-context RTL walker",
         "raygen" => "W = 3(64+dir) + 3(64+pos)",
-        "sorter" => "W = comparators × compare bits (LUT), network register bits (FF), from the synthesis at N = 8 or 16",
+        "sorter" => "W = comparators × compare bits (LUT), network register bits (FF), from the synthesis at N = 8 or 16 with MAX_KEYS = 2N as svo_top builds it",
         "hit_pack" | "hit_check" => "W = record word bits",
         "normal" => "W = 2(n−1)(div+n+1) + 6·37; n normal bits, div = 18",
         _ => "",
@@ -190,6 +200,35 @@ fn sorter_calibration(lanes: u8) -> ((u64, u64), u8) {
     } else {
         (calibration::SORTER, calibration::SORTER_LANES)
     }
+}
+
+/// The sorter as svo_top builds it, with `MAX_KEYS` = 2N keys (its `KEYN`): the 2N
+/// synthesis of the nearer width ([`calibration::SORTER_2N`], [`calibration::SORTER_16_2N`]),
+/// scaled between and beyond by the network's comparator and register bits as
+/// [`unit_fabric`] scales the unit's. [`unit_fabric`]`("sorter")` stays the unit at its RTL
+/// default (MAX_KEYS = 4N), the width `sim hardware --synth` synthesises it at.
+pub fn sorter_as_built(dp: &DatapathConfig) -> Fabric {
+    let (cal, n) = if dp.sorter.n >= 12 {
+        (calibration::SORTER_16_2N, calibration::SORTER_16_LANES)
+    } else {
+        (calibration::SORTER_2N, calibration::SORTER_LANES)
+    };
+    let mut reference = DatapathConfig::default();
+    reference.sorter.n = n;
+    match (widths("sorter", dp), widths("sorter", &reference)) {
+        (Some((wl, wf)), Some((wl0, wf0))) => Fabric {
+            lut: scale(cal.0, wl, wl0),
+            ff: scale(cal.1, wf, wf0),
+        },
+        _ => Fabric::default(),
+    }
+}
+
+/// `c · w / w0`, rounded to nearest (0 for w0 = 0).
+fn scale(c: u64, w: u64, w0: u64) -> u64 {
+    (u128::from(c) * u128::from(w) + u128::from(w0) / 2)
+        .checked_div(u128::from(w0))
+        .map_or(0, |v| u64::try_from(v).unwrap_or(u64::MAX))
 }
 
 /// One instance of a unit with RTL (`sqrt`, `sphere` without its square root, `sorter`,
@@ -216,11 +255,6 @@ pub fn unit_fabric(name: &str, dp: &DatapathConfig) -> Option<Fabric> {
     let mut reference = DatapathConfig::default();
     reference.sorter.n = sorter_calibration(dp.sorter.n).1;
     let (wl0, wf0) = widths(name, &reference)?;
-    let scale = |c: u64, w: u64, w0: u64| {
-        (u128::from(c) * u128::from(w) + u128::from(w0) / 2)
-            .checked_div(u128::from(w0))
-            .map_or(0, |v| u64::try_from(v).unwrap_or(u64::MAX))
-    };
     Some(Fabric {
         lut: scale(cal.0, wl, wl0),
         ff: scale(cal.1, wf, wf0),
@@ -302,39 +336,46 @@ impl HwConfig {
 
     /// LUTs and flip-flops per unit of this configuration with datapath `dp` (the model of
     /// this module), with the part's LUTs; an error when either configuration is invalid.
-    /// Counted, calibrated on synthesis: sphere lanes, their square roots, the sorter,
-    /// transform, reciprocal and walker-root units, each walker as the RTL walker (its step
-    /// logic and one context), and the hit-buffer check and pack; then, by the first-order
+    /// Counted, calibrated on synthesis: sphere lanes, their square roots, the sorter (as
+    /// svo_top builds it, [`sorter_as_built`]), transform, reciprocal and walker-root units,
+    /// each walker as the RTL walker (its step logic and one context), and the hit-buffer
+    /// check and pack; the logic svo_core builds around them, calibrated on the whole core's
+    /// synthesis (`cost::core_logic`: svo_front's candidate gathering, the ray-slot table,
+    /// the units' elastic pipes, the hit buffer's check pipe); then, by the first-order
     /// formulas of `cost::structures` (uncalibrated): the walkers' other contexts, every FIFO
-    /// between stages (the loop-back FIFO included), the MSHR CAM and the cache control.
+    /// between stages, the MSHR CAM and the cache control.
     /// Not counted: ray generation (the host writes the direction table; `svo_raygen`
     /// is priced by [`HwConfig::unit_estimate`] only, for a design that fills it on chip),
     /// the walkers' path to the memory ports, the memory controller and host interface.
     pub fn fabric(&self, dp: &DatapathConfig) -> Result<Vec<FabricItem>, String> {
         self.validate()?;
         dp.validate().map_err(|m| format!("datapath: {m}"))?;
-        let mut items = Vec::new();
-        let mut push = |name: &'static str, n: u32| {
-            if let Some(per) = unit_fabric(name, dp) {
-                items.push(FabricItem {
-                    name,
-                    instances: u64::from(n),
-                    per_instance: per,
-                    calibrated: true,
-                    formula: formula(name).to_string(),
-                });
-            }
+        let unit = |name: &'static str, n: u32, per: Option<Fabric>| {
+            per.map(|per| FabricItem {
+                name,
+                instances: u64::from(n),
+                per_instance: per,
+                calibrated: true,
+                formula: formula(name).to_string(),
+            })
         };
-        push("sphere", self.sphere_units);
-        push("sqrt", self.sphere_units);
-        push("sorter", 1);
-        push("transform", self.transform_units);
-        push("reciprocal", self.reciprocal_units);
-        push("walker_root", self.walker_root_units);
-        push("walker", self.walker_pool.walkers);
-        push("hit_check", 1);
-        push("normal", 1);
-        push("hit_pack", 1);
+        let at = |name: &'static str, n: u32| unit(name, n, unit_fabric(name, dp));
+        let mut items: Vec<FabricItem> = [
+            at("sphere", self.sphere_units),
+            at("sqrt", self.sphere_units),
+            unit("sorter", 1, Some(sorter_as_built(dp))),
+            at("transform", self.transform_units),
+            at("reciprocal", self.reciprocal_units),
+            at("walker_root", self.walker_root_units),
+            at("walker", self.walker_pool.walkers),
+            at("hit_check", 1),
+            at("normal", 1),
+            at("hit_pack", 1),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        items.extend(super::core_logic::core_logic_items(self, dp));
         items.extend(super::structures::structure_items(self, dp));
         Ok(items)
     }
@@ -365,5 +406,15 @@ mod tests {
         assert_eq!(at(16), calibration::SORTER_16);
         // Between and beyond, scaled from the nearer one: monotonic in the width.
         assert!(at(4) < at(8) && at(8) < at(12) && at(12) < at(16) && at(16) < at(32));
+        // As svo_top builds it (MAX_KEYS = 2N): its own synthesis at both widths.
+        let built = |n: u8| {
+            let mut d = dp.clone();
+            d.sorter.n = n;
+            let f = sorter_as_built(&d);
+            (f.lut, f.ff)
+        };
+        assert_eq!(built(8), calibration::SORTER_2N);
+        assert_eq!(built(16), calibration::SORTER_16_2N);
+        assert!(built(16) < at(16) && built(8) < at(8));
     }
 }

@@ -15,8 +15,11 @@
 //!   the [`ResourceReport`] of `HwConfig::resources` (`crate::resources` holds its
 //!   types, below the units, which price their own memories with them);
 //! - [`fabric`] estimates LUTs and flip-flops per unit, calibrated on the Yosys synthesis
-//!   of the RTL, and [`structures`] the contexts, FIFOs, MSHR CAM and cache control by
-//!   formula; [`timing`] is the clock rule applied to the logic levels of that synthesis;
+//!   of the RTL, [`core_logic`] the logic svo_core builds around the units (candidate
+//!   gathering, ray slots, elastic pipes, the hit buffer's check pipe), calibrated on the
+//!   whole core's synthesis, and [`structures`] the contexts, FIFOs, MSHR CAM and cache
+//!   control by formula; [`timing`] is the clock rule applied to the logic levels of that
+//!   synthesis;
 //! - [`pricing`] is what `sim sweep` prices per configuration;
 //! - [`bounds`] names the error bounds that add up several units' terms (the direction error
 //!   of a walk).
@@ -24,6 +27,7 @@
 //! The hardware configuration's schema and validation stay in `cycle::hw_config`.
 
 pub mod bounds;
+pub mod core_logic;
 pub mod estimate;
 pub mod fabric;
 pub mod pricing;

@@ -61,13 +61,37 @@ pub fn mux_luts_per_bit(n: u64) -> u64 {
 }
 
 /// Bits of a ray-slot tag: which in-flight ray a walk, a read or a result belongs to.
-fn slot_bits(hw: &HwConfig) -> u64 {
+pub fn slot_bits(hw: &HwConfig) -> u64 {
     clog2(u64::from(hw.ray_slots()))
 }
 
 /// Bits of a pixel index in the hardware frame.
-fn pixel_bits(hw: &HwConfig) -> u64 {
+pub fn pixel_bits(hw: &HwConfig) -> u64 {
     clog2(hw.frame.pixels())
+}
+
+/// Candidates a ray carries from the sphere lanes to the record stage: svo_top's `KEYN` =
+/// 2 × sorter lanes (the sorter's `MAX_KEYS`), the width of every key list in the RTL.
+pub fn candidate_keys(hw: &HwConfig) -> u64 {
+    2 * u64::from(hw.sorter_lanes)
+}
+
+/// Bits of one candidate: its key (t_enter) and instance.
+pub fn candidate_bits(dp: &DatapathConfig) -> u64 {
+    u64::from(dp.sorter.key.width) + u64::from(dp.hit_record.instance_bits)
+}
+
+/// Bits of a ray as the RTL's FIFOs carry it: its pixel and direction (the origin is the
+/// camera's, one register for the frame, not carried per ray).
+pub fn ray_bits(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
+    pixel_bits(hw) + 3 * u64::from(dp.raygen.dir.width)
+}
+
+/// Bits of a ray's candidate list as the RTL carries it (svo_walk's `RAY` less the ray): a
+/// count of 0..=[`candidate_keys`] and that many candidates ([`candidate_bits`]).
+pub fn candidate_list_bits(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
+    let k = candidate_keys(hw);
+    clog2(k + 1) + k * candidate_bits(dp)
 }
 
 /// Bits of one walker context: what `testbench/rtl/svo_walker.v` keeps for its one walk
@@ -116,16 +140,17 @@ fn walker_contexts(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
 }
 
 /// Bits of one entry of each FIFO of the model, in pipeline order, with its depth. A ray is
-/// its pixel, direction and origin as ray generation writes them; its candidates are the
-/// sorter's lanes of (key, instance); a walk carries its ray-slot tag and the operands of
-/// the next unit (the transform's outputs, the reciprocals, the walker's inputs); a result is
-/// the walker's outputs without its counters; a record is the hit word and its pixel.
+/// its pixel and direction ([`ray_bits`]); from the sphere lanes on it carries its candidate
+/// list ([`candidate_list_bits`]: `KEYN` candidates as svo_walk's `RAY` entry, 1,414 bits in
+/// the RTL at 16 sorter lanes); a walk carries its ray-slot tag and the operands of the next
+/// unit (the transform's outputs, the reciprocals, the walker's inputs); a result is the
+/// walker's outputs without its counters; a record is the hit word and its pixel. The
+/// loop-back is not here: it is the ray-slot table (`cost::core_logic`).
 pub fn fifo_entries(hw: &HwConfig, dp: &DatapathConfig) -> Vec<(&'static str, u64, u64)> {
     let w = |f: crate::fixed::Format| u64::from(f.width);
     let (p, s) = (pixel_bits(hw), slot_bits(hw));
-    let ray = p + 3 * w(dp.raygen.dir) + 3 * w(dp.raygen.pos);
-    let lanes = u64::from(hw.sorter_lanes);
-    let candidates = lanes * (w(dp.sorter.key) + u64::from(dp.hit_record.instance_bits));
+    let ray = ray_bits(hw, dp);
+    let candidates = candidate_list_bits(hw, dp);
     let inst = u64::from(dp.hit_record.instance_bits);
     let t = &dp.transform;
     let k = &dp.walker;
@@ -151,11 +176,6 @@ pub fn fifo_entries(hw: &HwConfig, dp: &DatapathConfig) -> Vec<(&'static str, u6
         (
             "fifo.check_to_transform",
             d(f.check_to_transform),
-            ray + candidates,
-        ),
-        (
-            "fifo.loop_back",
-            u64::from(hw.ray_slots()),
             ray + candidates,
         ),
         (

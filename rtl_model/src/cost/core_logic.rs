@@ -1,0 +1,301 @@
+//! The logic svo_core's RTL builds around its units, calibrated on the whole core's synthesis
+//! (issue 29): svo_front's candidate gathering, svo_walk's ray-slot table with the record
+//! decision and slot allocation around it, the fixed-latency units' elastic pipes, and the
+//! hit buffer's check pipe and write FIFOs.
+//!
+//! Pipeline position: the middle part of
+//! [`HwConfig::fabric`](crate::cycle::hw_config::HwConfig::fabric), after the units of
+//! `cost::fabric` and before the uncalibrated structures of `cost::structures`; read once per
+//! configuration by `sim hardware` and `sim explore`. The front's DSP48E2 are in the resource
+//! estimate (`cost::estimate`, [`front_gather_dsp48e2`]).
+//!
+//! Each item is a measured figure of Yosys 0.23 `synth_xilinx -family xcup` of svo_core on
+//! `testbench/hw/frame_hw_pkg.sv` (docs/cycle-model.md §1.5, "The whole svo_core"; the
+//! figures are in testbench/synth/svo_core_frame_hw.tsv) scaled by a structural measure of
+//! what the RTL builds: `figure · M(hw, dp) / M(frame_hw)`. Each has one measured point, so
+//! the estimate equals the synthesis at frame_hw by construction and elsewhere follows its
+//! measure; that scaling is an argument from the RTL's structure, not a measurement.
+
+use super::fabric::{Fabric, FabricItem};
+use super::structures::{
+    candidate_bits, candidate_keys, candidate_list_bits, clog2, lutram_luts, pixel_bits, ray_bits,
+    slot_bits,
+};
+use crate::cycle::hw_config::HwConfig;
+use crate::datapath::DatapathConfig;
+
+/// The measured figures (CLB LUT = LUT1–6 + SRL + LUTs used as LUT-RAM; FF) and the measures
+/// of frame_hw (1 walker × 1 context, 8 sphere lanes, 16 sorter lanes: 32 candidates of 40
+/// bits, 65 ray slots, a 1280 × 768 frame: 20-bit pixels) they are taken at.
+pub mod calibration {
+    /// svo_front's own logic, synthesised alone (`synth_core.sh --per-module`): 35,906 CLB
+    /// LUT, 1,432 FF. Nearly all of it is the candidate gathering `sp_keys[sp_n * 40 +: 40]`
+    /// for each lane in turn (svo_front.v): a multiplexer per key bit over every lane that can
+    /// land there; its registers are the accumulated key list (1,280 bits) and the pass state.
+    pub const FRONT_GATHER: (u64, u64) = (35_906, 1_432);
+    /// Its measures at frame_hw: lanes × keys × candidate bits (LUT) = 8 × 32 × 40; keys ×
+    /// candidate bits (FF) = 32 × 40.
+    pub const FRONT_GATHER_AT: (u64, u64) = (8 * 32 * 40, 32 * 40);
+    /// svo_walk's own LUT-RAM, synthesised alone: 8,024 LUTs (the flat netlist's 7,728), the
+    /// ray-slot tables read asynchronously (`s_keys` and t, origin, direction, attribute,
+    /// voxel), at 65 slots: 2.08 × one LUT-RAM copy of them ([`super::lutram_luts`] of 65 ×
+    /// 1,682 bits = 3,856), the copies per read port Yosys makes.
+    pub const SLOT_RAM_LUTS: u64 = 8_024;
+    /// svo_walk's own logic besides the LUT-RAM, alone: 15,422 − 8,024 = 7,398 CLB LUT (the
+    /// record decision, the tables' read multiplexers, the lowest-free-slot chain), 1,594 FF.
+    pub const SLOT_LOGIC: (u64, u64) = (15_422 - 8_024, 1_594);
+    /// The slot table's bits per slot at frame_hw (32 × 40 keys + t 62 + origin 3 × 40 +
+    /// direction 3 × 32 + attribute 64 + voxel 60) and its slots.
+    pub const SLOT_BITS_AT: u64 = 1_682;
+    /// Ray slots at frame_hw (1 × 1 + root_to_dispatch 64).
+    pub const SLOTS_AT: u64 = 65;
+    /// The units' elastic pipes and tag FIFOs (the flat netlist's `*_pipe`, `*_tags` rows):
+    /// 4,912 CLB LUT (most of them LUT-RAM: the sphere's 48-deep pipe of a ray and its
+    /// candidates alone 1,802), 185 FF.
+    pub const ELASTIC: (u64, u64) = (4_912, 185);
+    /// Their measure at frame_hw: Σ latency × width over the pipes ([`elastic_measure`]).
+    pub const ELASTIC_AT: u64 = 97_292;
+    /// The hit buffer's check pipe (the ray and its candidates beside the read, 1,494 SRL),
+    /// write FIFOs and bank selection, flat: 3,426 CLB LUT, 937 FF, less what the estimate
+    /// prices there already (hit_check 12 + record_to_write 68 + record_write_path 240 LUT;
+    /// 145 + 12 + 92 FF).
+    pub const HIT_CHECK_PIPE: (u64, u64) = (3_426 - 320, 937 - 249);
+    /// Its measure at frame_hw: the check pipe's entry, pixel 20 + 2 flags + word 72 +
+    /// direction 96 + count 6 + 32 × 40 candidates.
+    pub const HIT_CHECK_PIPE_AT: u64 = 1_476;
+}
+
+/// `c · m / m0`, rounded to nearest (0 for m0 = 0).
+fn scale(c: u64, m: u64, m0: u64) -> u64 {
+    (u128::from(c) * u128::from(m) + u128::from(m0) / 2)
+        .checked_div(u128::from(m0))
+        .map_or(0, |v| u64::try_from(v).unwrap_or(u64::MAX))
+}
+
+/// DSP48E2 of svo_front's candidate gathering as the RTL is written: one per sphere lane,
+/// Yosys's map of the lane's index product `sp_n * 40` (8 at frame_hw, their cells carry
+/// `svo_front.v:219`). A decoder per key slot, as svo_walk's select, would need none.
+pub fn front_gather_dsp48e2(hw: &HwConfig) -> u64 {
+    u64::from(hw.sphere_units)
+}
+
+/// svo_front's candidate gathering: each of the `lanes` sphere lanes' hits may land on any
+/// of the ray's `KEYN` key slots, so each key bit is a multiplexer over the lanes (LUT ∝
+/// lanes × keys × candidate bits); its registers hold the key list (FF ∝ keys × bits).
+fn front_gather(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
+    let (lanes, k, b) = (
+        u64::from(hw.sphere_units),
+        candidate_keys(hw),
+        candidate_bits(dp),
+    );
+    let (c, at) = (calibration::FRONT_GATHER, calibration::FRONT_GATHER_AT);
+    FabricItem {
+        name: "front_gather",
+        instances: 1,
+        per_instance: Fabric {
+            lut: scale(c.0, lanes * k * b, at.0),
+            ff: scale(c.1, k * b, at.1),
+        },
+        calibrated: true,
+        formula: format!(
+            "{} LUT · ({lanes} lanes × {k} keys × {b} bits) / (8 × 32 × 40); {} FF · ({k} × {b}) / (32 × 40); one DSP48E2 per lane",
+            c.0, c.1
+        ),
+    }
+}
+
+/// Bits of one ray slot's LUT-RAM tables: the candidate keys, the best t, the origin and
+/// direction in the instance's frame, the best hit's attribute word and voxel.
+pub fn slot_table_bits(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
+    let w = |f: crate::fixed::Format| u64::from(f.width);
+    candidate_keys(hw) * candidate_bits(dp)
+        + w(dp.walker.t)
+        + 3 * w(dp.walker.pos)
+        + 3 * w(dp.transform.local_dir)
+        + 64
+        + 60
+}
+
+/// svo_walk's ray slots (`HwConfig::ray_slots`): the slot tables in LUT-RAM (read
+/// asynchronously, so LUT-RAM at any depth; LUTs as [`lutram_luts`] of slots × bits, 64
+/// slots a block), the logic around them (the tables' read multiplexers, the record decision
+/// and the lowest-free-slot chain: LUT ∝ slots × bits, FF ∝ slots), and the loop-back FIFO,
+/// which in the RTL carries slot tags only (slots × tag bits in LUT-RAM and its pointers).
+fn ray_slots(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
+    let slots = u64::from(hw.ray_slots());
+    let bits = slot_table_bits(hw, dp);
+    let (at_s, at_b) = (calibration::SLOTS_AT, calibration::SLOT_BITS_AT);
+    let ram = scale(
+        calibration::SLOT_RAM_LUTS,
+        lutram_luts(slots, bits),
+        lutram_luts(at_s, at_b),
+    );
+    let (lc, fc) = calibration::SLOT_LOGIC;
+    let logic = scale(lc, slots * bits, at_s * at_b);
+    let tag = slot_bits(hw);
+    let ptr = clog2(slots) + 1;
+    FabricItem {
+        name: "ray_slots",
+        instances: 1,
+        per_instance: Fabric {
+            lut: ram + logic + lutram_luts(slots, tag) + 3 * ptr,
+            ff: scale(fc, slots, at_s) + 3 * ptr,
+        },
+        calibrated: true,
+        formula: format!(
+            "{slots} slots × {bits} bits: LUT-RAM {} · lutram / lutram(65 × 1682) + {lc} · (slots × bits) / (65 × 1682) LUT, {fc} · slots / 65 FF; loop-back {slots} × {tag}-bit tags",
+            calibration::SLOT_RAM_LUTS
+        ),
+    }
+}
+
+/// The measure of the units' elastic pipes: Σ latency × width, each fixed-latency unit's
+/// `svo_elastic` queue (capacity = its latency) of what leaves it, and its tag FIFO (one
+/// more than the latency) of what waits beside it. Front (once): raygen (the ray), the sphere lanes with their
+/// square roots (the ray and its candidate list; the tags: pass count and ray), the sorter
+/// (ray and list; the tags: the ray). Per walk-issue lane (`transform_units`): transform and
+/// reciprocal (pipe and tags of slot tags), walker root (its bundle: enter, t0 and t1, origin,
+/// half extents, axis flags, slot tag), and the record's pack (the word and pixel beside the
+/// normal unit and in the pack pipe: twice the pack latency).
+pub fn elastic_measure(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
+    let w = |f: crate::fixed::Format| u64::from(f.width);
+    let u = &hw.units;
+    let l = |t: &crate::cycle::hw_config::UnitTiming| u64::from(t.latency_cycles);
+    let (ray, list, s) = (ray_bits(hw, dp), candidate_list_bits(hw, dp), slot_bits(hw));
+    let sphere = l(&u.sphere) + l(&u.sqrt);
+    let front = l(&u.raygen) * ray
+        + sphere * (ray + list)
+        + (sphere + 1) * (8 + ray)
+        + l(&u.sorter) * (ray + list)
+        + (l(&u.sorter) + 1) * ray;
+    let k = &dp.walker;
+    let bundle = 1 + 6 * (w(k.t) + 1) + 3 * (w(k.pos) + 1) + 3 * w(k.pos) + 6 + s;
+    let record = pixel_bits(hw) + u64::from(dp.hit_record.word_bits());
+    let lane = (2 * l(&u.transform) + 1) * s
+        + (2 * l(&u.reciprocal) + 1) * s
+        + l(&u.walker_root) * bundle
+        + 2 * l(&u.hit_pack) * record;
+    front + u64::from(hw.transform_units) * lane
+}
+
+fn elastic_pipes(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
+    let m = elastic_measure(hw, dp);
+    let (c, at) = (calibration::ELASTIC, calibration::ELASTIC_AT);
+    FabricItem {
+        name: "elastic_pipes",
+        instances: 1,
+        per_instance: Fabric {
+            lut: scale(c.0, m, at),
+            ff: scale(c.1, m, at),
+        },
+        calibrated: true,
+        formula: format!("({} LUT, {} FF) · Σ latency × width {m} / {at}", c.0, c.1),
+    }
+}
+
+/// The measure of the hit buffer's check pipe: the bits of its entry (pixel, the direct and
+/// reuse flags, the record word, the ray's direction and candidate list), which its delay
+/// line (one SRL per bit while the read latency is at most 16) and its queue's LUT-RAM
+/// (⌈bits / 14⌉ RAM32M16 while the capacity is at most 32) grow with.
+pub fn hit_check_measure(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
+    pixel_bits(hw)
+        + 2
+        + u64::from(dp.hit_record.word_bits())
+        + 3 * u64::from(dp.raygen.dir.width)
+        + candidate_list_bits(hw, dp)
+}
+
+fn hit_check_pipe(hw: &HwConfig, dp: &DatapathConfig) -> Option<FabricItem> {
+    if !hw.hit_buffer.present {
+        return None;
+    }
+    let m = hit_check_measure(hw, dp);
+    let (c, at) = (calibration::HIT_CHECK_PIPE, calibration::HIT_CHECK_PIPE_AT);
+    Some(FabricItem {
+        name: "hit_check_pipe",
+        instances: 1,
+        per_instance: Fabric {
+            lut: scale(c.0, m, at),
+            ff: scale(c.1, m, at),
+        },
+        calibrated: true,
+        formula: format!("({} LUT, {} FF) · entry bits {m} / {at}", c.0, c.1),
+    })
+}
+
+/// The items of this module, in pipeline order.
+pub fn core_logic_items(hw: &HwConfig, dp: &DatapathConfig) -> Vec<FabricItem> {
+    let mut items = vec![front_gather(hw, dp)];
+    items.extend(hit_check_pipe(hw, dp));
+    items.push(ray_slots(hw, dp));
+    items.push(elastic_pipes(hw, dp));
+    items
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// frame_hw's fields that size these items: one walker of one context (65 ray slots),
+    /// the rest the default's (8 sphere lanes, 16 sorter lanes, a 1280 × 768 frame).
+    fn frame_hw() -> HwConfig {
+        let mut hw = HwConfig::default();
+        hw.walker_pool.walkers = 1;
+        hw.walker_pool.contexts_per_walker = 1;
+        hw.transform_units = 1;
+        hw.reciprocal_units = 3;
+        hw.walker_root_units = 1;
+        hw
+    }
+
+    #[test]
+    fn the_measures_at_frame_hw_are_the_calibration_points() {
+        let (hw, dp) = (frame_hw(), DatapathConfig::default());
+        assert_eq!(u64::from(hw.ray_slots()), calibration::SLOTS_AT);
+        assert_eq!(slot_table_bits(&hw, &dp), calibration::SLOT_BITS_AT);
+        assert_eq!(elastic_measure(&hw, &dp), calibration::ELASTIC_AT);
+        assert_eq!(hit_check_measure(&hw, &dp), calibration::HIT_CHECK_PIPE_AT);
+        let items = core_logic_items(&hw, &dp);
+        let at = |n: &str| {
+            let f = items.iter().find(|i| i.name == n).unwrap().per_instance;
+            (f.lut, f.ff)
+        };
+        assert_eq!(at("front_gather"), calibration::FRONT_GATHER);
+        assert_eq!(at("elastic_pipes"), calibration::ELASTIC);
+        assert_eq!(at("hit_check_pipe"), calibration::HIT_CHECK_PIPE);
+        // The slot table and its logic, and the loop-back's 65 × 7-bit tags (16 LUTs of
+        // RAM64M8) with 3 pointers of 8 bits.
+        assert_eq!(
+            at("ray_slots"),
+            (
+                calibration::SLOT_RAM_LUTS + calibration::SLOT_LOGIC.0 + 16 + 24,
+                calibration::SLOT_LOGIC.1 + 24
+            )
+        );
+    }
+
+    #[test]
+    fn more_lanes_keys_and_slots_cost_more() {
+        let dp = DatapathConfig::default();
+        let lut = |hw: &HwConfig, n: &str| {
+            let items = core_logic_items(hw, &dp);
+            items.iter().find(|i| i.name == n).unwrap().per_instance.lut
+        };
+        let base = frame_hw();
+        let mut lanes = base.clone();
+        lanes.sphere_units = 16;
+        assert_eq!(lut(&lanes, "front_gather"), 2 * lut(&base, "front_gather"));
+        let mut slots = base.clone();
+        slots.walker_pool.walkers = 8;
+        assert!(lut(&slots, "ray_slots") > lut(&base, "ray_slots"));
+        let mut sorter = base.clone();
+        sorter.sorter_lanes = 8;
+        assert!(lut(&sorter, "front_gather") < lut(&base, "front_gather"));
+        assert!(lut(&sorter, "elastic_pipes") < lut(&base, "elastic_pipes"));
+        let mut none = base;
+        none.hit_buffer.present = false;
+        assert!(core_logic_items(&none, &dp)
+            .iter()
+            .all(|i| i.name != "hit_check_pipe"));
+    }
+}
