@@ -280,14 +280,14 @@ module svo_top
     localparam bit HAS_CACHE = NODE_MEMORY_ONCHIP_LEVELS != 21; // svo_node_cache_axi
     localparam bit SPLIT = HAS_STORE && HAS_CACHE;             // the prefix test per read
     generate
-        // One walk-issue lane (svo_walk): one transform, three reciprocals, one walker root,
-        // and with them the one-wide glue (FIFOs, dispatch, retire, record). k lanes
-        // (docs/cycle-model.md §2.1, "Walk issue of width k") widen every FIFO of the walk
-        // section, the dispatcher, the pool's retire and the record stage to k a cycle
-        // (svo_core's K, svo_walk_wide): not enabled here yet (the default's k = 2 stops here).
-        if (WK != 1 || RECIPROCAL_UNITS != 3 * WK || WALKER_ROOT_UNITS != WK)
+        // Walk-issue lanes (docs/cycle-model.md §2.1, "Walk issue of width k"): k transforms,
+        // k lanes of three reciprocals and k walker roots with the k-wide glue (FIFOs,
+        // dispatch, retire, record) — svo_walk at k = 1, svo_walk_wide and svo_walker_pool's K
+        // at k = 2. Unequal units (the model's k is the widest) and k above 2 (record_to_write
+        // has two push ports in svo_hit_buffer) are not built.
+        if ((WK != 1 && WK != 2) || RECIPROCAL_UNITS != 3 * WK || WALKER_ROOT_UNITS != WK)
         begin : unsupported_walk_lanes
-            svo_top_builds_one_walk_issue_lane_transform_1_reciprocal_3_walker_root_1 bad();
+            svo_top_builds_walk_issue_lanes_1_or_2_transform_k_reciprocal_3k_walker_root_k bad();
         end
         // The front end: the hit buffer, at most SORTER_LANES sphere lanes (svo_front's
         // keys), the sorter's latency its network depth (svo_sorter).
