@@ -1,12 +1,12 @@
 //! The cocotb unit benches (`testbench/cocotb/`: the hit buffer, the k-wide walk glue, the
-//! record's packing lane), the register block's regeneration and register tests, and the
+//! record's packing lane, the walker pool at two lanes), the register block's regeneration and register tests, and the
 //! FuseSoC core's lint, simulation and synthesis targets, run from `cargo test` with the Python
 //! tools of the venv (tests/common/cocotb.rs). The whole accelerator's benches (svo_top) are in
 //! tests/cocotb_benches.rs.
 //!
 //! Pipeline position: beside the RTL tests of tests/testbench_icarus.rs. Each check's
 //! corruption is shown failing: one flipped expected register value, hit-buffer word, record
-//! cycle or item cycle, each exactly one failure.
+//! cycle, item cycle or walk result, each exactly one failure.
 //!
 //! Without the venv the tests skip with a `SKIPPED` line (tests/common/skip.rs); under
 //! `CI=true` they fail. Verilator builds are kept in `CARGO_TARGET_TMPDIR/cocotb` (the runner
@@ -176,6 +176,38 @@ fn walk_lanes_glue_hands_on_oldest_first_as_the_rule() {
     let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("FAIL ")).collect();
     assert_eq!(fails.len(), 1, "{text}");
     assert!(fails[0].starts_with("FAIL item 5:"), "{}", fails[0]);
+}
+
+/// The walker pool on its own at two walk-issue lanes (testbench/rtl/svo_walker_pool.v with
+/// svo_walker_pool_dispatch.v and svo_walker_pool_retire.v; tb_walker_pool.sv): the 277 walks
+/// of vectors/walker.hex from a walker-root unit through root_to_dispatch into the pool, the
+/// bench the node memory (latency 3) and the record FIFO, random offers and takes (seed 29) —
+/// at 2 x 2 and 1 x 4 (barrel walkers) and 3 x 1 (svo_walker). Every walk retires once with
+/// the functional model's result; the take lanes follow the dispatch rule (lane 1 to the
+/// walker with the most free contexts after lane 0's), the retire lanes the finish order by
+/// cycle, both lanes' prefixes and counts; the traffic took and retired two walks in one
+/// cycle (at R > 1 also both to / from one walker: printed counts, the bench fails without).
+/// One added to row 5's expected t is exactly one failure, naming it.
+#[test]
+fn walker_pool_takes_and_retires_two_walks_a_cycle_by_the_rules() {
+    let Some(venv) = venv() else { return };
+    for name in ["walker_pool_k2", "walker_pool_k2_1x4", "walker_pool_k2_3x1"] {
+        let (ok, text, secs) = bench(&venv, name, &[]);
+        eprintln!("{name}: {secs:.1} s (build included)");
+        assert!(ok, "{name} bench:\n{text}");
+        assert_eq!(tally(&text, "walker_pool: "), (277, 0), "{text}");
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("walker_pool: ") && l.contains("two_takes"))
+            .unwrap_or_else(|| panic!("no coverage line:\n{text}"));
+        println!("{name}: {line}");
+    }
+    let (ok, text, _) = bench(&venv, "walker_pool_k2", &["SVO_CORRUPT=5"]);
+    assert!(!ok, "a corrupted expectation must fail the bench:\n{text}");
+    assert_eq!(tally(&text, "walker_pool: "), (276, 1), "{text}");
+    let fails: Vec<&str> = text.lines().filter(|l| l.starts_with("FAIL ")).collect();
+    assert_eq!(fails.len(), 1, "{text}");
+    assert!(fails[0].contains(": row 5: "), "{}", fails[0]);
 }
 
 /// `fusesoc run` of the core's targets (testbench/svo_core.core): `lint` (svo_hit_buffer under

@@ -20,6 +20,10 @@ RTL = TB / "rtl"
 GEN = TB / "rdl" / "generated"
 
 # bench -> (top, sources, test module, parameters)
+WALKER_POOL = [TB.parent / "vectors" / "walker_pkg.sv"] + [
+    RTL / f"{m}.v" for m in ("svo_walker_root", "svo_fifo_wide", "svo_walker", "svo_walker_barrel",
+                             "svo_walker_pool_dispatch", "svo_walker_pool_retire", "svo_walker_pool")
+] + [HERE / "tb_walker_pool.sv"]
 HIT_BUFFER = dict(NPIX=256, AW=8, INSTANCES=255, PAYW=8, HB_READ=4, WR_DEPTH=8)
 BENCHES = {
     "regs": (
@@ -66,6 +70,15 @@ BENCHES = {
         "test_unit_lanes",
         dict(K=3, L=26, D_IN=6, D_OUT=5),
     ),
+    # svo_walker_pool alone at two walk-issue lanes (its dispatch and retire lanes) on the
+    # walker vectors' walks: two walkers of two contexts (barrel walkers), one walker of four,
+    # three single-context walkers (svo_walker, its lane selected by the pool).
+    "walker_pool_k2": ("tb_walker_pool", WALKER_POOL, "test_walker_pool",
+                       dict(K=2, WALKERS=2, CONTEXTS=2, POOL_STEP_LATENCY=4)),
+    "walker_pool_k2_1x4": ("tb_walker_pool", WALKER_POOL, "test_walker_pool",
+                           dict(K=2, WALKERS=1, CONTEXTS=4, POOL_STEP_LATENCY=4)),
+    "walker_pool_k2_3x1": ("tb_walker_pool", WALKER_POOL, "test_walker_pool",
+                           dict(K=2, WALKERS=3, CONTEXTS=1, POOL_STEP_LATENCY=3)),
     # svo_top: the whole core behind its AXI interfaces, on the frame's hardware
     # (testbench/hw/frame_hw_pkg.sv); NPIX from SVO_NPIX (default 768, a 32 x 24 frame).
     "core": (

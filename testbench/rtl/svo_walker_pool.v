@@ -58,8 +58,9 @@
 //                  compare modulo 2^ID_W: exact while no read stays out across 2^23 sending
 //                  cycles (SEND_STAMP_W 24; svo_top's node memory answers in a fixed latency).
 //   cost           per walker R² age bits (older, req_older) and R² compares; per context a
-//                  read id (24 + clog2(W) bits) and a finish key (clog2(N) + 3 bits); W² rank
-//                  compares of the ids; W - 1 key compares at retire. At 48 x 16: 24,576 age
+//                  read id (24 + clog2(W) bits) and a finish key (clog2(N) + 3 bits, at K = 2
+//                  one more, the lane); W² rank compares of the ids; W - 1 key compares at
+//                  retire (at K = 2 a second chain of W - 1). At K = 1, at 48 x 16: 24,576 age
 //                  bits, 768 x (30 + 13) key bits, 2,256 id compares — against 589,824 bits of
 //                  the N x N matrix it replaces. Verilator 5.006 --lint-only of 48 x 16 takes
 //                  about a minute (testbench/README.md).
@@ -492,9 +493,7 @@ module svo_walker_pool #(
     end
 
     // ---------------------------------------------------------------- dispatch and retire
-    // Up to K finished walks retire, in finish order (svo_walker_pool_retire.v), then up to K
-    // walks are dispatched, each to the walker with the most free contexts, this cycle's
-    // retires and earlier lanes' takes counted (svo_walker_pool_dispatch.v).
+    // (the header's retire and dispatch: svo_walker_pool_retire.v, svo_walker_pool_dispatch.v)
     wire [N-1:0]      busy;
     wire [N-1:0]      retiring;                   // e_out_ready: the retire lanes' picks
     wire [K*N-1:0]    take;                       // lane j's context: [j*N +: N]
