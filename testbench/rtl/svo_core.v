@@ -1,4 +1,4 @@
-// svo_core: the accelerator as one piece of RTL, for one walk-issue lane and a walker pool of
+// svo_core: the accelerator as one piece of RTL, for K walk-issue lanes (1 or 2) and a walker pool of
 // WALKERS × CONTEXTS (default one walker of one context): svo_front → svo_hit_buffer → svo_walk → back into the hit buffer, every joint
 // valid/ready with back-pressure, the cycle model's FIFOs and pipes between the units.
 //
@@ -20,7 +20,8 @@
 // Cycle-exact with the cycle model on the hardware of testbench/hw/frame_hw.ron (tb_frame.sv,
 // tests/testbench_icarus.rs): the frame's cycles and every pixel's write cycle equal the
 // model's, and on testbench/hw/pool_1x4.ron and pool_2x4.ron (the walker pool of WALKERS ×
-// CONTEXTS, svo_walker_pool, through svo_top and the cocotb bench). The node memory of the
+// CONTEXTS, svo_walker_pool, through svo_top and the cocotb bench), and at K = 2 on
+// pool_4x2_k2.ron (svo_walk_wide). The node memory of the
 // default hardware (the banks' arbitration, cache, MSHRs, DRAM) is not here yet (issue 29):
 // each walker has a read port; svo_top.sv wraps this core in its AXI interfaces.
 `timescale 1ns/1ps
@@ -75,6 +76,7 @@ module svo_core #(
     parameter ATTR_MERGE = 1,                     // svo_walker_pool's attribute-merge rule (0 behind a cache)
     parameter RESP_REG = 0,                       // svo_walker_pool's response / request register
     parameter REQ_REG = 0,                        //   (walker_pool.*_register_cycles, 0 or 1)
+    parameter K        = 1,                       // walk-issue lanes (1: svo_walk, 2: svo_walk_wide)
     parameter CRN      = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                    clk,
@@ -97,17 +99,18 @@ module svo_core #(
     input  wire [LANES*34-1:0]     inst_delta_t,
     input  wire [LANES*40-1:0]     inst_reach,
     input  wire [LANES*80-1:0]     inst_reach2,
-    // (the walk section: transform, walker root, walker, normal unit)
-    output wire [7:0]              ird_tr,
-    input  wire [287:0]            inst_axes,
-    input  wire [119:0]            inst_c_tr,
-    output wire [7:0]              ird_rt,
-    input  wire [119:0]            inst_half,
-    output wire [7:0]              ird_dp,
-    input  wire [31:0]             inst_node_base,
-    input  wire [31:0]             inst_attr_base,
-    output wire [7:0]              ird_nm,
-    input  wire [9*18-1:0]         inst_nmat,       // the normal matrix, sQ2.16 row-major
+    // (the walk section: transform, walker root, walker, normal unit; K ports each, lane j
+    // at [j*8 +: 8] and the j-th slice of its fields)
+    output wire [K*8-1:0]          ird_tr,
+    input  wire [K*288-1:0]        inst_axes,
+    input  wire [K*120-1:0]        inst_c_tr,
+    output wire [K*8-1:0]          ird_rt,
+    input  wire [K*120-1:0]        inst_half,
+    output wire [K*8-1:0]          ird_dp,
+    input  wire [K*32-1:0]         inst_node_base,
+    input  wire [K*32-1:0]         inst_attr_base,
+    output wire [K*8-1:0]          ird_nm,
+    input  wire [K*9*18-1:0]       inst_nmat,       // the normal matrix, sQ2.16 row-major
     // host: the frame's reuse flags and the word of a ray without candidates
     input  wire                    buffer_valid,
     input  wire                    camera_dirty,
@@ -137,12 +140,13 @@ module svo_core #(
     output wire [PIXW-1:0]         chk_pixel,
     output wire [95:0]             chk_dir,
     output wire [5:0]              chk_count,
-    output wire                    done_valid,
-    output wire [PIXW-1:0]         done_pixel,
-    output wire [15:0]             done_walks,
-    output wire                    done_hit,
-    output wire [TW-1:0]           done_t,
-    output wire [59:0]             done_voxel,
+    // (up to K rays a cycle, lane j the record's decision j)
+    output wire [K-1:0]            done_valid,
+    output wire [K*PIXW-1:0]       done_pixel,
+    output wire [K*16-1:0]         done_walks,
+    output wire [K-1:0]            done_hit,
+    output wire [K*TW-1:0]         done_t,
+    output wire [K*60-1:0]         done_voxel,
     // events and sticky flags
     output wire                    ev_reused,
     output wire                    ev_write_stall,
@@ -212,32 +216,63 @@ module svo_core #(
         .ev_bank_conflict(ev_bank_conflict), .err_pixel(err_pixel));
 
     // ---------------------------------------------------------------- walk section
+    // One walk-issue lane: svo_walk; K = 2: svo_walk_wide (the same rules, K ports a side).
     wire wk_err_pipe, wk_err_ov;
-    svo_walk #(.LANES(LANES), .PIXW(PIXW), .SLOTS(SLOTS), .TAGW(TAGW), .PW(PW), .TW(TW),
-        .POS_FRAC(POS_FRAC), .INV_W(INV_W), .INV_FRAC(INV_FRAC), .T_FRAC(T_FRAC),
-        .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
-        .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
-        .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
-        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
-        .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP),
-        .ATTR_MERGE(ATTR_MERGE), .RESP_REG(RESP_REG), .REQ_REG(REQ_REG))
-    u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
-        .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
-        .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),
-        .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
-        .in_pixel(hb_walk_pixel), .in_dir(hb_walk_payload[PAYW-1 -: 96]),
-        .in_count(hb_walk_payload[KEYN*40 +: 6]), .in_keys(hb_walk_payload[KEYN*40-1:0]),
-        .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
-        .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
-        .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),
-        .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
-        .rec_pixel(rec_pixel), .rec_word(rec_word), .rec2_valid(rec2_valid),
-        .rec2_ready(rec2_ready), .rec2_pixel(rec2_pixel), .rec2_word(rec2_word),
-        .done_valid(done_valid),
-        .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
-        .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
-        .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx),
-        .ctx_resp_valid(ctx_resp_valid), .ctx_resp_data(ctx_resp_data));
+    generate
+        if (K == 1) begin : walk_one
+            svo_walk #(.LANES(LANES), .PIXW(PIXW), .SLOTS(SLOTS), .TAGW(TAGW), .PW(PW), .TW(TW),
+                .POS_FRAC(POS_FRAC), .INV_W(INV_W), .INV_FRAC(INV_FRAC), .T_FRAC(T_FRAC),
+                .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
+                .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
+                .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
+                .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
+                .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP),
+                .ATTR_MERGE(ATTR_MERGE), .RESP_REG(RESP_REG), .REQ_REG(REQ_REG))
+            u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
+                .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
+                .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),
+                .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
+                .in_pixel(hb_walk_pixel), .in_dir(hb_walk_payload[PAYW-1 -: 96]),
+                .in_count(hb_walk_payload[KEYN*40 +: 6]), .in_keys(hb_walk_payload[KEYN*40-1:0]),
+                .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
+                .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
+                .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),
+                .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
+                .rec_pixel(rec_pixel), .rec_word(rec_word), .rec2_valid(rec2_valid),
+                .rec2_ready(rec2_ready), .rec2_pixel(rec2_pixel), .rec2_word(rec2_word),
+                .done_valid(done_valid),
+                .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
+                .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
+                .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx),
+                .ctx_resp_valid(ctx_resp_valid), .ctx_resp_data(ctx_resp_data));
+        end else begin : walk_wide
+            svo_walk_wide #(.K(K), .LANES(LANES), .PIXW(PIXW), .SLOTS(SLOTS), .TAGW(TAGW), .PW(PW), .TW(TW),
+                .POS_FRAC(POS_FRAC), .INV_W(INV_W), .INV_FRAC(INV_FRAC), .T_FRAC(T_FRAC),
+                .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
+                .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
+                .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
+                .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
+                .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP),
+                .ATTR_MERGE(ATTR_MERGE), .RESP_REG(RESP_REG), .REQ_REG(REQ_REG))
+            u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
+                .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
+                .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),
+                .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
+                .in_pixel(hb_walk_pixel), .in_dir(hb_walk_payload[PAYW-1 -: 96]),
+                .in_count(hb_walk_payload[KEYN*40 +: 6]), .in_keys(hb_walk_payload[KEYN*40-1:0]),
+                .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
+                .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
+                .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),
+                .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
+                .rec_pixel(rec_pixel), .rec_word(rec_word), .rec2_valid(rec2_valid),
+                .rec2_ready(rec2_ready), .rec2_pixel(rec2_pixel), .rec2_word(rec2_word),
+                .done_valid(done_valid),
+                .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
+                .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
+                .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx),
+                .ctx_resp_valid(ctx_resp_valid), .ctx_resp_data(ctx_resp_data));
+        end
+    endgenerate
 
     assign err_pipe = fr_err_pipe || wk_err_pipe;
     assign err_overflow = fr_err_ov || wk_err_ov;

@@ -19,7 +19,8 @@
 //   reads see the row in the cycle they address it, as the instance registers were): LANES
 //   sphere ports (lane l: instance `sp_base` + l), the transform's (`tr`), the walker root's
 //   (`rt`), the walker's (`dp`: the image bases through the frame's image slots `img_*`,
-//   word indices) and the normal unit's (`nm`). An instance ≥ NINST reads as zeros.
+//   word indices) and the normal unit's (`nm`), each WK times (one per walk-issue lane, lane
+//   j at [j*8 +: 8]). An instance ≥ NINST reads as zeros.
 // - `bad_image`: bit k set while instance k's IMAGE is IMAGES or more (svo_top refuses the
 //   frame, STATUS.ERROR 4).
 `timescale 1ns/1ps
@@ -27,7 +28,8 @@
 module svo_inst_table #(
     parameter NINST  = 128,
     parameter LANES  = 8,
-    parameter IMAGES = 8
+    parameter IMAGES = 8,
+    parameter WK     = 1                          // walk-issue lanes: ports per walk reader
 ) (
     input  wire                    clk,
     // the host's port
@@ -47,19 +49,19 @@ module svo_inst_table #(
     output reg  [LANES*34-1:0]     sp_delta_t,
     output reg  [LANES*40-1:0]     sp_reach,
     output reg  [LANES*80-1:0]     sp_reach2,
-    // the walk section
-    input  wire [7:0]              tr,
-    output wire [287:0]            tr_axes,
-    output wire [119:0]            tr_c,
-    input  wire [7:0]              rt,
-    output wire [119:0]            rt_half,
-    input  wire [7:0]              dp,
+    // the walk section: WK ports per reader, lane j at [j*8 +: 8] and its fields' j-th slice
+    input  wire [WK*8-1:0]         tr,
+    output wire [WK*288-1:0]       tr_axes,
+    output wire [WK*120-1:0]       tr_c,
+    input  wire [WK*8-1:0]         rt,
+    output wire [WK*120-1:0]       rt_half,
+    input  wire [WK*8-1:0]         dp,
     input  wire [IMAGES*32-1:0]    img_node_base,
     input  wire [IMAGES*32-1:0]    img_attr_base,
-    output wire [31:0]             dp_node_base,
-    output wire [31:0]             dp_attr_base,
-    input  wire [7:0]              nm,
-    output wire [9*18-1:0]         nm_nmat
+    output wire [WK*32-1:0]        dp_node_base,
+    output wire [WK*32-1:0]        dp_attr_base,
+    input  wire [WK*8-1:0]         nm,
+    output wire [WK*9*18-1:0]      nm_nmat
 );
     localparam WORDS = 39;
     localparam ROW = WORDS * 32;
@@ -144,22 +146,25 @@ module svo_inst_table #(
     end
 
     // ---------------------------------------------------------------- the walk section
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire [ROW-1:0] r_tr = row(tr), r_rt = row(rt), r_dp = row(dp), r_nm = row(nm);   // each reader takes its fields
-    /* verilator lint_on UNUSEDSIGNAL */
-    genvar g;
+    genvar g, p;
     generate
-        for (g = 0; g < 3; g = g + 1) begin : xyz
-            assign tr_axes[g*96 +: 96] = r_tr[g*96 +: 96];
-            assign tr_c[g*40 +: 40] = {r_tr[(12+g)*32 +: 8], r_tr[(9+g)*32 +: 32]};
-            assign rt_half[g*40 +: 40] = {r_rt[(18+g)*32 +: 8], r_rt[(15+g)*32 +: 32]};
-        end
-        for (g = 0; g < 9; g = g + 1) begin : nmat
-            assign nm_nmat[g*18 +: 18] = r_nm[(30+g)*32 +: 18];
+        for (p = 0; p < WK; p = p + 1) begin : walk_port
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire [ROW-1:0] r_tr = row(tr[p*8 +: 8]), r_rt = row(rt[p*8 +: 8]),
+                           r_dp = row(dp[p*8 +: 8]), r_nm = row(nm[p*8 +: 8]);   // each reader takes its fields
+            /* verilator lint_on UNUSEDSIGNAL */
+            for (g = 0; g < 3; g = g + 1) begin : xyz
+                assign tr_axes[p*288 + g*96 +: 96] = r_tr[g*96 +: 96];
+                assign tr_c[p*120 + g*40 +: 40] = {r_tr[(12+g)*32 +: 8], r_tr[(9+g)*32 +: 32]};
+                assign rt_half[p*120 + g*40 +: 40] = {r_rt[(18+g)*32 +: 8], r_rt[(15+g)*32 +: 32]};
+            end
+            for (g = 0; g < 9; g = g + 1) begin : nmat
+                assign nm_nmat[p*162 + g*18 +: 18] = r_nm[(30+g)*32 +: 18];
+            end
+            wire [IW-1:0] dp_img = r_dp[29*32 +: IW];
+            assign dp_node_base[p*32 +: 32] = img_node_base[dp_img * 32 +: 32];
+            assign dp_attr_base[p*32 +: 32] = img_attr_base[dp_img * 32 +: 32];
         end
     endgenerate
-    wire [IW-1:0] dp_img = r_dp[29*32 +: IW];
-    assign dp_node_base = img_node_base[dp_img * 32 +: 32];
-    assign dp_attr_base = img_attr_base[dp_img * 32 +: 32];
 endmodule
 `default_nettype wire

@@ -267,6 +267,9 @@ module svo_top
     localparam int SLOT_BITS = 128;
 
     // What this top builds by structure; a package it cannot follow does not elaborate.
+    // Walk-issue lanes (HwConfig::walk_lanes): k transforms, k lanes of three reciprocals, k
+    // walker roots; svo_core builds svo_walk at 1 and svo_walk_wide at 2.
+    localparam int WK = TRANSFORM_UNITS;
     localparam int CONTEXTS = WALKER_POOL_CONTEXTS_PER_WALKER;
     localparam int WALKERS = WALKER_POOL_WALKERS;
     localparam int CW = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1;
@@ -277,14 +280,14 @@ module svo_top
     localparam bit HAS_CACHE = NODE_MEMORY_ONCHIP_LEVELS != 21; // svo_node_cache_axi
     localparam bit SPLIT = HAS_STORE && HAS_CACHE;             // the prefix test per read
     generate
-        // One walk-issue lane (svo_walk): one transform, three reciprocals, one walker root,
-        // and with them the one-wide glue (FIFOs, dispatch, retire, record). k lanes
-        // (docs/cycle-model.md §2.1, "Walk issue of width k") widen every FIFO of the walk
-        // section, the dispatcher, the pool's retire and the record stage to k a cycle: not
-        // built (the default's k = 2 stops here).
-        if (TRANSFORM_UNITS != 1 || RECIPROCAL_UNITS != 3 || WALKER_ROOT_UNITS != 1)
+        // Walk-issue lanes (docs/cycle-model.md §2.1, "Walk issue of width k"): k transforms,
+        // k lanes of three reciprocals and k walker roots with the k-wide glue (FIFOs,
+        // dispatch, retire, record) — svo_walk at k = 1, svo_walk_wide and svo_walker_pool's K
+        // at k = 2. Unequal units (the model's k is the widest) and k above 2 (record_to_write
+        // has two push ports in svo_hit_buffer) are not built.
+        if ((WK != 1 && WK != 2) || RECIPROCAL_UNITS != 3 * WK || WALKER_ROOT_UNITS != WK)
         begin : unsupported_walk_lanes
-            svo_top_builds_one_walk_issue_lane_transform_1_reciprocal_3_walker_root_1 bad();
+            svo_top_builds_walk_issue_lanes_1_or_2_transform_k_reciprocal_3k_walker_root_k bad();
         end
         // The front end: the hit buffer, at most SORTER_LANES sphere lanes (svo_front's
         // keys), the sorter's latency its network depth (svo_sorter).
@@ -1044,17 +1047,18 @@ module svo_top
             end else if (it_go) it_pend <= 1'b0;
         end
     end
-    wire [7:0] sp_base, ird_tr, ird_rt, ird_dp, ird_nm;
+    wire [7:0] sp_base;
+    wire [WK*8-1:0] ird_tr, ird_rt, ird_dp, ird_nm;   // WK ports per walk reader
     wire [LANES*120-1:0] inst_c;
     wire [LANES*64-1:0]  inst_threshold, inst_inside;
     wire [LANES*34-1:0]  inst_delta_t;
     wire [LANES*40-1:0]  inst_reach;
     wire [LANES*80-1:0]  inst_reach2;
-    wire [287:0] tr_axes;
-    wire [119:0] tr_c, rt_half;
-    wire [31:0]  dp_node_base, dp_attr_base;
-    wire [161:0] nm_nmat;
-    svo_inst_table #(.NINST(NINST), .LANES(LANES), .IMAGES(IMAGES)) u_inst_table (.clk(clk),
+    wire [WK*288-1:0] tr_axes;
+    wire [WK*120-1:0] tr_c, rt_half;
+    wire [WK*32-1:0]  dp_node_base, dp_attr_base;
+    wire [WK*162-1:0] nm_nmat;
+    svo_inst_table #(.NINST(NINST), .LANES(LANES), .IMAGES(IMAGES), .WK(WK)) u_inst_table (.clk(clk),
         .h_req(it_go), .h_wr(it_wr), .h_inst({1'b0, it_addr[14:8]}), .h_word(it_addr[7:2]),
         .h_data(it_data), .h_biten(it_biten), .h_rdata(it_rdata), .bad_image(bad_image),
         .sp_base(sp_base), .sp_c(inst_c), .sp_threshold(inst_threshold),
@@ -1065,10 +1069,12 @@ module svo_top
         .dp_attr_base(dp_attr_base), .nm(ird_nm), .nm_nmat(nm_nmat));
 
     // ---------------------------------------------------------------- the core
-    wire wr_valid, wr_direct, wr1_valid, wr2_valid, done_valid, done_hit;
-    wire [PIXW-1:0] wr_pixel, wr1_pixel, wr2_pixel, done_pixel;
+    wire wr_valid, wr_direct, wr1_valid, wr2_valid;
+    wire [WK-1:0] done_valid, done_hit;
+    wire [PIXW-1:0] wr_pixel, wr1_pixel, wr2_pixel;
+    wire [WK*PIXW-1:0] done_pixel;
     wire [71:0] wr_word, wr1_word, wr2_word;
-    wire [15:0] done_walks;
+    wire [WK*16-1:0] done_walks;
     wire ev_reused, ev_write_stall, ev_walk_stall;
     wire err_pipe, err_overflow, err_pixel;
     logic wr_hold;
@@ -1092,7 +1098,7 @@ module svo_top
         .NINST(NINST), .KEYN(KEYN), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS), .CW(CW),
         .CTX_RESP(1), .ATTR_MERGE(HAS_CACHE ? 0 : 1),
         .RESP_REG(WALKER_POOL_RESPONSE_REGISTER_CYCLES),
-        .REQ_REG(WALKER_POOL_REQUEST_REGISTER_CYCLES))
+        .REQ_REG(WALKER_POOL_REQUEST_REGISTER_CYCLES), .K(WK))
     u_core (.clk(clk), .rst(rst || core_rst), .run(run), .npix(npix), .dir_pixel(),
         .dir_f64({96'd0, dir_mem[dir_rd]}), .dir_valid(dir_valid), .dir_take(dir_take),
         .origin_f64('0), .cam_o(cam_o), .inst_base(sp_base), .n_inst(n_inst_f),
@@ -1159,6 +1165,13 @@ module svo_top
     end
 
     // ---------------------------------------------------------------- counters
+    // The walks of the rays whose records were decided this cycle (up to WK).
+    logic [63:0] done_walks_now;
+    always_comb begin
+        done_walks_now = '0;
+        for (int j = 0; j < WK; j++)
+            if (done_valid[j]) done_walks_now = done_walks_now + 64'(done_walks[j*16 +: 16]);
+    end
     logic [63:0] c_walks, c_walk_stall, c_write_stall, c_mem_stall, c_dir_stall, c_out_stall;
     logic [63:0] c_reads, c_reused;
     always_ff @(posedge clk) begin
@@ -1168,7 +1181,7 @@ module svo_top
             c_dir_stall <= '0; c_out_stall <= '0; c_reads <= '0; c_reused <= '0;
         end else if (run) begin
             cycles <= cycles + 1'b1;
-            if (done_valid) c_walks <= c_walks + 64'(done_walks);
+            c_walks <= c_walks + done_walks_now;
             c_walk_stall <= c_walk_stall + 64'(ev_walk_stall);
             c_write_stall <= c_write_stall + 64'(ev_write_stall);
             c_mem_stall <= c_mem_stall + 64'(|rd_out || |st_pend || |(mem_req_valid & ~mem_req_ready));

@@ -440,9 +440,9 @@ module tb_frame;
         $readmemh({dir, "/walker_nodes.hex"}, nodes);
         $readmemh({dir, "/walker_attrs.hex"}, attrs);
         // The reciprocals' seed ROMs, from the same folder (as tb_reciprocal loads its own).
-        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.u_walk.recip[0].u_recip.rom);
-        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.u_walk.recip[1].u_recip.rom);
-        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.u_walk.recip[2].u_recip.rom);
+        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.walk_one.u_walk.recip[0].u_recip.rom);
+        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.walk_one.u_walk.recip[1].u_recip.rom);
+        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.walk_one.u_walk.recip[2].u_recip.rom);
         if (cam[0][frame_camera_vectors_pkg::INSTANCES_LSB +: 16] != NINST || NINST > LANES
             || NINST < 1)
             $fatal(1, "tb_frame: the frame has %0d instances; this top has %0d sphere lanes", NINST, LANES);
@@ -462,11 +462,11 @@ module tb_frame;
         hw_must_be("units.sorter.latency_cycles", UNITS_SORTER_LATENCY_CYCLES,
                    sorter_vectors_pkg::NET_DEPTH);
         hw_must_be("units.transform.latency_cycles", UNITS_TRANSFORM_LATENCY_CYCLES,
-                   u_core.u_walk.u_transform.LATENCY);
+                   u_core.walk_one.u_walk.u_transform.LATENCY);
         hw_must_be("units.reciprocal.latency_cycles", UNITS_RECIPROCAL_LATENCY_CYCLES,
-                   u_core.u_walk.recip[0].u_recip.LATENCY);
+                   u_core.walk_one.u_walk.recip[0].u_recip.LATENCY);
         hw_must_be("units.walker_root.latency_cycles", UNITS_WALKER_ROOT_LATENCY_CYCLES,
-                   u_core.u_walk.u_root.LATENCY);
+                   u_core.walk_one.u_walk.u_root.LATENCY);
         hw_must_be("units.hit_pack.latency_cycles", UNITS_HIT_PACK_LATENCY_CYCLES, L_PK);
         hw_must_be("units.hit_unpack.latency_cycles", UNITS_HIT_UNPACK_LATENCY_CYCLES, 1);
         hw_must_be("hit_buffer.present", int'(HIT_BUFFER_PRESENT), 1);
