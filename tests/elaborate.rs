@@ -70,12 +70,12 @@ fn static_single_svo_leaves_out_sorter_and_transform_products() {
     assert_eq!((e.hardware.sorter_lanes, e.datapath.sorter.n), (1, 1));
     assert!(e.use_hit_buffer);
     // 7 sphere lanes (34 DSP48E2 each at the default, t_ca in sQ10.24, as `sim datapath`
-    // itemises them, and one each in svo_front's candidate gathering), the two transforms'
+    // itemises them; svo_front's candidate gathering takes none), the two transforms'
     // products (2 × 72) and the second walk-issue lane's three reciprocals (12 each) and root
     // (36).
     assert_eq!(
         e.full.dsp48e2 - e.elaborated.dsp48e2,
-        7 * (34 + 1) + 2 * 72 + 3 * 12 + 36
+        7 * 34 + 2 * 72 + 3 * 12 + 36
     );
 }
 
@@ -166,12 +166,9 @@ fn one_instance_keeps_one_walk_issue_chain() {
     // left (the transform_products decision counts both units' 2 × 72, not this one).
     assert_eq!(saved("walk_lanes"), 3 * 12 + 36);
     assert_eq!(saved("transform_products"), 2 * 72);
-    // The decisions' savings add up to the two estimates' difference (7 sphere lanes, each
-    // with its DSP48E2 of the candidate gathering).
-    assert_eq!(
-        e.full.dsp48e2 - e.elaborated.dsp48e2,
-        7 * (34 + 1) + 2 * 72 + 72
-    );
+    // The decisions' savings add up to the two estimates' difference (7 sphere lanes of 34
+    // DSP48E2; the candidate gathering takes none).
+    assert_eq!(e.full.dsp48e2 - e.elaborated.dsp48e2, 7 * 34 + 2 * 72 + 72);
     // A rotating instance keeps its products: the second transform's 72 are the lanes' then.
     let s = one_instance("(frame: 0), (frame: 3, rotation_deg: (0, 0, 40))", 4, STILL);
     let r = elaborate(&s, None, &hw, &dp, true).unwrap();

@@ -73,8 +73,9 @@ fn resource_estimate_of_the_default() {
     // 4 banks × 2 lookup ports: eight copies of 64 KiB (2 URAM288 each), eight tag copies.
     assert_eq!(item(&r, "cache_data"), (8, 0, 0, 16));
     assert_eq!(item(&r, "cache_tags"), (8, 0, 8, 0));
-    // svo_front's candidate gathering as the RTL is written: one DSP48E2 per sphere lane.
-    assert_eq!(item(&r, "front_gather"), (1, 8, 0, 0));
+    // svo_front's candidate gathering, a decoder per key slot (issue 29), maps to no DSP48E2
+    // (its running-index version took one per sphere lane): no resource row.
+    assert!(r.items.iter().all(|i| i.name != "front_gather"));
     // The one FIFO deeper than 64 entries is block RAM: check_to_transform, 1,024 entries of
     // a ray (pixel 20 + direction 3·32 bits) and its candidate list (a 6-bit count and 2 × 16
     // candidates of 32 + 8 bits): 1,402 bits. 38 blocks of 1,024 × 36 hold 1,368 bits, a 39th
@@ -83,14 +84,14 @@ fn resource_estimate_of_the_default() {
     assert!(r.items.iter().all(|i| i.name != "fifo.loop_back"));
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (577, 895, 736)
+        (569, 895, 736)
     );
     assert_eq!(
         (r.available.dsp48e2, r.available.bram36, r.available.uram288),
         (6840, 2160, 960)
     );
     let p = r.percent();
-    assert!((p[0] - 8.4).abs() < 0.05 && (p[1] - 41.4).abs() < 0.05 && (p[2] - 76.7).abs() < 0.05);
+    assert!((p[0] - 8.3).abs() < 0.05 && (p[1] - 41.4).abs() < 0.05 && (p[2] - 76.7).abs() < 0.05);
     // The used line is the sum of the items.
     let sum = r.items.iter().fold((0, 0, 0), |a, i| {
         (
@@ -328,7 +329,7 @@ fn zu9eg_needs_the_per_pixel_tables_off_chip() {
     // tags.
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (577, 2807, 0)
+        (569, 2807, 0)
     );
     assert!(
         r.over_budget()[0].starts_with("BRAM36"),
@@ -342,7 +343,7 @@ fn zu9eg_needs_the_per_pixel_tables_off_chip() {
     assert!(r.fits(), "{:?}", r.over_budget());
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (577, 887, 0)
+        (569, 887, 0)
     );
 }
 
@@ -358,7 +359,7 @@ fn exact_pop_stacks_fit_one_bram_per_walker() {
     assert_eq!(item(&r, "walker_stacks"), (48, 0, 48, 0));
     assert_eq!(
         (r.used.dsp48e2, r.used.bram36, r.used.uram288),
-        (577, 607, 736)
+        (569, 607, 736)
     );
     assert!(r.fits());
 }

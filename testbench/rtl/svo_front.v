@@ -201,28 +201,65 @@ module svo_front #(
         end
     endgenerate
     // Compaction: this pass's hits appended in lane order to the ray's keys so far, as
-    // {instance, t}; more than KEYN are dropped (err_overflow).
-    reg [KEYS-1:0] acc_keys, sp_keys;
-    reg [KC-1:0]   acc_n, sp_n;
-    reg            sp_drop;
-    reg [7:0]      sp_id;
+    // {instance, t}; more than KEYN are dropped (err_overflow). Built as a decoder per key
+    // slot, not as a running index (a multiplexer per key bit over every lane that could land
+    // there, and a DSP48E2 per `index * 40`; issue 29): a hit lane's rank is the keys before
+    // it, the ray's so far plus the earlier lanes' hits of this pass (a prefix count), and key
+    // slot s takes the hit lane of rank s (at most one: the ranks of hits differ), else keeps
+    // its key. A rank ≥ KEYN lands nowhere: dropped.
+    localparam RW = $clog2(KEYN + LANES + 1);     // a rank: up to KEYN + LANES
+    reg  [KEYS-1:0]     acc_keys;                 // the ray's keys after its previous pass
+    reg  [KC-1:0]       acc_n;
+    wire [LANES-1:0]    sp_take = sp_u_hit & sp_used;
+    wire [KEYS-1:0]     sp_base = oc == {PCW{1'b0}} ? {KEYS{1'b0}} : acc_keys;
+    wire [KC-1:0]       sp_base_n = oc == {PCW{1'b0}} ? {KC{1'b0}} : acc_n;
+    wire [7:0]          sp_id0 = oc * L8;         // lane 0's instance this pass
+    // sp_rank: lane l's rank (the prefix count, unrolled: RW-bit adds of one bit per lane);
+    // sp_total: the ray's keys after this pass, uncapped.
+    reg  [LANES*RW-1:0] sp_rank;
+    reg  [RW-1:0]       sp_total;
     integer l;
     always @* begin
-        sp_keys = oc == {PCW{1'b0}} ? {KEYS{1'b0}} : acc_keys;
-        sp_n = oc == {PCW{1'b0}} ? {KC{1'b0}} : acc_n;
-        sp_drop = 1'b0;
-        sp_id = oc * L8;
+        sp_total = {{(RW-KC){1'b0}}, sp_base_n};
         for (l = 0; l < LANES; l = l + 1) begin
-            if (sp_u_hit[l] && sp_used[l]) begin
-                if (sp_n == KEYN_C) sp_drop = 1'b1;
-                else begin
-                    sp_keys[sp_n * 40 +: 40] = {sp_id, sp_u_t[l*32 +: 32]};
-                    sp_n = sp_n + 1'b1;
-                end
-            end
-            sp_id = sp_id + 8'd1;
+            sp_rank[l*RW +: RW] = sp_total;
+            sp_total = sp_total + {{(RW-1){1'b0}}, sp_take[l]};
         end
     end
+    wire [LANES*40-1:0] sp_key;                   // lane l's key
+    generate
+        for (gl = 0; gl < LANES; gl = gl + 1) begin : key
+            localparam integer GL_I = gl;
+            localparam [7:0] GL8 = GL_I[7:0];
+            assign sp_key[gl*40 +: 40] = {sp_id0 + GL8, sp_u_t[gl*32 +: 32]};
+        end
+    endgenerate
+    localparam integer KEYN_R = KEYN;
+    localparam [RW-1:0] KEYN_W = KEYN_R[RW-1:0];
+    wire          sp_drop = sp_total > KEYN_W;
+    wire [KC-1:0] sp_n = sp_drop ? KEYN_C : sp_total[KC-1:0];
+    wire [KEYS-1:0] sp_keys;
+    genvar gs;
+    generate
+        for (gs = 0; gs < KEYN; gs = gs + 1) begin : slot
+            localparam integer GS_I = gs;
+            localparam [RW-1:0] GSW = GS_I[RW-1:0];
+            // sel[l]: lane l lands in this slot; one-hot or none.
+            wire [LANES-1:0] sel;
+            reg  [39:0]      from_lanes;
+            integer j;
+            for (gl = 0; gl < LANES; gl = gl + 1) begin : dec
+                assign sel[gl] = sp_take[gl] && sp_rank[gl*RW +: RW] == GSW;
+            end
+            always @* begin
+                from_lanes = 40'd0;
+                for (j = 0; j < LANES; j = j + 1)
+                    from_lanes = from_lanes | (sp_key[j*40 +: 40] & {40{sel[j]}});
+            end
+            assign sp_keys[gs*40 +: 40] = sel == {LANES{1'b0}} ? sp_base[gs*40 +: 40]
+                : from_lanes;
+        end
+    endgenerate
     always @(posedge clk)
         if (rst) begin
             oc <= {PCW{1'b0}};

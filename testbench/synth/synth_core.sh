@@ -191,7 +191,7 @@ printf ' %6s %6s\n' "$cpu" "$wall"
 # The model's estimate for the same hardware file (HW_PKG's RON: X_pkg.sv -> X.ron), its rows
 # that svo_core builds: the units, the logic around them (front_gather, hit_check_pipe,
 # ray_slots, elastic_pipes), the walker's contexts, every FIFO and the record write path (LUT,
-# FF), their DSP48E2 (front_gather's too), the walker stacks and the deep FIFOs' BRAM36 (in the
+# FF), their DSP48E2, the walker stacks and the deep FIFOs' BRAM36 (in the
 # RAMB36 column); testbench/synth/svo_core_frame_hw.tsv groups the same rows per block.
 # Not svo_core's, left out: the direction table, the hit buffer's URAM at the frame's size (the
 # core's hit buffer has NPIX pixels), the node memory (on-chip banks, cache, crossbars, queues,
@@ -201,7 +201,7 @@ if [ -n "${SIM:-}" ] && [ -f "$ron" ]; then
     "$SIM" hardware --hw "$ron" | awk '
         /resources on/ { sec = "res"; next }
         /fabric \(estimate/ { sec = "fab"; next }
-        sec == "res" && $2 ~ /^(sphere|front_gather|transform|reciprocal|walker_root|normal|walker_stacks|fifo\.[a-z_]+)$/ { dsp += $4; bram += $5 }
+        sec == "res" && $2 ~ /^(sphere|transform|reciprocal|walker_root|normal|walker_stacks|fifo\.[a-z_]+)$/ { dsp += $4; bram += $5 }
         sec == "fab" && $2 ~ /^(sphere|sqrt|sorter|transform|reciprocal|walker_root|walker|hit_check|normal|hit_pack|front_gather|hit_check_pipe|ray_slots|elastic_pipes|walker_contexts|record_write_path|fifo\.[a-z_]+)$/ { lut += $4; ff += $5 }
         END { printf "%-34s %7s %6s %6s %7d %7d %4d %6d %6s %4s\n", "estimate (" f ")", "", "", "", lut, ff, dsp, bram, "", "" }' f="$(basename "$ron")"
 fi

@@ -6,8 +6,8 @@
 //! Pipeline position: the middle part of
 //! [`HwConfig::fabric`](crate::cycle::hw_config::HwConfig::fabric), after the units of
 //! `cost::fabric` and before the uncalibrated structures of `cost::structures`; read once per
-//! configuration by `sim hardware` and `sim explore`. The front's DSP48E2 are in the resource
-//! estimate (`cost::estimate`, [`front_gather_dsp48e2`]).
+//! configuration by `sim hardware` and `sim explore`. None of these items maps to DSP48E2
+//! (svo_front's gathering did, one per sphere lane, before its decoder per key slot).
 //!
 //! Each item is a measured figure of Yosys 0.23 `synth_xilinx -family xcup` of svo_core on
 //! `testbench/hw/frame_hw_pkg.sv` (docs/cycle-model.md §1.5, "The whole svo_core"; the
@@ -28,13 +28,17 @@ use crate::datapath::DatapathConfig;
 /// of frame_hw (1 walker × 1 context, 8 sphere lanes, 16 sorter lanes: 32 candidates of 40
 /// bits, 65 ray slots, a 1280 × 768 frame: 20-bit pixels) they are taken at.
 pub mod calibration {
-    /// svo_front's own logic, synthesised alone (`synth_core.sh --per-module`): 35,906 CLB
-    /// LUT, 1,432 FF. Nearly all of it is the candidate gathering `sp_keys[sp_n * 40 +: 40]`
-    /// for each lane in turn (svo_front.v): a multiplexer per key bit over every lane that can
-    /// land there; its registers are the accumulated key list (1,280 bits) and the pass state.
-    pub const FRONT_GATHER: (u64, u64) = (35_906, 1_432);
-    /// Its measures at frame_hw: lanes × keys × candidate bits (LUT) = 8 × 32 × 40; keys ×
-    /// candidate bits (FF) = 32 × 40.
+    /// svo_front's own logic, synthesised alone (its submodules as black boxes, the
+    /// `--per-module` block): 6,709 CLB LUT, 1,432 FF, no DSP48E2, since the candidate gathering
+    /// is a decoder per key slot (issue 29; svo_front.v, "Compaction"): each hit lane's rank
+    /// (a prefix count of the pass's hits on the ray's key count) is compared with each slot,
+    /// and each key bit is an AND-OR over the lanes beside the slot's held bit. Its registers
+    /// are the accumulated key list (1,280 bits) and the pass state. (Written as a running
+    /// index `sp_keys[sp_n * 40 +: 40]` before, it took 36,056 LUT, 1,432 FF and 8 DSP48E2
+    /// the same way, 35,906 LUT in `--per-module`.)
+    pub const FRONT_GATHER: (u64, u64) = (6_709, 1_432);
+    /// Its measures at frame_hw: lanes × keys × candidate bits (LUT: the AND-OR terms) =
+    /// 8 × 32 × 40; keys × candidate bits (FF) = 32 × 40.
     pub const FRONT_GATHER_AT: (u64, u64) = (8 * 32 * 40, 32 * 40);
     /// svo_walk's own LUT-RAM, synthesised alone: 8,024 LUTs (the flat netlist's 7,728), the
     /// ray-slot tables read asynchronously (`s_keys` and t, origin, direction, attribute,
@@ -72,16 +76,11 @@ fn scale(c: u64, m: u64, m0: u64) -> u64 {
         .map_or(0, |v| u64::try_from(v).unwrap_or(u64::MAX))
 }
 
-/// DSP48E2 of svo_front's candidate gathering as the RTL is written: one per sphere lane,
-/// Yosys's map of the lane's index product `sp_n * 40` (8 at frame_hw, their cells carry
-/// `svo_front.v:219`). A decoder per key slot, as svo_walk's select, would need none.
-pub fn front_gather_dsp48e2(hw: &HwConfig) -> u64 {
-    u64::from(hw.sphere_units)
-}
-
-/// svo_front's candidate gathering: each of the `lanes` sphere lanes' hits may land on any
-/// of the ray's `KEYN` key slots, so each key bit is a multiplexer over the lanes (LUT ∝
-/// lanes × keys × candidate bits); its registers hold the key list (FF ∝ keys × bits).
+/// svo_front's candidate gathering, a decoder per key slot: each of the `KEYN` key slots
+/// takes the hit lane whose rank is the slot's, so each key bit is an AND-OR over the `lanes`
+/// sphere lanes (LUT ∝ lanes × keys × candidate bits; the lanes × keys rank compares are of
+/// ⌈log₂(keys + lanes + 1)⌉ bits, small beside them); its registers hold the key list (FF ∝
+/// keys × bits). No DSP48E2.
 fn front_gather(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
     let (lanes, k, b) = (
         u64::from(hw.sphere_units),
@@ -98,7 +97,7 @@ fn front_gather(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
         },
         calibrated: true,
         formula: format!(
-            "{} LUT · ({lanes} lanes × {k} keys × {b} bits) / (8 × 32 × 40); {} FF · ({k} × {b}) / (32 × 40); one DSP48E2 per lane",
+            "{} LUT · ({lanes} lanes × {k} keys × {b} bits) / (8 × 32 × 40); {} FF · ({k} × {b}) / (32 × 40)",
             c.0, c.1
         ),
     }

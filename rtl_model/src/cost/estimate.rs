@@ -33,10 +33,10 @@ impl HwConfig {
     /// What is counted (assumptions, `docs/cycle-model.md` has the reasons):
     /// - DSP48E2: per unit the products of its formats split into 27×18 tiles
     ///   (`fixed::dsp48e2_per_product`, as `sim datapath` prints), times the instances:
-    ///   sphere lanes, transform, reciprocal (per axis) and walker-root units; and one per
-    ///   sphere lane for svo_front's candidate gathering as the RTL is written
-    ///   (`cost::core_logic::front_gather_dsp48e2`). The square root, sorter, walkers' steps
-    ///   and hit record use none.
+    ///   sphere lanes, transform, reciprocal (per axis) and walker-root units. The square
+    ///   root, sorter, walkers' steps, hit record and svo_front's candidate gathering (a
+    ///   decoder per key slot since issue 29; its running-index version took one per sphere
+    ///   lane) use none.
     /// - Block RAM: the hit buffer and direction table when on chip
     ///   (`units::hit_record::bram36_count` / `uram288_count` of the frame's pixels); one
     ///   stack RAM per walker (contexts × stack depth frames) in BRAM; the node memory by the
@@ -68,13 +68,6 @@ impl HwConfig {
                 self.sphere_units,
                 sphere,
                 format!("{sphere} DSP per lane: l·d 3, l·l 3, t_ca² 1 products"),
-            ),
-            ResourceItem::new(
-                "front_gather",
-                1,
-                Resources::dsp48e2(crate::cost::core_logic::front_gather_dsp48e2(self)),
-                "svo_front's candidate gathering: one DSP per sphere lane (its sp_n·40 index)"
-                    .into(),
             ),
             dsp_item(
                 "sqrt",

@@ -34,9 +34,9 @@ mod tests {
                 walker_root: 8
             }
         );
-        // `sim hardware` prints 577 DSP48E2 for the default (two walk-issue lanes, the normal
-        // unit 9, svo_front's candidate gathering 8).
-        assert_eq!(c.dsp48e2, 577);
+        // `sim hardware` prints 569 DSP48E2 for the default (two walk-issue lanes, the normal
+        // unit 9; svo_front's candidate gathering none since its decoder, issue 29).
+        assert_eq!(c.dsp48e2, 569);
         assert_eq!(c.dsp48e2, hw.resources(&dp).unwrap().used.dsp48e2);
         assert_eq!(c.multipliers.transform, "32x41");
         // (±e − o) is sQ8.32 + 1 bit = 41 bits, 1/|d| sQ22.30 = 52.
@@ -53,12 +53,12 @@ mod tests {
         // Sphere lane: l·d 3 × 2, l·l 3 × 2, t_ca² 1 × 4 = 16, × 8 lanes = 128. Transform:
         // 9 × 2 (R·(o − c)) + 9 × 4 (R·d) = 54 a unit. Reciprocal 12 a unit (unchanged).
         // Walker root: 6 × 3 (24 × 51: 1 × 3 tiles) = 18 a unit. The default's two walk-issue
-        // lanes: 128 + 2 × 54 + 6 × 12 + 2 × 18 = 344, the normal unit's 9 and svo_front's
-        // candidate gathering's 8 (one per lane, whatever the formats).
+        // lanes: 128 + 2 × 54 + 6 × 12 + 2 × 18 = 344 and the normal unit's 9 (svo_front's
+        // candidate gathering, a decoder per key slot, takes none).
         let mut dp = DatapathConfig::default();
         crate::studies::sweep::configs::set_pos_frac(&mut dp, 16);
         let c = cost(&dp, &HwConfig::for_datapath(&dp)).unwrap();
-        assert_eq!(c.dsp48e2, 128 + 2 * 54 + 6 * 12 + 2 * 18 + 9 + 8);
+        assert_eq!(c.dsp48e2, 128 + 2 * 54 + 6 * 12 + 2 * 18 + 9);
         assert_eq!(c.multipliers.walker_root, "25x52");
     }
 }
