@@ -41,31 +41,39 @@
 //! inputs (sphere tests, sort, transform, reciprocals, walk, record packing) and compares with
 //! the trace. After the frame its BRAM must equal the functional buffer word for word
 //! ([`Pipeline::check_hit_buffer`]).
+//!
+//! Files: this one holds the pipeline's state, the clock (`step`, the commit, the stuck
+//! watch) and the frame's report; `eval` evaluates one stage within a clock and holds the
+//! evaluation order; `idle` skips idle cycles.
+
+mod eval;
+mod idle;
 
 use super::commit::{Effects, Targets};
 use super::error::CycleError;
 use super::fifos::Fifos;
 use super::machine::Machine;
 use super::sample::{walking_in_row, warm_gap, Sampler};
-use super::stages::check::{Check, CheckIo};
-use super::stages::io::{PopPort, PushPort, SlotView};
+use super::stages::check::Check;
 use super::stages::passthrough::PassThrough;
 use super::stages::raygen::Raygen;
-use super::stages::record::{Record, RecordIo};
+use super::stages::record::Record;
 use super::stages::sorter::Sorter;
 use super::stages::sphere::Sphere;
 use super::stages::tile_list::TilePasses;
-use super::stages::transform::{Transform, TransformIo};
-use super::stages::walkers::{WalkerIo, WalkerRegs, Walkers};
-use super::stages::write::{Write, WriteIo};
-use super::stages::{internal, Cx, FrameCounts, FrameInputs, RaySlots, UnitIo};
+use super::stages::transform::Transform;
+use super::stages::walkers::Walkers;
+use super::stages::write::Write;
+use super::stages::{internal, FrameCounts, FrameInputs, RaySlots};
 use super::stats::{CycleFrame, FrameMeasures, StallCounts};
 use super::waves::WaveSample;
+use eval::{Wires, PRODUCERS_FIRST};
 use rtl_model::cycle::clocked::{Commit, StageStamp};
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::cycle::stage_stats::{StageCycles, StageState};
 
 pub use super::stages::STAGE_NAMES;
+pub use eval::EvalOrder;
 
 /// The report's stage rows, in pipeline order; indices below.
 const STAGE_ROWS: [&str; 10] = [
@@ -90,50 +98,6 @@ const S_ROOT: usize = 6;
 const S_WALK: usize = 7;
 const S_RECORD: usize = 8;
 const S_WRITE: usize = 9;
-
-/// The order the stages are evaluated in within a clock (docs/architecture.md §4).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum EvalOrder {
-    /// Write port first, ray generation last: what every run uses.
-    #[default]
-    ConsumersFirst,
-    /// The reverse: ray generation first, write port last, except that the record stage
-    /// moves up to just before the check stage, the first stage that reads its same-cycle
-    /// signals (its offers to the write FIFO, the slots it frees). A test hook: the cycles,
-    /// stall counters, stage states, images and reports must be the same as
-    /// [`EvalOrder::ConsumersFirst`]'s.
-    ProducersFirst,
-}
-
-/// [`EvalOrder::ProducersFirst`]: `ConsumersFirst` reversed, the record stage moved up to
-/// just before the check stage.
-const PRODUCERS_FIRST: [usize; 10] = [
-    S_RAYGEN,
-    S_SPHERE,
-    S_SORTER,
-    S_RECORD,
-    S_CHECK,
-    S_TRANSFORM,
-    S_RECIP,
-    S_ROOT,
-    S_WALK,
-    S_WRITE,
-];
-
-/// What one cycle's stages read besides the registered FIFOs: the frame's counters as the
-/// cycle started (for the starved/idle accounting) and the record stage's same-cycle signals.
-struct Wires {
-    /// Rays still to leave raygen, sphere and sorter (what the next stage may still get).
-    upstream_more: [bool; 3],
-    /// A ray has entered the walk section this frame.
-    walked: bool,
-    /// Walks are in the walk section or may still come.
-    more_walks: bool,
-    /// Rays of the frame are still to leave the check stage.
-    more_rays: bool,
-    /// The record stage has been evaluated (and has freed the slots of its records).
-    record_done: bool,
-}
 
 /// One frame's pipeline: the stages with their registers, the FIFOs between them, the ray
 /// slots, the frame's counters and stage accounting, over the machine's persistent parts.
@@ -418,254 +382,6 @@ impl<'f> Pipeline<'f> {
         s.sorter += u64::from(sorter) * k;
         s.sphere += u64::from(sphere) * k;
         s.record_write += u64::from(record_write) * k;
-    }
-
-    /// Evaluates stage `stage` (an `S_*` row) for cycle `now`: its kernel, on read-only
-    /// ports of the registered FIFOs, slots and memory, its effects into `self.fx`. `wires`
-    /// carries the two same-cycle signals of the record stage (docs/architecture.md §4), which
-    /// reach the check stage and the transform through the effects it has already returned:
-    /// its offers to the write FIFO (the check stage may not take those ports) and the slots
-    /// it frees (the transform may take them in the same cycle); a stage that reads one before
-    /// the record stage has been evaluated is an error, not a silent different result.
-    #[inline(always)]
-    fn eval_stage(
-        &mut self,
-        stage: usize,
-        now: u64,
-        wires: &mut Wires,
-    ) -> Result<StageState, CycleError> {
-        let (f, fx) = (&self.fifos, &mut self.fx);
-        let cx = Cx {
-            now,
-            frame: &self.frame,
-            counts: &self.counts,
-        };
-        let record_first = |what: &str| {
-            if wires.record_done {
-                Ok(())
-            } else {
-                Err(CycleError::Internal(format!(
-                    "{what} evaluated before the record stage in a cycle"
-                )))
-            }
-        };
-        Ok(match stage {
-            S_WRITE => {
-                let mut io = WriteIo {
-                    input: PopPort::new(&f.rc_wr),
-                    second: f.two_write_paths.then(|| PopPort::new(&f.ck_wr)),
-                    writes: &mut fx.bram.writes,
-                };
-                let state = self.write.eval(&mut io, &cx)?;
-                fx.rc_wr.pops += io.input.asked();
-                fx.ck_wr.pops += io.second.map_or(0, |p| p.asked());
-                state
-            }
-            S_RECORD => {
-                let mut io = RecordIo {
-                    input: PopPort::new(&f.wk_rc),
-                    loop_back: PushPort::new(&f.loop_back, &mut fx.loop_back),
-                    out: PushPort::new(&f.rc_wr, &mut fx.rc_wr),
-                    slots: &self.slots,
-                    slot_fx: &mut fx.slots,
-                };
-                let state = self
-                    .record
-                    .eval(&mut io, &cx, &mut fx.frame, wires.walked)?;
-                fx.wk_rc.pops += io.input.asked();
-                wires.record_done = true;
-                state
-            }
-            S_WALK => {
-                let m = &mut *self.machine;
-                let mut io = WalkerIo {
-                    input: PopPort::new(&f.rt_dp),
-                    out: PushPort::new(&f.wk_rc, &mut fx.wk_rc),
-                    slots: &self.slots,
-                    best_full: &mut fx.slots.best_full,
-                };
-                let mut regs = WalkerRegs {
-                    pool: &mut m.pool,
-                    mem: &mut m.mem,
-                };
-                let state = self
-                    .walkers
-                    .eval(&mut io, &mut regs, &cx, wires.more_walks)?;
-                fx.rt_dp.pops += io.input.asked();
-                state
-            }
-            S_ROOT => {
-                let mut io = UnitIo {
-                    input: PopPort::new(&f.rc_rt),
-                    out: PushPort::new(&f.rt_dp, &mut fx.rt_dp),
-                };
-                let state = self.root.eval(&mut io, wires.more_walks, now)?;
-                fx.rc_rt.pops += io.input.asked();
-                state
-            }
-            S_RECIP => {
-                let mut io = UnitIo {
-                    input: PopPort::new(&f.tr_rc),
-                    out: PushPort::new(&f.rc_rt, &mut fx.rc_rt),
-                };
-                let state = self.recip.eval(&mut io, wires.more_walks, now)?;
-                fx.tr_rc.pops += io.input.asked();
-                state
-            }
-            S_TRANSFORM => {
-                record_first("the transform")?;
-                if self.hold.is_some() {
-                    StageState::Starved
-                } else {
-                    let slot_fx = &mut fx.slots;
-                    let mut io = TransformIo {
-                        loop_back: PopPort::new(&f.loop_back),
-                        new_rays: PopPort::new(&f.ck_tr),
-                        out: PushPort::new(&f.tr_rc, &mut fx.tr_rc),
-                        slots: SlotView::new(&self.slots, &slot_fx.releases),
-                        takes: &mut slot_fx.takes,
-                    };
-                    let state =
-                        self.transform
-                            .eval(&mut io, &cx, wires.more_walks, wires.more_rays)?;
-                    fx.loop_back.pops += io.loop_back.asked();
-                    fx.ck_tr.pops += io.new_rays.asked();
-                    state
-                }
-            }
-            S_CHECK => {
-                record_first("the check stage")?;
-                let (to_write, write_fx) = if f.two_write_paths {
-                    (&f.ck_wr, &mut fx.ck_wr)
-                } else {
-                    (&f.rc_wr, &mut fx.rc_wr)
-                };
-                let mut io = CheckIo {
-                    input: PopPort::new(&f.so_ck),
-                    to_walk: PushPort::new(&f.ck_tr, &mut fx.ck_tr),
-                    to_write: PushPort::new(to_write, write_fx),
-                    bram: &self.machine.bram,
-                    reads: &mut fx.bram.reads,
-                };
-                let state = self
-                    .check
-                    .eval(&mut io, &cx, &mut fx.frame, wires.upstream_more[2])?;
-                fx.so_ck.pops += io.input.asked();
-                state
-            }
-            S_SORTER => {
-                let mut io = UnitIo {
-                    input: PopPort::new(&f.sp_so),
-                    out: PushPort::new(&f.so_ck, &mut fx.so_ck),
-                };
-                let state =
-                    self.sorter
-                        .eval(&mut io, &cx, &mut fx.frame, wires.upstream_more[1])?;
-                fx.sp_so.pops += io.input.asked();
-                state
-            }
-            S_SPHERE => {
-                let mut io = UnitIo {
-                    input: PopPort::new(&f.rg_sp),
-                    out: PushPort::new(&f.sp_so, &mut fx.sp_so),
-                };
-                let state =
-                    self.sphere
-                        .eval(&mut io, &cx, &mut fx.frame, wires.upstream_more[0])?;
-                fx.rg_sp.pops += io.input.asked();
-                state
-            }
-            _ => {
-                let mut out = PushPort::new(&f.rg_sp, &mut fx.rg_sp);
-                self.raygen.eval(&mut out, &cx, &mut fx.frame)?
-            }
-        })
-    }
-
-    /// What changes whenever anything moves: every FIFO's pushes and pops, the pixel counter
-    /// and the walker pool's activity (a unit's transaction enters from or leaves into a FIFO,
-    /// a record's write pops one).
-    fn activity(&self) -> u64 {
-        let f = &self.fifos;
-        f.rg_sp.moved()
-            + f.sp_so.moved()
-            + f.so_ck.moved()
-            + f.ck_tr.moved()
-            + f.loop_back.moved()
-            + f.tr_rc.moved()
-            + f.rc_rt.moved()
-            + f.rt_dp.moved()
-            + f.wk_rc.moved()
-            + f.rc_wr.moved()
-            + f.ck_wr.moved()
-            + self.raygen.next_pixel()
-            + self.machine.pool.activity()
-    }
-
-    /// Idle-cycle skipping (docs/cycle-model.md §3.3), after the edge that ended cycle `now`.
-    /// If nothing moved in `now`, every state the stages read is what it was at its start, so
-    /// each following cycle repeats it exactly until time alone changes something: a unit's
-    /// result becomes ready or its initiation interval ends, a walker's step latency or II
-    /// ends, or a node read may complete. The clock jumps to the first such cycle at once and
-    /// every counter is credited for the cycles in between as if they had been stepped (the
-    /// stage rows with `now`'s states, the FIFOs with their occupancy and starved/full
-    /// cycles, the pool with its walkers' classes). The node memory catches up by itself at
-    /// the next cycle it is asked about.
-    fn skip_idle(&mut self, now: u64) -> Result<(), CycleError> {
-        let activity = self.activity();
-        let idle = activity == self.last_activity;
-        self.last_activity = activity;
-        if !idle || self.done() {
-            return Ok(());
-        }
-        let m = &*self.machine;
-        let next = [
-            self.raygen.next_change(now),
-            self.sphere.next_change(now),
-            self.sorter.next_change(now),
-            self.check.next_change(now),
-            self.transform.next_change(now),
-            self.recip.next_change(now),
-            self.root.next_change(now),
-            self.record.next_change(now),
-            m.pool.next_event(now, &m.mem),
-        ]
-        .into_iter()
-        .flatten()
-        .min();
-        // Nothing due at all would be a stuck pipeline: step on and let the watch report it.
-        let Some(next) = next else {
-            return Ok(());
-        };
-        let k = next.saturating_sub(now + 1);
-        if k == 0 {
-            return Ok(());
-        }
-        for (row, &s) in self.stages.iter_mut().zip(self.states.iter()) {
-            row.count_many(s, k);
-        }
-        self.count_stalls(k);
-        let f = &mut self.fifos;
-        for fifo in [&mut f.rg_sp, &mut f.sp_so, &mut f.so_ck, &mut f.ck_tr] {
-            fifo.skip_idle(k);
-        }
-        for fifo in [
-            &mut f.loop_back,
-            &mut f.tr_rc,
-            &mut f.rc_rt,
-            &mut f.rt_dp,
-            &mut f.wk_rc,
-        ] {
-            fifo.skip_idle(k);
-        }
-        f.rc_wr.skip_idle(k);
-        f.ck_wr.skip_idle(k);
-        let m = &mut *self.machine;
-        m.bram.skip_idle(k);
-        m.pool.skip_idle(k);
-        let last = m.clock.skip(k) - 1;
-        self.skipped += k;
-        self.watch(last)
     }
 
     /// Records cycle `now` in the waveforms, if any.
