@@ -9,11 +9,19 @@
 //! from the second frame on; `--scene scenes/car.ron` renders like the embedded default; and
 //! `sim bench` prints its speed in M rays/s, and with `--model cycle --sample` the sampled
 //! model's estimates.
+//!
+//! This file holds the shared helpers and the run-wide checks; `cli/dumps.rs` reads the hit
+//! dumps back, `cli/refusals.rs` has what a run refuses or warns about.
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 mod common;
+#[path = "cli/dumps.rs"]
+mod dumps;
+#[path = "cli/refusals.rs"]
+mod refusals;
+
 use common::process::{run_sim, Run};
 
 // ---------------------------------------------------------------------------------------------
@@ -23,10 +31,6 @@ const TIMEOUT: Duration = Duration::from_secs(120);
 const W: u32 = 64;
 const H: u32 = 40;
 const FRAMES: u32 = 3;
-/// Header bytes of the binary dump.
-const HEADER: usize = 32;
-/// Bytes of the fields documented per record (the rest of a record, if any, is padding).
-const FIELDS: usize = 36;
 
 /// A scratch folder, unique per test and process, removed when dropped.
 struct Tmp {
@@ -95,10 +99,6 @@ fn tiny_run(t: &Tmp, dump_name: &str, extra: &[&str]) -> Run {
     run_ok(&a, &t.dir)
 }
 
-fn u32_at(b: &[u8], at: usize) -> u32 {
-    u32::from_le_bytes(b[at..at + 4].try_into().unwrap())
-}
-
 /// The report's per-frame `hit_buffer_reused`.
 fn reuses(report: &serde_json::Value) -> Vec<u64> {
     report["frames"]
@@ -116,38 +116,6 @@ fn report(t: &Tmp) -> serde_json::Value {
 fn png_names() -> Vec<String> {
     (0..FRAMES)
         .map(|f| format!("out/frame_{f:04}.png"))
-        .collect()
-}
-
-/// One record of the binary dump, as documented in `src/output/dump.rs`.
-#[derive(Debug)]
-struct Record {
-    frame: u32,
-    hit: u8,
-    spheres: u8,
-    instance: u16,
-    t: f64,
-}
-
-/// The records of a binary dump; the record stride is the file's actual one, so the field
-/// checks still run when the header's record size disagrees with the file (checked apart).
-fn records(bytes: &[u8]) -> Vec<Record> {
-    let n = (W * H * FRAMES) as usize;
-    let body = bytes.len() - HEADER;
-    assert_eq!(body % n, 0, "the records do not divide the file evenly");
-    let stride = body / n;
-    assert!(stride >= FIELDS, "records of {stride} bytes are too short");
-    (0..n)
-        .map(|k| {
-            let r = &bytes[HEADER + k * stride..HEADER + (k + 1) * stride];
-            Record {
-                frame: u32_at(r, 0),
-                hit: r[4],
-                spheres: r[5],
-                instance: u16::from_le_bytes([r[6], r[7]]),
-                t: f64::from_le_bytes(r[8..16].try_into().unwrap()),
-            }
-        })
         .collect()
 }
 
@@ -280,104 +248,6 @@ fn tiny_default_run_writes_everything() {
         for e in std::fs::read_dir(&dir).unwrap().flatten() {
             let n = e.file_name().to_string_lossy().into_owned();
             assert!(!n.ends_with(".tmp"), "{n} left in {}", dir.display());
-        }
-    }
-}
-
-#[test]
-fn binary_dump_header_and_size() {
-    let t = Tmp::new("binary_dump_header_and_size");
-    tiny_run(&t, "hits.bin", &[]);
-    let b = t.read("hits.bin");
-    assert!(b.len() >= HEADER, "dump of {} bytes", b.len());
-    assert_eq!(&b[..8], b"SVOHITS1", "magic");
-    assert_eq!(u32_at(&b, 8), 1, "version");
-    assert_eq!((u32_at(&b, 12), u32_at(&b, 16)), (W, H), "dimensions");
-    assert_eq!(u32_at(&b, 20), FRAMES, "frames");
-    let record = u32_at(&b, 24) as usize;
-    assert_eq!(record, 40, "record size in the header");
-    assert_eq!(u32_at(&b, 28), 0, "reserved");
-    let n = (W * H * FRAMES) as usize;
-    assert_eq!(
-        b.len(),
-        HEADER + n * record,
-        "the file should hold {n} records of {record} bytes (the header's size) after the \
-         {HEADER}-byte header; its records are actually {} bytes each",
-        (b.len() - HEADER) as f64 / n as f64
-    );
-}
-
-#[test]
-fn binary_dump_records() {
-    let t = Tmp::new("binary_dump_records");
-    tiny_run(&t, "hits.bin", &[]);
-    let recs = records(&t.read("hits.bin"));
-    let (mut hits, mut misses) = (0, 0);
-    for (k, r) in recs.iter().enumerate() {
-        assert_eq!(r.frame, k as u32 / (W * H), "record {k}: frame");
-        assert!(r.hit <= 1 && r.spheres <= 2, "record {k}: {r:?}");
-        if r.hit == 0 {
-            misses += 1;
-            assert_eq!(r.instance, 65535, "record {k}: a miss has no instance");
-            assert!(
-                r.t.is_infinite() && r.t > 0.0,
-                "record {k}: a miss has t = +inf"
-            );
-        } else {
-            hits += 1;
-            assert!(r.instance < 8, "record {k}: instance {}", r.instance);
-            assert!(r.t.is_finite() && r.t > 0.0, "record {k}: t {}", r.t);
-        }
-    }
-    assert!(
-        hits > 0 && misses > 0,
-        "{hits} hits, {misses} misses: the car should fill part of the image"
-    );
-}
-
-#[test]
-fn csv_dump_has_a_line_per_pixel_and_frame() {
-    let t = Tmp::new("csv_dump_has_a_line_per_pixel_and_frame");
-    tiny_run(&t, "hits.csv", &[]);
-    let text = String::from_utf8(t.read("hits.csv")).expect("the CSV is UTF-8");
-    let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines.len(), 1 + (W * H * FRAMES) as usize, "line count");
-    assert!(
-        lines[0].starts_with("frame,x,y,hit,"),
-        "header {}",
-        lines[0]
-    );
-    let cols = lines[0].split(',').count();
-    for (k, l) in lines[1..].iter().enumerate() {
-        let f: Vec<&str> = l.split(',').collect();
-        assert_eq!(f.len(), cols, "line {}: {l}", k + 2);
-        let frame = k as u32 / (W * H);
-        let (x, y) = (k as u32 % W, k as u32 % (W * H) / W);
-        assert_eq!(
-            (f[0], f[1], f[2]),
-            (
-                frame.to_string().as_str(),
-                x.to_string().as_str(),
-                y.to_string().as_str()
-            ),
-            "line {}",
-            k + 2
-        );
-        if f[3] == "0" {
-            assert_eq!(f[5], "-1", "line {}: a miss has instance -1", k + 2);
-        }
-    }
-
-    // Same hits and instances as the binary dump of the same run.
-    let tb = Tmp::new("csv_dump_has_a_line_per_pixel_and_frame_bin");
-    tiny_run(&tb, "hits.bin", &[]);
-    let recs = records(&tb.read("hits.bin"));
-    for (k, (l, r)) in lines[1..].iter().zip(&recs).enumerate() {
-        let f: Vec<&str> = l.split(',').collect();
-        assert_eq!(f[3], r.hit.to_string(), "pixel {k}: hit");
-        if r.hit == 1 {
-            assert_eq!(f[5], r.instance.to_string(), "pixel {k}: instance");
-            assert_eq!(f[6].parse::<f64>().ok(), Some(r.t), "pixel {k}: t");
         }
     }
 }
@@ -547,106 +417,6 @@ fn closed_stdout_ends_quietly() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(out.status.code(), Some(141), "{stderr}");
-}
-
-/// A one-frame 32x20 run of `model` with `extra` options.
-fn one_small_frame(model: &str, extra: &[&str]) -> Vec<String> {
-    [
-        "--model", model, "--frames", "1", "--width", "32", "--height", "20",
-    ]
-    .iter()
-    .chain(extra)
-    .map(|s| s.to_string())
-    .collect()
-}
-
-/// A scene beyond the datapath's position range (the camera 150 m out; sQ8.32 holds ±128 m)
-/// is refused before the run: an error naming the value, the format's range and the remedy,
-/// and nothing written.
-#[test]
-fn scene_beyond_the_formats_is_refused_before_the_run() {
-    let t = Tmp::new("scene_beyond_the_formats");
-    let car = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/car.ron"))
-        .expect("read scenes/car.ron");
-    let far = car.replace("position: (4.6, 2.2, -4.4)", "position: (150.0, 2.2, -4.4)");
-    assert_ne!(far, car, "the car's camera line moved: update this test");
-    let scene = t.p("far.ron");
-    std::fs::write(&scene, far).expect("write the scene");
-    let out = t.p("out");
-    let report = t.p("r.json");
-    for model in ["fixed", "cycle"] {
-        let r = run_sim(
-            &one_small_frame(
-                model,
-                &["--scene", &scene, "--out", &out, "--report-json", &report],
-            ),
-            None,
-            TIMEOUT,
-        );
-        assert!(!r.status.success(), "{model}: {}", r.stderr);
-        for needle in [
-            "camera position = 150.000 m",
-            "raygen.pos",
-            "sQ8.32",
-            "--datapath",
-        ] {
-            assert!(
-                r.stderr.contains(needle),
-                "{model}: no {needle:?} in {}",
-                r.stderr
-            );
-        }
-        assert!(!Path::new(&out).exists() && !Path::new(&report).exists());
-    }
-    // The reference has no formats: the same scene renders.
-    let r = run_sim(
-        &one_small_frame("reference", &["--scene", &scene, "--no-png"]),
-        None,
-        TIMEOUT,
-    );
-    assert!(r.status.success(), "{}", r.stderr);
-}
-
-/// A run that saturates anyway (here a hit-record t format narrowed to uQ2.10, 4 m, with the
-/// car 6 m away) warns on stderr even under `-q`, naming the signal, and exits non-zero unless
-/// `--allow-saturation` accepts it; a run that fits prints no warning.
-#[test]
-fn saturation_is_loud_and_fails_unless_allowed() {
-    let t = Tmp::new("saturation_is_loud");
-    let dp = t.p("narrow.ron");
-    std::fs::write(
-        &dp,
-        "(hit_record: (t: (signed: false, width: 12, frac: 10)))",
-    )
-    .expect("write the datapath");
-    let narrow = ["--datapath", dp.as_str(), "--no-png", "-q"];
-    let refused = run_sim(&one_small_frame("fixed", &narrow), None, TIMEOUT);
-    assert!(!refused.status.success(), "{}", refused.stderr);
-    assert!(refused.stderr.contains("warning: "), "{}", refused.stderr);
-    assert!(
-        refused.stderr.contains("(hit_record "),
-        "{}",
-        refused.stderr
-    );
-    assert!(
-        refused.stderr.contains("--allow-saturation"),
-        "{}",
-        refused.stderr
-    );
-    let allowed = run_sim(
-        &one_small_frame("fixed", &[&narrow[..], &["--allow-saturation"]].concat()),
-        None,
-        TIMEOUT,
-    );
-    assert!(allowed.status.success(), "{}", allowed.stderr);
-    assert!(allowed.stderr.contains("saturated"), "{}", allowed.stderr);
-    let fits = run_sim(
-        &one_small_frame("fixed", &["--no-png", "-q"]),
-        None,
-        TIMEOUT,
-    );
-    assert!(fits.status.success(), "{}", fits.stderr);
-    assert!(!fits.stderr.contains("saturated"), "{}", fits.stderr);
 }
 
 /// `sim hardware --levels`: a Yosys ECP5 netlist's slowest stage by the ECP5 rule, and clear
