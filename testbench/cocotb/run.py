@@ -56,7 +56,7 @@ BENCHES = {
         "test_unit_lanes",
         dict(K=2, L=9, D_IN=4, D_OUT=4),
     ),
-    # The record stage's packing lane (svo_elastic2) at svo_walk's latency 14: two results a
+    # The record stage's packing lane (svo_elastic2) at svo_walk_wide's latency 14: two results a
     # cycle into record_to_write's two push ports.
     "elastic2": (
         "tb_elastic2",

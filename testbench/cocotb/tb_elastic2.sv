@@ -2,7 +2,7 @@
 // number), for test_elastic2.py, which drives the input and both out ports' readies at random
 // and compares every item's leaving cycle and port with its own model of the rule.
 //
-// Pipeline position: none (a bench top); in svo_walk the pipe is the record stage's packing
+// Pipeline position: none (a bench top); in svo_walk_wide the pipe is the record stage's packing
 // lane (svo_normal + svo_hit_pack) handing on into record_to_write's two push ports.
 `timescale 1ns/1ps
 `default_nettype none

@@ -1,7 +1,7 @@
 """svo_elastic2 around a unit of latency L, against this file's own model of the rule.
 
 Pipeline position: the record stage's packing lane (svo_normal + svo_hit_pack, latency 14 in
-svo_walk) handing on into record_to_write's two push ports (docs/cycle-model.md §2.1, the
+svo_walk_wide) handing on into record_to_write's two push ports (docs/cycle-model.md §2.1, the
 record stage's `hand_on_lanes`). The top is tb_elastic2.sv (an svo_delay of L cycles as the
 unit, carrying each item's number).
 

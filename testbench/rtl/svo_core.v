@@ -1,5 +1,5 @@
 // svo_core: the accelerator as one piece of RTL, for K walk-issue lanes (1 or 2) and a walker pool of
-// WALKERS × CONTEXTS (default one walker of one context): svo_front → svo_hit_buffer → svo_walk → back into the hit buffer, every joint
+// WALKERS × CONTEXTS (default one walker of one context): svo_front → svo_hit_buffer → svo_walk_wide → back into the hit buffer, every joint
 // valid/ready with back-pressure, the cycle model's FIFOs and pipes between the units.
 //
 // Pipeline position: all of docs/cycle-model.md §2.1, raygen to the hit-buffer write. What it
@@ -76,7 +76,7 @@ module svo_core #(
     parameter ATTR_MERGE = 1,                     // svo_walker_pool's attribute-merge rule (0 behind a cache)
     parameter RESP_REG = 0,                       // svo_walker_pool's response / request register
     parameter REQ_REG = 0,                        //   (walker_pool.*_register_cycles, 0 or 1)
-    parameter K        = 1,                       // walk-issue lanes (1: svo_walk, 2: svo_walk_wide)
+    parameter K        = 1,                       // walk-issue lanes (1 or 2, svo_walk_wide)
     parameter CRN      = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
 ) (
     input  wire                    clk,
@@ -117,7 +117,7 @@ module svo_core #(
     input  wire [NINST-1:0]        instance_dirty,
     input  wire [71:0]             miss_word,
     input  wire                    wr_hold,
-    // node memory: one read port per walker (svo_walk)
+    // node memory: one read port per walker (svo_walk_wide)
     output wire [WALKERS-1:0]      mem_req_valid,
     input  wire [WALKERS-1:0]      mem_req_ready,
     output wire [WALKERS-1:0]      mem_req_attr,
@@ -216,63 +216,33 @@ module svo_core #(
         .ev_bank_conflict(ev_bank_conflict), .err_pixel(err_pixel));
 
     // ---------------------------------------------------------------- walk section
-    // One walk-issue lane: svo_walk; K = 2: svo_walk_wide (the same rules, K ports a side).
+    // The walk-issue lanes: svo_walk_wide, K of them (K = 1: one lane, the same rules).
     wire wk_err_pipe, wk_err_ov;
-    generate
-        if (K == 1) begin : walk_one
-            svo_walk #(.LANES(LANES), .PIXW(PIXW), .SLOTS(SLOTS), .TAGW(TAGW), .PW(PW), .TW(TW),
-                .POS_FRAC(POS_FRAC), .INV_W(INV_W), .INV_FRAC(INV_FRAC), .T_FRAC(T_FRAC),
-                .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
-                .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
-                .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
-                .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
-                .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP),
-                .ATTR_MERGE(ATTR_MERGE), .RESP_REG(RESP_REG), .REQ_REG(REQ_REG))
-            u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
-                .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
-                .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),
-                .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
-                .in_pixel(hb_walk_pixel), .in_dir(hb_walk_payload[PAYW-1 -: 96]),
-                .in_count(hb_walk_payload[KEYN*40 +: 6]), .in_keys(hb_walk_payload[KEYN*40-1:0]),
-                .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
-                .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
-                .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),
-                .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
-                .rec_pixel(rec_pixel), .rec_word(rec_word), .rec2_valid(rec2_valid),
-                .rec2_ready(rec2_ready), .rec2_pixel(rec2_pixel), .rec2_word(rec2_word),
-                .done_valid(done_valid),
-                .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
-                .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
-                .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx),
-                .ctx_resp_valid(ctx_resp_valid), .ctx_resp_data(ctx_resp_data));
-        end else begin : walk_wide
-            svo_walk_wide #(.K(K), .LANES(LANES), .PIXW(PIXW), .SLOTS(SLOTS), .TAGW(TAGW), .PW(PW), .TW(TW),
-                .POS_FRAC(POS_FRAC), .INV_W(INV_W), .INV_FRAC(INV_FRAC), .T_FRAC(T_FRAC),
-                .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
-                .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
-                .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
-                .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
-                .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP),
-                .ATTR_MERGE(ATTR_MERGE), .RESP_REG(RESP_REG), .REQ_REG(REQ_REG))
-            u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
-                .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
-                .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),
-                .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
-                .in_pixel(hb_walk_pixel), .in_dir(hb_walk_payload[PAYW-1 -: 96]),
-                .in_count(hb_walk_payload[KEYN*40 +: 6]), .in_keys(hb_walk_payload[KEYN*40-1:0]),
-                .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
-                .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
-                .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),
-                .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
-                .rec_pixel(rec_pixel), .rec_word(rec_word), .rec2_valid(rec2_valid),
-                .rec2_ready(rec2_ready), .rec2_pixel(rec2_pixel), .rec2_word(rec2_word),
-                .done_valid(done_valid),
-                .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
-                .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
-                .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx),
-                .ctx_resp_valid(ctx_resp_valid), .ctx_resp_data(ctx_resp_data));
-        end
-    endgenerate
+    svo_walk_wide #(.K(K), .LANES(LANES), .PIXW(PIXW), .SLOTS(SLOTS), .TAGW(TAGW), .PW(PW), .TW(TW),
+        .POS_FRAC(POS_FRAC), .INV_W(INV_W), .INV_FRAC(INV_FRAC), .T_FRAC(T_FRAC),
+        .ROOT_PROD(ROOT_PROD), .STACK_DEPTH(STACK_DEPTH), .MAX_STEPS(MAX_STEPS),
+        .STEP_LATENCY(STEP_LATENCY), .TR_L(TR_L), .RC_L(RC_L), .RT_L(RT_L),
+        .D_CK_TR(D_CK_TR), .D_TR_RC(D_TR_RC), .D_RC_RT(D_RC_RT), .D_RT_DP(D_RT_DP),
+        .D_WK_RC(D_WK_RC), .RECIP_SEED_FILE(RECIP_SEED_FILE), .KEYN(KEYN), .CONTEXTS(CONTEXTS),
+        .WALKERS(WALKERS), .CW(CW), .CTX_RESP(CTX_RESP),
+        .ATTR_MERGE(ATTR_MERGE), .RESP_REG(RESP_REG), .REQ_REG(REQ_REG))
+    u_walk (.clk(clk), .rst(rst), .cam_o(cam_o), .ird_tr(ird_tr), .inst_axes(inst_axes),
+        .inst_c(inst_c_tr), .ird_rt(ird_rt), .inst_half(inst_half), .ird_dp(ird_dp),
+        .inst_node_base(inst_node_base), .inst_attr_base(inst_attr_base), .ird_nm(ird_nm),
+        .in_valid(hb_walk_valid), .in_ready(hb_walk_ready),
+        .in_pixel(hb_walk_pixel), .in_dir(hb_walk_payload[PAYW-1 -: 96]),
+        .in_count(hb_walk_payload[KEYN*40 +: 6]), .in_keys(hb_walk_payload[KEYN*40-1:0]),
+        .mem_req_valid(mem_req_valid), .mem_req_ready(mem_req_ready),
+        .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
+        .mem_resp_valid(mem_resp_valid), .mem_resp_data(mem_resp_data),
+        .inst_nmat(inst_nmat), .rec_valid(rec_valid), .rec_ready(rec_ready),
+        .rec_pixel(rec_pixel), .rec_word(rec_word), .rec2_valid(rec2_valid),
+        .rec2_ready(rec2_ready), .rec2_pixel(rec2_pixel), .rec2_word(rec2_word),
+        .done_valid(done_valid),
+        .done_pixel(done_pixel), .done_walks(done_walks), .done_hit(done_hit), .done_t(done_t),
+        .done_voxel(done_voxel), .err_pipe(wk_err_pipe), .err_overflow(wk_err_ov),
+        .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx),
+        .ctx_resp_valid(ctx_resp_valid), .ctx_resp_data(ctx_resp_data));
 
     assign err_pipe = fr_err_pipe || wk_err_pipe;
     assign err_overflow = fr_err_ov || wk_err_ov;

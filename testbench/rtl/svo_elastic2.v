@@ -2,7 +2,7 @@
 // cycle, as the cycle model's unit lane hands on into a FIFO of two push ports.
 //
 // Pipeline position: around the record stage's packing unit (svo_normal + svo_hit_pack in
-// svo_walk), in front of the hit buffer's record FIFO (record_to_write). At k = 1 that FIFO
+// svo_walk_wide), in front of the hit buffer's record FIFO (record_to_write). At k = 1 that FIFO
 // has max(k, hit_buffer.record_writes) = 2 push ports in the model
 // (src/models/cycle/fifos.rs), and the record stage's `hand_on_lanes` (stages/mod.rs) moves
 // ready results while the FIFO takes a push: after the FIFO was full and the write stage

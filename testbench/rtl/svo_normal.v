@@ -2,7 +2,7 @@
 // instance's normal matrix, in integers (rtl_model/src/units/normal.rs `normal_code`,
 // docs/units/normal.md).
 //
-// Pipeline position: the record stage, in front of svo_hit_pack (svo_walk): when a ray's
+// Pipeline position: the record stage, in front of svo_hit_pack (svo_walk_wide): when a ray's
 // record is decided, its best hit's attribute word (normal: {v, u} snorm16) and its
 // instance's matrix (R·diag(1/scale) scaled to a largest element of ±1, sQ2.16, row-major:
 // element 3i+j at [(3i+j)*18 +: 18] multiplies component j into world component i) enter;

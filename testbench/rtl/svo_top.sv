@@ -268,7 +268,7 @@ module svo_top
 
     // What this top builds by structure; a package it cannot follow does not elaborate.
     // Walk-issue lanes (HwConfig::walk_lanes): k transforms, k lanes of three reciprocals, k
-    // walker roots; svo_core builds svo_walk at 1 and svo_walk_wide at 2.
+    // walker roots; svo_core builds svo_walk_wide at both.
     localparam int WK = TRANSFORM_UNITS;
     localparam int CONTEXTS = WALKER_POOL_CONTEXTS_PER_WALKER;
     localparam int WALKERS = WALKER_POOL_WALKERS;
@@ -282,9 +282,9 @@ module svo_top
     generate
         // Walk-issue lanes (docs/cycle-model.md §2.1, "Walk issue of width k"): k transforms,
         // k lanes of three reciprocals and k walker roots with the k-wide glue (FIFOs,
-        // dispatch, retire, record) — svo_walk at k = 1, svo_walk_wide and svo_walker_pool's K
-        // at k = 2. Unequal units (the model's k is the widest) and k above 2 (record_to_write
-        // has two push ports in svo_hit_buffer) are not built.
+        // dispatch, retire, record): svo_walk_wide and svo_walker_pool's K at k = 1 and 2.
+        // Unequal units (the model's k is the widest) and k above 2 (record_to_write has two
+        // push ports in svo_hit_buffer) are not built.
         if ((WK != 1 && WK != 2) || RECIPROCAL_UNITS != 3 * WK || WALKER_ROOT_UNITS != WK)
         begin : unsupported_walk_lanes
             svo_top_builds_walk_issue_lanes_1_or_2_transform_k_reciprocal_3k_walker_root_k bad();

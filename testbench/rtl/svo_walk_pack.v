@@ -5,11 +5,11 @@
 // Pipeline position: the record stage (docs/cycle-model.md §2.1; src/models/cycle/stages/
 // record.rs, `Record::pack`: UnitLanes of `walk_lanes` lanes), between the record's decisions
 // and the hit buffer's record ports (`rec_*`, `rec2_*`: record_to_write's two push ports, a
-// prefix). At K = 1 the lane is svo_walk's svo_elastic2 (one unit, two ready records a
+// prefix). At K = 1 the lane is an svo_elastic2 (one unit, two ready records a
 // cycle); at K = 2 svo_unit_lanes (each record into the lowest lane with room after this
 // cycle's leaves, the ready records oldest first, ties in lane order, on the two ports).
 // The decisions offer their packs as a prefix (`in_valid`, each pack's instance, best-hit
-// attribute record and packed fields, svo_walk's layout); `in_ready[p]`: p + 1 lanes can take
+// attribute record and packed fields, the record's layout); `in_ready[p]`: p + 1 lanes can take
 // one, what the record's decisions are gated on. Lane l reads its pack's instance's normal
 // matrix through its own instance-table port (`ird_nm` lane l → `inst_nmat` lane l, in the
 // cycle). `err_overflow`: a lane's svo_hit_pack flagged a saturated field this cycle.
@@ -48,7 +48,7 @@ module svo_walk_pack #(
     genvar g;
     generate
         if (K == 1) begin : one
-            // svo_walk's pipe: two out ports for record_to_write's two pushes at k = 1.
+            // One lane's pipe: two out ports for record_to_write's two pushes at k = 1.
             svo_elastic2 #(.L(NL + 1), .W(RW)) pipe (.clk(clk), .rst(rst),
                 .in_valid(in_valid[0]), .in_ready(in_ready[0]), .unit_valid(u_valid[0]),
                 .unit_data(u_data), .out_valid(rec_valid), .out_ready(rec_ready),

@@ -1,20 +1,37 @@
-// svo_walk_wide: the walk section at K walk-issue lanes (issue 29), from check_to_transform to
-// the record stage's word: svo_walk's section with every joint an svo_fifo_wide of K ports a
-// side, K transforms, K lanes of three reciprocals and K walker roots each behind
-// svo_unit_lanes, the walker pool with K dispatch and K retire ports, and the record stage's K
-// decisions and K packing lanes (svo_walk_pack).
+// svo_walk_wide: the walk section at K walk-issue lanes (K 1 or 2), from check_to_transform to
+// the record stage's word: the ray slots, K transforms (the loop-back before new rays), K lanes
+// of three reciprocals, K walker roots, the walker pool with its dispatcher, the record stage's
+// K decisions (early termination, the best hit) and K packing lanes (svo_walk_pack: svo_normal
+// and svo_hit_pack).
 //
 // Pipeline position: docs/cycle-model.md §2.1 and testbench/README.md, "Walk issue of width
 // k": check_to_transform → transform → transform_to_reciprocal → reciprocal →
 // reciprocal_to_root → root → root_to_dispatch → walker → walker_to_record → record →
-// loop_back or the hit buffer's record ports. Cycle-exact with the model's stages
-// (src/models/cycle/stages/{transform,passthrough,walkers,record}.rs) on hardware of K lanes
-// (transform_units K, reciprocal_units 3K, walker_root_units K). svo_core builds svo_walk at
-// K = 1 (the same rules at one port a side, its hardware unchanged) and this module at K = 2;
-// K above 2 is refused: record_to_write has max(K, record_writes) push ports in the model and
-// svo_hit_buffer takes two.
+// loop_back (the next candidate) or the hit buffer's record ports. Cycle-exact with the
+// model's stages (src/models/cycle/stages/{transform,passthrough,walkers,record}.rs) on
+// hardware of K lanes (transform_units K, reciprocal_units 3K, walker_root_units K) and any
+// walker pool svo_walker_pool builds: every joint an svo_fifo_wide of the model's depth and K
+// ports a side, every fixed-latency unit kind behind one svo_unit_lanes (its slot tags in a
+// FIFO of L + 1 per lane). svo_core builds it at K = 1 and 2 (until issue 29's K = 1 had its
+// own module, svo_walk, with the same rules at one port a side; this module at K = 1 replaced
+// it, bit- and cycle-exact on every bench). K above 2 is refused: record_to_write has
+// max(K, record_writes) push ports in the model and svo_hit_buffer takes two.
 //
-// Per cycle, consumers first as in svo_walk:
+// A ray arrives from the check stage with its direction and its sorted candidates (count and
+// keys {instance 8, t_enter uQ10.22}) and takes the lowest free ray slot (SLOTS = walkers x
+// contexts + root_to_dispatch); the slot holds it until its record leaves for packing. Each
+// walk of the ray is one candidate, front to back: the record stage sends the next one back
+// through loop_back unless the best hit so far ends the ray (FramePlan::stops: best t <= the
+// next candidate's entry). The instance table gives the transform's axes and centre, the
+// root's half extents, the walker's image bases and the normal matrix through K read ports
+// per reader (`ird_*`: the instance read, lane j at [j*8 +: 8], `inst_*` its registers in the
+// same cycle; the table answers asynchronously, one replicated port per reader, so the timing
+// is that of the instance registers they replace). The record's normal is computed in the
+// packing lane: the best hit's attribute normal and its instance's normal matrix (`inst_nmat`,
+// 9 sQ2.16 elements row-major) through svo_normal (latency 13) beside an svo_delay of the other
+// fields, then svo_hit_pack (1): the model's units.hit_pack of 14.
+//
+// Per cycle, consumers first:
 // - record: walker_to_record's heads are decided in port order while a packing lane can take
 //   one (svo_unit_lanes' in_ready after this cycle's leaves; a loop-back decision is gated
 //   too but takes no lane); each either pushes the next candidate into loop_back (its ports in
@@ -25,12 +42,16 @@
 // - each unit stage: its ready results leave into the FIFO behind (up to K), then up to K
 //   walks enter, each into the lowest lane with room (svo_unit_lanes).
 // - walker pool: up to K retires into walker_to_record, up to K dispatches from
-//   root_to_dispatch (svo_walker_pool's K ports, lane j at [j*W +: W], prefixes both ways).
+//   root_to_dispatch (svo_walker_pool's K ports, lane j at [j*W +: W], prefixes both ways):
+//   WALKERS walkers of CONTEXTS contexts (per walker one step datapath, its contexts' state in
+//   RAMs, behind one issue grant and one request port; see its header).
 // A slot is read by K readers per stage (its walks are one at a time, so no two lanes touch
-// one slot in a cycle) and written by up to K units a cycle; the instance table has K read
-// ports per reader (transform, root, dispatch, normal: `ird_*` lane j at [j*8 +: 8]).
-// Sticky `err_pipe`: a unit result without its slot tag, loop_back refusing a walk, or the
-// pool's `err_resp`; `err_overflow`: a transform, reciprocal or pack overflow flag.
+// one slot in a cycle) and written by up to K units a cycle.
+// Sticky `err_pipe`: a unit result without its slot tag, loop_back refusing a walk (never
+// expected: it has one entry per slot), or the pool's `err_resp` (a node read's response for
+// a context with no read out); `err_overflow`: a transform, reciprocal or pack overflow flag
+// (the datapath saturated, which the model counts: reported). Reciprocal seed ROMs:
+// recip_lane[j].recip[a].u_recip.rom, loaded by the host as for svo_reciprocal.
 `timescale 1ns/1ps
 `default_nettype none
 module svo_walk_wide #(

@@ -74,8 +74,8 @@ done
 # What svo_core does not build, refused by name as svo_top refuses it (svo_top.sv's
 # `unsupported_*` blocks), so that a package is never synthesised as something else.
 refuse() { echo "synth_core.sh: $pkg: svo_core builds $1" >&2; exit 2; }
-# Walk-issue lanes k = transform_units, with 3k reciprocals and k walker roots: svo_walk at
-# k = 1, svo_walk_wide at k = 2 (svo_top's `unsupported_walk_lanes`).
+# Walk-issue lanes k = transform_units, with 3k reciprocals and k walker roots: svo_walk_wide
+# at k = 1 or 2 (svo_top's `unsupported_walk_lanes`).
 wk=$(need TRANSFORM_UNITS)
 { [ "$wk" = 1 ] || [ "$wk" = 2 ]; } && [ "$(need RECIPROCAL_UNITS)" = $(( 3 * wk )) ] \
     && [ "$(need WALKER_ROOT_UNITS)" = "$wk" ] \
@@ -117,7 +117,7 @@ files=(svo_delay svo_fifo svo_elastic svo_elastic2 svo_f64_to_fixed svo_sqrt svo
     svo_sphere svo_sorter svo_front svo_transform svo_reciprocal svo_walker_root svo_walker
     svo_walker_barrel svo_walker_pool_dispatch svo_walker_pool_retire svo_walker_pool svo_normal
     svo_hit_pack svo_hit_check svo_hit_buffer svo_fifo_wide svo_unit_lanes svo_walk_pack
-    svo_walk svo_walk_wide svo_core)
+    svo_walk_wide svo_core)
 ys="$logs/$top.ys"
 {
     printf 'read_verilog -defer'

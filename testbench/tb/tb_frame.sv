@@ -6,7 +6,7 @@
 // RTL blocks that hold every unit and the control between them: svo_front (the pixel
 // counter, svo_raygen, svo_sphere ×8 lanes with their square roots, svo_sorter, and the
 // raygen_to_sphere, sphere_to_sorter and sorter_to_check FIFOs and elastic unit pipes),
-// svo_hit_buffer (the check with svo_hit_check, the write FIFOs and ports) and svo_walk (the
+// svo_hit_buffer (the check with svo_hit_check, the write FIFOs and ports) and svo_walk_wide (the
 // ray slots, svo_transform with the loop-back first, svo_reciprocal ×3, svo_walker_root, one
 // svo_walker of one context, the record's decision and svo_hit_pack, with their FIFOs and
 // pipes): valid/ready with back-pressure at every joint, the cycle model's FIFO depths, unit
@@ -75,7 +75,7 @@ module tb_frame;
     // The hit buffer's read (hit_buffer.read_latency_cycles) and the one register of
     // svo_hit_pack; the units' latencies are their own LATENCY (read from the instances
     // below), checked against the package's at start.
-    localparam int HB_READ = HIT_BUFFER_READ_LATENCY_CYCLES, L_PK = 14;  // svo_normal 13 + svo_hit_pack 1 (svo_walk)
+    localparam int HB_READ = HIT_BUFFER_READ_LATENCY_CYCLES, L_PK = 14;  // svo_normal 13 + svo_hit_pack 1 (svo_walk_wide)
 
     reg clk = 1'b0;
     always #5 clk = ~clk;
@@ -121,7 +121,7 @@ module tb_frame;
 
 
     // =====================================================================================
-    // The RTL: svo_front, svo_hit_buffer, svo_walk; the host registers they read.
+    // The RTL: svo_front, svo_hit_buffer, svo_walk_wide; the host registers they read.
     // =====================================================================================
     // raygen: svo_raygen quantises the pixel's direction and the camera position. The
     // host's f64 values are the table entries themselves (code / 2^frac, exact in f64), so
@@ -440,9 +440,9 @@ module tb_frame;
         $readmemh({dir, "/walker_nodes.hex"}, nodes);
         $readmemh({dir, "/walker_attrs.hex"}, attrs);
         // The reciprocals' seed ROMs, from the same folder (as tb_reciprocal loads its own).
-        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.walk_one.u_walk.recip[0].u_recip.rom);
-        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.walk_one.u_walk.recip[1].u_recip.rom);
-        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.walk_one.u_walk.recip[2].u_recip.rom);
+        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.u_walk.recip_lane[0].recip[0].u_recip.rom);
+        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.u_walk.recip_lane[0].recip[1].u_recip.rom);
+        $readmemh({dir, "/reciprocal_seed.hex"}, u_core.u_walk.recip_lane[0].recip[2].u_recip.rom);
         if (cam[0][frame_camera_vectors_pkg::INSTANCES_LSB +: 16] != NINST || NINST > LANES
             || NINST < 1)
             $fatal(1, "tb_frame: the frame has %0d instances; this top has %0d sphere lanes", NINST, LANES);
@@ -462,11 +462,11 @@ module tb_frame;
         hw_must_be("units.sorter.latency_cycles", UNITS_SORTER_LATENCY_CYCLES,
                    sorter_vectors_pkg::NET_DEPTH);
         hw_must_be("units.transform.latency_cycles", UNITS_TRANSFORM_LATENCY_CYCLES,
-                   u_core.walk_one.u_walk.u_transform.LATENCY);
+                   u_core.u_walk.transform[0].u_transform.LATENCY);
         hw_must_be("units.reciprocal.latency_cycles", UNITS_RECIPROCAL_LATENCY_CYCLES,
-                   u_core.walk_one.u_walk.recip[0].u_recip.LATENCY);
+                   u_core.u_walk.recip_lane[0].recip[0].u_recip.LATENCY);
         hw_must_be("units.walker_root.latency_cycles", UNITS_WALKER_ROOT_LATENCY_CYCLES,
-                   u_core.walk_one.u_walk.u_root.LATENCY);
+                   u_core.u_walk.root[0].u_root.LATENCY);
         hw_must_be("units.hit_pack.latency_cycles", UNITS_HIT_PACK_LATENCY_CYCLES, L_PK);
         hw_must_be("units.hit_unpack.latency_cycles", UNITS_HIT_UNPACK_LATENCY_CYCLES, 1);
         hw_must_be("hit_buffer.present", int'(HIT_BUFFER_PRESENT), 1);
