@@ -452,6 +452,7 @@ module svo_walk_wide #(
     integer m, i, si, nlp;
     /* verilator lint_off UNUSEDSIGNAL */
     integer im;                                   // its low SW bits are the port
+    integer pj;
     /* verilator lint_on UNUSEDSIGNAL */
     always @* begin
         mask = free_now;
@@ -478,7 +479,10 @@ module svo_walk_wide #(
             end else begin
                 im = i - nlp;
                 tr_in_valid[i] = tr_on && ck_valid[im] && pick_ok[im];
-                it_slot[i*TAGW +: TAGW] = pick[im*TAGW +: TAGW];
+                // A multiplexer over the picks (an index product im * TAGW became a
+                // DSP48E2 in Yosys at K = 1).
+                for (pj = 0; pj < K; pj = pj + 1)
+                    if (pj == im) it_slot[i*TAGW +: TAGW] = pick[pj*TAGW +: TAGW];
                 it_m[i*SW +: SW] = im[SW-1:0];
             end
             tr_on = tr_in_valid[i];
