@@ -71,7 +71,7 @@ fn model_latency(unit: &str) -> u64 {
         "raygen" => t.raygen.latency_cycles,
         // The first row is a ray without candidates: one network pass.
         "sorter" => t.sorter.latency_cycles,
-        // units.hit_pack is svo_normal then svo_hit_pack (svo_walk's record pipe).
+        // units.hit_pack is svo_normal then svo_hit_pack (svo_walk_wide's packing lane).
         "hit_record" => t.hit_pack.latency_cycles - normal::LATENCY_CYCLES,
         "normal" => normal::LATENCY_CYCLES,
         "walker_root" => t.walker_root.latency_cycles,

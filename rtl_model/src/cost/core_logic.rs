@@ -1,5 +1,5 @@
 //! The logic svo_core's RTL builds around its units, calibrated on the whole core's synthesis
-//! (issue 29): svo_front's candidate gathering, svo_walk's ray-slot table with the record
+//! (issue 29): svo_front's candidate gathering, the walk section's ray-slot table with the record
 //! decision and slot allocation around it, the fixed-latency units' elastic pipes, and the
 //! hit buffer's check pipe and write FIFOs.
 //!
@@ -47,6 +47,9 @@ pub mod calibration {
     pub const SLOT_RAM_LUTS: u64 = 8_024;
     /// svo_walk's own logic besides the LUT-RAM, alone: 15,422 − 8,024 = 7,398 CLB LUT (the
     /// record decision, the tables' read multiplexers, the lowest-free-slot chain), 1,594 FF.
+    /// (svo_walk was the walk section at K = 1 until svo_walk_wide replaced it; its own block
+    /// at K = 1 measures 16,187 CLB LUT of which 8,208 LUT-RAM, 1,562 FF — within 5 % of these,
+    /// so the calibration stands: docs/cycle-model.md §1.5.)
     pub const SLOT_LOGIC: (u64, u64) = (15_422 - 8_024, 1_594);
     /// The slot table's bits per slot at frame_hw (32 × 40 keys + t 62 + origin 3 × 40 +
     /// direction 3 × 32 + attribute 64 + voxel 60) and its slots.
@@ -115,7 +118,7 @@ pub fn slot_table_bits(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
         + 60
 }
 
-/// svo_walk's ray slots (`HwConfig::ray_slots`): the slot tables in LUT-RAM (read
+/// The walk section's ray slots (`HwConfig::ray_slots`, svo_walk_wide's slot tables): the slot tables in LUT-RAM (read
 /// asynchronously, so LUT-RAM at any depth; LUTs as [`lutram_luts`] of slots × bits, 64
 /// slots a block), the logic around them (the tables' read multiplexers, the record decision
 /// and the lowest-free-slot chain: LUT ∝ slots × bits, FF ∝ slots), and the loop-back FIFO,

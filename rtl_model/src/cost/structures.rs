@@ -87,7 +87,7 @@ pub fn ray_bits(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
     pixel_bits(hw) + 3 * u64::from(dp.raygen.dir.width)
 }
 
-/// Bits of a ray's candidate list as the RTL carries it (svo_walk's `RAY` less the ray): a
+/// Bits of a ray's candidate list as the RTL carries it (svo_walk_wide's `RAY` less the ray): a
 /// count of 0..=[`candidate_keys`] and that many candidates ([`candidate_bits`]).
 pub fn candidate_list_bits(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
     let k = candidate_keys(hw);
@@ -141,7 +141,7 @@ fn walker_contexts(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
 
 /// Bits of one entry of each FIFO of the model, in pipeline order, with its depth. A ray is
 /// its pixel and direction ([`ray_bits`]); from the sphere lanes on it carries its candidate
-/// list ([`candidate_list_bits`]: `KEYN` candidates as svo_walk's `RAY` entry, 1,414 bits in
+/// list ([`candidate_list_bits`]: `KEYN` candidates as svo_walk_wide's `RAY` entry, 1,414 bits in
 /// the RTL at 16 sorter lanes); a walk carries its ray-slot tag and the operands of the next
 /// unit (the transform's outputs, the reciprocals, the walker's inputs); a result is the
 /// walker's outputs without its counters; a record is the hit word and its pixel. The
