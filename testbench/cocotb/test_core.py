@@ -59,6 +59,8 @@ with core_writes.vlt in a folder of its own): frame 0's hit-buffer writes cycle 
 many in each cycle, counted from the first write) must be the model's pixels_written steps, a
 check finer than the frame's cycles (issue 29: the record FIFO's second push moves a write by
 a cycle without moving the frame's end).
+SVO_WATCHDOG=N: a frame not finished N cycles after its START (default 50 x the model's
+cycles + 10,000) fails the bench with the state that explains the hang (core_watchdog.py).
 Before the first frame, a START before the load must be refused with STATUS.ERROR 7 and one
 during the load with 8 (LOADING set); the load's cycles (LOAD_CYCLES) are printed. Then five
 STARTs with one bad register each must be refused with
@@ -85,6 +87,8 @@ from cocotbext.axi import (AxiLiteBus, AxiLiteMaster, AxiReadBus, AxiRamRead,
                            AxiStreamBus, AxiStreamSink)
 from systemrdl import RDLCompiler
 from systemrdl.node import MemNode, RegNode
+
+import core_watchdog
 
 RDL = Path(__file__).resolve().parent.parent / "rdl" / "svo_core.rdl"
 DIR_BASE = 0x0000_0000      # the direction table (16 bytes a pixel)
@@ -842,19 +846,35 @@ async def frame_against_the_model(dut):
             cocotb.start_soon(rtl_writes(dut, writes, writes_stop))
         await w("CTRL", 0x1)
         seen = {}
-        while True:
-            frame = await sink.recv()
-            data = bytes(frame.tdata)
-            for s in range(0, len(data), 16):
-                slot = int.from_bytes(data[s:s + 16], "little")
-                p, word = slot & 0xFFFF_FFFF, (slot >> 32) & ((1 << 72) - 1)
-                seen.setdefault(p, []).append(word)
-            if sum(len(v) for v in seen.values()) >= npix:
-                break
-        for _ in range(10000):
-            if (await r("STATUS")) & 0x2:
-                break
-            await ClockCycles(dut.clk, 10)
+
+        async def frame_end():
+            while True:
+                frame = await sink.recv()
+                data = bytes(frame.tdata)
+                for s in range(0, len(data), 16):
+                    slot = int.from_bytes(data[s:s + 16], "little")
+                    p, word = slot & 0xFFFF_FFFF, (slot >> 32) & ((1 << 72) - 1)
+                    seen.setdefault(p, []).append(word)
+                if sum(len(v) for v in seen.values()) >= npix:
+                    break
+            for _ in range(10000):
+                if (await r("STATUS")) & 0x2:
+                    break
+                await ClockCycles(dut.clk, 10)
+        # The watchdog (core_watchdog.py): a frame not finished within its bound ends the bench
+        # with the state that explains the hang.
+        started, limit = core_watchdog.cycle(), core_watchdog.bound(model[f])
+        if not await core_watchdog.frame_within(frame_end(), limit):
+            print(core_watchdog.hang_report(dut, started, limit))
+            if dram:
+                print(f"watchdog: the bench's node-cache memory: {dram.fills} fills taken, beats due "
+                      f"per port {[[(c, hex(a), i) for c, a, i in q[:4]] for q in dram.q]} "
+                      f"(its cycle {dram.cycle}), next fill's port {dram.next_port}")
+            b.fail(f"frame {f}: not finished {limit} cycles after its START (watchdog; "
+                   f"{sum(len(v) for v in seen.values())}/{npix} pixels streamed, STATUS "
+                   f"{await r('STATUS'):#x}, stalls {stalls})")
+            print(f"core: {b.passed} passed, {b.failed} failed")
+            assert False, "the watchdog fired"
         writes_stop[0] = True
         if f == 0 and model_vcd:
             # The hit buffer's writes cycle by cycle (SVO_MODEL_VCD): each cycle's number of
