@@ -326,9 +326,13 @@ class NodeCacheDram(RandomPauses):
     ceil(end / B), and its one beat (RLAST) is on R in done - 2 on the port its AR came on.
     ARs are taken in rotating port order from the port of the next fill (the master stripes
     fill n on port n mod ports), stopping at the first port without one, so the bus order is
-    the issue order. With pct > 0, each port's ARREADY and each due beat pause in a random
-    pct % of cycles (rng), counted in stalls["cache ar"] / ["cache r"]; held beats wait in
-    order. fail_next: the next beat answers SLVERR (STATUS.ERROR 10)."""
+    the issue order; ARREADY is high only on the ports taken. (Issue 29, two ports under
+    pauses: a READY on a port behind a paused one completed a handshake the bench did not
+    take, the master's ports being independent queues, and two ARs taken in one cycle read
+    one port twice, the rotation moving inside its own loop: lost fills, frames that never
+    ended.) With pct > 0, each port's ARREADY and each due beat pause in a random pct % of
+    cycles (rng), counted in stalls["cache ar"] / ["cache r"]; held beats wait in order.
+    fail_next: the next beat answers SLVERR (STATUS.ERROR 10)."""
 
     ADDR_W = 40
 
@@ -352,7 +356,7 @@ class NodeCacheDram(RandomPauses):
     def drive(self):
         """The falling edge of a cycle: each port's R and ARREADY for this cycle."""
         self.cycle += 1
-        rvalid, rdata, rresp, rid, ar = 0, 0, 0, 0, 0
+        rvalid, rdata, rresp, rid, ar, free = 0, 0, 0, 0, 0, 0
         for p in range(self.ports):
             q = self.q[p]
             if q and q[0][0] <= self.cycle and not self.paused("cache r"):
@@ -364,7 +368,15 @@ class NodeCacheDram(RandomPauses):
                     self.fail_next = False
                 rdata |= int.from_bytes(self.mem[addr:addr + self.line], "little") << (8 * self.line * p)
             if not self.paused("cache ar"):
-                ar |= 1 << p
+                free |= 1 << p
+        # READY on the ports sample() takes: in rotation from the next fill's, each with ARVALID
+        # (the master's queue registers: settled at this edge) and not paused, to the first not.
+        arvalid = int(self.dut.m_axi_node_arvalid.value)
+        for j in range(self.ports):
+            p = (self.next_port + j) % self.ports
+            if not (free & arvalid) >> p & 1:
+                break
+            ar |= 1 << p
         self.ar = ar
         d = self.dut
         d.m_axi_node_arready.value = ar
@@ -383,8 +395,9 @@ class NodeCacheDram(RandomPauses):
         arid = int(self.dut.m_axi_node_arid.value)
         arlen = int(self.dut.m_axi_node_arlen.value)
         arsize = int(self.dut.m_axi_node_arsize.value)
+        first = self.next_port                    # (next_port moves with each AR taken)
         for j in range(self.ports):
-            p = (self.next_port + j) % self.ports
+            p = (first + j) % self.ports
             if not (arvalid & self.ar) >> p & 1:
                 break                             # the fills behind it wait, in order
             addr = (araddr >> (self.ADDR_W * p)) & ((1 << self.ADDR_W) - 1)
