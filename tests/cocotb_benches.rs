@@ -515,16 +515,60 @@ fn core_pool_of_four_walkers_of_two_contexts_reads_through_the_node_cache_as_the
         "{text}"
     );
     let stalls = stall_line(&run.stalls);
-    let count = |key: &str| -> u64 {
-        stalls
-            .split(&format!("{key} "))
-            .nth(1)
-            .and_then(|s| s.split(|c: char| !c.is_ascii_digit()).next())
-            .and_then(|s| s.parse().ok())
-            .unwrap_or_else(|| panic!("no \"{key}\" count in: {stalls}"))
-    };
     println!("core {hw} car, stalls seed 1: {stalls}");
-    assert!(count("cache ar") > 0 && count("cache r") > 0, "{stalls}");
+    assert!(
+        stall_count(stalls, "cache ar") > 0 && stall_count(stalls, "cache r") > 0,
+        "{stalls}"
+    );
+}
+
+/// svo_top on testbench/hw/pool_4x2_split.ron — the default's node-memory arrangement on
+/// pool_4x2's walker pool: each image's top 4 levels from the on-chip store (the bench writes
+/// each image's prefix into ONCHIP_WORDS and loads the store), every other node word and every
+/// attribute record through the node cache — renders the car's two 16 × 10 frames at depth 6
+/// (the body's prefix 97 of its 7,241 words, so its deeper words come through the cache; a
+/// load of 7,884 words, where depth 8 loads 198,599) with every pixel equal and the model's
+/// cycles and reuse; then frame 0 with random pauses (seed 1, 20 %) on the cache's AR and R,
+/// the direction and load masters and the stream: every pixel once and right and no FAULT.
+/// Issue 29: at 32 × 24, depth 8, two chaining words of one walker's contexts arrived in one
+/// cycle under pauses, which the barrel walker flagged (err_resp, STATUS FAULT 2) though it
+/// serves them; this frame does not hit that rare event on the old RTL (testbench/README.md,
+/// "The store in front of the cache"), so the case keeps the split's stall path in CI.
+#[test]
+fn core_split_node_memory_renders_the_car_under_stalls_as_the_model() {
+    let Some(venv) = venv() else { return };
+    let hw = "pool_4x2_split";
+    let run = core_pool_car_frames_and_stalls(&venv, hw, 6, None);
+    // The body (image 0) is read both ways: its prefix is shorter than its words.
+    let line = run
+        .frames
+        .lines()
+        .find(|l| l.starts_with("core: on chip:"))
+        .unwrap_or_else(|| panic!("no on-chip line:\n{}", run.frames));
+    let (on, all) = line
+        .split(" 0: ")
+        .nth(1)
+        .and_then(|s| s.split(',').next())
+        .and_then(|s| s.split_once('/'))
+        .unwrap_or_else(|| panic!("no image 0 in: {line}"));
+    let (on, all): (u64, u64) = (on.parse().unwrap_or(0), all.trim().parse().unwrap_or(0));
+    assert!(0 < on && on < all, "{line}");
+    let stalls = stall_line(&run.stalls);
+    println!("core {hw} car, depth 6, {line}; stalls seed 1: {stalls}");
+    assert!(
+        stall_count(stalls, "cache ar") > 0 && stall_count(stalls, "cache r") > 0,
+        "{stalls}"
+    );
+}
+
+/// The count of pauses `key` (e.g. "cache ar") in the bench's stall line.
+fn stall_count(stalls: &str, key: &str) -> u64 {
+    stalls
+        .split(&format!("{key} "))
+        .nth(1)
+        .and_then(|s| s.split(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no \"{key}\" count in: {stalls}"))
 }
 
 /// The car's two 16 × 10 frames at octree depth `depth` on svo_top built on

@@ -59,6 +59,8 @@ with core_writes.vlt in a folder of its own): frame 0's hit-buffer writes cycle 
 many in each cycle, counted from the first write) must be the model's pixels_written steps, a
 check finer than the frame's cycles (issue 29: the record FIFO's second push moves a write by
 a cycle without moving the frame's end).
+SVO_WATCHDOG=N: a frame not finished N cycles after its START (default 50 x the model's
+cycles + 10,000) fails the bench with the state that explains the hang (core_watchdog.py).
 Before the first frame, a START before the load must be refused with STATUS.ERROR 7 and one
 during the load with 8 (LOADING set); the load's cycles (LOAD_CYCLES) are printed. Then five
 STARTs with one bad register each must be refused with
@@ -85,6 +87,8 @@ from cocotbext.axi import (AxiLiteBus, AxiLiteMaster, AxiReadBus, AxiRamRead,
                            AxiStreamBus, AxiStreamSink)
 from systemrdl import RDLCompiler
 from systemrdl.node import MemNode, RegNode
+
+import core_watchdog
 
 RDL = Path(__file__).resolve().parent.parent / "rdl" / "svo_core.rdl"
 DIR_BASE = 0x0000_0000      # the direction table (16 bytes a pixel)
@@ -322,9 +326,13 @@ class NodeCacheDram(RandomPauses):
     ceil(end / B), and its one beat (RLAST) is on R in done - 2 on the port its AR came on.
     ARs are taken in rotating port order from the port of the next fill (the master stripes
     fill n on port n mod ports), stopping at the first port without one, so the bus order is
-    the issue order. With pct > 0, each port's ARREADY and each due beat pause in a random
-    pct % of cycles (rng), counted in stalls["cache ar"] / ["cache r"]; held beats wait in
-    order. fail_next: the next beat answers SLVERR (STATUS.ERROR 10)."""
+    the issue order; ARREADY is high only on the ports taken. (Issue 29, two ports under
+    pauses: a READY on a port behind a paused one completed a handshake the bench did not
+    take, the master's ports being independent queues, and two ARs taken in one cycle read
+    one port twice, the rotation moving inside its own loop: lost fills, frames that never
+    ended.) With pct > 0, each port's ARREADY and each due beat pause in a random pct % of
+    cycles (rng), counted in stalls["cache ar"] / ["cache r"]; held beats wait in order.
+    fail_next: the next beat answers SLVERR (STATUS.ERROR 10)."""
 
     ADDR_W = 40
 
@@ -348,7 +356,7 @@ class NodeCacheDram(RandomPauses):
     def drive(self):
         """The falling edge of a cycle: each port's R and ARREADY for this cycle."""
         self.cycle += 1
-        rvalid, rdata, rresp, rid, ar = 0, 0, 0, 0, 0
+        rvalid, rdata, rresp, rid, ar, free = 0, 0, 0, 0, 0, 0
         for p in range(self.ports):
             q = self.q[p]
             if q and q[0][0] <= self.cycle and not self.paused("cache r"):
@@ -360,7 +368,15 @@ class NodeCacheDram(RandomPauses):
                     self.fail_next = False
                 rdata |= int.from_bytes(self.mem[addr:addr + self.line], "little") << (8 * self.line * p)
             if not self.paused("cache ar"):
-                ar |= 1 << p
+                free |= 1 << p
+        # READY on the ports sample() takes: in rotation from the next fill's, each with ARVALID
+        # (the master's queue registers: settled at this edge) and not paused, to the first not.
+        arvalid = int(self.dut.m_axi_node_arvalid.value)
+        for j in range(self.ports):
+            p = (self.next_port + j) % self.ports
+            if not (free & arvalid) >> p & 1:
+                break
+            ar |= 1 << p
         self.ar = ar
         d = self.dut
         d.m_axi_node_arready.value = ar
@@ -379,8 +395,9 @@ class NodeCacheDram(RandomPauses):
         arid = int(self.dut.m_axi_node_arid.value)
         arlen = int(self.dut.m_axi_node_arlen.value)
         arsize = int(self.dut.m_axi_node_arsize.value)
+        first = self.next_port                    # (next_port moves with each AR taken)
         for j in range(self.ports):
-            p = (self.next_port + j) % self.ports
+            p = (first + j) % self.ports
             if not (arvalid & self.ar) >> p & 1:
                 break                             # the fills behind it wait, in order
             addr = (araddr >> (self.ADDR_W * p)) & ((1 << self.ADDR_W) - 1)
@@ -842,19 +859,35 @@ async def frame_against_the_model(dut):
             cocotb.start_soon(rtl_writes(dut, writes, writes_stop))
         await w("CTRL", 0x1)
         seen = {}
-        while True:
-            frame = await sink.recv()
-            data = bytes(frame.tdata)
-            for s in range(0, len(data), 16):
-                slot = int.from_bytes(data[s:s + 16], "little")
-                p, word = slot & 0xFFFF_FFFF, (slot >> 32) & ((1 << 72) - 1)
-                seen.setdefault(p, []).append(word)
-            if sum(len(v) for v in seen.values()) >= npix:
-                break
-        for _ in range(10000):
-            if (await r("STATUS")) & 0x2:
-                break
-            await ClockCycles(dut.clk, 10)
+
+        async def frame_end():
+            while True:
+                frame = await sink.recv()
+                data = bytes(frame.tdata)
+                for s in range(0, len(data), 16):
+                    slot = int.from_bytes(data[s:s + 16], "little")
+                    p, word = slot & 0xFFFF_FFFF, (slot >> 32) & ((1 << 72) - 1)
+                    seen.setdefault(p, []).append(word)
+                if sum(len(v) for v in seen.values()) >= npix:
+                    break
+            for _ in range(10000):
+                if (await r("STATUS")) & 0x2:
+                    break
+                await ClockCycles(dut.clk, 10)
+        # The watchdog (core_watchdog.py): a frame not finished within its bound ends the bench
+        # with the state that explains the hang.
+        started, limit = core_watchdog.cycle(), core_watchdog.bound(model[f])
+        if not await core_watchdog.frame_within(frame_end(), limit):
+            print(core_watchdog.hang_report(dut, started, limit))
+            if dram:
+                print(f"watchdog: the bench's node-cache memory: {dram.fills} fills taken, beats due "
+                      f"per port {[[(c, hex(a), i) for c, a, i in q[:4]] for q in dram.q]} "
+                      f"(its cycle {dram.cycle}), next fill's port {dram.next_port}")
+            b.fail(f"frame {f}: not finished {limit} cycles after its START (watchdog; "
+                   f"{sum(len(v) for v in seen.values())}/{npix} pixels streamed, STATUS "
+                   f"{await r('STATUS'):#x}, stalls {stalls})")
+            print(f"core: {b.passed} passed, {b.failed} failed")
+            assert False, "the watchdog fired"
         writes_stop[0] = True
         if f == 0 and model_vcd:
             # The hit buffer's writes cycle by cycle (SVO_MODEL_VCD): each cycle's number of

@@ -51,9 +51,13 @@
 // adds and their comparisons were one path, 28 levels at CONTEXTS = 16 by the clock rule
 // (149 MHz); see testbench/README for the figures now.
 //
-// Responses: a context's node and leaf words (which chain a request in the cycle they arrive)
-// come one a cycle for the walker (svo_top's on-chip store breaks this only when a bank port
-// made the earlier of two reads wait); err_resp flags two in one cycle. Attribute records may arrive several a cycle (merged reads).
+// Responses: any of the walker's contexts in a cycle. A node or leaf word chains a request in
+// the cycle it arrives (its own adder, chain_addr); when several arrive together (issue 29:
+// svo_top's store and cache answering in one cycle, two reads completing on one fill, a bank
+// port that made the earlier of two reads wait) each context requests, the pool's port takes
+// one and the others wait in S_REQ with their chained address: the model's send queue
+// (walker_pool.rs, "Request ports"), oldest by the wake-up order the pool keeps. Attribute
+// records may arrive several a cycle (merged reads).
 `timescale 1ns/1ps
 `default_nettype none
 module svo_walker_barrel #(
@@ -104,8 +108,7 @@ module svo_walker_barrel #(
     output wire [K*T_W-1:0]        out_t,
     output wire [K*60-1:0]         out_voxel,
     output wire [K*64-1:0]         out_attr_data,
-    output wire [K*TAG_W-1:0]      out_tag,
-    output reg                     err_resp    // sticky: two chaining responses in one cycle
+    output wire [K*TAG_W-1:0]      out_tag
 );
     localparam R = CONTEXTS;
     localparam TI = T_W + 1;
@@ -197,14 +200,10 @@ module svo_walker_barrel #(
     reg [31:0] fa [0:R-1];                         // c_fa, written with nram
     reg [31:0] ab [0:R-1];                         // the attribute base, written with wram
     reg [31:0] chain_addr [0:R-1];
-    reg [1:0]  n_chain;
     integer ir;
     always @* begin
-        n_chain = 2'd0;
-        for (ir = 0; ir < R; ir = ir + 1) begin
+        for (ir = 0; ir < R; ir = ir + 1)
             chain_addr[ir] = (pend[ir] == P_FAR ? fa[ir] : ab[ir]) + rdata[ir][31:0];
-            if (chain[ir]) n_chain = n_chain == 2'd0 ? 2'd1 : 2'd2;
-        end
     end
 
     genvar gc;
@@ -662,8 +661,6 @@ module svo_walker_barrel #(
                 end
             end
         end
-        if (rst) err_resp <= 1'b0;
-        else if (n_chain == 2'd2) err_resp <= 1'b1;
     end
 
     // ---------------------------------------------------------------- the result

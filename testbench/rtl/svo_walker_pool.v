@@ -83,12 +83,14 @@
 //
 // The memory: per walker mem_req_* one read a cycle with its context (mem_req_ctx, the pool's
 // context index n = walker·CONTEXTS + k); responses in any order, each with its context
-// (mem_resp_ctx), on any port, but at most one node or leaf word (the words that chain a read in
-// the cycle they arrive) for one walker in a cycle; records of merged reads may complete several
-// a cycle. (svo_top: its on-chip store can complete two chaining words of one walker in one
-// cycle when a bank port made the earlier read wait; err_resp, a FAULT, flags it: not seen in
-// the pool_4x2 runs of testbench/README.md, where reads waited for a port a few times a frame.) Sticky err_resp: a response for
-// a context that has no read out, or two chaining words for one walker in a cycle.
+// (mem_resp_ctx), on any port, several for one walker in a cycle included: node or leaf words
+// (which chain a read in the cycle they arrive) of several contexts each make a request, the
+// port takes the oldest and the others join the walker's send queue, as the model's (issue 29:
+// svo_top's store and cache answer two contexts of one walker in one cycle, a fill completes
+// the reads merged on it together; under random stalls on the cache's R this is common, and
+// the barrel walker's old flag for it was a false FAULT, testbench/README.md "The store in
+// front of the cache"); records of merged reads may complete several a cycle. Sticky
+// err_resp: a response on a walker port that reaches no context (a context index beyond N).
 // Registers (walker_pool.rs, "Registered response and request"; issue 29, for 300 MHz):
 // RESPONSE_REGISTER_CYCLES 1 registers the responses (the contexts see the memory's cycle C in
 // C + 1; the fills' state stays the memory's), REQUEST_REGISTER_CYCLES 1 each walker port's
@@ -196,7 +198,6 @@ module svo_walker_pool #(
     wire [K*60-1:0]    w_voxel     [0:W-1];
     wire [K*64-1:0]    w_attr_data [0:W-1];
     wire [K*TAG_W-1:0] w_tag       [0:W-1];
-    wire [W-1:0]   w_err;
 
     // ---------------------------------------------------------------- per walker: the age order
     // A context is in at most one queue at a time (issue, send, retire) and a walker's issue and
@@ -589,7 +590,7 @@ module svo_walker_pool #(
         end else begin
             if (|snd) sstamp <= sstamp + 1'b1;
             for (w = 0; w < W; w = w + 1)
-                if ((r_valid[w] && !(|e_resp_valid)) || |w_err) err_resp <= 1'b1;
+                if (r_valid[w] && !(|e_resp_valid)) err_resp <= 1'b1;
 `ifndef SYNTHESIS
             // The dispatcher's copy of the walkers' state (busy) must be theirs.
             if (e_in_ready != (~busy | retiring)) err_resp <= 1'b1;
@@ -649,7 +650,6 @@ module svo_walker_pool #(
                 assign w_voxel[g] = {K{r_voxel}};
                 assign w_attr_data[g] = {K{r_attr_data}};
                 assign w_tag[g] = {K{r_tag}};
-                assign w_err[g] = 1'b0;
             end
         end else begin : barrel
             for (g = 0; g < W; g = g + 1) begin : walker
@@ -688,8 +688,7 @@ module svo_walker_pool #(
                     .issue_req(e_issue_req[g*R +: R]), .ev_lat(e_ev_lat[g*R +: R]),
                     .ev_disp(e_ev_disp[g*R +: R]), .ev_resp(e_ev_resp[g*R +: R]),
                     .fin(w_fin), .out_outcome(w_outcome[g]), .out_t(w_t[g]),
-                    .out_voxel(w_voxel[g]), .out_attr_data(w_attr_data[g]), .out_tag(w_tag[g]),
-                    .err_resp(w_err[g]));
+                    .out_voxel(w_voxel[g]), .out_attr_data(w_attr_data[g]), .out_tag(w_tag[g]));
             end
         end
     endgenerate
