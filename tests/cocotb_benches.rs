@@ -500,7 +500,7 @@ fn core_pool_of_four_walkers_of_two_contexts_shares_the_onchip_store_as_the_mode
 /// node word and attribute record through a small node cache (4 KiB, 32-byte lines, 16 MSHRs;
 /// onchip.levels 0: svo_node_cache_axi inside svo_top, its fills on m_axi_node_*) — renders
 /// the car's two 16 × 10 frames at depth 8 with the bench's memory on m_axi_node_* timed as
-/// the model's built-in DRAM (test_core.py NodeCacheDram): every pixel equal, the model's
+/// the model's built-in DRAM (core_memory.py NodeCacheDram): every pixel equal, the model's
 /// cycles and reuse, a fill answering SLVERR ending with STATUS.ERROR 10; then frame 0 with
 /// random pauses (seed 1, 20 %) on the cache's AR and R, the direction master and the stream:
 /// every pixel once and right, pauses injected on the cache's port.
