@@ -209,7 +209,10 @@ def main() -> int:
             return 2
         seed = build_dir / "reciprocal_seed.hex"
         shutil.copyfile(Path(vectors) / "reciprocal_seed.hex", seed)
-        extra_env["SVO_VECTORS"] = str(Path(vectors).resolve())
+        # The bench runs in the build folder: every folder it reads, absolute.
+        for key in ("SVO_VECTORS", "SVO_VECTORS1"):
+            if extra_env.get(key):
+                extra_env[key] = str(Path(extra_env[key]).resolve())
         parameters = dict(parameters, NPIX=npix, RECIP_SEED_FILE=f'"{seed}"')
     if bench == "regs":
         build_dir.mkdir(parents=True, exist_ok=True)
