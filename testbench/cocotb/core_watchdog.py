@@ -76,8 +76,10 @@ def hang_report(dut, started, limit):
     """The lines that explain a hang: the cycle, who waits, what the node memory holds, the
     AXI channels' handshakes. `started`: the frame's START cycle."""
     now = cycle()
-    walk = next((p for p in ("u_core.walk_one.u_walk", "u_core.walk_wide.u_walk")
-                 if _peek(dut, p + ".err_pipe") is not None), "u_core.walk_one.u_walk")
+    # svo_core's walk section (svo_walk_wide at K = 1 and 2; the generate scopes of the
+    # builds before svo_walk's removal, for an older build folder).
+    walk = next((p for p in ("u_core.u_walk", "u_core.walk_one.u_walk", "u_core.walk_wide.u_walk")
+                 if _peek(dut, p + ".err_pipe") is not None), "u_core.u_walk")
     pool = walk + ".u_walker"
     cache = "cached.u_cache"
     lines = [
