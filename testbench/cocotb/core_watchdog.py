@@ -13,7 +13,7 @@ contexts with a node-memory read out), what the node memory holds (the cache's M
 contexts waiting on a fill, its miss and bank queues, the AXI fill queue; the store's schedule)
 and each AXI channel's valid/ready at the cycle it fired. Internal state is read through
 Verilator's public handles (the cocotb runner builds with --public-flat-rw); a handle the
-hardware does not have (no cache, no store, the other walk section) prints as "-".
+hardware does not have (no cache, no store) prints as "-".
 """
 import os
 
