@@ -7,6 +7,7 @@ bench's readers of the model's outputs (`sim vectors`, `sim --vcd`); nothing her
 with the Rust model.
 """
 import json
+import os
 from pathlib import Path
 
 from cocotb.triggers import ReadOnly, RisingEdge
@@ -148,3 +149,20 @@ def top_levels_prefix(words, levels, max_words):
         assert s <= end, f"the top {levels} levels are not one prefix: a group at word {s}, the prefix ends at {end}"
         end = max(end, e)
     return end
+
+
+def backdoor_load(dut, nodes, words, node_base):
+    """SVO_STORE_LOAD=backdoor: what a complete CTRL.LOAD of `words` words from `node_base`
+    leaves in svo_top, written through VPI (the build's core_preload.vlt makes these writable):
+    store word i = nodes[i] in bank i mod BANKS, row i / BANKS (svo_onchip_store's
+    word-interleaved banks), and svo_top's store_ok, store_base (the load's source word index)
+    and store_words. Written after reset (reset clears store_ok) and before the first START;
+    the bank count is the hardware package's (SVO_ONCHIP_BANKS, from run.py)."""
+    top = dut
+    store = top.onchip.u_store
+    banks = int(os.environ["SVO_ONCHIP_BANKS"])
+    for i in range(words):
+        store.bank[i % banks].mem[i // banks].value = nodes[i]
+    top.store_base.value = node_base >> 2
+    top.store_words.value = words
+    top.store_ok.value = 1

@@ -198,9 +198,23 @@ def main() -> int:
         # SVO_MODEL_VCD (test_core.py's per-cycle check of the hit buffer's writes): svo_core's
         # write valids made readable (core_writes.vlt), in a build folder of its own.
         if "SVO_MODEL_VCD" in extra_env:
-            extra_build = [str(HERE / "core_writes.vlt")]
+            extra_build.append(str(HERE / "core_writes.vlt"))
             hw = f"{hw}_writes"
             extra_env["SVO_MODEL_VCD"] = str(Path(extra_env["SVO_MODEL_VCD"]).resolve())
+        # SVO_STORE_LOAD=backdoor (test_core.py: the node store written through VPI instead of
+        # CTRL.LOAD): the store's memories made writable (core_preload.vlt), a folder of its own.
+        if extra_env.get("SVO_STORE_LOAD", "ctrl") == "backdoor":
+            if levels == 0:
+                print("run.py: SVO_STORE_LOAD=backdoor needs hardware with a node store "
+                      "(node_memory.onchip.levels 1..21)", file=sys.stderr)
+                return 2
+            extra_build.append(str(HERE / "core_preload.vlt"))
+            hw = f"{hw}_preload"
+            extra_env["SVO_ONCHIP_BANKS"] = consts["NODE_MEMORY_ONCHIP_BANKS"]
+        elif extra_env.get("SVO_STORE_LOAD", "ctrl") != "ctrl":
+            print("run.py: SVO_STORE_LOAD is ctrl (CTRL.LOAD, the default) or backdoor",
+                  file=sys.stderr)
+            return 2
         build_dir = build_dir.with_name(f"core_{npix}" if hw == "frame_hw" else f"core_{hw}_{npix}")
         build_dir.mkdir(parents=True, exist_ok=True)
         vectors = extra_env.get("SVO_VECTORS")
