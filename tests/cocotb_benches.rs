@@ -529,16 +529,24 @@ fn core_pool_of_four_walkers_of_two_contexts_reads_through_the_node_cache_as_the
 /// (the body's prefix 97 of its 7,241 words, so its deeper words come through the cache; a
 /// load of 7,884 words, where depth 8 loads 198,599) with every pixel equal and the model's
 /// cycles and reuse; then frame 0 with random pauses (seed 1, 20 %) on the cache's AR and R,
-/// the direction and load masters and the stream: every pixel once and right and no FAULT.
-/// Issue 29: at 32 × 24, depth 8, two chaining words of one walker's contexts arrived in one
-/// cycle under pauses, which the barrel walker flagged (err_resp, STATUS FAULT 2) though it
-/// serves them; this frame does not hit that rare event on the old RTL (testbench/README.md,
-/// "The store in front of the cache"), so the case keeps the split's stall path in CI.
+/// the direction master and the stream: every pixel once and right and no FAULT. Then the
+/// car's frame 0 at 32 × 24, depth 8, under the same pauses: every pixel, no FAULT. That frame
+/// has two chaining words of one walker's contexts arrive in one cycle, which the barrel
+/// walker served but flagged before issue 29's fix (err_resp, STATUS FAULT 2: on the RTL
+/// before 9e90dd2 this case fails with exactly `FAIL core frame 0: STATUS 0x2002 (ERROR 0,
+/// FAULT 2)`; testbench/README.md, "The store in front of the cache"). Every run loads the
+/// store through the bench's backdoor (`SVO_STORE_LOAD=backdoor`: depth 8 loads 198,599
+/// words, one a cycle through CTRL.LOAD; the other store cases run CTRL.LOAD), on one build
+/// for 768 pixels.
 #[test]
 fn core_split_node_memory_renders_the_car_under_stalls_as_the_model() {
     let Some(venv) = venv() else { return };
     let hw = "pool_4x2_split";
-    let run = core_pool_car_frames_and_stalls(&venv, hw, 6, None);
+    let build = vec![
+        "SVO_NPIX=768".to_string(),
+        "SVO_STORE_LOAD=backdoor".to_string(),
+    ];
+    let run = core_pool_car_frames_and_stalls_built(&venv, hw, 6, None, SMALL_FRAME, build);
     // The body (image 0) is read both ways: its prefix is shorter than its words.
     let line = run
         .frames
@@ -559,6 +567,21 @@ fn core_split_node_memory_renders_the_car_under_stalls_as_the_model() {
         stall_count(stalls, "cache ar") > 0 && stall_count(stalls, "cache r") > 0,
         "{stalls}"
     );
+
+    // The 32 × 24 frame at depth 8 under pauses (seed 1), where two chaining words of one
+    // walker arrive in one cycle.
+    let big = fresh_dir("core_pool_4x2_split_32x24");
+    let model = core_frame_case_on(&big, "scenes/car.ron", 1, hw, 8, (32, 24));
+    let (ok, text, secs) = (run.run_core)(&[
+        format!("SVO_VECTORS={}", big.display()),
+        format!("SVO_MODEL_CYCLES={}", model[0].0),
+        "SVO_STALL=20".to_string(),
+        "SVO_SEED=1".to_string(),
+    ]);
+    assert!(ok, "core bench, {hw}, 32 x 24 at depth 8, stalls:\n{text}");
+    let (equal, n, cycles, _) = core_frame_line(&text, 0);
+    println!("core {hw} car 32 x 24, depth 8, stalls seed 1: {equal}/{n} pixels equal in {cycles} cycles ({secs:.1} s)");
+    assert_eq!((equal, n), (768, 768), "{text}");
 }
 
 /// The count of pauses `key` (e.g. "cache ar") in the bench's stall line.
@@ -595,6 +618,20 @@ fn core_pool_car_frames_and_stalls_at<'a>(
     mem_latency: Option<u64>,
     size: (u32, u32),
 ) -> PoolCarRun<impl Fn(&[String]) -> (bool, String, f64) + 'a> {
+    core_pool_car_frames_and_stalls_built(venv, hw, depth, mem_latency, size, Vec::new())
+}
+
+/// [`core_pool_car_frames_and_stalls_at`] with `build`, bench settings every run of the case
+/// gets before its own (e.g. `SVO_NPIX=768` to build for a larger frame than `size`, or
+/// `SVO_STORE_LOAD=backdoor`): one build serves the case's runs.
+fn core_pool_car_frames_and_stalls_built<'a>(
+    venv: &'a Path,
+    hw: &'a str,
+    depth: u32,
+    mem_latency: Option<u64>,
+    size: (u32, u32),
+    build: Vec<String>,
+) -> PoolCarRun<impl Fn(&[String]) -> (bool, String, f64) + 'a> {
     let root = fresh_dir(&format!("core_{hw}"));
     let car = root.join("car");
     let car1 = root.join("car1");
@@ -609,6 +646,7 @@ fn core_pool_car_frames_and_stalls_at<'a>(
             format!("SVO_NPIX={npix}"),
         ];
         env.extend(mem_latency.map(|l| format!("SVO_MEM_LATENCY={l}")));
+        env.extend(build.iter().cloned());
         env.extend(extra.iter().cloned());
         let env: Vec<&str> = env.iter().map(String::as_str).collect();
         bench(venv, "core", &env)

@@ -47,6 +47,16 @@ frame). SVO_CORRUPT=prefix writes the first used image's prefix one word short: 
 cycles differ from the model's. On hardware without the split a START with ONCHIP_WORDS[0] set
 must be refused with ERROR 11.
 
+SVO_STORE_LOAD=backdoor (hardware with a node store; run.py builds with core_preload.vlt in a
+folder of its own): instead of CTRL.LOAD, which writes one store word a cycle (the default
+hardware's car at depth 8: 199,583 words, about 34 minutes of simulation at the default's
+speed), the bench writes the same words into the store's banks (word i in bank i mod BANKS,
+row i / BANKS) and svo_top's record of a complete load (store_ok, store_base, store_words)
+through VPI after reset, in seconds. The START before the load is still refused (7); the START
+during a load is not tried, and the failing load at the end still runs through CTRL.LOAD.
+The other store cases run CTRL.LOAD, so the load's path stays checked; a wrong backdoor word
+shows as a wrong pixel or cycle count.
+
 The record's normal is the core's own (svo_normal), from the normal matrix the bench writes
 with each instance (its NMAT words in INSTANCE_TABLE, frame_instances nmat_*).
 
