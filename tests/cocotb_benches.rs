@@ -72,6 +72,9 @@ fn svo_top_refuses_unequal_walk_issue_units_by_name() {
         .arg(tb.join("rdl/generated/svo_core_regs_pkg.sv"))
         .arg(tb.join("rdl/generated/svo_core_regs.sv"))
         .args(&rtl)
+        .arg(tb.join("rtl/svo_top_checks.sv"))
+        .arg(tb.join("rtl/svo_store_load.sv"))
+        .arg(tb.join("rtl/svo_top_memory.sv"))
         .arg(tb.join("rtl/svo_top.sv")));
     assert!(!ok, "svo_top elaborated unequal walk-issue units:\n{text}");
     let missing: Vec<&str> = text

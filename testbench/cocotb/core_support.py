@@ -155,14 +155,14 @@ def backdoor_load(dut, nodes, words, node_base):
     """SVO_STORE_LOAD=backdoor: what a complete CTRL.LOAD of `words` words from `node_base`
     leaves in svo_top, written through VPI (the build's core_preload.vlt makes these writable):
     store word i = nodes[i] in bank i mod BANKS, row i / BANKS (svo_onchip_store's
-    word-interleaved banks), and svo_top's store_ok, store_base (the load's source word index)
-    and store_words. Written after reset (reset clears store_ok) and before the first START;
-    the bank count is the hardware package's (SVO_ONCHIP_BANKS, from run.py)."""
-    top = dut
-    store = top.onchip.u_store
+    word-interleaved banks), and the load DMA's (svo_store_load's) store_ok, store_base (the
+    load's source word index) and store_words. Written after reset (reset clears store_ok)
+    and before the first START; the bank count is the hardware package's (SVO_ONCHIP_BANKS,
+    from run.py)."""
+    store, load = dut.u_memory.onchip.u_store, dut.u_load
     banks = int(os.environ["SVO_ONCHIP_BANKS"])
     for i in range(words):
         store.bank[i % banks].mem[i // banks].value = nodes[i]
-    top.store_base.value = node_base >> 2
-    top.store_words.value = words
-    top.store_ok.value = 1
+    load.store_base.value = node_base >> 2
+    load.store_words.value = words
+    load.store_ok.value = 1

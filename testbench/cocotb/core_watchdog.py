@@ -81,7 +81,7 @@ def hang_report(dut, started, limit):
     walk = next((p for p in ("u_core.u_walk", "u_core.walk_one.u_walk", "u_core.walk_wide.u_walk")
                  if _peek(dut, p + ".err_pipe") is not None), "u_core.u_walk")
     pool = walk + ".u_walker"
-    cache = "cached.u_cache"
+    cache = "u_memory.cached.u_cache"
     lines = [
         f"watchdog: the frame started in cycle {started} has not finished in {now - started} "
         f"cycles (bound {limit}); simulated cycle {now}",
@@ -93,8 +93,8 @@ def hang_report(dut, started, limit):
         f"{_peek(dut, cache + '.cache.mn_q')}, bank queue counts "
         f"{_hex(_peek(dut, cache + '.cache.bn_q'))}, AXI fill queue counts "
         f"{_hex(_peek(dut, cache + '.q_n'))}, fills held {_ones(_peek(dut, cache + '.fv_q'))}",
-        f"watchdog: store: schedule entries {_count(_peek(dut, 'onchip.u_store.q_valid'))} "
-        f"({_hex(_peek(dut, 'onchip.u_store.q_valid'))}), overflow {_peek(dut, 'onchip.u_store.err')}",
+        f"watchdog: store: schedule entries {_count(_peek(dut, 'u_memory.onchip.u_store.q_valid'))} "
+        f"({_hex(_peek(dut, 'u_memory.onchip.u_store.q_valid'))}), overflow {_peek(dut, 'u_memory.onchip.u_store.err')}",
     ]
     chans = []
     for bus, hs in (("m_axi_node_ar", "valid ready"), ("m_axi_node_r", "valid ready"),

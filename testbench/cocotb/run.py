@@ -17,6 +17,8 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 TB = HERE.parent
 RTL = TB / "rtl"
+# svo_top and its SystemVerilog parts (the modules it instantiates come first).
+TOP_SV = [RTL / f"{m}.sv" for m in ("svo_top_checks", "svo_store_load", "svo_top_memory", "svo_top")]
 GEN = TB / "rdl" / "generated"
 
 # bench -> (top, sources, test module, parameters)
@@ -84,7 +86,7 @@ BENCHES = {
     "core": (
         "svo_top",
         [TB / "hw" / "frame_hw_pkg.sv", GEN / "svo_core_regs_pkg.sv", GEN / "svo_core_regs.sv"]
-        + sorted(RTL.glob("*.v")) + [RTL / "svo_top.sv"],
+        + sorted(RTL.glob("*.v")) + TOP_SV,
         "test_core",
         {},
     ),

@@ -279,140 +279,11 @@ module svo_top
     localparam bit HAS_STORE = NODE_MEMORY_ONCHIP_LEVELS != 0;  // svo_onchip_store + its load
     localparam bit HAS_CACHE = NODE_MEMORY_ONCHIP_LEVELS != 21; // svo_node_cache_axi
     localparam bit SPLIT = HAS_STORE && HAS_CACHE;             // the prefix test per read
-    generate
-        // Walk-issue lanes (docs/cycle-model.md §2.1, "Walk issue of width k"): k transforms,
-        // k lanes of three reciprocals and k walker roots with the k-wide glue (FIFOs,
-        // dispatch, retire, record): svo_walk_wide and svo_walker_pool's K at k = 1 and 2.
-        // Unequal units (the model's k is the widest) and k above 2 (record_to_write has two
-        // push ports in svo_hit_buffer) are not built.
-        if ((WK != 1 && WK != 2) || RECIPROCAL_UNITS != 3 * WK || WALKER_ROOT_UNITS != WK)
-        begin : unsupported_walk_lanes
-            svo_top_builds_walk_issue_lanes_1_or_2_transform_k_reciprocal_3k_walker_root_k bad();
-        end
-        // The front end: the hit buffer, at most SORTER_LANES sphere lanes (svo_front's
-        // keys), the sorter's latency its network depth (svo_sorter).
-        if (HIT_BUFFER_PRESENT == 0 || LANES > SORTER_LANES
-            || UNITS_SORTER_LATENCY_CYCLES != SORTER_NET_DEPTH) begin : unsupported_front
-            svo_top_builds_the_hit_buffer_and_the_models_sorter bad();
-        end
-        // The walker pool (svo_walker_pool): 1..64 walkers of 1..16 contexts, one request port
-        // and one slot a cycle each, the package's step latency and stack. No bound on the
-        // contexts in all: the pool's scheduler is per walker (R x R) plus pool-wide keys.
-        if (WALKERS < 1 || WALKERS > 64) begin : unsupported_walkers
-            svo_top_builds_walker_pool_walkers_1_to_64 bad();
-        end
-        if (CONTEXTS < 1 || CONTEXTS > 16) begin : unsupported_contexts
-            svo_top_builds_walker_pool_contexts_per_walker_1_to_16 bad();
-        end
-        // Node words come from the on-chip store (svo_onchip_store: the model's banks, ports,
-        // latency and combining), from the node cache (svo_node_cache_axi), or from both:
-        // - levels 21: the store holds every level of every image: the model must keep them
-        //   all on chip too, and the store's words must fit its byte budget (a scene the store
-        //   holds is then all on chip in the model as well);
-        // - levels 0: the cache, attribute records included;
-        // - levels 1..8: each image's top levels are a prefix of its words (docs/svo-format.md
-        //   §4, images lay their top 8 levels out first), the first ONCHIP_WORDS[i] words of
-        //   image i, read from the store; every other read through the cache. Levels 9..20
-        //   add scattered groups after the prefix in the model (memory/layout.rs): not built.
-        if (NODE_MEMORY_ONCHIP_LEVELS > 8 && NODE_MEMORY_ONCHIP_LEVELS != 21)
-        begin : unsupported_onchip_levels
-            svo_top_needs_node_memory_onchip_levels_0_to_8_or_21 bad();
-        end
-        if (HAS_STORE && 64'(STORE_WORDS) * 4 > 64'(NODE_MEMORY_ONCHIP_MAX_BYTES))
-        begin : unsupported_onchip_bytes
-            svo_top_STORE_WORDS_over_node_memory_onchip_max_bytes bad();
-        end
-        if (HAS_STORE && NODE_MEMORY_ONCHIP_LATENCY < 2) begin : unsupported_onchip_latency
-            svo_top_needs_node_memory_onchip_latency_2_or_more bad();
-        end
-        // The cache: attribute records through it too (their own AXI masters would need the
-        // model's uncached timing beside the cache's; not built), and the AXI path's fixed
-        // three cycles (AR registered, R registered, the fill written) inside dram.latency
-        // (svo_node_cache_axi.v: an external memory of D cycles is dram.latency D + 3).
-        if (HAS_CACHE && !NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_cached_attr
-            svo_top_with_node_memory_onchip_levels_0_to_8_needs_cache_attr_cached_true bad();
-        end
-        if (HAS_CACHE && NODE_MEMORY_DRAM_LATENCY < 3) begin : unsupported_cached_latency
-            svo_top_with_node_memory_onchip_levels_0_to_8_needs_dram_latency_3_or_more bad();
-        end
-        if (HAS_CACHE && (NODE_MEMORY_CACHE_LINE_BYTES > 128 || NODE_MEMORY_CACHE_LINE_BYTES < 8))
-        begin : unsupported_cached_line
-            svo_top_with_node_memory_onchip_levels_0_to_8_needs_cache_line_bytes_8_to_128 bad();
-        end
-        if (HAS_CACHE && (NODE_PORTS != (NODE_MEMORY_DRAM_BYTES_PER_CYCLE
-            + NODE_MEMORY_CACHE_LINE_BYTES - 1) / NODE_MEMORY_CACHE_LINE_BYTES
-            || NODE_DW != NODE_MEMORY_CACHE_LINE_BYTES * 8))
-        begin : bad_node_ports
-            svo_top_NODE_PORTS_NODE_DW_are_derived_do_not_set bad();
-        end
-        if (HAS_STORE && (STORE_WORDS < NODE_MEMORY_ONCHIP_BANKS
-            || STORE_WORDS % NODE_MEMORY_ONCHIP_BANKS != 0))
-        begin : bad_store_words
-            svo_top_STORE_WORDS_a_multiple_of_node_memory_onchip_banks bad();
-        end
-        if (LOAD_BURST < 1 || LOAD_BURST > 256) begin : bad_load_burst
-            svo_top_LOAD_BURST_1_to_256 bad();
-        end
-        // Attribute records go to the per-walker masters: up to WALKERS a cycle, each served
-        // in its cycle (no lookup port or DRAM cycle waits).
-        if (!HAS_CACHE && WALKERS > 1 && NODE_MEMORY_CACHE_PORTS < WALKERS) begin : unsupported_cache_ports
-            svo_top_with_several_walkers_needs_node_memory_cache_ports_of_walkers bad();
-        end
-        if (!HAS_CACHE && NODE_MEMORY_CACHE_LINE_BYTES * WALKERS > NODE_MEMORY_DRAM_BYTES_PER_CYCLE)
-        begin : unsupported_dram_bus
-            svo_top_needs_node_memory_dram_bytes_per_cycle_of_walkers_lines bad();
-        end
-        if (WALKER_POOL_READ_PORTS != 1 && !(WALKER_POOL_READ_PORTS == 0 && CONTEXTS == 1))
-        begin : unsupported_read_ports
-            svo_top_builds_walker_pool_read_ports_1 bad();
-        end
-        // The pool's registered response and request (walker_pool.rs, issue 29): 0 or 1 each
-        // (the model's validate refuses more).
-        if (WALKER_POOL_RESPONSE_REGISTER_CYCLES > 1) begin : unsupported_response_register
-            svo_top_builds_walker_pool_response_register_cycles_0_or_1 bad();
-        end
-        if (WALKER_POOL_REQUEST_REGISTER_CYCLES > 1) begin : unsupported_request_register
-            svo_top_builds_walker_pool_request_register_cycles_0_or_1 bad();
-        end
-        if (WALKER_POOL_STEP_CYCLES != 1) begin : unsupported_step_cycles
-            svo_top_builds_walker_pool_step_cycles_1 bad();
-        end
-        if (WALKER_POOL_STEP_LATENCY_CYCLES != STEP_LATENCY) begin : unsupported_step_latency
-            svo_top_walker_pool_step_latency_cycles_differs_from_STEP_LATENCY bad();
-        end
-        if (WALKER_POOL_STACK_DEPTH != STACK_DEPTH) begin : unsupported_stack_depth
-            svo_top_walker_pool_stack_depth_differs_from_STACK_DEPTH bad();
-        end
-        // The attribute memory behind m_axi_* answers every read in one fixed latency, in order;
-        // with several contexts two attribute reads can overlap, and the pool merges them as
-        // the model's MSHRs do only for uncached 8-byte attribute lines (svo_walker_pool.v).
-        // The fixed latency is the bench's: the uncached DRAM read's (dram.latency + 1).
-        if (!HAS_CACHE && WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_ATTR_CACHED) begin : unsupported_attr_cached
-            svo_top_with_several_contexts_needs_node_memory_cache_attr_cached_false bad();
-        end
-        if (!HAS_CACHE && WALKERS * CONTEXTS > 1 && NODE_MEMORY_CACHE_LINE_BYTES != 8) begin : unsupported_line_bytes
-            svo_top_with_several_contexts_needs_node_memory_cache_line_bytes_8 bad();
-        end
-        if (!HAS_CACHE && WALKERS * CONTEXTS > 1 && !NODE_MEMORY_DRAM_BACKEND_IS_BUILTIN) begin : unsupported_backend
-            svo_top_with_several_contexts_needs_node_memory_dram_backend_BuiltIn bad();
-        end
-        if (!HAS_CACHE && NODE_MEMORY_CACHE_ATTR_CACHED
-            && NODE_MEMORY_CACHE_HIT_LATENCY != NODE_MEMORY_ONCHIP_LATENCY)
-        begin : unsupported_hit_latency
-            svo_top_needs_node_memory_cache_hit_latency_equal_to_onchip_latency bad();
-        end
-        if (!HAS_CACHE && NODE_MEMORY_DRAM_LATENCY + 1 != NODE_MEMORY_ONCHIP_LATENCY)
-        begin : unsupported_dram_latency
-            svo_top_needs_node_memory_dram_latency_plus_1_equal_to_onchip_latency bad();
-        end
-        if (NINST < LANES || NINST > 128 || KEYN < LANES || KEYN > 63
-            || KEYN % SORTER_LANES != 0) begin : bad_instances
-            svo_top_NINST_LANES_to_128_KEYN_a_multiple_of_the_sorter_lanes_to_63 bad();
-        end
-        if (DIR_BURST < 1 || DIR_BURST > 256 || DIR_DEPTH < DIR_BURST) begin : bad_dir_fifo
-            svo_top_DIR_DEPTH_must_hold_a_burst bad();
-        end
-    endgenerate
+    // What this top builds (svo_top_checks.sv): a package or parameter it cannot follow stops
+    // elaboration with a module name saying what is built.
+    svo_top_checks #(.STORE_WORDS(STORE_WORDS), .LOAD_BURST(LOAD_BURST), .NODE_PORTS(NODE_PORTS),
+        .NODE_DW(NODE_DW), .STEP_LATENCY(STEP_LATENCY), .STACK_DEPTH(STACK_DEPTH), .NINST(NINST),
+        .KEYN(KEYN), .DIR_BURST(DIR_BURST), .DIR_DEPTH(DIR_DEPTH)) u_checks ();
 
     // ---------------------------------------------------------------- registers
     svo_core_regs_pkg::svo_core_regs__in_t hwif_in;
@@ -620,114 +491,33 @@ module svo_top
     wire dir_valid = dir_count != '0;
 
     // ---------------------------------------------------------------- the node store's load
-    // CTRL.LOAD (in IDLE): LOAD_WORDS words from byte address LOAD_SRC into store words
-    // 0 .. LOAD_WORDS - 1 over m_axi_load_*: INCR bursts of up to LOAD_BURST 8-byte beats, cut
-    // at 4 KiB pages, at most two bursts' beats asked ahead. A beat carries two words (low
-    // first) and the store takes one a cycle (its load port is a bank's write port), so R is
-    // taken every other cycle: 4 bytes a cycle, the store's write rate. Refused (STATUS.ERROR):
-    // 7 LOAD_SRC off 8 bytes or beyond the 32-bit word range, LOAD_WORDS 0 or over
-    // STORE_WORDS; 8 a LOAD while a frame or a load runs. A beat answering an error ends the
-    // load with ERROR 9 and the store without a load (a START is refused with 7 until the
-    // next complete load). LOAD_CYCLES counts the load's cycles; CYCLES only the frame's.
-    wire [63:0] ld_src_r = {hwif_out.LOAD_SRC_HI.VALUE.value, hwif_out.LOAD_SRC_LO.VALUE.value};
-    wire [31:0] ld_words_r = hwif_out.LOAD_WORDS.VALUE.value;
-    wire ld_cmd = hwif_out.CTRL.LOAD.value;
-    wire ld_refused = !HAS_STORE || ld_src_r[2:0] != 3'd0 || |ld_src_r[63:34]
-        || (ADDR_W < 64 && |(ld_src_r >> ADDR_W))
-        || ld_words_r == 32'd0 || ld_words_r > 32'(STORE_WORDS);
-    logic [ADDR_W-1:0] ld_src;                // the load's source (byte address of word 0)
-    logic [31:0] ld_words, ld_beats;          // its words and beats (⌈words / 2⌉)
-    logic [31:0] ld_asked, ld_got;            // beats asked (AR) and received (R)
-    logic [31:0] ld_wr;                       // the next store word written
-    logic ld_hold;                            // the beat's high word is written this cycle
-    logic [31:0] ld_hi;
-    logic ld_bad;                             // a beat of this load answered an error
-    logic [63:0] ld_cycles;
+    // CTRL.LOAD (svo_store_load.sv): the host's images into the on-chip store between frames,
+    // one word a cycle; STATUS.LOADING, LOAD_CYCLES and ERROR 7, 8, 9 from it.
     logic [31:0] store_base;                  // the word index of store word 0 (LOAD_SRC / 4)
     logic [31:0] store_words;                 // words of the last complete load
-    wire ld_beat = m_axi_load_rvalid && m_axi_load_rready;
-    wire ld_write = ld_beat || ld_hold;
-    wire ld_last = ld_write && ld_wr + 32'd1 == ld_words;
-    wire [ADDR_W-1:0] ld_addr = ld_src + ADDR_W'({ld_asked, 3'b000});
-    wire [31:0] ld_left = ld_beats - ld_asked;
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire [12:0] ld_room = 13'h1000 - 13'(ld_addr[11:0]);          // bytes to the 4 KiB page
-    /* verilator lint_on UNUSEDSIGNAL */
-    wire [9:0] ld_page = ld_room[12:3];                             // beats (the source is 8-aligned)
-    wire [31:0] ld_len0 = ld_left < 32'(LOAD_BURST) ? ld_left : 32'(LOAD_BURST);
-    wire [31:0] ld_len = ld_len0 < 32'(ld_page) ? ld_len0 : 32'(ld_page);
-    wire ld_ask = ld_busy && !m_axi_load_arvalid && ld_left != 32'd0
-        && ld_asked - ld_got <= 32'(LOAD_BURST);
-    assign m_axi_load_arid = '0;
-    assign m_axi_load_arsize = 3'd3;          // 8 bytes
-    assign m_axi_load_arburst = 2'b01;        // INCR
-    assign m_axi_load_arprot = 3'b000;
-    assign m_axi_load_arcache = 4'b0011;
-    assign m_axi_load_rready = ld_busy && !ld_hold;
-    always_ff @(posedge clk) begin
-        if (rst) begin
-            ld_busy <= 1'b0;
-            ld_hold <= 1'b0;
-            ld_error <= 4'd0;
-            store_ok <= 1'b0;
-            m_axi_load_arvalid <= 1'b0;
-            ld_cycles <= '0;
-        end else begin
-            ld_error <= 4'd0;
-            if (ld_cmd && !ld_busy && phase == IDLE && !hwif_out.CTRL.START.value) begin
-                if (ld_refused) ld_error <= 4'd7;
-                else begin
-                    ld_busy <= 1'b1;
-                    ld_src <= ADDR_W'(ld_src_r);
-                    ld_words <= ld_words_r;
-                    ld_beats <= (ld_words_r + 32'd1) >> 1;
-                    ld_asked <= '0;
-                    ld_got <= '0;
-                    ld_wr <= '0;
-                    ld_bad <= 1'b0;
-                    ld_cycles <= '0;
-                    store_base <= 32'(ld_src_r >> 2);
-                    store_words <= ld_words_r;
-                end
-                store_ok <= 1'b0;
-            end else if (ld_cmd) ld_error <= 4'd8;
-            if (ld_busy) ld_cycles <= ld_cycles + 1'b1;
-            if (m_axi_load_arvalid && m_axi_load_arready) m_axi_load_arvalid <= 1'b0;
-            else if (ld_ask) begin
-                m_axi_load_arvalid <= 1'b1;
-                m_axi_load_araddr <= ld_addr;
-                m_axi_load_arlen <= 8'(ld_len - 32'd1);
-                ld_asked <= ld_asked + ld_len;
-            end
-            if (ld_beat) begin
-                ld_got <= ld_got + 32'd1;
-                ld_hi <= m_axi_load_rdata[63:32];
-                if (m_axi_load_rresp[1]) ld_bad <= 1'b1;
-            end
-            ld_hold <= ld_beat && !ld_last;
-            if (ld_write) ld_wr <= ld_wr + 32'd1;
-            if (ld_last) begin
-                ld_busy <= 1'b0;
-                store_ok <= !(ld_bad || (ld_beat && m_axi_load_rresp[1]));
-                if (ld_bad || (ld_beat && m_axi_load_rresp[1])) ld_error <= 4'd9;
-            end
-        end
-    end
+    logic [63:0] ld_cycles;
+    wire ld_write;                            // the store's load port: a word this cycle
+    wire [31:0] ld_wr, ld_data;
+    svo_store_load #(.ADDR_W(ADDR_W), .STORE_WORDS(STORE_WORDS), .LOAD_BURST(LOAD_BURST),
+        .HAS_STORE(HAS_STORE))
+    u_load (.clk(clk), .rst(rst), .cmd(hwif_out.CTRL.LOAD.value),
+        .idle(phase == IDLE && !hwif_out.CTRL.START.value),
+        .src_r({hwif_out.LOAD_SRC_HI.VALUE.value, hwif_out.LOAD_SRC_LO.VALUE.value}),
+        .words_r(hwif_out.LOAD_WORDS.VALUE.value),
+        .m_axi_load_arvalid(m_axi_load_arvalid), .m_axi_load_arready(m_axi_load_arready),
+        .m_axi_load_araddr(m_axi_load_araddr), .m_axi_load_arid(m_axi_load_arid),
+        .m_axi_load_arlen(m_axi_load_arlen), .m_axi_load_arsize(m_axi_load_arsize),
+        .m_axi_load_arburst(m_axi_load_arburst), .m_axi_load_arprot(m_axi_load_arprot),
+        .m_axi_load_arcache(m_axi_load_arcache), .m_axi_load_rvalid(m_axi_load_rvalid),
+        .m_axi_load_rready(m_axi_load_rready), .m_axi_load_rdata(m_axi_load_rdata),
+        .m_axi_load_rresp(m_axi_load_rresp), .ld_busy(ld_busy), .ld_error(ld_error),
+        .ld_cycles(ld_cycles), .store_ok(store_ok), .store_base(store_base),
+        .store_words(store_words), .wr_valid(ld_write), .wr_addr(ld_wr), .wr_data(ld_data));
 
     // ---------------------------------------------------------------- node memory
-    // Two node memories, by the package's node_memory.onchip.levels:
-    // - 21: the on-chip store (svo_onchip_store, the model's banks: onchip.banks
-    //   word-interleaved banks of ports_per_bank ports, latency, combine), one request port per
-    //   walker, a completion port per context into the pool (svo_core CTX_RESP). The store
-    //   address is the model's node address: the read's word index (IMAGE.NODE_BASE / 4 + the
-    //   image's word) minus STORE base (LOAD_SRC / 4). The model places the scene's images one
-    //   after the other from word 0 (src/models/cycle/layout.rs), and a host that loads them
-    //   that way from LOAD_SRC, with NODE_BASE = LOAD_SRC + 4 · (the image's model base), gives
-    //   every read the model's address, so bank = address mod banks as in the model. A node
-    //   read at or beyond the loaded words is an error (STATUS.ERROR 7). Attribute records:
-    //   one AXI4 master per walker (m_axi_*).
-    // - 0: the node cache (svo_node_cache_axi), node words and attribute records alike
-    //   (attr_cached), below.
+    // svo_top_memory.sv, by the package's node_memory.onchip.levels: 21 the on-chip store
+    // alone (attribute records on one AXI4 master per walker, m_axi_*), 0 the node cache alone
+    // (m_axi_node_*), 1..8 both (each image's top levels on chip).
     localparam int NW = WALKERS;
     localparam int NCTX = WALKERS * CONTEXTS;
     localparam int REQS = NCTX < 2 ? 2 : NCTX;
@@ -737,7 +527,7 @@ module svo_top
     wire [NW*CW-1:0] mem_req_ctx;
     logic [NW*CW-1:0] mem_resp_ctx;
     logic [NW*64-1:0] mem_resp_data;
-    wire [NW-1:0] rd_out, rd_resp_err, st_req;
+    wire [NW-1:0] rd_out, st_req;
     wire [REQS-1:0] st_done;                  // a context's node word is back (CTX_RESP)
     wire [REQS*32-1:0] st_data;
     wire st_overflow;
@@ -756,270 +546,30 @@ module svo_top
                 st_pend[n] <= asked || (st_pend[n] && !st_fin[n]);
             end
     end
-    genvar gm;
-    wire [NW-1:0] s_req;                      // a read to the store (levels 21: every node read)
-    wire [NW-1:0] s_top;                      // levels 1..8: the read is in its image's prefix
-    wire [REQS-1:0] s_done;                   // the store's answers, per context
-    wire [REQS*32-1:0] s_data;
-    wire s_overflow;
-    generate
-        if (HAS_STORE) begin : onchip
-            wire [NW-1:0] st_beyond;
-            wire [NW*32-1:0] st_addr;
-            /* verilator lint_off PINCONNECTEMPTY */
-            svo_onchip_store #(.REQ_PORTS(NW), .REQUESTERS(REQS), .BANKS(NODE_MEMORY_ONCHIP_BANKS),
-                .PORTS(NODE_MEMORY_ONCHIP_PORTS_PER_BANK), .LATENCY(NODE_MEMORY_ONCHIP_LATENCY),
-                .COMBINE(NODE_MEMORY_ONCHIP_COMBINE ? 1 : 0), .WORDS(STORE_WORDS), .QDEPTH(REQS))
-            u_store (.clk(clk), .rst(rst || core_rst), .load_valid(ld_write), .load_addr(ld_wr),
-                .load_data(ld_hold ? ld_hi : m_axi_load_rdata[31:0]), .req_valid(s_req),
-                .req_requester(mem_req_ctx), .req_addr(st_addr), .rsp_done(s_done),
-                .rsp_data(s_data), .cnt_reads(), .cnt_combined(), .cnt_port_wait(),
-                .err(s_overflow));
-            /* verilator lint_on PINCONNECTEMPTY */
-            always_ff @(posedge clk) st_err <= !(rst || core_rst) && |st_beyond;
-            for (gm = 0; gm < NW; gm = gm + 1) begin : store_port
-                wire [31:0] a = mem_req_addr[gm*32 +: 32];
-                assign s_req[gm] = mem_req_valid[gm] && !mem_req_attr[gm] && (!SPLIT || s_top[gm]);
-                assign st_addr[gm*32 +: 32] = a - store_base;
-                assign st_beyond[gm] = s_req[gm] && a - store_base >= store_words;
-            end
-        end else begin : no_store
-            assign s_req = '0;
-            assign s_done = '0;
-            assign s_data = '0;
-            assign s_overflow = 1'b0;
-            assign st_err = 1'b0;
-            /* verilator lint_off UNUSEDSIGNAL */
-            wire unused_store = &{1'b0, store_base, store_words, m_axi_load_rdata, ld_hi, s_top};
-            /* verilator lint_on UNUSEDSIGNAL */
-        end
-        // The prefix test (levels 1..8): a node read is on chip iff its word index lies in
-        // [IMAGE[i].NODE_BASE / 4, + ONCHIP_WORDS[i]) of some image slot i (8 compares a port;
-        // the images do not overlap, so at most one matches). Attribute records never.
-        if (SPLIT) begin : prefix
-            for (gm = 0; gm < NW; gm = gm + 1) begin : port
-                wire [31:0] a = mem_req_addr[gm*32 +: 32];
-                logic hit;
-                always_comb begin
-                    hit = 1'b0;
-                    for (int i = 0; i < IMAGES; i++)
-                        if (a - img_node_base[i*32 +: 32] < img_onchip_words[i*32 +: 32]) hit = 1'b1;
-                end
-                assign s_top[gm] = hit;
-            end
-        end else begin : no_prefix
-            assign s_top = '1;
-            /* verilator lint_off UNUSEDSIGNAL */
-            wire unused_prefix = &{1'b0, img_onchip_words};
-            /* verilator lint_on UNUSEDSIGNAL */
-        end
-        if (!HAS_CACHE) begin : attr_masters
-            // Attribute records: one AXI4 read master per walker (its request port). Reads in
-            // flight, in order (one AXI ID): each context has at most one read out, so per
-            // master a FIFO of CONTEXTS entries names each response's context.
-            localparam int RQ = CONTEXTS;
-            localparam int RQW = RQ > 1 ? $clog2(RQ) : 1;
-            localparam int RQC = $clog2(RQ + 1);
-            for (gm = 0; gm < NW; gm = gm + 1) begin : node_port
-                logic [CW-1:0] rq [RQ];
-                logic [RQW-1:0] rq_wr, rq_rd;
-                logic [RQC-1:0] rq_n;
-                wire r_done = m_axi_rvalid[gm] && m_axi_rlast[gm];
-                wire rd_free = rq_n != RQC'(RQ) || r_done;
-                wire [31:0] a = mem_req_addr[gm*32 +: 32];
-                assign st_req[gm] = s_req[gm];
-                assign rd_out[gm] = rq_n != '0;
-                assign rd_resp_err[gm] = m_axi_rvalid[gm] && m_axi_rresp[gm*2 + 1];
-                assign m_axi_rready[gm] = 1'b1;      // the walker takes its read when it arrives
-                assign m_axi_arvalid[gm] = mem_req_valid[gm] && mem_req_attr[gm] && rd_free;
-                assign m_axi_araddr[gm*ADDR_W +: ADDR_W] = ADDR_W'({a, 3'b000});
-                assign m_axi_arsize[gm*3 +: 3] = 3'd3;
-                assign m_axi_arlen[gm*8 +: 8] = 8'd0;
-                assign m_axi_arid[gm] = 1'b0;
-                assign m_axi_arburst[gm*2 +: 2] = 2'b01;
-                assign m_axi_arprot[gm*3 +: 3] = 3'b000;
-                assign m_axi_arcache[gm*4 +: 4] = 4'b0011;
-                assign mem_req_ready[gm] = !mem_req_attr[gm] || (m_axi_arready[gm] && rd_free);
-                assign mem_resp_valid[gm] = m_axi_rvalid[gm];
-                assign mem_resp_ctx[gm*CW +: CW] = rq[rq_rd];
-                assign mem_resp_data[gm*64 +: 64] = m_axi_rdata[gm*64 +: 64];
-                wire ar_take = m_axi_arvalid[gm] && m_axi_arready[gm];
-                always_ff @(posedge clk) begin
-                    if (ar_take) rq[rq_wr] <= mem_req_ctx[gm*CW +: CW];
-                    if (rst || core_rst) begin
-                        rq_n <= '0;
-                        rq_wr <= '0;
-                        rq_rd <= '0;
-                    end else begin
-                        if (ar_take) rq_wr <= rq_wr == RQW'(RQ - 1) ? '0 : rq_wr + 1'b1;
-                        if (r_done) rq_rd <= rq_rd == RQW'(RQ - 1) ? '0 : rq_rd + 1'b1;
-                        rq_n <= rq_n + RQC'(ar_take) - RQC'(r_done);
-                    end
-                end
-            end
-            always_ff @(posedge clk) rd_err <= !(rst || core_rst) && |rd_resp_err;
-            // The cache's port: none.
-            assign m_axi_node_arvalid = '0;
-            assign m_axi_node_araddr = '0;
-            assign m_axi_node_arid = '0;
-            assign m_axi_node_arlen = '0;
-            assign m_axi_node_arsize = '0;
-            assign m_axi_node_arburst = '0;
-            assign m_axi_node_arprot = '0;
-            assign m_axi_node_arcache = '0;
-            assign m_axi_node_rready = '1;
-            assign nc_err = 1'b0;
-            assign nr_aligned = 1'b1;
-            assign st_fin = s_done;
-            assign st_done = s_done;
-            assign st_data = s_data;
-            assign st_overflow = s_overflow;
-            /* verilator lint_off UNUSEDSIGNAL */
-            wire unused_onchip = &{1'b0, m_axi_node_arready, m_axi_node_rvalid, m_axi_node_rdata,
-                                   m_axi_node_rid, m_axi_node_rresp, m_axi_node_rlast};
-            /* verilator lint_on UNUSEDSIGNAL */
-        end else begin : cached
-            // The node cache (svo_node_cache_axi: banks, ports, tags, MSHRs, miss queue; its
-            // fills on NODE_PORTS AXI4 read ports of one beat a line, ARID = MSHR), cycle-exact
-            // with the model's NodeMemory without its on-chip store (memory/mod.rs, cache.rs,
-            // dram.rs) behind a memory of the built-in DRAM's timing (tb_axi_dram.sv's contract:
-            // dram.latency = the memory's AR-to-RLAST cycles + 3).
-            // Requests: every read the pool sends, in the cycle it sends it, walker w on the
-            // cache's port w (the pool's walker order is its context order, the model's service
-            // order within a cycle), requester = the pool's context index, kind 2 for an
-            // attribute record else 0 (the model times a far word as a node word), address the
-            // core's: the word index IMAGE.NODE_BASE / 4 + i, the record index IMAGE.ATTR_BASE /
-            // 8 + i. The cache takes every read (no ready). Its unified space (cache.rs: node
-            // byte 4·word, attribute record j at 2^40 + 8j) is then the system's byte addresses
-            // with bit 40 telling attributes: ARADDR = the cache's address without bit 40, i.e.
-            // NODE_BASE + 4i or ATTR_BASE + 8i. The model's addresses start from 0 (layout.rs:
-            // images one after the other); the same lines, sets and banks as the model's need
-            // the host to place the node space and the attribute space each at a multiple of
-            // SETS · LINE_BYTES bytes (the cache's size over its ways) with NODE_BASE = node
-            // space + 4 · (the image's model base), ATTR_BASE likewise (8 bytes a record), as
-            // the cocotb bench does; other bases read the right data at other set indices.
-            // Responses: a node word on its context's CTX_RESP port in its completion cycle; an
-            // attribute record on a walker response port (any port carries any context): up to
-            // NW records a cycle, lowest context first, more wait a cycle (the model completes
-            // them together: reads merged on one fill of a line holding several records; not
-            // seen at NW 4).
-            // The cache's cycle: svo_node_cache numbers cycles from reset (bank rotation
-            // cycle mod BANKS); the model's cycle runs only in frames, continuing from one
-            // frame to the next (the cache keeps its lines across frames; the pipeline's reset
-            // at START leaves it alone). PREFILL therefore ends only when the cycles outside
-            // RUN since reset are a multiple of cache.banks (up to banks − 1 more PREFILL
-            // cycles, outside CYCLES).
-            localparam int CSETS = NODE_MEMORY_CACHE_SIZE_BYTES
-                / (NODE_MEMORY_CACHE_WAYS * NODE_MEMORY_CACHE_LINE_BYTES);
-            localparam int CSLOTS = NODE_MEMORY_CACHE_MISS_QUEUE
-                + NODE_MEMORY_CACHE_BANKS * NODE_MEMORY_CACHE_PORTS;
-            localparam int CISSUE = NODE_MEMORY_DRAM_MSHRS < CSLOTS ? NODE_MEMORY_DRAM_MSHRS : CSLOTS;
-            localparam int CMW = $clog2(NODE_MEMORY_DRAM_MSHRS);
-            localparam int RQB = $clog2(REQS);
-            localparam int NB = NODE_MEMORY_CACHE_BANKS;
-            localparam int NBW = NB > 1 ? $clog2(NB) : 1;
-            wire [NW-1:0] c_valid = mem_req_valid & ~s_req;   // the reads not on chip
-            wire [REQS-1:0] c_done;
-            wire [REQS*64-1:0] c_data;
-            wire [NW*RQB-1:0] c_req;
-            wire [NW*2-1:0] c_kind;
-            wire [NODE_PORTS*41-1:0] c_araddr;
-            wire [NODE_PORTS*CMW-1:0] c_arid;
-            wire c_axi_error;
-            logic c_axi_error_q;
-            logic [REQS-1:0] c_attr;              // the context's read out is a record
-            logic [REQS-1:0] a_wait;              // its record is back, not yet delivered
-            logic [NBW-1:0] nr;                   // cycles outside RUN since reset, mod banks
-            for (gm = 0; gm < NW; gm = gm + 1) begin : req
-                assign st_req[gm] = mem_req_valid[gm];
-                assign c_req[gm*RQB +: RQB] = RQB'(mem_req_ctx[gm*CW +: CW]);
-                assign c_kind[gm*2 +: 2] = {mem_req_attr[gm], 1'b0};
-                assign mem_req_ready[gm] = 1'b1;
-                assign rd_out[gm] = 1'b0;
-                assign rd_resp_err[gm] = 1'b0;
-            end
-            /* verilator lint_off PINCONNECTEMPTY */
-            svo_node_cache_axi #(.REQ_PORTS(NW), .REQUESTERS(REQS), .BANKS(NB),
-                .PORTS(NODE_MEMORY_CACHE_PORTS), .SETS(CSETS), .WAYS(NODE_MEMORY_CACHE_WAYS),
-                .LINE_BYTES(NODE_MEMORY_CACHE_LINE_BYTES),
-                .HIT_LATENCY(NODE_MEMORY_CACHE_HIT_LATENCY), .MSHRS(NODE_MEMORY_DRAM_MSHRS),
-                .MISS_QUEUE(NODE_MEMORY_CACHE_MISS_QUEUE), .ATTR_CACHED(1),
-                .FILL_LANES(NODE_PORTS), .ISSUE_LANES(CISSUE))
-            u_cache (.clk(clk), .rst(rst), .req_valid(c_valid), .req_requester(c_req),
-                .req_kind(c_kind), .req_addr(mem_req_addr), .rsp_done(c_done), .rsp_data(c_data),
-                .m_arvalid(m_axi_node_arvalid), .m_arready(m_axi_node_arready),
-                .m_arid(c_arid), .m_araddr(c_araddr), .m_arlen(m_axi_node_arlen),
-                .m_arsize(m_axi_node_arsize), .m_arburst(m_axi_node_arburst),
-                .m_rvalid(m_axi_node_rvalid), .m_rready(m_axi_node_rready),
-                .m_rid(m_axi_node_rid[NODE_PORTS*CMW-1:0]), .m_rdata(m_axi_node_rdata),
-                .m_rresp(m_axi_node_rresp), .m_rlast(m_axi_node_rlast),
-                .axi_error(c_axi_error), .cnt_hits(), .cnt_misses(), .cnt_merged(),
-                .cnt_fills(), .cnt_uncached(), .cnt_replay_hits());
-            /* verilator lint_on PINCONNECTEMPTY */
-            for (gm = 0; gm < NODE_PORTS; gm = gm + 1) begin : axi
-                assign m_axi_node_araddr[gm*ADDR_W +: ADDR_W] = ADDR_W'(c_araddr[gm*41 +: 40]);
-                assign m_axi_node_arid[gm*NODE_IDW +: NODE_IDW] = NODE_IDW'(c_arid[gm*CMW +: CMW]);
-                assign m_axi_node_arprot[gm*3 +: 3] = 3'b000;
-                assign m_axi_node_arcache[gm*4 +: 4] = 4'b0011;
-            end
-            // Node words on the contexts' own ports, the store's and the cache's together (a
-            // context has one read out: at most one of them answers it); records onto the
-            // walker ports.
-            assign st_done = s_done | (c_done & ~c_attr);
-            for (gm = 0; gm < REQS; gm = gm + 1) begin : ctx
-                assign st_data[gm*32 +: 32] = s_done[gm] ? s_data[gm*32 +: 32] : c_data[gm*64 +: 32];
-            end
-            wire [REQS-1:0] a_now = a_wait | (c_done & c_attr);
-            logic [REQS-1:0] a_sent;
-            always_comb begin
-                int p;
-                p = 0;
-                a_sent = '0;
-                mem_resp_valid = '0;
-                mem_resp_ctx = '0;
-                mem_resp_data = '0;
-                for (int n = 0; n < REQS; n++)
-                    if (a_now[n] && p < NW) begin
-                        a_sent[n] = 1'b1;
-                        mem_resp_valid[p] = 1'b1;
-                        mem_resp_ctx[p*CW +: CW] = CW'(n);
-                        mem_resp_data[p*64 +: 64] = c_data[n*64 +: 64];
-                        p = p + 1;
-                    end
-            end
-            assign st_fin = s_done | c_done;
-            assign st_overflow = s_overflow;
-            assign nc_err = c_axi_error && !c_axi_error_q;
-            assign nr_aligned = NBW'(nr + 1'b1) == '0 || NB == 1;
-            always_ff @(posedge clk) begin
-                for (int w = 0; w < NW; w++)
-                    if (c_valid[w]) c_attr[RQB'(mem_req_ctx[w*CW +: CW])] <= mem_req_attr[w];
-                if (rst) begin
-                    a_wait <= '0;
-                    nr <= '0;
-                    c_axi_error_q <= 1'b0;
-                end else begin
-                    a_wait <= a_now & ~a_sent;
-                    if (!run) nr <= NBW'(nr + 1'b1);
-                    c_axi_error_q <= c_axi_error;
-                end
-            end
-            assign rd_err = 1'b0;
-            assign m_axi_arvalid = '0;
-            assign m_axi_araddr = '0;
-            assign m_axi_arid = '0;
-            assign m_axi_arlen = '0;
-            assign m_axi_arsize = '0;
-            assign m_axi_arburst = '0;
-            assign m_axi_arprot = '0;
-            assign m_axi_arcache = '0;
-            assign m_axi_rready = '1;
-            /* verilator lint_off UNUSEDSIGNAL */
-            wire unused_cached = &{1'b0, m_axi_node_rid, c_araddr, m_axi_rvalid, rd_resp_err,
-                                   m_axi_rdata, m_axi_rlast};
-            /* verilator lint_on UNUSEDSIGNAL */
-        end
-    endgenerate
+    svo_top_memory #(.ADDR_W(ADDR_W), .STORE_WORDS(STORE_WORDS), .IMAGES(IMAGES), .CW(CW),
+        .REQS(REQS), .NODE_PORTS(NODE_PORTS), .NODE_DW(NODE_DW), .NODE_IDW(NODE_IDW))
+    u_memory (.clk(clk), .rst(rst), .core_rst(core_rst), .run(run),
+        .mem_req_valid(mem_req_valid), .mem_req_attr(mem_req_attr), .mem_req_addr(mem_req_addr),
+        .mem_req_ctx(mem_req_ctx), .mem_req_ready(mem_req_ready), .mem_resp_valid(mem_resp_valid),
+        .mem_resp_ctx(mem_resp_ctx), .mem_resp_data(mem_resp_data), .st_done(st_done),
+        .st_data(st_data), .st_fin(st_fin), .st_req(st_req), .rd_out(rd_out),
+        .st_overflow(st_overflow), .st_err(st_err), .rd_err(rd_err), .nc_err(nc_err),
+        .nr_aligned(nr_aligned), .img_node_base(img_node_base),
+        .img_onchip_words(img_onchip_words), .store_base(store_base), .store_words(store_words),
+        .load_valid(ld_write), .load_addr(ld_wr), .load_data(ld_data),
+        .m_axi_arvalid(m_axi_arvalid), .m_axi_arready(m_axi_arready),
+        .m_axi_araddr(m_axi_araddr), .m_axi_arid(m_axi_arid), .m_axi_arlen(m_axi_arlen),
+        .m_axi_arsize(m_axi_arsize), .m_axi_arburst(m_axi_arburst), .m_axi_arprot(m_axi_arprot),
+        .m_axi_arcache(m_axi_arcache), .m_axi_rvalid(m_axi_rvalid), .m_axi_rready(m_axi_rready),
+        .m_axi_rdata(m_axi_rdata), .m_axi_rresp(m_axi_rresp), .m_axi_rlast(m_axi_rlast),
+        .m_axi_node_arvalid(m_axi_node_arvalid), .m_axi_node_arready(m_axi_node_arready),
+        .m_axi_node_araddr(m_axi_node_araddr), .m_axi_node_arid(m_axi_node_arid),
+        .m_axi_node_arlen(m_axi_node_arlen), .m_axi_node_arsize(m_axi_node_arsize),
+        .m_axi_node_arburst(m_axi_node_arburst), .m_axi_node_arprot(m_axi_node_arprot),
+        .m_axi_node_arcache(m_axi_node_arcache), .m_axi_node_rvalid(m_axi_node_rvalid),
+        .m_axi_node_rready(m_axi_node_rready), .m_axi_node_rdata(m_axi_node_rdata),
+        .m_axi_node_rid(m_axi_node_rid), .m_axi_node_rresp(m_axi_node_rresp),
+        .m_axi_node_rlast(m_axi_node_rlast));
 
     // ---------------------------------------------------------------- the instance table
     // The register block's external INSTANCE_TABLE: a request is held until the table takes

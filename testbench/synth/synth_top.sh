@@ -34,12 +34,12 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 # The YoWASP tools run in a WebAssembly sandbox that sees only the working directory.
 cp "$here/hw/frame_hw_pkg.sv" "$here"/rdl/generated/svo_core_regs_pkg.sv \
-   "$here"/rdl/generated/svo_core_regs.sv "$here"/rtl/*.v "$here/rtl/svo_top.sv" "$work/"
+   "$here"/rdl/generated/svo_core_regs.sv "$here"/rtl/*.v "$here"/rtl/*.sv "$work/"
 cp "$seed" "$work/reciprocal_seed.hex"
 cd "$work"
 rtl="$(cd "$here/rtl" && ls ./*.v | sed 's|^\./||' | tr '\n' ' ')"
 {
-    echo "read_slang -j 1 --top svo_top -G NPIX=$npix -G RECIP_SEED_FILE=\"reciprocal_seed.hex\" frame_hw_pkg.sv svo_core_regs_pkg.sv svo_core_regs.sv $rtl svo_top.sv"
+    echo "read_slang -j 1 --top svo_top -G NPIX=$npix -G RECIP_SEED_FILE=\"reciprocal_seed.hex\" frame_hw_pkg.sv svo_core_regs_pkg.sv svo_core_regs.sv $rtl svo_top_checks.sv svo_store_load.sv svo_top_memory.sv svo_top.sv"
     echo "hierarchy -top svo_top"
     echo "proc"
     # Cells newer than Yosys 0.23 ($bwmux, $bmux, $demux) into ones it reads.
