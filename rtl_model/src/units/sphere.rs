@@ -304,12 +304,41 @@ impl SphereOrigin {
     }
 }
 
+/// A ray direction as the unit reads it: the codes, and their values in f64 for the
+/// pre-rejection, converted once per ray rather than per sphere (a model speed-up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphereRay {
+    d: [i64; 3],
+    df: [f64; 3],
+}
+
+impl SphereRay {
+    /// The direction with codes `d` (in `dir`).
+    #[inline]
+    pub fn new(d: [i64; 3]) -> Self {
+        Self {
+            d,
+            df: d.map(|v| v as f64),
+        }
+    }
+}
+
+/// The model's pre-rejection (not hardware): whether the f64 estimate of p² from the same
+/// codes exceeds the threshold by more than a millionth plus a slack a thousand times f64's
+/// rounding of it (~1e-15·l·l). Only spheres within the reach are estimated.
+#[inline(always)]
+fn pre_rejects(pre: &SphereOrigin, ray: &SphereRay, sphere: &SphereRaw) -> bool {
+    let (lf, df) = (pre.lf, ray.df);
+    let tca_f = (lf[0] * df[0] + lf[1] * df[1] + lf[2] * df[2]) * sphere.dir_scale;
+    pre.l2_f - tca_f * tca_f > pre.reject_limit
+}
+
 /// The unit up to its square root: the reach guards, t_ca, p² and the cull against T, for
 /// direction `d` from the origin `pre` was computed for.
 #[inline(always)]
 fn front(
     pre: &SphereOrigin,
-    d: [i64; 3],
+    ray: &SphereRay,
     sphere: &SphereRaw,
     cfg: &SphereConfig,
     ov: &mut Overflows,
@@ -321,19 +350,13 @@ fn front(
     }
     let threshold = sphere.threshold;
     let pf = i32::from(cfg.pos.frac);
-    let l = pre.l.map(i128::from);
+    let (l, d) = (pre.l.map(i128::from), ray.d);
     let l2_exact = pre.l2_exact;
-    // Model speed-up, not hardware: most spheres are far from most rays. An f64 estimate of
-    // p² from the same codes rejects those whose p² exceeds the threshold by more than a
-    // millionth plus a slack a thousand times f64's rounding of it (~1e-15·l·l); everything
-    // closer takes the exact path below, so every result is the exact path's.
-    {
-        let lf = pre.lf;
-        let tca_f =
-            (lf[0] * d[0] as f64 + lf[1] * d[1] as f64 + lf[2] * d[2] as f64) * sphere.dir_scale;
-        if pre.l2_f - tca_f * tca_f > pre.reject_limit {
-            return Front::Culled;
-        }
+    // Model speed-up, not hardware: most spheres are far from most rays, and those whose p²
+    // clearly exceeds the threshold are rejected from an f64 estimate ([`pre_rejects`]);
+    // everything closer takes the exact path below, so every result is the exact path's.
+    if pre_rejects(pre, ray, sphere) {
+        return Front::Culled;
     }
     // t_ca = l·d, exact then rounded toward −∞ into `tca`.
     let dot: i128 = (l[0] * i128::from(d[0]) + l[1] * i128::from(d[1])) + l[2] * i128::from(d[2]);
@@ -379,7 +402,14 @@ pub fn sphere_radicand(
     ov: &mut Overflows,
     sig: SphereSignals,
 ) -> Option<u64> {
-    match front(&SphereOrigin::new(o, sphere), d, sphere, cfg, ov, sig) {
+    match front(
+        &SphereOrigin::new(o, sphere),
+        &SphereRay::new(d),
+        sphere,
+        cfg,
+        ov,
+        sig,
+    ) {
         Front::Root { radicand, .. } => Some(radicand),
         Front::Reach | Front::Culled => None,
     }
@@ -394,21 +424,46 @@ pub fn sphere_test(
     ov: &mut Overflows,
     sig: SphereSignals,
 ) -> Option<SphereHit> {
-    sphere_test_prepared(&SphereOrigin::new(o, sphere), d, sphere, cfg, ov, sig)
+    sphere_test_prepared(
+        &SphereOrigin::new(o, sphere),
+        &SphereRay::new(d),
+        sphere,
+        cfg,
+        ov,
+        sig,
+    )
 }
 
-/// [`sphere_test`] of direction `d` from the origin `pre` was prepared for (with this
-/// `sphere`): the same result and counts.
-#[inline]
+/// [`sphere_test`] of the direction `ray` from the origin `pre` was prepared for (with this
+/// `sphere`): the same result and counts. The pre-rejection is inlined into the caller's loop
+/// over the spheres; the rest of the unit is not.
+#[inline(always)]
 pub fn sphere_test_prepared(
     pre: &SphereOrigin,
-    d: [i64; 3],
+    ray: &SphereRay,
     sphere: &SphereRaw,
     cfg: &SphereConfig,
     ov: &mut Overflows,
     sig: SphereSignals,
 ) -> Option<SphereHit> {
-    let (radicand, tca, l2, up_sq) = match front(pre, d, sphere, cfg, ov, sig) {
+    // What `front` would find first for such a sphere (culled, nothing counted).
+    if !pre.beyond_reach && pre_rejects(pre, ray, sphere) {
+        return None;
+    }
+    sphere_test_rest(pre, ray, sphere, cfg, ov, sig)
+}
+
+/// [`sphere_test_prepared`] past the inlined pre-rejection: the whole unit.
+#[inline(never)]
+fn sphere_test_rest(
+    pre: &SphereOrigin,
+    ray: &SphereRay,
+    sphere: &SphereRaw,
+    cfg: &SphereConfig,
+    ov: &mut Overflows,
+    sig: SphereSignals,
+) -> Option<SphereHit> {
+    let (radicand, tca, l2, up_sq) = match front(pre, ray, sphere, cfg, ov, sig) {
         Front::Reach => return Some(SphereHit { t_enter: 0 }),
         Front::Culled => return None,
         Front::Root {
