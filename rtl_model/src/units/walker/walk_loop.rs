@@ -189,7 +189,7 @@ pub(super) fn walk_loop<O: WalkObserver>(
         } else {
             top.ptr_addr
         };
-        let slot = base + (u32::from(top.valid) & ((1u32 << real) - 1)).count_ones();
+        let slot = base + u32::from(POPCOUNT[usize::from(top.valid & (bit - 1))]);
         obs.read(FetchKind::Node, slot);
         obs.enter(level, coords);
         if top.leaf & bit != 0 {
@@ -220,6 +220,18 @@ pub(super) fn walk_loop<O: WalkObserver>(
     st.max_stack = st.max_stack.max(deepest as u32);
     out
 }
+
+/// Set bits of every byte: the child's slot is the number of valid children below its
+/// label (a table, since the build targets x86-64 without the `popcnt` instruction).
+const POPCOUNT: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut i = 0;
+    while i < 256 {
+        t[i] = (i as u8).count_ones() as u8;
+        i += 1;
+    }
+    t
+};
 
 /// Revelles tables 1 and 2: the first child, from the entry plane (largest t0) and the
 /// midpoints crossed before it.
