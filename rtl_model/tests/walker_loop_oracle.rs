@@ -341,10 +341,10 @@ fn input(rng: &mut Rng, half: [f64; 3]) -> WalkerInput {
         ..WalkerInput::default()
     };
     let spread = if rng.below(3) == 0 { 1.0 } else { 3.0 };
-    for k in 0..3 {
+    for (k, &h) in half.iter().enumerate() {
         let u = rng.below(1 << 30) as f64 / f64::from(1 << 30);
         inp.origin[k] = WalkerPos {
-            raw: pos((2.0 * u - 1.0) * spread * half[k]),
+            raw: pos((2.0 * u - 1.0) * spread * h),
         };
         let negative = rng.below(2) == 0;
         let kind = rng.below(10);

@@ -27,6 +27,9 @@
 //! [`WalkerT`] (of `t`). The formats are run-time configurable ([`WalkerConfig`]), so the
 //! types name the role and the configuration holds the format; the one change of format in
 //! the walker, position × reciprocal into t, is [`WalkerConfig::slab_t`].
+//!
+//! This file holds the walk's set-up (mirroring, root slabs, the root frame); the loop over
+//! the stack is `walker/walk_loop.rs`.
 
 use crate::fixed::{quantize, to_f64, Format, Overflows, SignalId};
 use crate::svo::FetchKind;
