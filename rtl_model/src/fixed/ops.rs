@@ -13,13 +13,18 @@ const MAX_DIRECT_SHIFT: i32 = 120;
 
 /// Rounds `raw · 2^−from_frac` into `out`: quantisation by `out.quant`, then overflow by
 /// `out.overflow`. Any saturation or wrap is counted on `sig`.
-#[inline]
+///
+/// Always inlined: it is the datapath's rounding step, called per transform, reciprocal and
+/// slab product, and its fast paths are a handful of instructions (the functional model's
+/// speed, docs/cycle-model.md §2.7).
+#[inline(always)]
 pub fn quantize(raw: i128, from_frac: i32, out: Format, ov: &mut Overflows, sig: SignalId) -> i64 {
     let shift = from_frac - i32::from(out.frac);
-    // Fast path, the datapath's common case: a right shift whose result is strictly inside
-    // the range (so no overflow mode can apply). Same result as the general path.
-    if shift > 0 && shift <= MAX_DIRECT_SHIFT {
-        let q = round_shift(raw, shift as u32, out.quant);
+    // Fast path, the datapath's common case: a right shift of under 64 bits whose result is
+    // strictly inside the range (so no overflow mode can apply). Same result as the general
+    // path (`quantize_matches_general_path`).
+    if shift > 0 && shift < 64 {
+        let q = round_shift_small(raw, (shift & 63) as u32, out.quant);
         if q > i128::from(out.min_raw()) && q <= i128::from(out.max_raw()) {
             return q as i64;
         }
@@ -36,6 +41,34 @@ pub fn quantize(raw: i128, from_frac: i32, out: Format, ov: &mut Overflows, sig:
         }
     }
     quantize_general(raw, from_frac, out, ov, sig)
+}
+
+/// [`round_shift`] for 1 ≤ s ≤ 63: the dropped bits fit one word, so the remainder and the
+/// half are `u64` and the shift a single funnel shift. Same result
+/// (`round_shift_small_matches_round_shift`).
+#[inline(always)]
+fn round_shift_small(raw: i128, s: u32, quant: Quant) -> i128 {
+    let floor = raw >> s;
+    if quant == Quant::Trn {
+        return floor;
+    }
+    // raw − floor·2^s: the low s bits of raw (two's complement), in [0, 2^s).
+    let rem = (raw as u64) & ((1u64 << s) - 1);
+    if rem == 0 {
+        return floor;
+    }
+    let half = 1u64 << (s - 1);
+    let neg = raw < 0;
+    let up = match quant {
+        Quant::Trn => false,
+        Quant::TrnZero => neg,
+        Quant::Rnd => rem >= half,
+        Quant::RndZero => rem > half || (rem == half && neg),
+        Quant::RndMinInf => rem > half,
+        Quant::RndInf => rem > half || (rem == half && !neg),
+        Quant::RndConv => rem > half || (rem == half && floor & 1 == 1),
+    };
+    floor + i128::from(up)
 }
 
 /// The general path of [`quantize`]: any shift, overflow resolution and counting.
@@ -389,5 +422,96 @@ mod tests {
         assert_eq!(r, i64::MIN);
         let _ = mul(i64::MIN, high, i64::MIN, high, wide, &mut o, s);
         assert!(o.total() >= 1);
+    }
+
+    const MODES: [Quant; 7] = [
+        Quant::Trn,
+        Quant::TrnZero,
+        Quant::Rnd,
+        Quant::RndZero,
+        Quant::RndMinInf,
+        Quant::RndInf,
+        Quant::RndConv,
+    ];
+
+    /// The seed of the random tests below: `SVO_TEST_SEED` (decimal) or a fixed default,
+    /// printed so that a failure replays.
+    fn seed(test: &str) -> u64 {
+        let seed = std::env::var("SVO_TEST_SEED")
+            .ok()
+            .and_then(|s| s.trim().parse().ok())
+            .unwrap_or(0x0F5_2030_0001);
+        println!("{test}: seed = {seed} (SVO_TEST_SEED replays)");
+        seed
+    }
+
+    /// A raw value that reaches every branch: small, near the word and range boundaries,
+    /// any i128.
+    fn any_raw(rng: &mut crate::vectors::rng::Rng) -> i128 {
+        let wide = (i128::from(rng.next_u64() as i64) << 64) | i128::from(rng.next_u64());
+        let k = rng.below(127) as u32;
+        match rng.below(4) {
+            0 => i128::from(rng.next_u64() as i64),
+            1 => wide,
+            2 => i128::from(rng.next_u64() as i64).wrapping_shl(k),
+            _ => (1i128 << k) + (rng.below(9) as i128 - 4) * if rng.one_in(2) { -1 } else { 1 },
+        }
+    }
+
+    /// The one-word rounding equals the general i128 one for every shift it takes.
+    #[test]
+    fn round_shift_small_matches_round_shift() {
+        let seed = seed("round_shift_small_matches_round_shift");
+        let mut rng = crate::vectors::rng::Rng::new(seed);
+        for case in 0..200_000 {
+            let (raw, s) = (any_raw(&mut rng), 1 + rng.below(63) as u32);
+            let m = MODES[rng.below(7) as usize];
+            assert_eq!(
+                round_shift_small(raw, s, m),
+                round_shift(raw, s, m),
+                "seed {seed} case {case}: {raw} >> {s} {m:?}"
+            );
+        }
+    }
+
+    /// `quantize` (its fast paths inlined) returns and counts exactly what its general path
+    /// does, for every valid format, mode and shift.
+    #[test]
+    fn quantize_matches_general_path() {
+        let seed = seed("quantize_matches_general_path");
+        let mut rng = crate::vectors::rng::Rng::new(seed);
+        let mut fast_taken = 0u32;
+        for case in 0..200_000 {
+            let out = Format {
+                signed: rng.one_in(2),
+                width: 1 + rng.below(64) as u8,
+                frac: rng.below(125) as i8 - 62,
+                quant: MODES[rng.below(7) as usize],
+                overflow: [OverflowMode::Sat, OverflowMode::SatSym, OverflowMode::Wrap]
+                    [rng.below(3) as usize],
+            };
+            if !out.is_valid() {
+                continue;
+            }
+            // Mostly shifts the fast paths take (−63..=63), some beyond.
+            let shift = if rng.one_in(4) {
+                rng.below(200) as i32 - 70
+            } else {
+                rng.below(127) as i32 - 63
+            };
+            let from_frac = i32::from(out.frac) + shift;
+            let raw = any_raw(&mut rng);
+            let (mut a, sig) = ov();
+            let (mut b, _) = ov();
+            let fast = quantize(raw, from_frac, out, &mut a, sig);
+            let general = quantize_general(raw, from_frac, out, &mut b, sig);
+            assert_eq!(
+                (fast, a.total()),
+                (general, b.total()),
+                "seed {seed} case {case}: {raw} from {from_frac} into {out:?}"
+            );
+            fast_taken += u32::from(b.total() == 0);
+        }
+        assert!(fast_taken > 10_000, "the cases reach the in-range results");
     }
 }

@@ -323,8 +323,9 @@ impl ReciprocalUnit {
     }
 }
 
-/// The unit's stages, with the seed ROM read through `seed`.
-#[inline]
+/// The unit's stages, with the seed ROM read through `seed`. Always inlined: the functional
+/// model evaluates three per walk (docs/cycle-model.md §2.7).
+#[inline(always)]
 fn evaluate(
     d_raw: i64,
     sign_negative: bool,
@@ -346,7 +347,7 @@ fn evaluate(
     let zero = match p.zero_exp {
         e if e < 0 => a == 0,
         e if e >= 64 => true,
-        e => u128::from(a) <= 1u128 << e,
+        e => a <= 1u64 << e,
     };
     if zero {
         let max = i128::from(cfg.output.max_raw());
@@ -377,11 +378,14 @@ fn evaluate(
 
     // Stages 4..: Newton–Raphson. Invariants (docs/units/reciprocal.md): y ≤ 1 and
     // p = ⌊m·y⌋ < 2, so q = 2 − p ∈ (0, 2) and every product stays below 2^(2G+2).
-    let two = 2u128 << p.g;
+    // G ≤ 62 (`plan`), so masking the shift changes nothing and tells the compiler that it
+    // stays within one word (a funnel shift, no test for shifts of 64 or more).
+    let g = p.g & 63;
+    let two = 2u128 << g;
     for _ in 0..p.iters {
-        let prod = (m * y) >> p.g; // uQ2.G, truncated
+        let prod = (m * y) >> g; // uQ2.G, truncated
         let q = two.saturating_sub(prod); // uQ1.G; saturation cannot trigger (prod < 2)
-        y = (y * q) >> p.g; // uQ1.G, truncated
+        y = (y * q) >> g; // uQ1.G, truncated
     }
 
     // Final stage: ±y · 2^(F_in − lead) has G + lead − F_in fraction bits; round and saturate

@@ -446,15 +446,26 @@ pub struct Sorter {
     net: Vec<(usize, usize)>,
     /// Network latency, cycles (its depth).
     latency: u64,
+    /// Model speed-up: per key count k ≤ n, the comparators of `net` with both lanes below k,
+    /// in order — the only ones that act when the lanes from k up are empty.
+    net_by_count: Vec<Vec<(usize, usize)>>,
+    /// Whether `cfg` validates (checked once, not per sort).
+    valid: bool,
 }
 
 impl Sorter {
     /// Builds the network for `cfg.n` lanes (n = 0 is taken as 1).
     pub fn new(cfg: &SorterConfig) -> Self {
+        let net = network(cfg.n.max(1));
+        let net_by_count = (0..=usize::from(cfg.n.max(1)))
+            .map(|k| net.iter().copied().filter(|&(i, j)| i.max(j) < k).collect())
+            .collect();
         Self {
             cfg: cfg.clone(),
-            net: network(cfg.n.max(1)),
+            net,
             latency: network_latency(cfg.n.max(1)),
+            net_by_count,
+            valid: cfg.validate().is_ok(),
         }
     }
 
@@ -529,11 +540,12 @@ impl Sorter {
     /// model's allocations); otherwise as [`Sorter::sort`]. Same order and statistics.
     pub fn sort_in_place(&self, keys: &mut Vec<(i64, u16)>, stats: &mut SorterStats) {
         let n = self.cfg.n.max(1);
-        if keys.is_empty()
-            || keys.len() > usize::from(n)
-            || !self.cfg.key.is_valid()
-            || self.cfg.n == 0
-        {
+        if keys.is_empty() {
+            // What `sort` does with no keys: count an invalid configuration, return none.
+            stats.config_errors += u64::from(!self.valid);
+            return;
+        }
+        if keys.len() > usize::from(n) || !self.cfg.key.is_valid() || self.cfg.n == 0 {
             let sorted = self.sort(keys, stats);
             keys.clear();
             keys.extend_from_slice(&sorted);
@@ -549,7 +561,12 @@ impl Sorter {
         // One key is already in order: every comparator touches an empty lane (model
         // speed-up; the statistics still count the issue).
         if keys.len() > 1 {
-            apply_network(&self.net, keys);
+            // The comparators that touch an empty lane are skipped (`apply_network`), so the
+            // ones left for this count do the same.
+            match self.net_by_count.get(keys.len()) {
+                Some(net) => apply_network(net, keys),
+                None => apply_network(&self.net, keys),
+            }
         }
         self.count(keys.len(), stats);
     }

@@ -241,46 +241,122 @@ enum Front {
     },
 }
 
-/// The unit up to its square root: the reach guards, t_ca, p² and the cull against T.
+/// What the unit computes from the ray's origin alone, against one sphere: l = c − o, the
+/// reach guards and l·l. Every primary ray of a frame shares the camera's origin, so a caller
+/// may compute this once per instance and frame and test each direction against it with
+/// [`sphere_test_prepared`] (a model speed-up: the hardware forms these per ray, the results
+/// are the same).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphereOrigin {
+    /// |c − o| beyond the reach (component or length): the test keeps the sphere with entry
+    /// 0 and counts it on the `reach` signal, every time.
+    beyond_reach: bool,
+    /// l = c − o (fits 64 bits when within the reach; zeros otherwise).
+    l: [i64; 3],
+    /// l·l, exact, with 2·pos.frac fraction bits.
+    l2_exact: i128,
+    /// The components of l as f64, for the pre-rejection.
+    lf: [f64; 3],
+    /// l·l in f64 (as the pre-rejection forms it).
+    l2_f: f64,
+    /// The pre-rejection's bound: the sphere's `reject_above` plus the slack 1e-12·l·l.
+    reject_limit: f64,
+}
+
+impl SphereOrigin {
+    /// The origin-only part of the test of origin `o` against `sphere`.
+    #[inline]
+    pub fn new(o: [i64; 3], sphere: &SphereRaw) -> Self {
+        let c = sphere.centre;
+        let l = [0, 1, 2].map(|k| i128::from(c[k]) - i128::from(o[k]));
+        let reach = i128::from(sphere.reach);
+        let beyond = Self {
+            beyond_reach: true,
+            l: [0; 3],
+            l2_exact: 0,
+            lf: [0.0; 3],
+            l2_f: 0.0,
+            reject_limit: 0.0,
+        };
+        if l.iter().any(|v| v.abs() > reach) {
+            return beyond;
+        }
+        // Within the reach |l_k| fits 64 bits (reach < 2^63 codes), so every product below is a
+        // single 64×64 → 128-bit multiply.
+        let l = l.map(|v| v as i64);
+        let li = l.map(i128::from);
+        // The analysis needs |l| ≤ reach, the length: l·l exact (< 3·2^124 for reach < 2^62
+        // codes) against reach², both with 2·pos.frac fraction bits.
+        let l2_exact = (li[0] * li[0] + li[1] * li[1]) + li[2] * li[2];
+        if l2_exact > reach * reach {
+            return beyond;
+        }
+        let lf = l.map(|v| v as f64); // via i64: i128 → f64 is a slow library call
+        let l2_f = lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2];
+        Self {
+            beyond_reach: false,
+            l,
+            l2_exact,
+            lf,
+            l2_f,
+            reject_limit: sphere.reject_above + 1e-12 * l2_f,
+        }
+    }
+}
+
+/// A ray direction as the unit reads it: the codes, and their values in f64 for the
+/// pre-rejection, converted once per ray rather than per sphere (a model speed-up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphereRay {
+    d: [i64; 3],
+    df: [f64; 3],
+}
+
+impl SphereRay {
+    /// The direction with codes `d` (in `dir`).
+    #[inline]
+    pub fn new(d: [i64; 3]) -> Self {
+        Self {
+            d,
+            df: d.map(|v| v as f64),
+        }
+    }
+}
+
+/// The model's pre-rejection (not hardware): whether the f64 estimate of p² from the same
+/// codes exceeds the threshold by more than a millionth plus a slack a thousand times f64's
+/// rounding of it (~1e-15·l·l). Only spheres within the reach are estimated.
+#[inline(always)]
+fn pre_rejects(pre: &SphereOrigin, ray: &SphereRay, sphere: &SphereRaw) -> bool {
+    let (lf, df) = (pre.lf, ray.df);
+    let tca_f = (lf[0] * df[0] + lf[1] * df[1] + lf[2] * df[2]) * sphere.dir_scale;
+    pre.l2_f - tca_f * tca_f > pre.reject_limit
+}
+
+/// The unit up to its square root: the reach guards, t_ca, p² and the cull against T, for
+/// direction `d` from the origin `pre` was computed for.
 #[inline(always)]
 fn front(
-    o: [i64; 3],
-    d: [i64; 3],
+    pre: &SphereOrigin,
+    ray: &SphereRay,
     sphere: &SphereRaw,
     cfg: &SphereConfig,
     ov: &mut Overflows,
     sig: SphereSignals,
 ) -> Front {
-    let (c, threshold) = (sphere.centre, sphere.threshold);
-    let l = [0, 1, 2].map(|k| i128::from(c[k]) - i128::from(o[k]));
+    if pre.beyond_reach {
+        ov.hit(sig.reach);
+        return Front::Reach;
+    }
+    let threshold = sphere.threshold;
     let pf = i32::from(cfg.pos.frac);
-    let reach = i128::from(sphere.reach);
-    if l.iter().any(|v| v.abs() > reach) {
-        ov.hit(sig.reach);
-        return Front::Reach;
-    }
-    // Within the reach |l_k| fits 64 bits (reach < 2^63 codes), so every product below is a
-    // single 64×64 → 128-bit multiply.
-    let l = l.map(|v| v as i64).map(i128::from);
-    // The analysis needs |l| ≤ reach, the length: l·l exact (< 3·2^124 for reach < 2^62 codes)
-    // against reach², both with 2·pos.frac fraction bits.
-    let l2_exact = (l[0] * l[0] + l[1] * l[1]) + l[2] * l[2];
-    if l2_exact > reach * reach {
-        ov.hit(sig.reach);
-        return Front::Reach;
-    }
-    // Model speed-up, not hardware: most spheres are far from most rays. An f64 estimate of
-    // p² from the same codes rejects those whose p² exceeds the threshold by more than a
-    // millionth plus a slack a thousand times f64's rounding of it (~1e-15·l·l); everything
-    // closer takes the exact path below, so every result is the exact path's.
-    {
-        let lf = l.map(|v| v as i64 as f64); // via i64: i128 → f64 is a slow library call
-        let tca_f =
-            (lf[0] * d[0] as f64 + lf[1] * d[1] as f64 + lf[2] * d[2] as f64) * sphere.dir_scale;
-        let l2_f = lf[0] * lf[0] + lf[1] * lf[1] + lf[2] * lf[2];
-        if l2_f - tca_f * tca_f > sphere.reject_above + 1e-12 * l2_f {
-            return Front::Culled;
-        }
+    let (l, d) = (pre.l.map(i128::from), ray.d);
+    let l2_exact = pre.l2_exact;
+    // Model speed-up, not hardware: most spheres are far from most rays, and those whose p²
+    // clearly exceeds the threshold are rejected from an f64 estimate ([`pre_rejects`]);
+    // everything closer takes the exact path below, so every result is the exact path's.
+    if pre_rejects(pre, ray, sphere) {
+        return Front::Culled;
     }
     // t_ca = l·d, exact then rounded toward −∞ into `tca`.
     let dot: i128 = (l[0] * i128::from(d[0]) + l[1] * i128::from(d[1])) + l[2] * i128::from(d[2]);
@@ -326,7 +402,14 @@ pub fn sphere_radicand(
     ov: &mut Overflows,
     sig: SphereSignals,
 ) -> Option<u64> {
-    match front(o, d, sphere, cfg, ov, sig) {
+    match front(
+        &SphereOrigin::new(o, sphere),
+        &SphereRay::new(d),
+        sphere,
+        cfg,
+        ov,
+        sig,
+    ) {
         Front::Root { radicand, .. } => Some(radicand),
         Front::Reach | Front::Culled => None,
     }
@@ -341,7 +424,46 @@ pub fn sphere_test(
     ov: &mut Overflows,
     sig: SphereSignals,
 ) -> Option<SphereHit> {
-    let (radicand, tca, l2, up_sq) = match front(o, d, sphere, cfg, ov, sig) {
+    sphere_test_prepared(
+        &SphereOrigin::new(o, sphere),
+        &SphereRay::new(d),
+        sphere,
+        cfg,
+        ov,
+        sig,
+    )
+}
+
+/// [`sphere_test`] of the direction `ray` from the origin `pre` was prepared for (with this
+/// `sphere`): the same result and counts. The pre-rejection is inlined into the caller's loop
+/// over the spheres; the rest of the unit is not.
+#[inline(always)]
+pub fn sphere_test_prepared(
+    pre: &SphereOrigin,
+    ray: &SphereRay,
+    sphere: &SphereRaw,
+    cfg: &SphereConfig,
+    ov: &mut Overflows,
+    sig: SphereSignals,
+) -> Option<SphereHit> {
+    // What `front` would find first for such a sphere (culled, nothing counted).
+    if !pre.beyond_reach && pre_rejects(pre, ray, sphere) {
+        return None;
+    }
+    sphere_test_rest(pre, ray, sphere, cfg, ov, sig)
+}
+
+/// [`sphere_test_prepared`] past the inlined pre-rejection: the whole unit.
+#[inline(never)]
+fn sphere_test_rest(
+    pre: &SphereOrigin,
+    ray: &SphereRay,
+    sphere: &SphereRaw,
+    cfg: &SphereConfig,
+    ov: &mut Overflows,
+    sig: SphereSignals,
+) -> Option<SphereHit> {
+    let (radicand, tca, l2, up_sq) = match front(pre, ray, sphere, cfg, ov, sig) {
         Front::Reach => return Some(SphereHit { t_enter: 0 }),
         Front::Culled => return None,
         Front::Root {

@@ -176,13 +176,16 @@ pub fn transform_direction(
 ) -> ([i64; 3], [bool; 3]) {
     let df = i32::from(cfg.mat.frac) + i32::from(cfg.dir.frac);
     let mut signs = [false; 3];
-    let d_local = [0, 1, 2].map(|k| {
+    let mut d_local = [0i64; 3];
+    // A plain loop rather than `map` with a closure: the closure was left out of line in the
+    // functional model's walk input (one call per component).
+    for k in 0..3 {
         let col = inst.axes[k];
         let p = [0, 1, 2].map(|j| i128::from(col[j]) * i128::from(d[j]));
         let sum = (p[0] + p[1]) + p[2];
         signs[k] = sum < 0;
-        quantize(sum, df, cfg.local_dir, ov, sig)
-    });
+        d_local[k] = quantize(sum, df, cfg.local_dir, ov, sig);
+    }
     (d_local, signs)
 }
 

@@ -27,12 +27,18 @@
 //! [`WalkerT`] (of `t`). The formats are run-time configurable ([`WalkerConfig`]), so the
 //! types name the role and the configuration holds the format; the one change of format in
 //! the walker, position × reciprocal into t, is [`WalkerConfig::slab_t`].
+//!
+//! This file holds the walk's set-up (mirroring, root slabs, the root frame); the loop over
+//! the stack is `walker/walk_loop.rs`.
 
 use crate::fixed::{quantize, to_f64, Format, Overflows, SignalId};
 use crate::svo::FetchKind;
-use crate::svo::{ChildDescriptor, ChildRef, SvoImage, MAX_DEPTH};
+use crate::svo::{SvoImage, MAX_DEPTH};
 use crate::units::reciprocal::Reciprocal;
 use serde::{Deserialize, Serialize};
+use walk_loop::{walk_loop, Axes, Frame};
+
+mod walk_loop;
 
 /// A t-value of the walker (metres along the unit direction): a raw code of
 /// [`WalkerConfig::t`] (default sQ31.31), or one of the ±∞ sentinels.
@@ -239,64 +245,6 @@ pub struct WalkerStats {
     pub step_limit_hits: u64,
 }
 
-/// One stack frame: a node's slab times (entry, exit, midpoint per axis), where it lives in
-/// memory, the next child to examine, and its level and coordinates.
-#[derive(Clone, Copy, Default)]
-struct Frame {
-    t0: [WalkerT; 3],
-    t1: [WalkerT; 3],
-    tm: [WalkerT; 3],
-    addr: u32,
-    desc: u32,
-    next: u8,
-    level: u8,
-    coords: [u32; 3],
-}
-
-#[inline]
-fn max3(v: [WalkerT; 3]) -> WalkerT {
-    v[0].max(v[1]).max(v[2])
-}
-
-#[inline]
-fn min3(v: [WalkerT; 3]) -> WalkerT {
-    v[0].min(v[1]).min(v[2])
-}
-
-/// The walk's per-axis constants: the mirrored origin, the zero flags, the mirror mask `a`
-/// (bit 2 − k set when axis k is mirrored) and the box's half extents.
-struct Axes {
-    o: [WalkerPos; 3],
-    zero: [bool; 3],
-    a: u8,
-    half: [WalkerPos; 3],
-}
-
-impl Axes {
-    /// Midpoint of axis k for the node at `level` with real coordinate `c`.
-    #[inline]
-    fn mid(&self, k: usize, t0: WalkerT, t1: WalkerT, level: u8, c: u32) -> WalkerT {
-        if !self.zero[k] {
-            return t0.midpoint(t1);
-        }
-        let n = 1u64 << level;
-        let m = if self.a & (4 >> k) != 0 {
-            n - 1 - u64::from(c)
-        } else {
-            u64::from(c)
-        };
-        // Centre plane −e + (2m + 1)·2e / 2^(level+1) (a `pos` code), exact in i128 before
-        // the floor shift.
-        let e = i128::from(self.half[k].raw);
-        let centre = -e + ((i128::from(2 * m + 1) * (2 * e)) >> (level + 1));
-        if i128::from(self.o[k].raw) < centre {
-            WalkerT::POS_INF
-        } else {
-            WalkerT::NEG_INF
-        }
-    }
-}
-
 /// Walks `img` for one (ray, instance).
 pub fn walk_fixed(
     img: &SvoImage,
@@ -371,6 +319,7 @@ pub fn walk_fixed_observed<O: WalkObserver>(
     let mut ax = Axes {
         o: [WalkerPos::default(); 3],
         zero: inp.zero,
+        any_zero: inp.zero.iter().any(|&z| z),
         a: 0,
         half: inp.half,
     };
@@ -400,165 +349,28 @@ pub fn walk_fixed_observed<O: WalkObserver>(
             t1[k] = cfg.slab_t(WalkerPos { raw: hi }, inp.inv[k], ov, sig);
         }
     }
-    if !(max3(t0) < min3(t1) && min3(t1) > WalkerT::ZERO) {
+    let (enter, exit) = (t0[0].max(t0[1]).max(t0[2]), t1[0].min(t1[1]).min(t1[2]));
+    if !(enter < exit && exit > WalkerT::ZERO) {
         return WalkOutcome::Miss;
     }
     st.fetches += 1;
     st.max_stack = st.max_stack.max(1);
     let root = SvoImage::root();
     obs.read(FetchKind::Node, root);
-    let mut f = Frame {
-        t0,
-        t1,
-        addr: root,
-        desc: img.nodes()[root as usize],
-        ..Frame::default()
-    };
-    f.tm = std::array::from_fn(|k| ax.mid(k, t0[k], t1[k], 0, 0));
-    f.next = first_child(f.t0, f.tm);
+    let nodes = img.nodes();
+    let f = Frame::new(&ax, root, nodes[root as usize], t0, t1, 0, [0; 3]);
     // The explicit stack (at most MAX_DEPTH + 1 frames) lives in a per-thread buffer: a fresh
     // array per walk would clear ~2 KB each time. The hardware keeps it in registers/LUTRAM.
     STACK.with(|cell| {
         let mut stack = cell.borrow_mut();
         stack.clear();
         stack.push(f);
-        walk_loop(img, &ax, cfg, st, obs, &mut stack)
+        walk_loop(nodes, &ax, cfg, st, obs, &mut stack)
     })
 }
 
 thread_local! {
     static STACK: std::cell::RefCell<Vec<Frame>> = std::cell::RefCell::new(Vec::with_capacity(MAX_DEPTH as usize + 1));
-}
-
-/// The walker's loop over an explicit stack whose bottom frame is the root.
-fn walk_loop<O: WalkObserver>(
-    img: &SvoImage,
-    ax: &Axes,
-    cfg: &WalkerConfig,
-    st: &mut WalkerStats,
-    obs: &mut O,
-    stack: &mut Vec<Frame>,
-) -> WalkOutcome {
-    let mut steps = 0u32;
-    loop {
-        let Some(top) = stack.last_mut() else {
-            return WalkOutcome::Miss;
-        };
-        let c = top.next;
-        if c >= 8 {
-            stack.pop();
-            obs.pop();
-            continue;
-        }
-        steps += 1;
-        st.steps += 1;
-        obs.step();
-        if steps > cfg.max_steps {
-            st.step_limit_hits += 1;
-            return WalkOutcome::StepLimit;
-        }
-        let mut ct0 = [WalkerT::ZERO; 3];
-        let mut ct1 = [WalkerT::ZERO; 3];
-        for k in 0..3 {
-            if c & (4 >> k) != 0 {
-                ct0[k] = top.tm[k];
-                ct1[k] = top.t1[k];
-            } else {
-                ct0[k] = top.t0[k];
-                ct1[k] = top.tm[k];
-            }
-        }
-        top.next = next_child(c, ct1);
-        let enter = max3(ct0);
-        let exit = min3(ct1);
-        if !(enter < exit && exit > WalkerT::ZERO) {
-            continue;
-        }
-        let real = c ^ ax.a;
-        let desc = ChildDescriptor::unpack(top.desc);
-        let level = top.level + 1;
-        let coords = [
-            (top.coords[0] << 1) | u32::from((real >> 2) & 1),
-            (top.coords[1] << 1) | u32::from((real >> 1) & 1),
-            (top.coords[2] << 1) | u32::from(real & 1),
-        ];
-        let child = img.child(top.addr, desc, real);
-        if child != ChildRef::Empty {
-            // The reads this child costs (docs/svo-format.md §12): the far word when the
-            // parent uses the far escape, then the child's slot (descriptor or leaf slot).
-            if desc.far {
-                obs.read(FetchKind::Far, top.addr + u32::from(desc.ptr));
-            }
-            let slot = match child {
-                ChildRef::Node(a) => a,
-                _ => img.group_base(top.addr, desc) + desc.slot(real),
-            };
-            obs.read(FetchKind::Node, slot);
-            obs.enter(level, coords);
-        }
-        match child {
-            ChildRef::Empty => {}
-            ChildRef::Leaf(attr) => {
-                let entry_axis = if ct0[0] >= ct0[1] && ct0[0] >= ct0[2] {
-                    0
-                } else if ct0[1] >= ct0[2] {
-                    1
-                } else {
-                    2
-                };
-                obs.read(FetchKind::Attr, attr);
-                return WalkOutcome::Hit(WalkerHit {
-                    t: enter.max(WalkerT::ZERO),
-                    voxel: coords,
-                    level,
-                    attr,
-                    entry_axis,
-                });
-            }
-            ChildRef::Node(addr) => {
-                st.fetches += 1;
-                let mut child = Frame {
-                    t0: ct0,
-                    t1: ct1,
-                    tm: [WalkerT::ZERO; 3],
-                    addr,
-                    desc: img.nodes()[addr as usize],
-                    next: 0,
-                    level,
-                    coords,
-                };
-                child.tm = std::array::from_fn(|k| ax.mid(k, ct0[k], ct1[k], level, coords[k]));
-                child.next = first_child(child.t0, child.tm);
-                stack.push(child);
-                st.max_stack = st.max_stack.max(stack.len() as u32);
-            }
-        }
-    }
-}
-
-/// Revelles tables 1 and 2: the first child, from the entry plane (largest t0) and the
-/// midpoints crossed before it.
-#[inline]
-fn first_child(t0: [WalkerT; 3], tm: [WalkerT; 3]) -> u8 {
-    let enter = max3(t0);
-    (u8::from(tm[0] < enter) << 2) | (u8::from(tm[1] < enter) << 1) | u8::from(tm[2] < enter)
-}
-
-/// Revelles table 3: the next child from the exit plane (smallest t1; ties x, y, z); 8 ends.
-#[inline]
-fn next_child(c: u8, t1: [WalkerT; 3]) -> u8 {
-    let bit = if t1[0] <= t1[1] && t1[0] <= t1[2] {
-        4
-    } else if t1[1] <= t1[2] {
-        2
-    } else {
-        1
-    };
-    if c & bit != 0 {
-        8
-    } else {
-        c | bit
-    }
 }
 
 /// Bound on how far (metres, per axis) the ray the fixed walker effectively follows can lie

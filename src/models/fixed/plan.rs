@@ -33,7 +33,7 @@ use rtl_model::units::normal::NormalMatrix;
 use rtl_model::units::raygen::direction_entry;
 use rtl_model::units::reciprocal::ReciprocalUnit;
 use rtl_model::units::sorter::Sorter;
-use rtl_model::units::sphere::{SphereRaw, SphereSignals};
+use rtl_model::units::sphere::{SphereOrigin, SphereRaw, SphereSignals};
 use rtl_model::units::transform::{transform_origin, InstanceRaw, TransformSignals};
 use rtl_model::units::walker::{WalkerHit, WalkerPos, WalkerT};
 
@@ -60,6 +60,9 @@ struct Inst<'a> {
     /// ray's: computed once per frame instead of once per walk. `None` when computing it
     /// saturated, so that each walk recomputes it and counts its saturations as before.
     o_local: Option<[i64; 3]>,
+    /// The sphere unit's origin-only work (l = c − o, the reach guards, l·l) for the camera
+    /// origin, computed once per frame (`SphereOrigin`); each ray's test adds its direction.
+    sphere_origin: SphereOrigin,
 }
 
 /// The best hit of a ray so far: walker t, instance, the walker's hit and the direction signs.
@@ -159,6 +162,7 @@ impl<'a> FramePlan<'a> {
                     image,
                     world_from_local: r,
                     o_local: None,
+                    sphere_origin: SphereOrigin::new([0; 3], &SphereRaw::default()),
                 })
             })
             .collect::<Result<_, _>>()?;
@@ -188,6 +192,7 @@ impl<'a> FramePlan<'a> {
                 TR_SIG.origin,
             );
             inst.o_local = (scratch.total() == 0).then_some(o_local);
+            inst.sphere_origin = SphereOrigin::new(origin, &inst.host.sphere);
         }
         // A miss's record depends only on the sphere count: pack the three words once.
         let miss = [SphereCount::None, SphereCount::One, SphereCount::Several].map(|kind| {

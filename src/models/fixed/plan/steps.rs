@@ -18,7 +18,7 @@ use rtl_model::units::hit_record::{
     pack, quantise, reuse as hit_record_reuse, HitRecordF64, ReuseInputs,
 };
 use rtl_model::units::normal::normal_code;
-use rtl_model::units::sphere::sphere_test;
+use rtl_model::units::sphere::{sphere_test_prepared, SphereRay};
 use rtl_model::units::transform::{transform_direction, transform_origin};
 use rtl_model::units::walker::{
     walk_fixed_observed, WalkObserver, WalkOutcome, WalkerInput, WalkerPos, WalkerT,
@@ -48,11 +48,12 @@ impl<'a> FramePlan<'a> {
             _ => None,
         };
         let tested = listed.map_or(self.insts.len(), <[u16]>::len);
+        let ray = SphereRay::new(d);
         let mut test = |k: u16, inst: &Inst<'_>| {
             let sphere = &inst.host.sphere;
-            let hit = sphere_test(
-                self.origin,
-                d,
+            let hit = sphere_test_prepared(
+                &inst.sphere_origin,
+                &ray,
                 sphere,
                 &self.cfg.sphere,
                 &mut c.ov,
