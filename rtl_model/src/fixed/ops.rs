@@ -57,18 +57,25 @@ fn round_shift_small(raw: i128, s: u32, quant: Quant) -> i128 {
     if rem == 0 {
         return floor;
     }
-    let half = 1u64 << (s - 1);
-    let neg = raw < 0;
-    let up = match quant {
+    let up = rounds_up(quant, rem.cmp(&(1u64 << (s - 1))), raw < 0, floor & 1 == 1);
+    floor + i128::from(up)
+}
+
+/// Whether `quant` rounds a value up from its floor, given its dropped bits against half an
+/// LSB (`rem_vs_half`, the dropped bits not all zero), its sign and the floor's parity: the
+/// one rule of both shifts ([`round_shift_small`], [`round_shift`]).
+#[inline(always)]
+fn rounds_up(quant: Quant, rem_vs_half: std::cmp::Ordering, neg: bool, odd: bool) -> bool {
+    use std::cmp::Ordering::{Equal, Greater, Less};
+    match quant {
         Quant::Trn => false,
         Quant::TrnZero => neg,
-        Quant::Rnd => rem >= half,
-        Quant::RndZero => rem > half || (rem == half && neg),
-        Quant::RndMinInf => rem > half,
-        Quant::RndInf => rem > half || (rem == half && !neg),
-        Quant::RndConv => rem > half || (rem == half && floor & 1 == 1),
-    };
-    floor + i128::from(up)
+        Quant::Rnd => rem_vs_half != Less,
+        Quant::RndZero => rem_vs_half == Greater || (rem_vs_half == Equal && neg),
+        Quant::RndMinInf => rem_vs_half == Greater,
+        Quant::RndInf => rem_vs_half == Greater || (rem_vs_half == Equal && !neg),
+        Quant::RndConv => rem_vs_half == Greater || (rem_vs_half == Equal && odd),
+    }
 }
 
 /// The general path of [`quantize`]: any shift, overflow resolution and counting.
@@ -179,17 +186,7 @@ fn round_shift(raw: i128, s: u32, quant: Quant) -> i128 {
     if rem == 0 {
         return floor;
     }
-    let half = 1i128 << (s - 1);
-    let neg = raw < 0;
-    let up = match quant {
-        Quant::Trn => false,
-        Quant::TrnZero => neg,
-        Quant::Rnd => rem >= half,
-        Quant::RndZero => rem > half || (rem == half && neg),
-        Quant::RndMinInf => rem > half,
-        Quant::RndInf => rem > half || (rem == half && !neg),
-        Quant::RndConv => rem > half || (rem == half && floor & 1 == 1),
-    };
+    let up = rounds_up(quant, rem.cmp(&(1i128 << (s - 1))), raw < 0, floor & 1 == 1);
     floor + i128::from(up)
 }
 
