@@ -348,15 +348,7 @@ mod tests {
             (7, 1, [3, 3, 4, 3, 3, 4, 4]),
             (9, 2, [2, 2, 2, 2, 2, 2, 2]),
         ];
-        let modes = [
-            Quant::Trn,
-            Quant::TrnZero,
-            Quant::Rnd,
-            Quant::RndZero,
-            Quant::RndMinInf,
-            Quant::RndInf,
-            Quant::RndConv,
-        ];
+        let modes = MODES;
         for (raw, f, want) in cases {
             for (m, w) in modes.iter().zip(want) {
                 let (mut o, s) = ov();
