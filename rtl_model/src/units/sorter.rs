@@ -562,11 +562,9 @@ impl Sorter {
         // speed-up; the statistics still count the issue).
         if keys.len() > 1 {
             // The comparators that touch an empty lane are skipped (`apply_network`), so the
-            // ones left for this count do the same.
-            match self.net_by_count.get(keys.len()) {
-                Some(net) => apply_network(net, keys),
-                None => apply_network(&self.net, keys),
-            }
+            // ones left for this count do the same (keys.len() ≤ n here: `net_by_count` has
+            // an entry for it).
+            apply_network(&self.net_by_count[keys.len()], keys);
         }
         self.count(keys.len(), stats);
     }
