@@ -199,13 +199,19 @@ fn fabric_text(items: &[rtl_model::cost::FabricItem], part_luts: u64) -> String 
         "",
         part_luts.saturating_mul(2)
     );
+    let totals = crate::output::report::FabricTotals::of(items, part_luts);
     let _ = writeln!(
         s,
-        "//   {:<30} {:>5} {:>9} {:>9}",
+        "//   {:<30} {:>5} {:>9} {:>9}  {}",
         "utilisation",
         "",
         pct(lut, part_luts),
-        pct(ff, part_luts.saturating_mul(2))
+        pct(ff, part_luts.saturating_mul(2)),
+        if totals.fits() {
+            "fits"
+        } else {
+            "DOES NOT FIT the part"
+        }
     );
     s
 }

@@ -289,6 +289,9 @@ pub fn summary(s: &Summary) -> String {
             c.sim_cycles_per_s / 1e6,
             c.resources
         );
+        if let Some(fab) = &c.fabric {
+            let _ = write!(t, "\n{fab}");
+        }
     }
     t
 }

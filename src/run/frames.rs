@@ -16,10 +16,10 @@ use crate::models::reference::{
     render_frame, render_frame_with_progress, FrameInput, FrameStats, HitBuffer, RenderOptions,
 };
 use crate::output::interrupt;
-use crate::output::report::CycleSummary;
 use crate::output::report::{
     AssetReport, FrameReport, OptionsReport, Report, SceneReport, Summary,
 };
+use crate::output::report::{CycleSummary, FabricTotals};
 use crate::world::assets::{build_assets_in, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
 use anyhow::Result;
@@ -306,8 +306,14 @@ fn run_report(
         },
         assets: assets.iter().map(AssetReport::from).collect(),
         summary: Summary {
-            cycle: resources
-                .map(|r| CycleSummary::of(&t.cycle_frames, &cfg.hardware, r, t.sim_wall_s)),
+            cycle: resources.map(|r| {
+                let fabric = cfg
+                    .hardware
+                    .fabric(&cfg.datapath)
+                    .ok()
+                    .map(|items| FabricTotals::of(&items, u64::from(cfg.hardware.part.luts)));
+                CycleSummary::of(&t.cycle_frames, &cfg.hardware, r, fabric, t.sim_wall_s)
+            }),
             ..Summary::of(&t.stats, build_s)
         },
         frames: t.reports,

@@ -245,6 +245,8 @@ module svo_walker_barrel #(
     // fram and nram, which only pass or are pushed, are read in the apply cycle by q_k (their
     // words' registers would be 1,264 flip-flops; nothing writes the context's words between).
     // (each register takes the whole word; the apply cycle uses some fields, Yosys drops the rest)
+    wire [WRW-1:0] wr_k0;                          // wram's word of context k0 (declared
+                                                   // before its first use: slang, Vivado)
     /* verilator lint_off UNUSEDSIGNAL */
     reg [WRW-1:0] w0;
     reg [CRW-1:0] c0;
@@ -499,7 +501,6 @@ module svo_walker_barrel #(
     wire [R-1:0]   tk1;                            // taken on port 1 (K = 2)
     wire [RI-1:0]  kt    [0:K-1];
     wire [WRW-1:0] wword [0:K-1];
-    wire [WRW-1:0] wr_k0;                          // wram's word of context k0
     wire [WRW-1:0] wr_fin [0:K-1];                 // ... of result port j's context
     genvar gk;
     generate

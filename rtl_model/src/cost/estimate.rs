@@ -22,6 +22,11 @@ const NODE_ADDRESS_BITS: u32 = 32;
 const DESCRIPTOR_BITS: u32 = 32;
 /// Bits of the walker's "next child" state: labels 0..=7 and 8 = done.
 const NEXT_CHILD_BITS: u32 = 4;
+/// Bits of a stacked frame's level (0..=31), as the RTL walkers stack it.
+const LEVEL_BITS: u32 = 5;
+/// Bits of a stacked frame's integer coordinates, three of 20 bits, as the RTL walkers stack
+/// them.
+const COORDINATE_BITS: u32 = 60;
 /// Bytes of one node word.
 const NODE_WORD_BYTES: u64 = 4;
 
@@ -132,16 +137,27 @@ impl HwConfig {
         })
     }
 
-    /// Bits of one walker stack frame: node address, its descriptor (kept so a pop needs no
-    /// refetch) and the next-child state, plus the t-interval (full) or the three dropped
-    /// midpoint bits (exact pop). The midpoints are recomputed by one adder per axis, the
-    /// level is the frame's position, and the leaf coordinates are not stacked.
+    /// Bits of one walker stack frame. [`StackStorage::FullT`] is what the RTL walkers stack
+    /// (`svo_walker_barrel.v`'s `FW`, issue 29's recalibration): the frame's t0, t1 and
+    /// midpoints per axis (9 × (t + 1), the ±∞ sentinel bit each), node address, descriptor
+    /// (kept so a pop needs no refetch), next child, level and the three 20-bit coordinates,
+    /// 700 bits at the default, where the estimate had priced 6t + 68 = 440 (midpoints
+    /// recomputed, level and coordinates not stacked: a design the RTL does not build; the
+    /// barrel's synthesis gave 10 RAMB36 a walker against 7). [`StackStorage::ExactPop`], which
+    /// has no RTL, keeps the model's idealised frame: the three dropped midpoint bits, node
+    /// address, descriptor and next child.
     pub fn stack_frame_bits(&self, dp: &DatapathConfig) -> u32 {
-        let t = match self.walker_pool.stack {
-            StackStorage::FullT => 6 * u32::from(dp.walker.t.width),
-            StackStorage::ExactPop => 3,
-        };
-        t + NODE_ADDRESS_BITS + DESCRIPTOR_BITS + NEXT_CHILD_BITS
+        match self.walker_pool.stack {
+            StackStorage::FullT => {
+                9 * (u32::from(dp.walker.t.width) + 1)
+                    + NODE_ADDRESS_BITS
+                    + DESCRIPTOR_BITS
+                    + NEXT_CHILD_BITS
+                    + LEVEL_BITS
+                    + COORDINATE_BITS
+            }
+            StackStorage::ExactPop => 3 + NODE_ADDRESS_BITS + DESCRIPTOR_BITS + NEXT_CHILD_BITS,
+        }
     }
 
     /// Bits of all walker stacks holding `frames` frames per context: walkers × contexts ×
@@ -167,19 +183,46 @@ impl HwConfig {
         raygen::table_bits(&dp.raygen, self.frame.width, self.frame.height)
     }
 
+    /// Block RAMs of one walker's stacks as the RTL builds them: R × (stack_depth − 1)
+    /// frames (the top frame is in the walker's registers) of
+    /// [`stack_frame_bits`](Self::stack_frame_bits) in one array; up to 64 frames Yosys maps
+    /// it to LUT-RAM (svo_walker's 20 frames, the barrel's 40 at R = 2), which the walker's and
+    /// the barrel's LUT calibrations already hold, so no BRAM36; more frames are block RAM
+    /// (the barrel's 320 frames of 700 bits at R = 16: 10 RAMB36, as synthesised).
+    pub fn stack_bram36_per_walker(&self, dp: &DatapathConfig) -> u64 {
+        let w = &self.walker_pool;
+        let frames =
+            u64::from(w.contexts_per_walker) * u64::from(w.stack_depth.saturating_sub(1)).max(1);
+        if crate::cost::structures::fifo_in_bram(frames) {
+            bram36_count(self.stack_frame_bits(dp), frames)
+        } else {
+            0
+        }
+    }
+
     fn stack_item(&self, dp: &DatapathConfig) -> ResourceItem {
         let w = &self.walker_pool;
         let bits = self.stack_frame_bits(dp);
-        let frames = u64::from(w.contexts_per_walker) * u64::from(w.stack_depth);
-        let per = bram36_count(bits, frames);
+        let per = self.stack_bram36_per_walker(dp);
+        let frames =
+            u64::from(w.contexts_per_walker) * u64::from(w.stack_depth.saturating_sub(1)).max(1);
         ResourceItem::new(
             "walker_stacks",
             u64::from(w.walkers),
             Resources::bram36(per.saturating_mul(u64::from(w.walkers))),
-            format!(
-                "{per} BRAM36 per walker: {} contexts × {} frames × {bits} bits",
-                w.contexts_per_walker, w.stack_depth
-            ),
+            if per == 0 {
+                format!(
+                    "{} contexts × {} frames × {bits} bits in LUT-RAM (in the walker's LUTs)",
+                    w.contexts_per_walker,
+                    w.stack_depth.saturating_sub(1)
+                )
+            } else {
+                format!(
+                    "{per} BRAM36 per walker: {} contexts × {} frames × {bits} bits ({frames} deep)",
+                    w.contexts_per_walker,
+                    w.stack_depth.saturating_sub(1)
+                )
+            },
         )
     }
 

@@ -36,6 +36,28 @@ pub mod calibration {
     /// register stages, zero-axis centres kept incrementally, no product): 4781 + 400 LUT,
     /// 2503 FF.
     pub const WALKER: (u64, u64) = (5181, 2503);
+    /// `svo_walker_barrel`, the walker of R > 1 contexts (issue 29's whole-core synthesis at the
+    /// default): CLB LUTs (LUT1–6 + LUT-RAM + SRL) and FFs at R = 2, 4, 8, 16 contexts, with one
+    /// take and result port (`BARREL_K1`) and two (`BARREL_K2`, the default's two walk-issue
+    /// lanes). Yosys 0.23 `synth_xilinx -family xcup -flatten` of svo_walker_barrel.v alone with
+    /// `chparam -set CONTEXTS R -set K K -set TAG_W 10 -set STEP_LATENCY 4` (the default's slot
+    /// tag and step; 36–67 s of CPU each). From R = 4 the stacks (R × 20 frames of 700 bits) are
+    /// 10 RAMB36 and the contexts' words LUT-RAM (210–285 RAM32M16); at R = 2 the 40 frames are
+    /// LUT-RAM (700 RAM64X1S) and the FFs rise. Each row: (R, CLB LUT, FF).
+    pub const BARREL_K1: [(u64, u64, u64); 4] = [
+        (2, 8560, 6585),
+        (4, 8795, 4304),
+        (8, 10582, 5075),
+        (16, 13175, 6614),
+    ];
+    /// As [`BARREL_K1`] with K = 2: the second take port's `wram` bank and the second result
+    /// port's read of the context RAMs.
+    pub const BARREL_K2: [(u64, u64, u64); 4] = [
+        (2, 9292, 8239),
+        (4, 11663, 4308),
+        (8, 14256, 5083),
+        (16, 18463, 6630),
+    ];
     /// `svo_raygen` (three direction and three position converters, svo_f64_to_fixed, the
     /// align in two stages, the shift decided in the decode stage's register block): 1954
     /// LUT + 50 SRL, 1168 FF.
@@ -224,6 +246,45 @@ pub fn sorter_as_built(dp: &DatapathConfig) -> Fabric {
     }
 }
 
+/// One walker of `r` > 1 contexts with `k` take and result ports, as `svo_walker_barrel`
+/// builds it at the default datapath: the measured points of [`calibration::BARREL_K1`] and
+/// [`calibration::BARREL_K2`] joined by straight lines in R, the last segment (8 → 16)
+/// continued beyond 16 and the first (2 → 4) below 4 (R = 3, whose stack of 60 frames would
+/// be LUT-RAM as R = 2's, is priced between them); K > 2, which the RTL refuses, continues
+/// K = 1 → 2 (each more port another `wram` bank and result read). `None` for R ≤ 1 (the
+/// one-context `svo_walker`, [`calibration::WALKER`]) or K = 0.
+pub fn barrel_fabric(r: u64, k: u64) -> Option<Fabric> {
+    if r <= 1 || k == 0 {
+        return None;
+    }
+    let at = |table: &[(u64, u64, u64); 4]| -> (i128, i128) {
+        let seg = table
+            .windows(2)
+            .position(|w| r <= w[1].0)
+            .unwrap_or(table.len() - 2);
+        let (a, b) = (table[seg], table[seg + 1]);
+        let lin = |ya: u64, yb: u64| -> i128 {
+            let (xa, xb, x) = (i128::from(a.0), i128::from(b.0), i128::from(r));
+            let (ya, yb) = (i128::from(ya), i128::from(yb));
+            // Rounded to nearest: ya + (yb − ya)(x − xa) / (xb − xa).
+            let num = (yb - ya) * (x - xa);
+            let den = xb - xa;
+            ya + (2 * num + den * num.signum()) / (2 * den)
+        };
+        (lin(a.1, b.1), lin(a.2, b.2))
+    };
+    let one = at(&calibration::BARREL_K1);
+    let two = at(&calibration::BARREL_K2);
+    let kk = i128::from(k);
+    let v = |o: i128, t: i128| -> u64 {
+        u64::try_from((o + (t - o) * (kk - 1)).max(0)).unwrap_or(u64::MAX)
+    };
+    Some(Fabric {
+        lut: v(one.0, two.0),
+        ff: v(one.1, two.1),
+    })
+}
+
 /// `c · w / w0`, rounded to nearest (0 for w0 = 0).
 fn scale(c: u64, w: u64, w0: u64) -> u64 {
     (u128::from(c) * u128::from(w) + u128::from(w0) / 2)
@@ -319,10 +380,10 @@ impl HwConfig {
                 0,
             ),
             "walker" => {
-                let bits = self.stack_frame_bits(dp);
-                let frames = u64::from(self.walker_pool.stack_depth);
-                let b = crate::units::hit_record::bram36_count(bits, frames);
-                (unit_fabric(name, dp)?, 0, b)
+                // One context, as svo_walker: its stack of stack_depth − 1 frames.
+                let mut one = self.clone();
+                one.walker_pool.contexts_per_walker = 1;
+                (unit_fabric(name, dp)?, 0, one.stack_bram36_per_walker(dp))
             }
             _ => return None,
         };

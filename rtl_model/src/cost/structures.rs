@@ -1,7 +1,8 @@
 //! The fabric of the structures between and around the units: the walker contexts beyond the
 //! one the RTL walker holds, the FIFOs between stages, the miss-status (MSHR) CAM and the
-//! cache's control. None has RTL yet, so each is a first-order formula from its bit widths,
-//! not a calibration; `docs/cycle-model.md` §1.5 ("Structures") gives every formula and why.
+//! cache's control. The walker contexts are calibrated on the barrel walker's synthesis; the
+//! others are first-order formulas from their bit widths, not calibrations;
+//! `docs/cycle-model.md` §1.5 ("Structures") gives every formula and why.
 //!
 //! Pipeline position: the second half of [`HwConfig::fabric`](crate::cycle::hw_config::HwConfig::fabric)
 //! (`cost::fabric` adds the calibrated units, this file the rest), read once per
@@ -12,7 +13,7 @@
 //! [`structure_items`], and one row in the docs table; a structure the model does not have
 //! is not priced.
 
-use super::fabric::{Fabric, FabricItem};
+use super::fabric::{barrel_fabric, calibration, unit_fabric, Fabric, FabricItem};
 use crate::cycle::hw_config::HwConfig;
 use crate::datapath::DatapathConfig;
 
@@ -94,49 +95,57 @@ pub fn candidate_list_bits(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
     clog2(k + 1) + k * candidate_bits(dp)
 }
 
-/// Bits of one walker context: what `testbench/rtl/svo_walker.v` keeps for its one walk
-/// between steps, all of which a second context must hold too. With TI = t + 1 (the ±∞
-/// sentinels) and GW = pos + 2 + stack_depth (a zero axis's centre, `GW` of the RTL):
-/// the walk's constants 3 + 3 + 32 + slot tag (zero axes, mirror mask, attribute base); the
-/// top frame 9 TI + 6 GW + 157 (t0, t1, midpoints, g and d, address, descriptor, next child,
-/// level, coordinates, valid-children counts); the child in flight 9 TI + 3 GW + 135 (its
-/// t0, t1, midpoints, g, first child, level, coordinates, address, far address, leaf and
-/// root bits); the stack pointer ⌈log₂ D⌉ + 1; the step and fetch counters 64.
-pub fn context_bits(hw: &HwConfig, dp: &DatapathConfig) -> u64 {
-    let ti = u64::from(dp.walker.t.width) + 1;
-    let gw = u64::from(dp.walker.pos.width) + 2 + u64::from(hw.walker_pool.stack_depth);
-    let depth = u64::from(hw.walker_pool.stack_depth);
-    let constants = 3 + 3 + 32 + slot_bits(hw);
-    let top = 9 * ti + 6 * gw + 157;
-    let child = 9 * ti + 3 * gw + 135;
-    constants + top + child + clog2(depth) + 1 + 64
-}
-
-/// The walker contexts beyond the first: with R > 1 contexts a walker keeps them in a
-/// LUT-RAM context file of R entries × [`context_bits`] (one write port: a step's
-/// write-back and a read's arrival share it), plus a ready bit per context and the
-/// round-robin pick of the next ready context (R LUTs, ⌈log₂ R⌉ FFs for the pointer). One
-/// context is the RTL walker's own registers (in its calibration), so R = 1 adds nothing.
+/// The walker contexts beyond the first, calibrated on the barrel walker's synthesis (issue
+/// 29): a walker of R > 1 contexts is `svo_walker_barrel`, one step datapath whose contexts'
+/// words are in LUT-RAM, with per-context sequencer, chaining bases and age order around it
+/// ([`barrel_fabric`], measured at R = 2…16 and K = 1, 2 take and result ports, K =
+/// [`HwConfig::walk_lanes`]). The walker's own row prices the one-context `svo_walker`, so
+/// this row is the barrel less that walker, both scaled by the walker's width measure
+/// (`unit_fabric("walker")` against its calibration). R = 1 adds nothing.
 fn walker_contexts(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
     let r = u64::from(hw.walker_pool.contexts_per_walker);
-    let b = context_bits(hw, dp);
-    let per = if r > 1 {
-        Fabric {
-            lut: lutram_luts(r, b) + r,
-            ff: r + clog2(r),
+    let k = u64::from(hw.walk_lanes());
+    let walker = unit_fabric("walker", dp).unwrap_or_default();
+    let (cal_lut, cal_ff) = calibration::WALKER;
+    let (per, barrel) = match barrel_fabric(r, k) {
+        Some(b) => {
+            let scaled = Fabric {
+                lut: scale_by(b.lut, walker.lut, cal_lut),
+                ff: scale_by(b.ff, walker.ff, cal_ff),
+            };
+            (
+                Fabric {
+                    lut: scaled.lut.saturating_sub(walker.lut),
+                    ff: scaled.ff.saturating_sub(walker.ff),
+                },
+                b,
+            )
         }
-    } else {
-        Fabric::default()
+        None => (Fabric::default(), Fabric::default()),
     };
     FabricItem {
         name: "walker_contexts",
         instances: u64::from(hw.walker_pool.walkers),
         per_instance: per,
-        calibrated: false,
-        formula: format!(
-            "per walker: LUT-RAM {r} × {b}-bit contexts + {r} pick LUTs; {r} ready + ⌈log₂ {r}⌉ FF (none at R = 1)"
-        ),
+        calibrated: r > 1,
+        formula: if r > 1 {
+            format!(
+                "per walker: svo_walker_barrel of {r} contexts, {k} take ports ({} LUT, {} FF at the default widths) less the walker's row (none at R = 1)",
+                barrel.lut, barrel.ff
+            )
+        } else {
+            "one context: the walker's row (none at R = 1)".to_string()
+        },
     }
+}
+
+/// `c · w / w0`, rounded to nearest; `c` for `w0` = 0.
+fn scale_by(c: u64, w: u64, w0: u64) -> u64 {
+    if w0 == 0 {
+        return c;
+    }
+    u64::try_from((u128::from(c) * u128::from(w) + u128::from(w0) / 2) / u128::from(w0))
+        .unwrap_or(u64::MAX)
 }
 
 /// Bits of one entry of each FIFO of the model, in pipeline order, with its depth. A ray is
