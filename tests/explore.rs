@@ -218,9 +218,9 @@ fn the_budget_is_70_percent_of_luts_and_90_percent_of_blocks() {
         "{}",
         u.why
     );
-    // 24 walkers fit.
+    // 16 walkers fit.
     let mut fitting = HwConfig::default();
-    fitting.walker_pool.walkers = 24;
+    fitting.walker_pool.walkers = 16;
     let u = usage(&fitting, &dp).unwrap();
     assert!(u.fits, "{}", u.why);
     // The hit buffer in BRAM (1,920 BRAM36) takes the design over 90 % of 2,160.

@@ -226,3 +226,51 @@ fn the_barrel_walker_is_priced_between_its_measured_points() {
     // One context is svo_walker, not a barrel.
     assert_eq!(at(1, 2), None);
 }
+
+/// The walker pool's own logic (`walker_pool`, `cost::core_logic`): its fit by hand, and the
+/// fit against the synthesised pools it was made from (the Yosys figures written out here,
+/// not read from the calibration).
+#[test]
+fn the_walker_pool_follows_its_synthesised_points() {
+    let dp = DatapathConfig::default();
+    let pool = |walkers: u32, contexts: u32, lanes: u32| {
+        let mut hw = HwConfig::default();
+        hw.walker_pool.walkers = walkers;
+        hw.walker_pool.contexts_per_walker = contexts;
+        // walk_lanes is the widest of the walk-issue units.
+        hw.transform_units = lanes;
+        hw.reciprocal_units = 3 * lanes;
+        hw.walker_root_units = lanes;
+        let items = hw.fabric(&dp).unwrap();
+        let it = items.iter().find(|it| it.name == "walker_pool").unwrap();
+        (it.instances, it.per_instance.lut, it.per_instance.ff)
+    };
+    // By hand, 2 walkers of 4 contexts, two lanes: N = 8; LUT 8 · (379.932 + 2.266 · 8) =
+    // 3,184.48 → 3,184; FF 8 · (35.442 + 2.015 · 4) = 348.016 → 348.
+    assert_eq!(pool(2, 4, 2), (1, 3184, 348));
+    // The default's 48 × 16: N = 768, 768 · (379.932 + 2.266 · 768) = 1,628,328.96 LUT,
+    // 768 · (35.442 + 2.015 · 16) = 51,979.9 FF.
+    assert_eq!(pool(48, 16, 2), (1, 1_628_329, 51_980));
+    // One walker of one context schedules nothing.
+    assert_eq!(pool(1, 1, 1), (1, 0, 0));
+    // Yosys 0.23 of svo_walker_pool at these points (W, R, K, CLB LUT, FF): the fit within
+    // −11 … +8 % of the LUTs and 3 % of the FFs.
+    for (w, r, k, lut, ff) in [
+        (2, 16, 2, 13_511u64, 2_111u64),
+        (4, 16, 2, 31_306, 4_320),
+        (8, 16, 2, 88_415, 8_865),
+        (4, 4, 2, 7_424, 686),
+        (8, 8, 2, 33_437, 3_360),
+        (4, 16, 1, 26_427, 4_320),
+    ] {
+        let (_, e_lut, e_ff) = pool(w, r, k);
+        let dl = 100.0 * (e_lut as f64 - lut as f64) / lut as f64;
+        let df = 100.0 * (e_ff as f64 - ff as f64) / ff as f64;
+        eprintln!("pool {w} × {r}, K {k}: LUT {e_lut} / {lut} ({dl:+.1} %), FF {e_ff} / {ff} ({df:+.1} %)");
+        assert!(
+            (-11.0..=8.0).contains(&dl),
+            "pool {w} × {r}, K {k}: LUT {dl:+.1} %"
+        );
+        assert!(df.abs() <= 3.0, "pool {w} × {r}, K {k}: FF {df:+.1} %");
+    }
+}

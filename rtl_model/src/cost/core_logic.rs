@@ -1,7 +1,7 @@
 //! The logic svo_core's RTL builds around its units, calibrated on the whole core's synthesis
 //! (issue 29): svo_front's candidate gathering, the walk section's ray-slot table with the record
-//! decision and slot allocation around it, the fixed-latency units' elastic pipes, and the
-//! hit buffer's check pipe and write FIFOs.
+//! decision and slot allocation around it, the walker pool's own logic around its walkers, the
+//! fixed-latency units' elastic pipes, and the hit buffer's check pipe and write FIFOs.
 //!
 //! Pipeline position: the middle part of
 //! [`HwConfig::fabric`](crate::cycle::hw_config::HwConfig::fabric), after the units of
@@ -14,7 +14,9 @@
 //! figures are in testbench/synth/svo_core_frame_hw.tsv) scaled by a structural measure of
 //! what the RTL builds: `figure · M(hw, dp) / M(frame_hw)`. Each has one measured point, so
 //! the estimate equals the synthesis at frame_hw by construction and elsewhere follows its
-//! measure; that scaling is an argument from the RTL's structure, not a measurement.
+//! measure; that scaling is an argument from the RTL's structure, not a measurement. The
+//! walker pool is the exception: it was synthesised alone at six sizes and its item is a fit
+//! over them ([`calibration::POOL_MEASURED`]).
 
 use super::fabric::{Fabric, FabricItem};
 use super::structures::{
@@ -62,6 +64,36 @@ pub mod calibration {
     pub const ELASTIC: (u64, u64) = (4_912, 185);
     /// Their measure at frame_hw: Σ latency × width over the pipes ([`elastic_measure`]).
     pub const ELASTIC_AT: u64 = 97_292;
+    /// svo_walker_pool's own logic, its walkers as black boxes (the barrels are
+    /// `walker_contexts` and `walker`): the dispatcher, the retire order, per walker the R × R
+    /// age order of its contexts' events, the send queue's pick and rank, and per context the
+    /// response decode against every port (issue 29's synthesis at the default). Yosys 0.23
+    /// `synth_xilinx -family xcup` (not flattened; dispatch and retire as their own modules,
+    /// the design hierarchy's total) with `chparam -set WALKERS W -set CONTEXTS R -set K K
+    /// -set TAG_W 10 -set CW ⌈log₂ N⌉ -set STEP_LATENCY 4 -set CTX_RESP 1 -set ATTR_MERGE 0`
+    /// (svo_top's default: per-context response ports, no attribute merge beside a cache), at
+    /// (W, R, K, CLB LUT, FF). 21 s (4 × 4) to 456 s (8 × 16) of CPU.
+    pub const POOL_MEASURED: [(u64, u64, u64, u64, u64); 6] = [
+        (2, 16, 2, 13_511, 2_111),
+        (4, 16, 2, 31_306, 4_320),
+        (8, 16, 2, 88_415, 8_865),
+        (4, 4, 2, 7_424, 686),
+        (8, 8, 2, 33_437, 3_360),
+        (4, 16, 1, 26_427, 4_320),
+    ];
+    /// The LUT fit over the K = 2 points, LUT per context = a + b·N with N = W·R contexts
+    /// (least squares on LUT / N: a = 379.93, b = 2.2662, in thousandths): a logic per context
+    /// and terms that grow with the whole pool (each context's response decode against every
+    /// port is N·W, the wake-up order's pool-wide parts). Within −10.3 … +7.3 % of the five
+    /// points; the default's 768 contexts are 3 × beyond the largest measured (256 would be the
+    /// next point), so there it is an extrapolation.
+    pub const POOL_LUT_MILLI: (u64, u64) = (379_932, 2_266);
+    /// K = 1 against K = 2 at 4 × 16: 26,427 / 31,306 LUTs (one take and retire lane), in
+    /// thousandths; the flip-flops are the same.
+    pub const POOL_K1_LUT_MILLI: u64 = 844;
+    /// The FF fit, FF per context = c + d·R (the age order's R bits a context, its state):
+    /// c = 35.442, d = 2.015 in thousandths; within 3 % of the five K = 2 points.
+    pub const POOL_FF_MILLI: (u64, u64) = (35_442, 2_015);
     /// The hit buffer's check pipe (the ray and its candidates beside the read, 1,494 SRL),
     /// write FIFOs and bank selection, flat: 3,426 CLB LUT, 937 FF, less what the estimate
     /// prices there already (hit_check 12 + record_to_write 68 + record_write_path 240 LUT;
@@ -151,6 +183,48 @@ fn ray_slots(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
     }
 }
 
+/// svo_walker_pool's own logic around its walkers ([`calibration::POOL_MEASURED`]): with N =
+/// W·R contexts, LUT = N·(a + b·N) (× [`calibration::POOL_K1_LUT_MILLI`] at one walk-issue
+/// lane), FF = N·(c + d·R). A pool of one context (one walker of one context) schedules
+/// nothing: none.
+fn walker_pool(hw: &HwConfig) -> FabricItem {
+    let w = &hw.walker_pool;
+    let (r, n) = (
+        u64::from(w.contexts_per_walker),
+        u64::from(w.walkers) * u64::from(w.contexts_per_walker),
+    );
+    let (a, b) = calibration::POOL_LUT_MILLI;
+    let (c, d) = calibration::POOL_FF_MILLI;
+    let k1 = hw.walk_lanes() < 2;
+    let per = if n > 1 {
+        let lut_milli = n.saturating_mul(a.saturating_add(b.saturating_mul(n)));
+        let lut_milli = if k1 {
+            lut_milli.saturating_mul(calibration::POOL_K1_LUT_MILLI) / 1000
+        } else {
+            lut_milli
+        };
+        Fabric {
+            lut: lut_milli.saturating_add(500) / 1000,
+            ff: n
+                .saturating_mul(c.saturating_add(d.saturating_mul(r)))
+                .saturating_add(500)
+                / 1000,
+        }
+    } else {
+        Fabric::default()
+    };
+    FabricItem {
+        name: "walker_pool",
+        instances: 1,
+        per_instance: per,
+        calibrated: n > 1,
+        formula: format!(
+            "N = {n} contexts: N · (379.9 + 2.266 N) LUT{}, N · (35.4 + 2.015 R) FF; measured at 2–8 walkers of 4–16 contexts",
+            if k1 { " × 0.844 (one lane)" } else { "" }
+        ),
+    }
+}
+
 /// The measure of the units' elastic pipes: Σ latency × width, each fixed-latency unit's
 /// `svo_elastic` queue (capacity = its latency) of what leaves it, and its tag FIFO (one
 /// more than the latency) of what waits beside it. Front (once): raygen (the ray), the sphere lanes with their
@@ -230,6 +304,7 @@ pub fn core_logic_items(hw: &HwConfig, dp: &DatapathConfig) -> Vec<FabricItem> {
     let mut items = vec![front_gather(hw, dp)];
     items.extend(hit_check_pipe(hw, dp));
     items.push(ray_slots(hw, dp));
+    items.push(walker_pool(hw));
     items.push(elastic_pipes(hw, dp));
     items
 }

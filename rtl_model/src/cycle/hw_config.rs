@@ -159,8 +159,9 @@ pub struct WalkerPool {
     /// ever pushes, so any image the builders make fits.
     pub stack_depth: u8,
     /// What a stack frame holds. Default [`StackStorage::FullT`]: what the functional walker
-    /// does; 7 BRAM36 per walker (8 contexts × 21 frames × 440 bits) is 5 % of the part, so the
-    /// exact-pop logic is not yet worth it (1 BRAM36 per walker).
+    /// and the RTL do (700-bit frames as the RTL stacks them, `HwConfig::stack_frame_bits`);
+    /// 10 BRAM36 per walker of 16 contexts, 480 at the default (22 % of the part), so the
+    /// exact-pop logic (no RTL) is not yet worth it.
     pub stack: StackStorage,
     /// Node reads a walker may send per cycle: its request ports to the node memory. Default
     /// 1 (issue 29): a walker interleaves its R contexts in one datapath (a barrel design), so
