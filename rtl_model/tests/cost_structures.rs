@@ -245,20 +245,21 @@ fn the_walker_pool_follows_its_synthesised_points() {
         let it = items.iter().find(|it| it.name == "walker_pool").unwrap();
         (it.instances, it.per_instance.lut, it.per_instance.ff)
     };
-    // By hand, 2 walkers of 4 contexts, two lanes: N = 8; LUT 8 · (379.932 + 2.266 · 8) =
-    // 3,184.48 → 3,184; FF 8 · (35.442 + 2.015 · 4) = 348.016 → 348.
-    assert_eq!(pool(2, 4, 2), (1, 3184, 348));
-    // The default's 48 × 16: N = 768, 768 · (379.932 + 2.266 · 768) = 1,628,328.96 LUT,
-    // 768 · (35.442 + 2.015 · 16) = 51,979.9 FF.
-    assert_eq!(pool(48, 16, 2), (1, 1_628_329, 51_980));
+    // By hand, 2 walkers of 4 contexts, two lanes: N = 8; LUT 8 · (368.178 + 2.487 · 8) =
+    // 3,104.592 → 3,105; FF 8 · (34.986 + 2.096 · 4) = 346.96 → 347.
+    assert_eq!(pool(2, 4, 2), (1, 3105, 347));
+    // The default's 48 × 16: N = 768, 768 · (368.178 + 2.487 · 768) = 1,749,652.99 LUT,
+    // 768 · (34.986 + 2.096 · 16) = 52,624.9 FF.
+    assert_eq!(pool(48, 16, 2), (1, 1_749_653, 52_625));
     // One walker of one context schedules nothing.
     assert_eq!(pool(1, 1, 1), (1, 0, 0));
     // Yosys 0.23 of svo_walker_pool at these points (W, R, K, CLB LUT, FF): the fit within
-    // −11 … +8 % of the LUTs and 3 % of the FFs.
+    // −13 … +8 % of the LUTs and 4 % of the FFs.
     for (w, r, k, lut, ff) in [
         (2, 16, 2, 13_511u64, 2_111u64),
         (4, 16, 2, 31_306, 4_320),
         (8, 16, 2, 88_415, 8_865),
+        (16, 16, 2, 259_369, 18_210),
         (4, 4, 2, 7_424, 686),
         (8, 8, 2, 33_437, 3_360),
         (4, 16, 1, 26_427, 4_320),
@@ -268,9 +269,9 @@ fn the_walker_pool_follows_its_synthesised_points() {
         let df = 100.0 * (e_ff as f64 - ff as f64) / ff as f64;
         eprintln!("pool {w} × {r}, K {k}: LUT {e_lut} / {lut} ({dl:+.1} %), FF {e_ff} / {ff} ({df:+.1} %)");
         assert!(
-            (-11.0..=8.0).contains(&dl),
+            (-13.0..=8.0).contains(&dl),
             "pool {w} × {r}, K {k}: LUT {dl:+.1} %"
         );
-        assert!(df.abs() <= 3.0, "pool {w} × {r}, K {k}: FF {df:+.1} %");
+        assert!(df.abs() <= 4.0, "pool {w} × {r}, K {k}: FF {df:+.1} %");
     }
 }
