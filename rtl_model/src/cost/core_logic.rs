@@ -72,7 +72,7 @@ pub mod calibration {
     /// the design hierarchy's total) with `chparam -set WALKERS W -set CONTEXTS R -set K K
     /// -set TAG_W 10 -set CW ⌈log₂ N⌉ -set STEP_LATENCY 4 -set CTX_RESP 1 -set ATTR_MERGE 0`
     /// (svo_top's default: per-context response ports, no attribute merge beside a cache), at
-    /// (W, R, K, CLB LUT, FF). 21 s (4 × 4) to 2,439 s (16 × 16, 8.0 GB) of CPU.
+    /// (W, R, K, CLB LUT, FF). 22 s (4 × 4) to 2,439 s (16 × 16, 8.0 GB) of CPU.
     pub const POOL_MEASURED: [(u64, u64, u64, u64, u64); 7] = [
         (2, 16, 2, 13_511, 2_111),
         (4, 16, 2, 31_306, 4_320),

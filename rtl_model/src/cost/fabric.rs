@@ -41,7 +41,7 @@ pub mod calibration {
     /// take and result port (`BARREL_K1`) and two (`BARREL_K2`, the default's two walk-issue
     /// lanes). Yosys 0.23 `synth_xilinx -family xcup -flatten` of svo_walker_barrel.v alone with
     /// `chparam -set CONTEXTS R -set K K -set TAG_W 10 -set STEP_LATENCY 4` (the default's slot
-    /// tag and step; 36–67 s of CPU each). From R = 4 the stacks (R × 20 frames of 700 bits) are
+    /// tag and step; 38–71 s of CPU each). From R = 4 the stacks (R × 20 frames of 700 bits) are
     /// 10 RAMB36 and the contexts' words LUT-RAM (210–285 RAM32M16); at R = 2 the 40 frames are
     /// LUT-RAM (700 RAM64X1S) and the FFs rise. Each row: (R, CLB LUT, FF).
     pub const BARREL_K1: [(u64, u64, u64); 4] = [
