@@ -168,11 +168,10 @@ fn fabric_text(items: &[rtl_model::cost::FabricItem], part_luts: u64) -> String 
         "//   {:<30} {:>5} {:>9} {:>9}  formula",
         "component", "n", "LUT", "FF"
     );
-    let (mut lut, mut ff) = (0u64, 0u64);
+    let totals = rtl_model::cost::FabricTotals::of(items, part_luts);
+    let (lut, ff) = (totals.lut, totals.ff);
     for it in items {
         let t = it.total();
-        lut = lut.saturating_add(t.lut);
-        ff = ff.saturating_add(t.ff);
         let _ = writeln!(
             s,
             "//   {:<30} {:>5} {:>9} {:>9}  {}{}",
@@ -199,7 +198,6 @@ fn fabric_text(items: &[rtl_model::cost::FabricItem], part_luts: u64) -> String 
         "",
         part_luts.saturating_mul(2)
     );
-    let totals = crate::output::report::FabricTotals::of(items, part_luts);
     let _ = writeln!(
         s,
         "//   {:<30} {:>5} {:>9} {:>9}  {}",

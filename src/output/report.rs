@@ -188,64 +188,6 @@ impl Summary {
     }
 }
 
-/// The fabric estimate's totals against the part (`HwConfig::fabric`, docs/cycle-model.md
-/// §1.5): the hard blocks' table says whether DSP48E2 and RAM fit, this whether the logic does.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub struct FabricTotals {
-    /// CLB LUTs of every row.
-    pub lut: u64,
-    /// Flip-flops of every row.
-    pub ff: u64,
-    /// The part's LUTs.
-    pub lut_available: u64,
-    /// The part's flip-flops (two per LUT on UltraScale+).
-    pub ff_available: u64,
-}
-
-impl FabricTotals {
-    /// The totals of `items` against a part of `part_luts` LUTs.
-    pub fn of(items: &[rtl_model::cost::FabricItem], part_luts: u64) -> Self {
-        let (lut, ff) = items.iter().fold((0u64, 0u64), |(l, f), it| {
-            let t = it.total();
-            (l.saturating_add(t.lut), f.saturating_add(t.ff))
-        });
-        Self {
-            lut,
-            ff,
-            lut_available: part_luts,
-            ff_available: part_luts.saturating_mul(2),
-        }
-    }
-
-    /// Whether the LUTs and flip-flops fit the part.
-    pub fn fits(&self) -> bool {
-        self.lut <= self.lut_available && self.ff <= self.ff_available
-    }
-}
-
-impl std::fmt::Display for FabricTotals {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let pct = |u: u64, a: u64| 100.0 * u as f64 / a.max(1) as f64;
-        write!(
-            f,
-            "fabric (estimate, docs/cycle-model.md §1.5): LUT {} of {} ({:.1}%), FF {} of {} ({:.1}%): {}",
-            self.lut,
-            self.lut_available,
-            pct(self.lut, self.lut_available),
-            self.ff,
-            self.ff_available,
-            pct(self.ff, self.ff_available),
-            if self.fits() {
-                "fits"
-            } else if self.lut > self.lut_available {
-                "DOES NOT FIT: more LUTs than the part has (`sim hardware` lists the rows)"
-            } else {
-                "DOES NOT FIT: more flip-flops than the part has (`sim hardware` lists the rows)"
-            }
-        )
-    }
-}
-
 /// The cycle model's totals.
 #[derive(Clone, Debug, Serialize)]
 pub struct CycleSummary {
@@ -269,7 +211,7 @@ pub struct CycleSummary {
     pub resources: rtl_model::cycle::hw_config::ResourceReport,
     /// The fabric estimate's totals (LUT, FF) against the part; `None` when the estimate
     /// failed (it is printed by `sim hardware`, with its rows).
-    pub fabric: Option<FabricTotals>,
+    pub fabric: Option<rtl_model::cost::FabricTotals>,
     /// Sampled timing (`--sample`): the run's estimate and its 95 % interval; `cycles` and
     /// the frame rates above are then estimates too (docs/cycle-model.md §3.5).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -282,7 +224,7 @@ impl CycleSummary {
         frames: &[crate::models::cycle::CycleFrame],
         hw: &rtl_model::cycle::hw_config::HwConfig,
         resources: rtl_model::cycle::hw_config::ResourceReport,
-        fabric: Option<FabricTotals>,
+        fabric: Option<rtl_model::cost::FabricTotals>,
         wall_s: f64,
     ) -> Self {
         let cycles: u64 = frames.iter().map(|f| f.cycles).sum();

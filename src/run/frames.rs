@@ -16,13 +16,14 @@ use crate::models::reference::{
     render_frame, render_frame_with_progress, FrameInput, FrameStats, HitBuffer, RenderOptions,
 };
 use crate::output::interrupt;
+use crate::output::report::CycleSummary;
 use crate::output::report::{
     AssetReport, FrameReport, OptionsReport, Report, SceneReport, Summary,
 };
-use crate::output::report::{CycleSummary, FabricTotals};
 use crate::world::assets::{build_assets_in, effective_depths, Asset, Materialise};
 use crate::world::scene::Scene;
 use anyhow::Result;
+use rtl_model::cost::FabricTotals;
 use rtl_model::cost::ResourceReport;
 use rtl_model::cycle::hw_config::HwConfig;
 use rtl_model::datapath::DatapathConfig;

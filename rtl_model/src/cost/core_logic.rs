@@ -18,7 +18,7 @@
 //! walker pool is the exception: it was synthesised alone at six sizes and its item is a fit
 //! over them ([`calibration::POOL_MEASURED`]).
 
-use super::fabric::{Fabric, FabricItem};
+use super::fabric::{scale, Fabric, FabricItem};
 use super::structures::{
     candidate_bits, candidate_keys, candidate_list_bits, clog2, lutram_luts, pixel_bits, ray_bits,
     slot_bits,
@@ -104,13 +104,6 @@ pub mod calibration {
     /// Its measure at frame_hw: the check pipe's entry, pixel 20 + 2 flags + word 72 +
     /// direction 96 + count 6 + 32 × 40 candidates.
     pub const HIT_CHECK_PIPE_AT: u64 = 1_476;
-}
-
-/// `c · m / m0`, rounded to nearest (0 for m0 = 0).
-fn scale(c: u64, m: u64, m0: u64) -> u64 {
-    (u128::from(c) * u128::from(m) + u128::from(m0) / 2)
-        .checked_div(u128::from(m0))
-        .map_or(0, |v| u64::try_from(v).unwrap_or(u64::MAX))
 }
 
 /// svo_front's candidate gathering, a decoder per key slot: each of the `KEYN` key slots

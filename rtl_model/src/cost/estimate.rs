@@ -190,9 +190,13 @@ impl HwConfig {
     /// the barrel's LUT calibrations already hold, so no BRAM36; more frames are block RAM
     /// (the barrel's 320 frames of 700 bits at R = 16: 10 RAMB36, as synthesised).
     pub fn stack_bram36_per_walker(&self, dp: &DatapathConfig) -> u64 {
-        let w = &self.walker_pool;
-        let frames =
-            u64::from(w.contexts_per_walker) * u64::from(w.stack_depth.saturating_sub(1)).max(1);
+        self.stack_bram36(dp, u64::from(self.walker_pool.contexts_per_walker))
+    }
+
+    /// Block RAMs of the stacks of a walker of `contexts` contexts
+    /// ([`stack_bram36_per_walker`](Self::stack_bram36_per_walker)).
+    pub fn stack_bram36(&self, dp: &DatapathConfig, contexts: u64) -> u64 {
+        let frames = contexts * self.stack_ram_frames();
         if crate::cost::structures::fifo_in_bram(frames) {
             bram36_count(self.stack_frame_bits(dp), frames)
         } else {
@@ -200,27 +204,29 @@ impl HwConfig {
         }
     }
 
+    /// Frames a context keeps in the stack array: stack_depth − 1 (the top frame is in
+    /// registers), at least one.
+    fn stack_ram_frames(&self) -> u64 {
+        u64::from(self.walker_pool.stack_depth.saturating_sub(1)).max(1)
+    }
+
     fn stack_item(&self, dp: &DatapathConfig) -> ResourceItem {
         let w = &self.walker_pool;
         let bits = self.stack_frame_bits(dp);
         let per = self.stack_bram36_per_walker(dp);
-        let frames =
-            u64::from(w.contexts_per_walker) * u64::from(w.stack_depth.saturating_sub(1)).max(1);
+        let (contexts, frames) = (w.contexts_per_walker, self.stack_ram_frames());
         ResourceItem::new(
             "walker_stacks",
             u64::from(w.walkers),
             Resources::bram36(per.saturating_mul(u64::from(w.walkers))),
             if per == 0 {
                 format!(
-                    "{} contexts × {} frames × {bits} bits in LUT-RAM (in the walker's LUTs)",
-                    w.contexts_per_walker,
-                    w.stack_depth.saturating_sub(1)
+                    "{contexts} contexts × {frames} frames × {bits} bits in LUT-RAM (in the walker's LUTs)"
                 )
             } else {
                 format!(
-                    "{per} BRAM36 per walker: {} contexts × {} frames × {bits} bits ({frames} deep)",
-                    w.contexts_per_walker,
-                    w.stack_depth.saturating_sub(1)
+                    "{per} BRAM36 per walker: {contexts} contexts × {frames} frames × {bits} bits ({} deep)",
+                    u64::from(contexts) * frames
                 )
             },
         )

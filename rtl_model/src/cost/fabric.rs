@@ -133,6 +133,64 @@ impl FabricItem {
     }
 }
 
+/// The fabric estimate's totals against the part (`HwConfig::fabric`, docs/cycle-model.md
+/// §1.5): the hard blocks' table says whether DSP48E2 and RAM fit, this whether the logic does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct FabricTotals {
+    /// CLB LUTs of every row.
+    pub lut: u64,
+    /// Flip-flops of every row.
+    pub ff: u64,
+    /// The part's LUTs.
+    pub lut_available: u64,
+    /// The part's flip-flops (two per LUT on UltraScale+).
+    pub ff_available: u64,
+}
+
+impl FabricTotals {
+    /// The totals of `items` against a part of `part_luts` LUTs.
+    pub fn of(items: &[FabricItem], part_luts: u64) -> Self {
+        let (lut, ff) = items.iter().fold((0u64, 0u64), |(l, f), it| {
+            let t = it.total();
+            (l.saturating_add(t.lut), f.saturating_add(t.ff))
+        });
+        Self {
+            lut,
+            ff,
+            lut_available: part_luts,
+            ff_available: part_luts.saturating_mul(2),
+        }
+    }
+
+    /// Whether the LUTs and flip-flops fit the part.
+    pub fn fits(&self) -> bool {
+        self.lut <= self.lut_available && self.ff <= self.ff_available
+    }
+}
+
+impl std::fmt::Display for FabricTotals {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let pct = |u: u64, a: u64| 100.0 * u as f64 / a.max(1) as f64;
+        write!(
+            f,
+            "fabric (estimate, docs/cycle-model.md §1.5): LUT {} of {} ({:.1}%), FF {} of {} ({:.1}%): {}",
+            self.lut,
+            self.lut_available,
+            pct(self.lut, self.lut_available),
+            self.ff,
+            self.ff_available,
+            pct(self.ff, self.ff_available),
+            if self.fits() {
+                "fits"
+            } else if self.lut > self.lut_available {
+                "DOES NOT FIT: more LUTs than the part has (`sim hardware` lists the rows)"
+            } else {
+                "DOES NOT FIT: more flip-flops than the part has (`sim hardware` lists the rows)"
+            }
+        )
+    }
+}
+
 /// The width measures `W(dp)` (LUT, FF) of each unit with RTL.
 fn widths(name: &str, dp: &DatapathConfig) -> Option<(u64, u64)> {
     let w = |f: crate::fixed::Format| u64::from(f.width);
@@ -286,7 +344,7 @@ pub fn barrel_fabric(r: u64, k: u64) -> Option<Fabric> {
 }
 
 /// `c · w / w0`, rounded to nearest (0 for w0 = 0).
-fn scale(c: u64, w: u64, w0: u64) -> u64 {
+pub(crate) fn scale(c: u64, w: u64, w0: u64) -> u64 {
     (u128::from(c) * u128::from(w) + u128::from(w0) / 2)
         .checked_div(u128::from(w0))
         .map_or(0, |v| u64::try_from(v).unwrap_or(u64::MAX))
@@ -381,9 +439,7 @@ impl HwConfig {
             ),
             "walker" => {
                 // One context, as svo_walker: its stack of stack_depth − 1 frames.
-                let mut one = self.clone();
-                one.walker_pool.contexts_per_walker = 1;
-                (unit_fabric(name, dp)?, 0, one.stack_bram36_per_walker(dp))
+                (unit_fabric(name, dp)?, 0, self.stack_bram36(dp, 1))
             }
             _ => return None,
         };

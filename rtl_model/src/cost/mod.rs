@@ -36,4 +36,4 @@ pub mod timing;
 
 pub use crate::resources::{ResourceItem, ResourceReport, Resources};
 pub use bounds::{direction_error_bound, DirectionErrorBound};
-pub use fabric::{Fabric, FabricItem};
+pub use fabric::{Fabric, FabricItem, FabricTotals};

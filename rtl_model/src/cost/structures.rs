@@ -13,7 +13,7 @@
 //! [`structure_items`], and one row in the docs table; a structure the model does not have
 //! is not priced.
 
-use super::fabric::{barrel_fabric, calibration, unit_fabric, Fabric, FabricItem};
+use super::fabric::{barrel_fabric, calibration, scale, unit_fabric, Fabric, FabricItem};
 use crate::cycle::hw_config::HwConfig;
 use crate::datapath::DatapathConfig;
 
@@ -110,8 +110,8 @@ fn walker_contexts(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
     let (per, barrel) = match barrel_fabric(r, k) {
         Some(b) => {
             let scaled = Fabric {
-                lut: scale_by(b.lut, walker.lut, cal_lut),
-                ff: scale_by(b.ff, walker.ff, cal_ff),
+                lut: scale(b.lut, walker.lut, cal_lut),
+                ff: scale(b.ff, walker.ff, cal_ff),
             };
             (
                 Fabric {
@@ -137,15 +137,6 @@ fn walker_contexts(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
             "one context: the walker's row (none at R = 1)".to_string()
         },
     }
-}
-
-/// `c · w / w0`, rounded to nearest; `c` for `w0` = 0.
-fn scale_by(c: u64, w: u64, w0: u64) -> u64 {
-    if w0 == 0 {
-        return c;
-    }
-    u64::try_from((u128::from(c) * u128::from(w) + u128::from(w0) / 2) / u128::from(w0))
-        .unwrap_or(u64::MAX)
 }
 
 /// Bits of one entry of each FIFO of the model, in pipeline order, with its depth. A ray is

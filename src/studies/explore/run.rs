@@ -103,10 +103,8 @@ pub fn usage_with_lists(
             f.height,
         ));
     }
-    let (lut, ff) = hw.fabric(dp)?.iter().fold((0u64, 0u64), |(l, f), it| {
-        let t = it.total();
-        (l.saturating_add(t.lut), f.saturating_add(t.ff))
-    });
+    let fabric = rtl_model::cost::FabricTotals::of(&hw.fabric(dp)?, u64::from(hw.part.luts));
+    let (lut, ff) = (fabric.lut, fabric.ff);
     let luts = u64::from(hw.part.luts);
     let used = [lut, ff, r.used.dsp48e2, r.used.bram36, r.used.uram288];
     let available = [
