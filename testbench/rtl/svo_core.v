@@ -72,12 +72,13 @@ module svo_core #(
     parameter CONTEXTS = 1,                       // walker_pool.contexts_per_walker
     parameter WALKERS  = 1,                       // walker_pool.walkers: a node-memory port each
     parameter CW       = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,
-    parameter CTX_RESP = 0,                       // per-context response ports (svo_walker_pool)
+    parameter CTX_RESP = 0,                       // per-context response ports (svo_walker_pool): 1 node words, 2 all
     parameter ATTR_MERGE = 1,                     // svo_walker_pool's attribute-merge rule (0 behind a cache)
     parameter RESP_REG = 0,                       // svo_walker_pool's response / request register
     parameter REQ_REG = 0,                        //   (walker_pool.*_register_cycles, 0 or 1)
     parameter K        = 1,                       // walk-issue lanes (1 or 2, svo_walk_wide)
-    parameter CRN      = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
+    parameter CRN      = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1,  // their count (do not set)
+    parameter CRW      = CTX_RESP == 2 ? 64 : 32                 // their width (do not set)
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -158,9 +159,10 @@ module svo_core #(
     // the node memory's context of a read: a response carries its read's (any order)
     output wire [WALKERS*CW-1:0]   mem_req_ctx,
     input  wire [WALKERS*CW-1:0]   mem_resp_ctx,
-    // with CTX_RESP, a node-word response port per context (svo_top's on-chip store)
+    // with CTX_RESP, a response port per context: its node word (1: svo_top's on-chip
+    // store), or every response, records included (2: svo_top behind its node cache)
     input  wire [CRN-1:0]          ctx_resp_valid,
-    input  wire [CRN*32-1:0]       ctx_resp_data
+    input  wire [CRN*CRW-1:0]      ctx_resp_data
 );
     localparam PAYW = 96 + 6 + KEYN * 40;
     localparam SO_CW = 6;

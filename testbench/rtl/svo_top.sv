@@ -42,8 +42,10 @@
 //   record a walker reads, the model's NodeMemory without its on-chip store (cache.banks line-interleaved banks of cache.ports lookups, sets x ways
 //   true-LRU tags, dram.mshrs merging MSHRs, the miss queue; memory/mod.rs, cache.rs,
 //   dram.rs), one request port per walker in the cycle the walker sends (port order =
-//   context order, the model's order within a cycle), node words back on the contexts' own
-//   ports, records on the walker response ports. Its fills leave on m_axi_node_* (below).
+//   context order, the model's order within a cycle), node words and records alike back on
+//   the contexts' own ports (svo_core CTX_RESP 2: the cache answers per context, so the pool
+//   decodes no walker port; the walker response ports are idle). Its fills leave on
+//   m_axi_node_* (below).
 //   Addresses are the core's (word index NODE_BASE / 4 + i, record index ATTR_BASE / 8 + i),
 //   so the cache's lines are system byte addresses; they are the model's lines, sets and banks
 //   when the host lays the node images (and the records) one after the other as the model
@@ -528,8 +530,15 @@ module svo_top
     logic [NW*CW-1:0] mem_resp_ctx;
     logic [NW*64-1:0] mem_resp_data;
     wire [NW-1:0] rd_out, st_req;
-    wire [REQS-1:0] st_done;                  // a context's node word is back (CTX_RESP)
-    wire [REQS*32-1:0] st_data;
+    wire [REQS-1:0] st_done;                  // a context's read is back on its own port (CTX_RESP)
+    wire [REQS*64-1:0] st_data;               // its node word (low half) or, behind the cache, record
+    // The pool's context ports: behind the cache (CTX_RESP 2) node words and records, 64 bits
+    // each; the store alone (CTX_RESP 1) node words, 32 bits (records on the walker ports).
+    localparam int CRW = HAS_CACHE ? 64 : 32;
+    wire [NCTX*CRW-1:0] ctx_data;
+    for (genvar gc = 0; gc < NCTX; gc++) begin : ctx_port
+        assign ctx_data[gc*CRW +: CRW] = st_data[gc*64 +: CRW];
+    end
     wire st_overflow;
     logic [REQS-1:0] st_pend;                 // a context's node-memory read is out
     // The reads each context has out, for STALL_MEMORY: set by its request (st_req: the
@@ -646,7 +655,7 @@ module svo_top
         .D_RT_DP(FIFOS_ROOT_TO_DISPATCH), .D_WK_RC(FIFOS_WALKER_TO_RECORD),
         .D_RC_WR(FIFOS_RECORD_TO_WRITE), .DIR_FIXED(1), .RECIP_SEED_FILE(RECIP_SEED_FILE),
         .NINST(NINST), .KEYN(KEYN), .CONTEXTS(CONTEXTS), .WALKERS(WALKERS), .CW(CW),
-        .CTX_RESP(1), .ATTR_MERGE(HAS_CACHE ? 0 : 1),
+        .CTX_RESP(HAS_CACHE ? 2 : 1), .ATTR_MERGE(HAS_CACHE ? 0 : 1),
         .RESP_REG(WALKER_POOL_RESPONSE_REGISTER_CYCLES),
         .REQ_REG(WALKER_POOL_REQUEST_REGISTER_CYCLES), .K(WK))
     u_core (.clk(clk), .rst(rst || core_rst), .run(run), .npix(npix), .dir_pixel(),
@@ -672,7 +681,7 @@ module svo_top
         .ev_reused(ev_reused), .ev_write_stall(ev_write_stall), .ev_walk_stall(ev_walk_stall),
         .ev_bank_conflict(), .err_pipe(err_pipe), .err_overflow(err_overflow),
         .err_pixel(err_pixel), .mem_req_ctx(mem_req_ctx), .mem_resp_ctx(mem_resp_ctx),
-        .ctx_resp_valid(st_done[NCTX-1:0]), .ctx_resp_data(st_data[NCTX*32-1:0]));
+        .ctx_resp_valid(st_done[NCTX-1:0]), .ctx_resp_data(ctx_data));
     /* verilator lint_on PINCONNECTEMPTY */
 
     // ---------------------------------------------------------------- the pixel stream

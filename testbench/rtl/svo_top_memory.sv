@@ -46,10 +46,11 @@ module svo_top_memory
     output logic [WALKER_POOL_WALKERS-1:0]      mem_resp_valid,
     output logic [WALKER_POOL_WALKERS*CW-1:0]   mem_resp_ctx,
     output logic [WALKER_POOL_WALKERS*64-1:0]   mem_resp_data,
-    // Node words on the contexts' own ports (CTX_RESP); the reads' bookkeeping for svo_top's
-    // STALL_MEMORY and NODE_READS, and its STATUS flags
+    // The contexts' own ports (CTX_RESP): node words (the low half), and behind the cache the
+    // attribute records as well; the reads' bookkeeping for svo_top's STALL_MEMORY and
+    // NODE_READS, and its STATUS flags
     output wire  [REQS-1:0]               st_done,
-    output wire  [REQS*32-1:0]            st_data,
+    output wire  [REQS*64-1:0]            st_data,
     output wire  [REQS-1:0]               st_fin,      // a context's read completed
     output wire  [WALKER_POOL_WALKERS-1:0] st_req,     // a read to the store or the cache
     output wire  [WALKER_POOL_WALKERS-1:0] rd_out,     // an attribute master has reads out
@@ -221,7 +222,9 @@ module svo_top_memory
             assign nr_aligned = 1'b1;
             assign st_fin = s_done;
             assign st_done = s_done;
-            assign st_data = s_data;
+            for (gm = 0; gm < REQS; gm = gm + 1) begin : ctx
+                assign st_data[gm*64 +: 64] = {32'd0, s_data[gm*32 +: 32]};
+            end
             assign st_overflow = s_overflow;
             /* verilator lint_off UNUSEDSIGNAL */
             wire unused_onchip = &{1'b0, m_axi_node_arready, m_axi_node_rvalid, m_axi_node_rdata,
@@ -247,11 +250,12 @@ module svo_top_memory
             // SETS · LINE_BYTES bytes (the cache's size over its ways) with NODE_BASE = node
             // space + 4 · (the image's model base), ATTR_BASE likewise (8 bytes a record), as
             // the cocotb bench does; other bases read the right data at other set indices.
-            // Responses: a node word on its context's CTX_RESP port in its completion cycle; an
-            // attribute record on a walker response port (any port carries any context): up to
-            // NW records a cycle, lowest context first, more wait a cycle (the model completes
-            // them together: reads merged on one fill of a line holding several records; not
-            // seen at NW 4).
+            // Responses: every read's on its context's own port (CTX_RESP 2) in its completion
+            // cycle, a node word in the low half, a record whole: the cache answers per
+            // context anyway, so the walker response ports stay idle and the pool decodes no
+            // port (issue 29: records on walker ports, any context on any port, made the
+            // pool's response side N x W). Any number of contexts complete in one cycle, as
+            // in the model (the reads merged on one fill of a line holding several records).
             // The cache's cycle: svo_node_cache numbers cycles from reset (bank rotation
             // cycle mod BANKS); the model's cycle runs only in frames, continuing from one
             // frame to the next (the cache keeps its lines across frames; the pipeline's reset
@@ -277,7 +281,6 @@ module svo_top_memory
             wire c_axi_error;
             logic c_axi_error_q;
             logic [REQS-1:0] c_attr;              // the context's read out is a record
-            logic [REQS-1:0] a_wait;              // its record is back, not yet delivered
             logic [NBW-1:0] nr;                   // cycles outside RUN since reset, mod banks
             for (gm = 0; gm < NW; gm = gm + 1) begin : req
                 assign st_req[gm] = mem_req_valid[gm];
@@ -311,31 +314,16 @@ module svo_top_memory
                 assign m_axi_node_arprot[gm*3 +: 3] = 3'b000;
                 assign m_axi_node_arcache[gm*4 +: 4] = 4'b0011;
             end
-            // Node words on the contexts' own ports, the store's and the cache's together (a
-            // context has one read out: at most one of them answers it); records onto the
-            // walker ports.
-            assign st_done = s_done | (c_done & ~c_attr);
+            // Node words and records on the contexts' own ports, the store's and the cache's
+            // together (a context has one read out: at most one of them answers it).
+            assign st_done = s_done | c_done;
             for (gm = 0; gm < REQS; gm = gm + 1) begin : ctx
-                assign st_data[gm*32 +: 32] = s_done[gm] ? s_data[gm*32 +: 32] : c_data[gm*64 +: 32];
+                assign st_data[gm*64 +: 64] = s_done[gm] ? {32'd0, s_data[gm*32 +: 32]}
+                    : c_attr[gm] ? c_data[gm*64 +: 64] : {32'd0, c_data[gm*64 +: 32]};
             end
-            wire [REQS-1:0] a_now = a_wait | (c_done & c_attr);
-            logic [REQS-1:0] a_sent;
-            always_comb begin
-                int p;
-                p = 0;
-                a_sent = '0;
-                mem_resp_valid = '0;
-                mem_resp_ctx = '0;
-                mem_resp_data = '0;
-                for (int n = 0; n < REQS; n++)
-                    if (a_now[n] && p < NW) begin
-                        a_sent[n] = 1'b1;
-                        mem_resp_valid[p] = 1'b1;
-                        mem_resp_ctx[p*CW +: CW] = CW'(n);
-                        mem_resp_data[p*64 +: 64] = c_data[n*64 +: 64];
-                        p = p + 1;
-                    end
-            end
+            assign mem_resp_valid = '0;
+            assign mem_resp_ctx = '0;
+            assign mem_resp_data = '0;
             assign st_fin = s_done | c_done;
             assign st_overflow = s_overflow;
             assign nc_err = c_axi_error && !c_axi_error_q;
@@ -344,11 +332,9 @@ module svo_top_memory
                 for (int w = 0; w < NW; w++)
                     if (c_valid[w]) c_attr[RQB'(mem_req_ctx[w*CW +: CW])] <= mem_req_attr[w];
                 if (rst) begin
-                    a_wait <= '0;
                     nr <= '0;
                     c_axi_error_q <= 1'b0;
                 end else begin
-                    a_wait <= a_now & ~a_sent;
                     if (!run) nr <= NBW'(nr + 1'b1);
                     c_axi_error_q <= c_axi_error;
                 end

@@ -87,7 +87,8 @@ module svo_walk_wide #(
     parameter ATTR_MERGE = 1,
     parameter RESP_REG = 0,
     parameter REQ_REG  = 0,
-    parameter CRN       = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // (do not set)
+    parameter CRN       = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1,  // (do not set)
+    parameter CRW       = CTX_RESP == 2 ? 64 : 32                 // (do not set)
 ) (
     input  wire                    clk,
     input  wire                    rst,
@@ -138,7 +139,7 @@ module svo_walk_wide #(
     output wire [WALKERS*CW-1:0]   mem_req_ctx,
     input  wire [WALKERS*CW-1:0]   mem_resp_ctx,
     input  wire [CRN-1:0]          ctx_resp_valid,
-    input  wire [CRN*32-1:0]       ctx_resp_data
+    input  wire [CRN*CRW-1:0]      ctx_resp_data
 );
     localparam TI = TW + 1;
     localparam KEYS = KEYN * 40;

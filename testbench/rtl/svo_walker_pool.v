@@ -64,10 +64,12 @@
 //                  bits, 768 x (30 + 13) key bits, 2,256 id compares — against 589,824 bits of
 //                  the N x N matrix it replaces. Verilator 5.006 --lint-only of 48 x 16 takes
 //                  about a minute (testbench/README.md).
-//   not scaled     the attribute-merge rule (below): each walker's read address against every
-//                  context's fill address (W x N 32-bit compares) and every context matching
-//                  each response port against its own and its fill's context (N x W compares);
-//                  it moves into the node cache later.
+//   not scaled     with responses on the walker ports (CTX_RESP 0 or 1): every context matching
+//                  each response port against its own and its fill's context (N x W compares)
+//                  and selecting its word among the W ports; with the attribute-merge rule
+//                  (below) each walker's read address against every context's fill address
+//                  (W x N 32-bit compares). Behind a cache (svo_top: CTX_RESP 2, ATTR_MERGE 0)
+//                  neither is built: every response comes on its context's own port.
 //
 // Attribute reads that merge (the model's MSHR rule for uncached attribute reads with
 // cache.line_bytes 8, memory/dram.rs `miss`): a record read while a fill of the same record is
@@ -98,8 +100,16 @@
 // decides it). Both 1 cut response -> wake-up order -> pick -> merge -> send twice.
 // With CTX_RESP 1 each context also has a port of its own (ctx_resp_valid[n], its node word in
 // ctx_resp_data[32n +: 32]): svo_top's on-chip store answers there, several contexts a cycle,
-// while the walker ports carry the attribute records. With CTX_RESP 0 those ports are one
-// unused bit (the other benches leave them open).
+// while the walker ports carry the attribute records. With CTX_RESP 2 the context ports carry
+// every response, node words and records alike (ctx_resp_data[64n +: 64], a node word in the
+// low half), and the walker response ports carry nothing (a response there is err_resp):
+// svo_top behind its node cache, which answers each context on its own port anyway. That is
+// what keeps the pool's response side O(N): with records on walker ports any context may be
+// answered on any port, so every context decodes every port and selects its 64-bit word
+// among W (N x W compares and N 64-bit W-to-1 selects, the pool's N^2 LUTs, issue 29). The
+// merge rule needs the walker ports (a merged read completes with another walker's fill), so
+// CTX_RESP 2 requires ATTR_MERGE 0. With CTX_RESP 0 those ports are one unused bit (the
+// other benches leave them open).
 `timescale 1ns/1ps
 `default_nettype none
 module svo_walker_pool #(
@@ -113,13 +123,14 @@ module svo_walker_pool #(
     parameter WALKERS      = 1,
     parameter K            = 1,                 // walk-issue lanes (HwConfig::walk_lanes): 1 or 2
     parameter CW           = WALKERS * CONTEXTS > 1 ? $clog2(WALKERS * CONTEXTS) : 1,  // context index bits
-    parameter CTX_RESP     = 0,                 // per-context response ports (svo_top's store)
+    parameter CTX_RESP     = 0,                 // per-context response ports: 1 node words, 2 all (below)
     parameter ATTR_MERGE   = 1,                 // 1: the attribute-merge rule below; 0: every read goes out
     // walker_pool.response_register_cycles / request_register_cycles (walker_pool.rs,
     // "Registered response and request"): 0 or 1 each (below, "Registers").
     parameter RESPONSE_REGISTER_CYCLES = 0,
     parameter REQUEST_REGISTER_CYCLES  = 0,
-    parameter CRN          = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1  // their count (do not set)
+    parameter CRN          = CTX_RESP != 0 ? WALKERS * CONTEXTS : 1,  // their count (do not set)
+    parameter CRW          = CTX_RESP == 2 ? 64 : 32                 // their width (do not set)
 ) (
     input  wire                   clk,
     input  wire                   rst,
@@ -148,7 +159,7 @@ module svo_walker_pool #(
     input  wire [WALKERS*CW-1:0]  mem_resp_ctx,
     input  wire [WALKERS*64-1:0]  mem_resp_data,
     input  wire [CRN-1:0]         ctx_resp_valid,
-    input  wire [CRN*32-1:0]      ctx_resp_data,
+    input  wire [CRN*CRW-1:0]     ctx_resp_data,
     // K retire lanes: lane j the j-th walk to retire in this cycle (finish order); valid is a
     // prefix; lane j retires iff out_valid[j] && out_ready[j] (the sink takes a prefix).
     output wire [K-1:0]           out_valid,
@@ -180,6 +191,10 @@ module svo_walker_pool #(
         end
         if (REQUEST_REGISTER_CYCLES > 1) begin : unsupported_request_register
             svo_walker_pool_builds_request_register_cycles_0_or_1 bad();
+        end
+        // Records on the context ports (CTX_RESP 2) leave the merge rule without its fills.
+        if (CTX_RESP > 2 || (CTX_RESP == 2 && ATTR_MERGE != 0)) begin : unsupported_ctx_resp
+            svo_walker_pool_ctx_resp_2_needs_attr_merge_0 bad();
         end
     endgenerate
 
@@ -273,7 +288,7 @@ module svo_walker_pool #(
     wire [WI-1:0]  r_port [0:N-1];
     wire [W-1:0]   r_valid;                       // the ports' valids (err_resp)
     wire [W*64-1:0] r_data;
-    wire [CRN*32-1:0] r_cdata;
+    wire [CRN*CRW-1:0] r_cdata;
     always @* begin
         for (i_r = 0; i_r < N; i_r = i_r + 1) begin
             // The memory's view: a response for context n on some port in this cycle.
@@ -281,7 +296,8 @@ module svo_walker_pool #(
             d_own[i_r] = responding[i_r];
             d_valid[i_r] = d_own[i_r];
             d_port[i_r] = {WI{1'b0}};
-            for (p_r = 0; p_r < W; p_r = p_r + 1) begin
+            // (CTX_RESP 2: nothing on the walker ports; no port loop, no N x W decode)
+            if (CTX_RESP != 2) for (p_r = 0; p_r < W; p_r = p_r + 1) begin
                 if (mem_resp_valid[p_r] && mem_resp_ctx[p_r*CW +: CW] == i_r[CW-1:0])
                     responding[i_r] = 1'b1;
                 // The contexts' view: the addressed context, and every read merged onto its
@@ -301,7 +317,7 @@ module svo_walker_pool #(
             reg [WI-1:0]     q_port [0:N-1];
             reg [W-1:0]      q_valid;
             reg [W*64-1:0]   q_data;
-            reg [CRN*32-1:0] q_cdata;
+            reg [CRN*CRW-1:0] q_cdata;
             always @(posedge clk) begin
                 q_valid_n <= rst ? {N{1'b0}} : d_valid;
                 q_valid <= rst ? {W{1'b0}} : mem_resp_valid;
@@ -329,11 +345,13 @@ module svo_walker_pool #(
             assign r_cdata = ctx_resp_data;
         end
     endgenerate
+    reg [63:0] c_word;                            // a context port's word, widened
     always @* begin
         for (i_r = 0; i_r < N; i_r = i_r + 1) begin
             e_resp_valid[i_r] = r_valid_n[i_r];
-            e_resp_data[i_r] = r_own[i_r] ? {32'd0, r_cdata[(i_r % CRN)*32 +: 32]}
-                                          : r_data[r_port[i_r]*64 +: 64];
+            c_word = 64'd0;
+            c_word[CRW-1:0] = r_cdata[(i_r % CRN)*CRW +: CRW];
+            e_resp_data[i_r] = CTX_RESP == 2 || r_own[i_r] ? c_word : r_data[r_port[i_r]*64 +: 64];
         end
     end
     // Walker w's port: its oldest waiting read (send_pick, one-hot), an AND-OR of its R

@@ -109,7 +109,8 @@ params=(
     D_RT_DP="$(need FIFOS_ROOT_TO_DISPATCH)" D_WK_RC="$(need FIFOS_WALKER_TO_RECORD)"
     D_RC_WR="$(need FIFOS_RECORD_TO_WRITE)" DIR_FIXED=1 NINST=128 KEYN="$(( 2 * lanes_so ))"
     CONTEXTS="$contexts" WALKERS="$walkers" CW="$([ $nctx -gt 1 ] && clog2 $nctx || echo 1)"
-    CTX_RESP=1 ATTR_MERGE="$([ "$has_cache" = 1 ] && echo 0 || echo 1)"
+    CTX_RESP="$([ "$has_cache" = 1 ] && echo 2 || echo 1)"
+    ATTR_MERGE="$([ "$has_cache" = 1 ] && echo 0 || echo 1)"
     RESP_REG="$(need WALKER_POOL_RESPONSE_REGISTER_CYCLES)"
     REQ_REG="$(need WALKER_POOL_REQUEST_REGISTER_CYCLES)" K="$wk"
 )

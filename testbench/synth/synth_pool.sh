@@ -12,8 +12,11 @@
 #                 (svo_walker_barrel, svo_walker) as black boxes, not flattened: the design
 #                 hierarchy's total, i.e. the dispatcher, retire order and the pool's own logic
 #
-# Both at the default's slot tag (TAG_W 10), step latency 4, and svo_top's node memory
-# (CTX_RESP 1: per-context response ports; ATTR_MERGE 0: a cache beside the store).
+# Both at the default's slot tag (TAG_W 10), step latency 4, and svo_top's node memory behind
+# its cache (ATTR_MERGE 0). The environment's CTX_RESP picks the pool's response ports: 2 (the
+# default, svo_top's since issue 29's O(N) response side) every response on its context's own
+# port; 1 node words there and attribute records on the walker ports, any context on any port
+# (the pool svo_top built before, whose response decode grows as N x W).
 #
 # Pipeline position: none; the calibration of the fabric estimate (testbench/README.md,
 # "Synthesis"). Not in CI: a pool of 8 × 16 takes about 8 minutes of Yosys CPU, 16 × 16 over 30.
@@ -45,6 +48,11 @@ else
     logs="$(mktemp -d)"
     trap 'rm -rf "$logs"' EXIT
 fi
+ctx_resp="${CTX_RESP:-2}"
+case "$ctx_resp" in
+    1 | 2) ;;
+    *) echo "synth_pool.sh: CTX_RESP is 1 or 2, got '$ctx_resp'" >&2; exit 2 ;;
+esac
 n=$(( w * r ))
 cw=1
 while [ $(( 1 << cw )) -lt "$n" ]; do cw=$(( cw + 1 )); done
@@ -60,7 +68,7 @@ else
     cat > "$ys" <<EOF
 read_verilog -lib $rtl/svo_walker_barrel.v $rtl/svo_walker.v
 read_verilog -defer $rtl/svo_walker_pool_dispatch.v $rtl/svo_walker_pool_retire.v $rtl/svo_walker_pool.v
-chparam -set WALKERS $w -set CONTEXTS $r -set K $k -set TAG_W 10 -set CW $cw -set STEP_LATENCY 4 -set CTX_RESP 1 -set ATTR_MERGE 0 svo_walker_pool
+chparam -set WALKERS $w -set CONTEXTS $r -set K $k -set TAG_W 10 -set CW $cw -set STEP_LATENCY 4 -set CTX_RESP $ctx_resp -set ATTR_MERGE 0 svo_walker_pool
 synth_xilinx -family xcup -top svo_walker_pool
 tee -o $logs/$what.stat stat
 EOF
