@@ -66,33 +66,68 @@ pub mod calibration {
     pub const ELASTIC_AT: u64 = 97_292;
     /// svo_walker_pool's own logic, its walkers as black boxes (the barrels are
     /// `walker_contexts` and `walker`): the dispatcher, the retire order, per walker the R × R
-    /// age order of its contexts' events, the send queue's pick and rank, and per context the
-    /// response decode against every port (issue 29's synthesis at the default). Yosys 0.23
+    /// age order of its contexts' events, the send queue's pick and rank. Yosys 0.23
     /// `synth_xilinx -family xcup` (not flattened; dispatch and retire as their own modules,
     /// the design hierarchy's total) with `chparam -set WALKERS W -set CONTEXTS R -set K K
-    /// -set TAG_W 10 -set CW ⌈log₂ N⌉ -set STEP_LATENCY 4 -set CTX_RESP 1 -set ATTR_MERGE 0`
-    /// (svo_top's default: per-context response ports, no attribute merge beside a cache), at
-    /// (W, R, K, CLB LUT, FF). 22 s (4 × 4) to 2,439 s (16 × 16, 8.0 GB) of CPU.
+    /// -set TAG_W 10 -set CW ⌈log₂ N⌉ -set STEP_LATENCY 4 -set CTX_RESP 2 -set ATTR_MERGE 0`
+    /// (svo_top behind its node cache: every response on its context's own port, no attribute
+    /// merge in the pool), at (W, R, K, CLB LUT, FF): `testbench/synth/synth_pool.sh pool W R
+    /// K`. 20 s (4 × 4) to 1,466 s (16 × 16) of CPU.
     pub const POOL_MEASURED: [(u64, u64, u64, u64, u64); 7] = [
-        (2, 16, 2, 13_511, 2_111),
-        (4, 16, 2, 31_306, 4_320),
-        (8, 16, 2, 88_415, 8_865),
-        (16, 16, 2, 259_369, 18_210),
-        (4, 4, 2, 7_424, 686),
-        (8, 8, 2, 33_437, 3_360),
-        (4, 16, 1, 26_427, 4_320),
+        (2, 16, 2, 11_229, 2_111),
+        (4, 16, 2, 22_719, 4_320),
+        (8, 16, 2, 47_802, 8_865),
+        (16, 16, 2, 100_721, 18_210),
+        (4, 4, 2, 4_348, 686),
+        (8, 8, 2, 17_348, 3_360),
+        (4, 16, 1, 17_759, 4_320),
     ];
-    /// The LUT fit over the K = 2 points, LUT per context = a + b·N with N = W·R contexts
-    /// (least squares on LUT / N: a = 368.178, b = 2.487, in thousandths): a logic per context
-    /// and terms that grow with the whole pool (each context's response decode against every
-    /// port is N·W, the wake-up order's pool-wide parts). Within −12.1 … +7.8 % of the six
-    /// points. Fitted on the first five it was N(379.9 + 2.266 N) and gave 245,777 at 16 × 16,
-    /// 5.2 % under the synthesis made after; the default's 768 contexts are 3 × beyond the
-    /// largest measured, so there it is an extrapolation.
-    pub const POOL_LUT_MILLI: (u64, u64) = (368_178, 2_487);
-    /// K = 1 against K = 2 at 4 × 16: 26,427 / 31,306 LUTs (one take and retire lane), in
-    /// thousandths; the flip-flops are the same.
-    pub const POOL_K1_LUT_MILLI: u64 = 844;
+    /// The LUT fit over the six K = 2 points, LUT = N·(a + b·R + c·N) with N = W·R contexts,
+    /// least squares on the relative error, in thousandths: a logic per context, the walker's
+    /// R × R age order (a row of R a context) and what grows with the whole pool (the
+    /// W × W rank compares of the sends, the retire's key compares across walkers):
+    /// a = 223.154, b = 7.543, c = 0.171. Within −5.8 … +8.6 % of the six points (the K = 1
+    /// point by `k1`). Fitted on the five pools below 16 × 16 it was N(225.97 + 8.00 R +
+    /// 0.019 N) and gave 91,847 at 16 × 16, 8.8 % under the synthesis made after; the
+    /// default's 768 contexts are 3 × beyond the largest measured, so there it is an
+    /// extrapolation (its N² term, 0.171 N², is a quarter of the default's pool).
+    pub const POOL_LUT_MILLI: PoolLutFit = PoolLutFit {
+        a: 223_154,
+        b_r: 7_543,
+        c_n: 171,
+        k1: 782,
+    };
+    /// The same pool with the attribute records on the walkers' response ports (`CTX_RESP 1`,
+    /// svo_top with every node word on chip and no cache, `onchip.levels` 21, where the merge
+    /// rule needs those ports): any context may be answered on any port, so every context
+    /// decodes every port and selects its 64-bit word among all W (N × W compares, N 64-bit
+    /// W-to-1 selects). Measured the same way with `CTX_RESP 1` (the pool svo_top built
+    /// behind its cache too until issue 29 moved the records to the context ports): 2 × 16
+    /// 13,511 LUT; 4 × 16 31,306; 8 × 16 88,415; 16 × 16 259,369 (2,439 s of CPU, 8.0 GB);
+    /// 4 × 4 7,424; 8 × 8 33,437; the FFs the same as `POOL_MEASURED`'s; 4 × 16 at K = 1
+    /// 26,427 LUT. Fit N·(368.178 + 2.487 N), within −12.1 … +7.8 % of the six K = 2 points
+    /// (fitted on the first five it was N(379.9 + 2.266 N) and gave 16 × 16 5.2 % under its
+    /// synthesis).
+    pub const POOL_PORTS_LUT_MILLI: PoolLutFit = PoolLutFit {
+        a: 368_178,
+        b_r: 0,
+        c_n: 2_487,
+        k1: 844,
+    };
+    /// The LUT fit's coefficients in thousandths of a LUT: LUT = N·(a + b_r·R + c_n·N) / 1000.
+    #[derive(Debug, Clone, Copy)]
+    pub struct PoolLutFit {
+        /// Per context.
+        pub a: u64,
+        /// Per context and context of its walker.
+        pub b_r: u64,
+        /// Per context and context of the pool.
+        pub c_n: u64,
+        /// The factor at one walk-issue lane (one take and retire lane): K = 1 against K = 2
+        /// at 4 × 16, whose flip-flops are the same (17,759 / 22,719 LUTs with the records on
+        /// the context ports, 26,427 / 31,306 with them on the walker ports).
+        pub k1: u64,
+    }
     /// The FF fit, FF per context = c + d·R (the age order's R bits a context, its state):
     /// c = 34.986, d = 2.096 in thousandths; within 4 % of the six K = 2 points.
     pub const POOL_FF_MILLI: (u64, u64) = (34_986, 2_096);
@@ -179,22 +214,34 @@ fn ray_slots(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
 }
 
 /// svo_walker_pool's own logic around its walkers ([`calibration::POOL_MEASURED`]): with N =
-/// W·R contexts, LUT = N·(a + b·N) (× [`calibration::POOL_K1_LUT_MILLI`] at one walk-issue
-/// lane), FF = N·(c + d·R). A pool of one context (one walker of one context) schedules
-/// nothing: none.
+/// W·R contexts, LUT = N·(a + b·R + c·N) (× the fit's `k1` at one walk-issue lane), FF =
+/// N·(c + d·R). The fit is the pool svo_top builds for the node memory: behind a cache every
+/// response comes on its context's port ([`calibration::POOL_LUT_MILLI`]); with every node
+/// word on chip and no cache (`onchip.levels` 21) the records come on the walkers' ports
+/// ([`calibration::POOL_PORTS_LUT_MILLI`], whose response decode grows as N·W). A pool of one
+/// context (one walker of one context) schedules nothing: none.
 fn walker_pool(hw: &HwConfig) -> FabricItem {
     let w = &hw.walker_pool;
     let (r, n) = (
         u64::from(w.contexts_per_walker),
         u64::from(w.walkers) * u64::from(w.contexts_per_walker),
     );
-    let (a, b) = calibration::POOL_LUT_MILLI;
+    let on_ports = hw.node_memory.onchip.levels > crate::svo::MAX_DEPTH;
+    let fit = if on_ports {
+        calibration::POOL_PORTS_LUT_MILLI
+    } else {
+        calibration::POOL_LUT_MILLI
+    };
     let (c, d) = calibration::POOL_FF_MILLI;
     let k1 = hw.walk_lanes() < 2;
     let per = if n > 1 {
-        let lut_milli = n.saturating_mul(a.saturating_add(b.saturating_mul(n)));
+        let lut_milli = n.saturating_mul(
+            fit.a
+                .saturating_add(fit.b_r.saturating_mul(r))
+                .saturating_add(fit.c_n.saturating_mul(n)),
+        );
         let lut_milli = if k1 {
-            lut_milli.saturating_mul(calibration::POOL_K1_LUT_MILLI) / 1000
+            lut_milli.saturating_mul(fit.k1) / 1000
         } else {
             lut_milli
         };
@@ -208,14 +255,23 @@ fn walker_pool(hw: &HwConfig) -> FabricItem {
     } else {
         Fabric::default()
     };
+    let milli = |v: u64| format!("{}.{:03}", v / 1000, v % 1000);
     FabricItem {
         name: "walker_pool",
         instances: 1,
         per_instance: per,
         calibrated: n > 1,
         formula: format!(
-            "N = {n} contexts: N · (368.2 + 2.487 N) LUT{}, N · (35.0 + 2.096 R) FF; measured at 2–16 walkers of 4–16 contexts",
-            if k1 { " × 0.844 (one lane)" } else { "" }
+            "N = {n} contexts, records on {}: N · ({} + {} R + {} N) LUT{}, N · (35.0 + 2.096 R) FF; measured at 2–16 walkers of 4–16 contexts",
+            if on_ports { "the walker ports" } else { "the context ports" },
+            milli(fit.a),
+            milli(fit.b_r),
+            milli(fit.c_n),
+            if k1 {
+                format!(" × {} (one lane)", milli(fit.k1))
+            } else {
+                String::new()
+            }
         ),
     }
 }
