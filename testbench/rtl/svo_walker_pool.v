@@ -92,7 +92,8 @@
 // the reads merged on it together; under random stalls on the cache's R this is common, and
 // the barrel walker's old flag for it was a false FAULT, testbench/README.md "The store in
 // front of the cache"); records of merged reads may complete several a cycle. Sticky
-// err_resp: a response on a walker port that reaches no context (a context index beyond N).
+// err_resp: a response on a walker port that reaches no context (a context index beyond N),
+// or with CTX_RESP 2 any response on a walker port.
 // Registers (walker_pool.rs, "Registered response and request"; issue 29, for 300 MHz):
 // RESPONSE_REGISTER_CYCLES 1 registers the responses (the contexts see the memory's cycle C in
 // C + 1; the fills' state stays the memory's), REQUEST_REGISTER_CYCLES 1 each walker port's
@@ -608,7 +609,8 @@ module svo_walker_pool #(
         end else begin
             if (|snd) sstamp <= sstamp + 1'b1;
             for (w = 0; w < W; w = w + 1)
-                if (r_valid[w] && !(|e_resp_valid)) err_resp <= 1'b1;
+                // (CTX_RESP 2: the walker ports carry nothing, so any response there)
+                if (r_valid[w] && (CTX_RESP == 2 || !(|e_resp_valid))) err_resp <= 1'b1;
 `ifndef SYNTHESIS
             // The dispatcher's copy of the walkers' state (busy) must be theirs.
             if (e_in_ready != (~busy | retiring)) err_resp <= 1'b1;
