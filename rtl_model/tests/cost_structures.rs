@@ -248,33 +248,38 @@ fn the_walker_pool_follows_its_synthesised_points() {
         let it = items.iter().find(|it| it.name == "walker_pool").unwrap();
         (it.instances, it.per_instance.lut, it.per_instance.ff)
     };
-    // By hand, 2 walkers of 4 contexts, two lanes, behind the cache: N = 8; LUT 8 · (223.154
-    // + 7.543 · 4 + 0.171 · 8) = 2,037.552 → 2,038; FF 8 · (34.986 + 2.096 · 4) = 346.96 → 347.
-    assert_eq!(pool(2, 4, 2, 8), (1, 2038, 347));
-    // One lane: 2,037.552 · 0.782 = 1,593.4 → 1,593.
-    assert_eq!(pool(2, 4, 1, 8), (1, 1593, 347));
+    // By hand, 2 walkers of 4 contexts, two lanes, behind the cache: N = 8, W² = 4; LUT
+    // 8 · (167.944 + 11.013 · 4) + 42.214 · 4 = 1,864.824 → 1,865; FF 8 · (32.690 + 2.187 · 4)
+    // + 1.591 · 4 = 337.868 → 338.
+    assert_eq!(pool(2, 4, 2, 8), (1, 1865, 338));
+    // One lane: 1,864.824 · 0.782 = 1,458.29 → 1,458.
+    assert_eq!(pool(2, 4, 1, 8), (1, 1458, 338));
     // The records on the walker ports: 8 · (368.178 + 2.487 · 8) = 3,104.592 → 3,105.
-    assert_eq!(pool(2, 4, 2, 21), (1, 3105, 347));
-    // The default's 48 × 16: N = 768, 768 · (223.154 + 7.543 · 16 + 0.171 · 768) =
-    // 364,930.56 LUT (on the walker ports 768 · (368.178 + 2.487 · 768) = 1,749,652.99),
-    // 768 · (34.986 + 2.096 · 16) = 52,624.9 FF.
-    assert_eq!(pool(48, 16, 2, 8), (1, 364_931, 52_625));
-    assert_eq!(pool(48, 16, 2, 21), (1, 1_749_653, 52_625));
+    assert_eq!(pool(2, 4, 2, 21), (1, 3105, 338));
+    // The default's 48 × 16: N = 768, W² = 2,304; 768 · (167.944 + 11.013 · 16) + 42.214 ·
+    // 2,304 = 361,569.79 LUT (on the walker ports 768 · (368.178 + 2.487 · 768) =
+    // 1,749,652.99), 768 · (32.690 + 2.187 · 16) + 1.591 · 2,304 = 55,645.44 FF.
+    assert_eq!(pool(48, 16, 2, 8), (1, 361_570, 55_645));
+    assert_eq!(pool(48, 16, 2, 21), (1, 1_749_653, 55_645));
     // One walker of one context schedules nothing.
     assert_eq!(pool(1, 1, 1, 8), (1, 0, 0));
-    // Yosys 0.23 of svo_walker_pool at these points (W, R, K, CLB LUT, FF; the FFs the same
-    // for both response arrangements): each fit within its stated spread of the LUTs (behind
-    // the cache −6.0 … +8.7 %, on the walker ports −12.2 … +7.9 %) and 4 % of the FFs.
+    // Yosys 0.23 of svo_walker_pool at these points (W, R, K, CLB LUT behind the cache, on
+    // the walker ports where measured, FF, the same for both response arrangements): each fit
+    // within its stated spread of the LUTs (behind the cache −6.6 … +10.1 %, on the walker
+    // ports −12.2 … +7.9 %) and 3 % of the FFs.
     for (w, r, k, lut_ctx, lut_ports, ff) in [
-        (2, 16, 2, 11_229u64, 13_511u64, 2_111u64),
-        (4, 16, 2, 22_719, 31_306, 4_320),
-        (8, 16, 2, 47_802, 88_415, 8_865),
-        (16, 16, 2, 100_721, 259_369, 18_210),
-        (4, 4, 2, 4_348, 7_424, 686),
-        (8, 8, 2, 17_348, 33_437, 3_360),
-        (4, 16, 1, 17_759, 26_427, 4_320),
+        (2, 16, 2, 11_229u64, Some(13_511u64), 2_111u64),
+        (4, 16, 2, 22_719, Some(31_306), 4_320),
+        (8, 16, 2, 47_802, Some(88_415), 8_865),
+        (16, 16, 2, 100_721, Some(259_369), 18_210),
+        (4, 4, 2, 4_348, Some(7_424), 686),
+        (8, 8, 2, 17_348, Some(33_437), 3_360),
+        (32, 8, 2, 109_423, None, 14_370),
+        (4, 16, 1, 17_759, Some(26_427), 4_320),
     ] {
-        for (levels, lut, lo, hi) in [(8, lut_ctx, -6.0, 8.7), (21, lut_ports, -12.2, 7.9)] {
+        let cases = [(8, Some(lut_ctx), -6.6, 10.1), (21, lut_ports, -12.2, 7.9)];
+        for (levels, lut, lo, hi) in cases {
+            let Some(lut) = lut else { continue };
             let (_, e_lut, e_ff) = pool(w, r, k, levels);
             let dl = 100.0 * (e_lut as f64 - lut as f64) / lut as f64;
             let df = 100.0 * (e_ff as f64 - ff as f64) / ff as f64;
@@ -285,7 +290,7 @@ fn the_walker_pool_follows_its_synthesised_points() {
                 (lo..=hi).contains(&dl),
                 "pool {w} × {r}, K {k}, levels {levels}: LUT {dl:+.1} %"
             );
-            assert!(df.abs() <= 4.0, "pool {w} × {r}, K {k}: FF {df:+.1} %");
+            assert!(df.abs() <= 3.0, "pool {w} × {r}, K {k}: FF {df:+.1} %");
         }
     }
     // Records on the context ports cost less, the more so the larger the pool.
