@@ -267,7 +267,7 @@ fn the_walker_pool_follows_its_synthesised_points() {
     // the walker ports where measured, FF, the same for both response arrangements): each fit
     // within its stated spread of the LUTs (behind the cache −6.6 … +10.1 %, on the walker
     // ports −12.2 … +7.9 %) and 3 % of the FFs.
-    for (w, r, k, lut_ctx, lut_ports, ff) in [
+    let points = [
         (2, 16, 2, 11_229u64, Some(13_511u64), 2_111u64),
         (4, 16, 2, 22_719, Some(31_306), 4_320),
         (8, 16, 2, 47_802, Some(88_415), 8_865),
@@ -276,7 +276,8 @@ fn the_walker_pool_follows_its_synthesised_points() {
         (8, 8, 2, 17_348, Some(33_437), 3_360),
         (32, 8, 2, 109_423, None, 14_370),
         (4, 16, 1, 17_759, Some(26_427), 4_320),
-    ] {
+    ];
+    for (w, r, k, lut_ctx, lut_ports, ff) in points {
         let cases = [(8, Some(lut_ctx), -6.6, 10.1), (21, lut_ports, -12.2, 7.9)];
         for (levels, lut, lo, hi) in cases {
             let Some(lut) = lut else { continue };
@@ -293,6 +294,15 @@ fn the_walker_pool_follows_its_synthesised_points() {
             assert!(df.abs() <= 3.0, "pool {w} × {r}, K {k}: FF {df:+.1} %");
         }
     }
+    // The calibration's table of the synthesised pools is these figures (behind the cache).
+    let written: Vec<(u64, u64, u64, u64, u64)> = points
+        .iter()
+        .map(|&(w, r, k, lut, _, ff)| (u64::from(w), u64::from(r), u64::from(k), lut, ff))
+        .collect();
+    assert_eq!(
+        rtl_model::cost::core_logic::calibration::POOL_MEASURED.to_vec(),
+        written
+    );
     // Records on the context ports cost less, the more so the larger the pool.
     let saved = |w| 1.0 - pool(w, 16, 2, 8).1 as f64 / pool(w, 16, 2, 21).1 as f64;
     assert!(saved(48) > saved(16) && saved(16) > saved(4) && saved(4) > 0.0);

@@ -15,8 +15,9 @@
 //! what the RTL builds: `figure · M(hw, dp) / M(frame_hw)`. Each has one measured point, so
 //! the estimate equals the synthesis at frame_hw by construction and elsewhere follows its
 //! measure; that scaling is an argument from the RTL's structure, not a measurement. The
-//! walker pool is the exception: it was synthesised alone at six sizes and its item is a fit
-//! over them ([`calibration::POOL_MEASURED`]).
+//! walker pool is the exception: it was synthesised alone at eight sizes (seven at two
+//! walk-issue lanes, one at one) and its item is a fit over them
+//! ([`calibration::POOL_MEASURED`]).
 
 use super::fabric::{scale, Fabric, FabricItem};
 use super::structures::{
@@ -90,8 +91,8 @@ pub mod calibration {
     /// dispatcher's choices across walkers): a = 167.944, b = 11.013, d = 42.214. Within
     /// −6.5 … +10.0 % of the seven points (the K = 1 point by `k1`). Out of sample: fitted on
     /// the six pools before 32 × 8 this form gave 32 × 8 9.8 % under its synthesis, where the
-    /// fit then in use, N(223.154 + 7.543 R + 0.171 N) (within −5.8 … +8.6 % of those six), gave
-    /// it 23.4 % under: the pool grows with its walkers squared, not its contexts. The
+    /// fit then in use, N(223.154 + 7.543 R + 0.171 N) (within −5.8 … +8.6 % of those six),
+    /// gave it 23.4 % under: the pool grows with its walkers squared, not its contexts. The
     /// default's 48 walkers are 1.5 × beyond the largest measured, so there it is an
     /// extrapolation (its W² term is 27 % of the default's pool).
     pub const POOL_LUT_MILLI: PoolLutFit = PoolLutFit {
@@ -136,10 +137,10 @@ pub mod calibration {
         /// the context ports, 26,427 / 31,306 with them on the walker ports).
         pub k1: u64,
     }
-    /// The FF fit, FF = N·(c + d·R) + e·W² (the age order's R bits a context, its state, the
-    /// pairwise terms' registers): c = 32.690, d = 2.187, e = 1.591 in thousandths; within
-    /// 3 % of the seven K = 2 points (N·(34.986 + 2.096 R) before 32 × 8, which it missed by
-    /// 7.8 %).
+    /// The FF fit, FF = N·(f₀ + f_r·R) + f_w2·W² (the age order's R bits a context, its
+    /// state, the pairwise terms' registers): f₀ = 32.690, f_r = 2.187, f_w2 = 1.591, in
+    /// thousandths; within 3 % of the seven K = 2 points (N·(34.986 + 2.096 R) before 32 × 8,
+    /// which it missed by 7.8 %).
     pub const POOL_FF_MILLI: (u64, u64, u64) = (32_690, 2_187, 1_591);
     /// The hit buffer's check pipe (the ray and its candidates beside the read, 1,494 SRL),
     /// write FIFOs and bank selection, flat: 3,426 CLB LUT, 937 FF, less what the estimate
@@ -224,12 +225,13 @@ fn ray_slots(hw: &HwConfig, dp: &DatapathConfig) -> FabricItem {
 }
 
 /// svo_walker_pool's own logic around its walkers ([`calibration::POOL_MEASURED`]): with N =
-/// W·R contexts, LUT = N·(a + b·R + c·N) + d·W² (× the fit's `k1` at one walk-issue lane),
-/// FF = N·(c + d·R) + e·W². The fit is the pool svo_top builds for the node memory: behind a cache every
-/// response comes on its context's port ([`calibration::POOL_LUT_MILLI`]); with every node
-/// word on chip and no cache (`onchip.levels` 21) the records come on the walkers' ports
-/// ([`calibration::POOL_PORTS_LUT_MILLI`], whose response decode grows as N·W). A pool of one
-/// context (one walker of one context) schedules nothing: none.
+/// W·R contexts, LUT = N·(a + b_r·R + c_n·N) + d_w2·W² (× the fit's `k1` at one walk-issue
+/// lane) and FF = N·(f₀ + f_r·R) + f_w2·W² ([`calibration::POOL_FF_MILLI`]). The LUT fit is
+/// the pool svo_top builds for the node memory: behind a cache every response comes on its
+/// context's port ([`calibration::POOL_LUT_MILLI`]); with every node word on chip and no
+/// cache (`onchip.levels` 21, the deepest tree's: MAX_DEPTH + 1) the records come on the
+/// walkers' ports ([`calibration::POOL_PORTS_LUT_MILLI`], whose response decode grows as
+/// N·W). A pool of one context (one walker of one context) schedules nothing: none.
 fn walker_pool(hw: &HwConfig) -> FabricItem {
     let w = &hw.walker_pool;
     let (walkers, r) = (u64::from(w.walkers), u64::from(w.contexts_per_walker));
@@ -240,7 +242,7 @@ fn walker_pool(hw: &HwConfig) -> FabricItem {
     } else {
         calibration::POOL_LUT_MILLI
     };
-    let (c, d, e) = calibration::POOL_FF_MILLI;
+    let (f0, f_r, f_w2) = calibration::POOL_FF_MILLI;
     let k1 = hw.walk_lanes() < 2;
     let per = if n > 1 {
         let lut_milli = n
@@ -256,8 +258,8 @@ fn walker_pool(hw: &HwConfig) -> FabricItem {
             lut_milli
         };
         let ff_milli = n
-            .saturating_mul(c.saturating_add(d.saturating_mul(r)))
-            .saturating_add(e.saturating_mul(w2));
+            .saturating_mul(f0.saturating_add(f_r.saturating_mul(r)))
+            .saturating_add(f_w2.saturating_mul(w2));
         Fabric {
             lut: lut_milli.saturating_add(500) / 1000,
             ff: ff_milli.saturating_add(500) / 1000,
@@ -287,9 +289,9 @@ fn walker_pool(hw: &HwConfig) -> FabricItem {
             } else {
                 String::new()
             },
-            milli(c),
-            milli(d),
-            milli(e),
+            milli(f0),
+            milli(f_r),
+            milli(f_w2),
         ),
     }
 }
