@@ -182,7 +182,7 @@ fn every_fifo_at_its_maximum_is_refused_naming_the_walk_queue() {
         &small_default(&["--hw", &hw]),
         &[
             "fifos.root_to_dispatch",
-            "48 × 16 + 65536 = 66304 ray slots exceeds the limit 65536",
+            "32 × 8 + 65536 = 65792 ray slots exceeds the limit 65536",
         ],
     );
 }
@@ -190,8 +190,8 @@ fn every_fifo_at_its_maximum_is_refused_naming_the_walk_queue() {
 #[test]
 fn every_fifo_at_its_maximum_runs_when_the_ray_slots_fit() {
     let t = Tmp::new("every_fifo_at_its_maximum_runs_when_the_ray_slots_fit");
-    // 48 walkers × 16 contexts = 768 slots: the walk queue may take the rest.
-    let hw = t.write("fifos.ron", every_fifo(65536, 65536 - 768));
+    // 32 walkers × 8 contexts = 256 slots: the walk queue may take the rest.
+    let hw = t.write("fifos.ron", every_fifo(65536, 65536 - 256));
     let out = t.p("out");
     let a = small_default(&["--hw", &hw, "-q", "--out", &out]);
     let r = run_sim(&a, None, common::bad_input::TIMEOUT);

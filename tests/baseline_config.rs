@@ -131,34 +131,57 @@ fn baseline_file_gives_the_golden_cycles_of_its_time() {
     );
 }
 
+/// Whether a named hardware file is today's default with `set_back` applied (the fields changed
+/// since the file was written, set back to its time), every field written out.
+fn default_of_its_time(text: &str, set_back: impl Fn(&mut HwConfig)) -> Result<(), String> {
+    let missing = missing_fields(text);
+    if !missing.is_empty() {
+        return Err(format!("leaves out {missing:?}: write every field out"));
+    }
+    let file: HwConfig = ron::from_str(text).map_err(|e| format!("not hardware: {e}"))?;
+    file.validate().map_err(|e| format!("invalid: {e}"))?;
+    let mut then = HwConfig::default();
+    set_back(&mut then);
+    if file != then {
+        return Err(format!(
+            "differs from the default of its time:\n file {file:?}\n then {then:?}"
+        ));
+    }
+    Ok(())
+}
+
+/// Checks `configs/NAME` against [`default_of_its_time`], and shows the check failing once: a
+/// field changed in the file is caught.
+fn check_named_default(name: &str, set_back: impl Fn(&mut HwConfig) + Copy) {
+    let text = std::fs::read_to_string(repo().join("configs").join(name)).expect("read");
+    default_of_its_time(&text, set_back).unwrap_or_else(|e| panic!("configs/{name} {e}"));
+    let changed = text.replace("        stack_depth: 21,\n", "        stack_depth: 20,\n");
+    assert_ne!(changed, text, "the corruption must change the file");
+    let e = default_of_its_time(&changed, set_back).expect_err("a changed field must be caught");
+    assert!(e.starts_with("differs from the default of its time"), "{e}");
+}
+
 /// `configs/default_2026_11.ron`: the default hardware before issue 29 moved the step latency to
-/// the barrel walker's 4. It writes out every field, and it is today's default but for the
-/// fields changed since (only `walker_pool.step_latency_cycles`, 3 there): a later change of a
-/// default adds its field to the list below, so that the file keeps describing its time.
+/// the barrel walker's 4 (3 there) and the pool from 48 walkers of 16 contexts to 32 of 8. It
+/// writes out every field, and it is today's default but for the fields changed since: a later
+/// change of a default adds its field to the list below, so that the file keeps describing its
+/// time.
 #[test]
 fn default_2026_11_file_is_the_default_of_its_time() {
-    fn differs_from_today(text: &str) -> Result<(), String> {
-        let missing = missing_fields(text);
-        if !missing.is_empty() {
-            return Err(format!("leaves out {missing:?}: write every field out"));
-        }
-        let file: HwConfig = ron::from_str(text).map_err(|e| format!("not hardware: {e}"))?;
-        file.validate().map_err(|e| format!("invalid: {e}"))?;
-        // Today's default with the fields changed since the file was written set back.
-        let mut then = HwConfig::default();
+    check_named_default("default_2026_11.ron", |then| {
         then.walker_pool.step_latency_cycles = 3;
-        if file != then {
-            return Err(format!(
-                "differs from the default of its time:\n file {file:?}\n then {then:?}"
-            ));
-        }
-        Ok(())
-    }
-    let text = std::fs::read_to_string(repo().join("configs/default_2026_11.ron")).expect("read");
-    differs_from_today(&text).unwrap_or_else(|e| panic!("configs/default_2026_11.ron {e}"));
-    // Shown failing once: a field changed in the file is caught.
-    let changed = text.replace("        walkers: 48,\n", "        walkers: 47,\n");
-    assert_ne!(changed, text, "the corruption must change the file");
-    let e = differs_from_today(&changed).expect_err("a changed field must be caught");
-    assert!(e.starts_with("differs from the default of its time"), "{e}");
+        then.walker_pool.walkers = 48;
+        then.walker_pool.contexts_per_walker = 16;
+    });
+}
+
+/// `configs/default_48x16.ron`: the default hardware before issue 29 moved the pool to 32
+/// walkers of 8 contexts (48 of 16 do not fit the part). Today's default but for the pool;
+/// `tests/golden_reports.rs` runs it against the golden report of its time.
+#[test]
+fn default_48x16_file_is_the_default_of_its_time() {
+    check_named_default("default_48x16.ron", |then| {
+        then.walker_pool.walkers = 48;
+        then.walker_pool.contexts_per_walker = 16;
+    });
 }

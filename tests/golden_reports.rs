@@ -1,10 +1,11 @@
-//! Golden reports: the JSON report of three cycle-model runs, wall-time fields stripped, must
+//! Golden reports: the JSON report of four cycle-model runs, wall-time fields stripped, must
 //! equal the files in `tests/golden/` byte for byte. They pin every cycle count, stage row,
 //! FIFO counter, memory statistic and pool counter the report prints, so a change to the
 //! simulator's speed (data layout, idle-cycle skipping, parallel studies) cannot change what it
 //! reports without failing here.
 //!
-//! The three runs (docs/cycle-model.md §3.1): the default scene and hardware; a small machine
+//! The runs (docs/cycle-model.md §3.1): the default scene and hardware; the same on the default
+//! of before issue 29's 32 × 8 pool (`configs/default_48x16.ron`); a small machine
 //! (`tests/golden/small_hw.ron`: 4 walkers × 4 contexts, a 16 KiB 2-way cache, DRAM latency
 //! 120, 8 MSHRs, an external hit buffer, 2 sphere units); and `scenes/vox_traffic.ron` (skipped
 //! with a reason when the shared `.vox` models are missing, a failure under `CI=true`).
@@ -116,6 +117,28 @@ fn default_run_report_is_golden() {
         "default",
         &[
             "--width", "640", "--height", "384", "--frames", "3", "--depth", "10",
+        ],
+    );
+}
+
+/// The default hardware before issue 29 moved the pool to 32 walkers of 8 contexts, from its
+/// named file: `tests/golden/default_48x16.json` is `default.json` of that time byte for byte
+/// (the report does not name the hardware file), so the file reproduces the default of then.
+#[test]
+fn default_48x16_report_is_golden() {
+    check(
+        "default_48x16",
+        &[
+            "--hw",
+            "configs/default_48x16.ron",
+            "--width",
+            "640",
+            "--height",
+            "384",
+            "--frames",
+            "3",
+            "--depth",
+            "10",
         ],
     );
 }

@@ -63,7 +63,7 @@ fn cases() -> Vec<Case> {
             hot: 48,
         },
         Case {
-            name: "default banks, the default's 48 walkers of 1 context",
+            name: "default banks, 48 walkers (issue 28's default) of 1 context",
             cfg: store(16, 2, 3, true),
             pool: pool(48, 1, 600, 0.5),
             hot: 64,

@@ -75,7 +75,7 @@ package svo_hw_pkg;
     localparam int UNITS_TRANSFORM_LATENCY_CYCLES = 9;
     localparam int UNITS_WALKER_ROOT_II = 1;
     localparam int UNITS_WALKER_ROOT_LATENCY_CYCLES = 8;
-    localparam int WALKER_POOL_CONTEXTS_PER_WALKER = 16;
+    localparam int WALKER_POOL_CONTEXTS_PER_WALKER = 8;
     localparam int WALKER_POOL_READ_PORTS = 1;
     localparam int WALKER_POOL_REQUEST_REGISTER_CYCLES = 0;
     localparam int WALKER_POOL_RESPONSE_REGISTER_CYCLES = 0;
@@ -84,12 +84,12 @@ package svo_hw_pkg;
     localparam int WALKER_POOL_STACK_DEPTH = 21;
     localparam int WALKER_POOL_STEP_CYCLES = 1;
     localparam int WALKER_POOL_STEP_LATENCY_CYCLES = 4;
-    localparam int WALKER_POOL_WALKERS = 48;
+    localparam int WALKER_POOL_WALKERS = 32;
     localparam int WALKER_ROOT_UNITS = 2;
     // derived
     localparam int WALK_LANES = 2;  // walks issued a cycle: the widest of the walk-issue units
     localparam int RECIPROCAL_WALK_LANES = 2;  // walks a cycle the reciprocal units take (three reciprocals a walk)
-    localparam int RAY_SLOTS = 832;  // rays in the walk section at once: walkers x contexts + root_to_dispatch
+    localparam int RAY_SLOTS = 320;  // rays in the walk section at once: walkers x contexts + root_to_dispatch
     localparam int CHECK_LATENCY = 5;  // the check stage: the hit-buffer read and the unpacking register
     localparam int SORTER_NET_DEPTH = 10;  // network layers D (units.sorter.latency_cycles must equal it)
     localparam int SORTER_NET_SLOTS = 8;  // comparator slots per layer, max(N / 2, 1)

@@ -131,18 +131,21 @@ pub enum StackStorage {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct WalkerPool {
-    /// W: octree walkers. Default 48 of 16 contexts each (issue 28, chosen by `sim explore`
-    /// over `configs/explore_1280.ron`, docs/explore.md §5: the cheapest point within 0.5 % of
-    /// the best fitting fps on both the car and crowd_1000): with two walk-issue lanes the car
-    /// at 1280×768 needs about 13–16 steps per ray at close to one ray per cycle, and walks
-    /// wait on node reads. Before issue 28 the default was 32 walkers of 8 contexts
-    /// (`configs/baseline.ron`).
+    /// W: octree walkers. Default 32 of 8 contexts each (issue 29): the best pool whose
+    /// estimate fits the XCVU9P's LUTs (67.2 % on crowd_1000 at 1280×768) once the barrel
+    /// walkers and the walker pool were synthesised (`sim explore` over
+    /// `configs/explore_fit_1280.ron`, docs/explore.md §6: 87.9–100 % of the 48 × 16 pool's
+    /// frame rate on the car, moving_camera, vox_traffic and crowd_1000). Issue 28 had chosen
+    /// 48 of 16 on an estimate without the pool's own logic; synthesised, that pool takes
+    /// 135.9 % of the LUTs (`configs/default_48x16.ron` keeps it). 32 of 8 was also the
+    /// default before issue 28 (`configs/baseline.ron`, with other fields of its time).
     pub walkers: u32,
     /// R: ray contexts per walker, interleaved so one context's node fetch does not stall the
-    /// walker. Default 16 (issue 28; 8 before): a step takes `step_latency_cycles` (4) plus an
-    /// on-chip or cache fetch (3–4), so 8 contexts keep a walker busy on on-chip hits, and the
-    /// other 8 hide part of the DRAM misses (`node_memory.dram.latency`); 48 walkers of 16
-    /// contexts matched 64 of 8 in `sim explore` for fewer walker datapaths.
+    /// walker. Default 8 (issue 29; 16 from issue 28, `configs/default_48x16.ron`): a step
+    /// takes `step_latency_cycles` (4) plus an on-chip or cache fetch (3–4), so 8 contexts
+    /// keep a walker busy on on-chip hits; the walker pool's multiplexers grow with W·R and
+    /// the barrel's state with R, so more contexts to hide DRAM misses cost LUTs the part
+    /// does not have.
     pub contexts_per_walker: u32,
     /// Cycles the walker's datapath is busy per child examined (its II). Default 1: a step
     /// is muxes, 62-bit compares and midpoint adders (no DSP), pipelined.
@@ -160,8 +163,8 @@ pub struct WalkerPool {
     pub stack_depth: u8,
     /// What a stack frame holds. Default [`StackStorage::FullT`]: what the functional walker
     /// and the RTL do (700-bit frames as the RTL stacks them, `HwConfig::stack_frame_bits`);
-    /// 10 BRAM36 per walker of 16 contexts, 480 at the default (22 % of the part), so the
-    /// exact-pop logic (no RTL) is not yet worth it.
+    /// 10 BRAM36 per walker of 8 or 16 contexts (700 bits wide), 320 at the default (15 % of
+    /// the part), so the exact-pop logic (no RTL) is not yet worth it.
     pub stack: StackStorage,
     /// Node reads a walker may send per cycle: its request ports to the node memory. Default
     /// 1 (issue 29): a walker interleaves its R contexts in one datapath (a barrel design), so
@@ -201,8 +204,8 @@ impl WalkerPool {
 impl Default for WalkerPool {
     fn default() -> Self {
         Self {
-            walkers: 48,
-            contexts_per_walker: 16,
+            walkers: 32,
+            contexts_per_walker: 8,
             step_cycles: 1,
             step_latency_cycles: 4,
             stack_depth: MAX_DEPTH + 1,

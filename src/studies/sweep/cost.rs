@@ -42,9 +42,9 @@ mod tests {
         // (±e − o) is sQ8.32 + 1 bit = 41 bits, 1/|d| sQ22.30 = 52.
         assert_eq!(c.multipliers.walker_root, "41x52");
         assert_eq!(c.multipliers.reciprocal, "33x33");
-        // 48 walkers × 16 contexts × 21 frames × the RTL's frame: 9 × (62 + 1) t bits, node
+        // 32 walkers × 8 contexts × 21 frames × the RTL's frame: 9 × (62 + 1) t bits, node
         // address 32, descriptor 32, next child 4, level 5, coordinates 60 (700 bits).
-        assert_eq!(c.stack_bits, 48 * 16 * 21 * (9 * 63 + 32 + 32 + 4 + 5 + 60));
+        assert_eq!(c.stack_bits, 32 * 8 * 21 * (9 * 63 + 32 + 32 + 4 + 5 + 60));
     }
 
     #[test]
