@@ -1,7 +1,8 @@
 //! `sim paper` end to end at a tiny size: the four files are written, the table has the four
 //! cases with a ratio of 1 for (a), the reference's walks grow from (c) to (b), a figure not
-//! measured (`--repeats 0`) reads "–" (empty in the CSV, null in the JSON), and bad options
-//! are refused naming the option with nothing written.
+//! measured (`--repeats 0`) reads "–" (empty in the CSV, null in the JSON), `--hw` runs the
+//! cycle model on the given hardware and names it, and bad options are refused naming the
+//! option with nothing written.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -65,6 +66,10 @@ fn paper_writes_table_csv_json_and_chart() {
 #[test]
 fn paper_refuses_bad_options_and_writes_nothing() {
     let out = scratch("bad");
+    let hw_dir = scratch("bad_hw");
+    std::fs::create_dir_all(&hw_dir).expect("scratch");
+    let small_frame = hw_dir.join("frame_320x192.ron").display().to_string();
+    std::fs::write(&small_frame, "(frame: (width: 320, height: 192))").expect("hw file");
     let o_str = out.to_str().expect("utf-8").to_string();
     for (args, msg) in [
         (
@@ -77,6 +82,15 @@ fn paper_refuses_bad_options_and_writes_nothing() {
         ),
         (vec!["--frames", "0"], "--frames 0: must be within 1 and 48"),
         (vec!["--repeats", "0", "--no-cycle"], "nothing to measure"),
+        (
+            vec!["--hw", "no/such/hardware.ron"],
+            "cannot read hardware file no/such/hardware.ron",
+        ),
+        // The hardware's frame bounds the resolutions.
+        (
+            vec!["--hw", &small_frame, "--resolution", "640x384"],
+            "--resolution 640x384: at most 320x192",
+        ),
     ] {
         let mut a = vec!["paper", "--out", &o_str];
         a.extend(args.iter().copied());
@@ -86,6 +100,73 @@ fn paper_refuses_bad_options_and_writes_nothing() {
         assert!(stderr.contains(msg), "{args:?}: {stderr}");
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
+    let _ = std::fs::remove_dir_all(&hw_dir);
+}
+
+/// `tests/golden/small_hw.ron` (4 walkers × 4 contexts, a small cache).
+fn small_hw() -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden/small_hw.ron")
+        .display()
+        .to_string()
+}
+
+/// The cycle-model fps column of each case's row in `paper.md`.
+fn cycle_fps(md: &str) -> Vec<String> {
+    md.lines()
+        .filter(|l| l.starts_with("| ("))
+        .map(|l| {
+            l.split('|')
+                .map(str::trim)
+                .nth(6)
+                .expect("cells")
+                .to_string()
+        })
+        .collect()
+}
+
+/// `--hw FILE` runs the cycle model on that hardware and the table says so: the small
+/// machine's frame rates differ from the default's on the same frames.
+#[test]
+fn paper_runs_the_given_hardware() {
+    let run = |name: &str, hw: Option<&str>| {
+        let out = scratch(name);
+        let o_str = out.to_str().expect("utf-8").to_string();
+        let mut a = vec![
+            "paper",
+            "--frames",
+            "2",
+            "--resolution",
+            "64x40",
+            "--repeats",
+            "0",
+            "--out",
+            &o_str,
+        ];
+        if let Some(hw) = hw {
+            a.extend(["--hw", hw]);
+        }
+        let o = sim(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let md = std::fs::read_to_string(out.join("paper.md")).expect("paper.md");
+        let _ = std::fs::remove_dir_all(&out);
+        md
+    };
+    let small_hw = small_hw();
+    let default = run("hw_default", None);
+    let small = run("hw_small", Some(&small_hw));
+    assert!(
+        default.contains("cycle model: default hardware at 300 MHz"),
+        "{default}"
+    );
+    assert!(
+        small.contains(&format!("cycle model: hardware {small_hw} at 300 MHz")),
+        "{small}"
+    );
+    let (d, s) = (cycle_fps(&default), cycle_fps(&small));
+    assert_eq!((d.len(), s.len()), (4, 4), "{default}\n{small}");
+    assert!(d.iter().all(|f| f != "–") && s.iter().all(|f| f != "–"));
+    assert_ne!(d, s, "the small machine's frame rates are the default's");
 }
 
 /// With `--repeats 0` the reference does not run, so its counters (walks, reused pixels) are

@@ -5,6 +5,7 @@ use anyhow::{bail, Result};
 use clap::Args;
 use std::path::PathBuf;
 use svo_sim::models::cycle::sample::SampleConfig;
+use svo_sim::run::config_files::{check_pair, load_hardware};
 use svo_sim::studies::paper::command::run_command;
 use svo_sim::studies::paper::measure::PaperConfig;
 
@@ -14,9 +15,13 @@ pub struct PaperArgs {
     /// Frames of the animation (1 to 48; the scenes' animation has 48).
     #[arg(long, default_value_t = 48)]
     frames: u32,
-    /// Resolutions, comma-separated WxH (each at most the hardware frame, 1280x768).
+    /// Resolutions, comma-separated WxH (each at most the hardware's frame, 1280x768 by default).
     #[arg(long, value_delimiter = ',', default_values_t = ["640x384".to_string(), "1280x768".to_string()])]
     resolution: Vec<String>,
+    /// Hardware the cycle model runs (RON, as `sim --hw`; default: the documented default),
+    /// e.g. configs/default_48x16.ron for the figures measured on that default.
+    #[arg(long, value_name = "FILE")]
+    hw: Option<PathBuf>,
     /// Reference runs per case; the best is reported (0: no reference timing).
     #[arg(long, default_value_t = 3)]
     repeats: u32,
@@ -35,8 +40,8 @@ pub struct PaperArgs {
     out: PathBuf,
 }
 
-/// `WxH` as a resolution within the hardware frame.
-fn parse_resolution(s: &str) -> Result<(u32, u32)> {
+/// `WxH` as a resolution within the hardware's frame of `fw` × `fh`.
+fn parse_resolution(s: &str, fw: u32, fh: u32) -> Result<(u32, u32)> {
     let Some((w, h)) = s.split_once(['x', 'X']) else {
         bail!("--resolution {s}: expected WxH, e.g. 640x384");
     };
@@ -44,8 +49,8 @@ fn parse_resolution(s: &str) -> Result<(u32, u32)> {
         (Ok(w), Ok(h)) => (w, h),
         _ => bail!("--resolution {s}: width and height must be whole numbers"),
     };
-    if !(1..=1280).contains(&w) || !(1..=768).contains(&h) {
-        bail!("--resolution {s}: at most 1280x768 (the hardware frame), at least 1x1");
+    if !(1..=fw).contains(&w) || !(1..=fh).contains(&h) {
+        bail!("--resolution {s}: at most {fw}x{fh} (the hardware frame), at least 1x1");
     }
     Ok((w, h))
 }
@@ -64,10 +69,22 @@ pub fn paper_command(a: PaperArgs) -> Result<()> {
             .build_global()
             .map_err(|e| anyhow::anyhow!("--threads: {e}"))?;
     }
+    // The hardware first: its frame bounds the resolutions.
+    let hw = load_hardware(a.hw.as_deref())?;
+    check_pair(
+        &hw,
+        a.hw.as_deref(),
+        &rtl_model::datapath::DatapathConfig::default(),
+        None,
+    )?;
+    let hw_name = a.hw.as_ref().map_or_else(
+        || "default hardware".to_string(),
+        |p| format!("hardware {}", p.display()),
+    );
     let resolutions = a
         .resolution
         .iter()
-        .map(|s| parse_resolution(s))
+        .map(|s| parse_resolution(s, hw.frame.width, hw.frame.height))
         .collect::<Result<Vec<_>>>()?;
     let sample = match a.sample {
         Some(rate) => {
@@ -92,6 +109,8 @@ pub fn paper_command(a: PaperArgs) -> Result<()> {
         repeats: a.repeats,
         cycle: !a.no_cycle,
         sample,
+        hw,
+        hw_name,
     };
     let (md, paths) =
         run_command(&cfg, &a.out, &mut |line| eprintln!("{line}")).map_err(anyhow::Error::msg)?;

@@ -42,8 +42,8 @@ pub fn table(rows: &[Row], c: &PaperConfig, threads: usize, clock_mhz: u32) -> S
     let _ = writeln!(
         s,
         "Espe et al. Fig. 7 on this model: {} frames; reference: {reference}; cycle model: \
-         default hardware at {clock_mhz} MHz, {timing}.\n",
-        c.frames
+         {} at {clock_mhz} MHz, {timing}.\n",
+        c.frames, c.hw_name
     );
     let mut res: Vec<(u32, u32)> = Vec::new();
     for r in rows {
@@ -129,7 +129,7 @@ pub fn run_command(
         );
     }
     crate::output::writer::refuse_stdout_folder("--out", out).map_err(|e| e.to_string())?;
-    let clock_mhz = rtl_model::cycle::hw_config::HwConfig::default().clock_mhz;
+    let clock_mhz = c.hw.clock_mhz;
     let threads = rayon::current_num_threads();
     let rows = measure(c, progress)?;
     let md = table(&rows, c, threads, clock_mhz);

@@ -32,6 +32,11 @@ pub struct PaperConfig {
     pub cycle: bool,
     /// Sampled timing for the cycle model (`None`: every cycle simulated).
     pub sample: Option<SampleConfig>,
+    /// The hardware the cycle model runs (`sim paper --hw`; the default without it), checked
+    /// against the default datapath by the caller.
+    pub hw: HwConfig,
+    /// What the table calls that hardware: "default hardware" or the file it came from.
+    pub hw_name: String,
 }
 
 /// One case at one resolution.
@@ -119,18 +124,18 @@ fn reference_run(b: &Built, opts: RenderOptions) -> Result<(f64, u64, u64), Stri
     Ok((secs, walks, reused))
 }
 
-/// The cycle model over the animation on the default hardware: total cycles.
+/// The cycle model over the animation on `hw`: total cycles.
 fn cycle_run(
     b: &Built,
+    hw: &HwConfig,
     opts: RenderOptions,
     sample: Option<SampleConfig>,
     progress: &mut dyn FnMut(&str),
     what: &str,
 ) -> Result<u64, String> {
-    let hw = HwConfig::default();
     let dp = DatapathConfig::default();
     let mut run = CycleRun::new(
-        &hw,
+        hw,
         &dp,
         &b.assets,
         &b.scene.instance_asset,
@@ -179,7 +184,7 @@ fn median(v: &mut [f64]) -> f64 {
 
 /// Runs every case at every resolution; `progress` gets a line per finished step.
 pub fn measure(c: &PaperConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<Row>, String> {
-    let clock_hz = f64::from(HwConfig::default().clock_mhz) * 1e6;
+    let clock_hz = f64::from(c.hw.clock_mhz) * 1e6;
     let all = cases();
     let mut rows = Vec::new();
     for &(w, h) in &c.resolutions {
@@ -223,7 +228,7 @@ pub fn measure(c: &PaperConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ro
         if c.cycle {
             for (k, case) in all.iter().enumerate() {
                 let what = format!("{w}x{h} ({}) {}", case.id, case.label);
-                let n = cycle_run(built(case), case.options, c.sample, progress, &what)?;
+                let n = cycle_run(built(case), &c.hw, case.options, c.sample, progress, &what)?;
                 progress(&format!(
                     "{what}: {n} cycles, {:.1} fps",
                     f64::from(frames) * clock_hz / n.max(1) as f64
