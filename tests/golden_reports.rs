@@ -111,14 +111,14 @@ fn small_hw() -> String {
     Path::new("tests/golden/small_hw.ron").display().to_string()
 }
 
+/// The default scene's run of both default reports: 640×384, 3 frames, depth 10.
+const DEFAULT_RUN: [&str; 8] = [
+    "--width", "640", "--height", "384", "--frames", "3", "--depth", "10",
+];
+
 #[test]
 fn default_run_report_is_golden() {
-    check(
-        "default",
-        &[
-            "--width", "640", "--height", "384", "--frames", "3", "--depth", "10",
-        ],
-    );
+    check("default", &DEFAULT_RUN);
 }
 
 /// The default hardware before issue 29 moved the pool to 32 walkers of 8 contexts, from its
@@ -126,21 +126,9 @@ fn default_run_report_is_golden() {
 /// (the report does not name the hardware file), so the file reproduces the default of then.
 #[test]
 fn default_48x16_report_is_golden() {
-    check(
-        "default_48x16",
-        &[
-            "--hw",
-            "configs/default_48x16.ron",
-            "--width",
-            "640",
-            "--height",
-            "384",
-            "--frames",
-            "3",
-            "--depth",
-            "10",
-        ],
-    );
+    let mut args = vec!["--hw", "configs/default_48x16.ron"];
+    args.extend(DEFAULT_RUN);
+    check("default_48x16", &args);
 }
 
 #[test]
